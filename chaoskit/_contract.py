@@ -1,0 +1,196 @@
+"""The trajectory data contract, checked and stamped in one place.
+
+A trajectory is an :class:`xarray.Dataset` with
+
+* a float64 ``time`` coordinate in seconds, strictly increasing (or an integer ``step``
+  coordinate for maps);
+* numeric data variables, each with ``units`` and ``long_name`` attributes;
+* global attributes ``Conventions``, ``title``, ``source``, ``history``, ``created`` and, for
+  simulated data, ``scene`` (the resolved scene as JSON).
+
+See ``docs/data-model.md``.
+"""
+
+from __future__ import annotations
+
+import datetime as _dt
+from collections.abc import Mapping
+from typing import Any
+
+import numpy as np
+import xarray as xr
+
+from ._version import __version__
+
+__all__ = [
+    "CONVENTIONS",
+    "REQUIRED_GLOBAL_ATTRS",
+    "append_history",
+    "sampling_interval",
+    "stamp",
+    "validate_trajectory",
+]
+
+CONVENTIONS = "CF-1.10"
+REQUIRED_GLOBAL_ATTRS = ("Conventions", "title", "source", "history", "created")
+UNKNOWN_UNITS = "unknown"
+_UNIFORM_RTOL = 1e-6
+
+
+def _now() -> str:
+    return _dt.datetime.now(_dt.UTC).replace(microsecond=0).isoformat()
+
+
+def append_history(ds: xr.Dataset, line: str) -> None:
+    """Append a time-stamped line to ``ds.attrs['history']`` (in place)."""
+    entry = f"{_now()} {line}"
+    old = ds.attrs.get("history", "")
+    ds.attrs["history"] = f"{old}\n{entry}" if old else entry
+
+
+def stamp(
+    ds: xr.Dataset,
+    *,
+    title: str,
+    source: str | None = None,
+    history: str | None = None,
+    extra: Mapping[str, Any] | None = None,
+) -> xr.Dataset:
+    """Set the contract's global attributes on ``ds`` (in place) and return it.
+
+    ``source`` defaults to ``"chaoskit <version>"``; existing ``created`` and ``history``
+    are kept (the new ``history`` line is appended).
+    """
+    ds.attrs["Conventions"] = CONVENTIONS
+    ds.attrs["title"] = title
+    ds.attrs["source"] = source or f"chaoskit {__version__}"
+    ds.attrs.setdefault("created", _now())
+    if history:
+        append_history(ds, history)
+    else:
+        ds.attrs.setdefault("history", "")
+    if extra:
+        ds.attrs.update(extra)
+    return ds
+
+
+def _index_name(ds: xr.Dataset) -> str:
+    if "time" in ds.coords:
+        return "time"
+    if "step" in ds.coords:
+        return "step"
+    raise ValueError(
+        "the dataset has no 'time' coordinate (float64 seconds) and no 'step' coordinate "
+        "(integers, for maps); pass time= or dt= to load_trajectory."
+    )
+
+
+def validate_trajectory(
+    ds: xr.Dataset, *, require_uniform: bool = False, fill_attrs: bool = False
+) -> xr.Dataset:
+    """Check ``ds`` against the data contract and return it.
+
+    Parameters
+    ----------
+    ds
+        The candidate trajectory.
+    require_uniform
+        Also require uniform sampling (relative spread of the sampling interval below 1e-6).
+    fill_attrs
+        Fill missing ``units`` (``"unknown"``) and ``long_name`` (the variable's name) and the
+        missing global attributes instead of raising. Used when importing foreign data.
+
+    Raises
+    ------
+    ValueError
+        Naming the problem: missing index coordinate, non-monotonic or duplicated time,
+        NaN or inf values, non-numeric variables, non-uniform sampling, missing attributes.
+    """
+    if not isinstance(ds, xr.Dataset):
+        raise TypeError(f"expected an xarray.Dataset; got {type(ds).__name__}.")
+    index = _index_name(ds)
+    idx = ds[index].values
+    if idx.ndim != 1:
+        raise ValueError(f"coordinate {index!r} must be one-dimensional; got shape {idx.shape}.")
+    if index == "time":
+        if idx.dtype.kind not in "fiu":
+            raise ValueError(f"time must be numeric seconds; got dtype {idx.dtype}.")
+        if idx.dtype != np.float64:
+            ds = ds.assign_coords(time=ds["time"].astype(np.float64))
+            idx = ds["time"].values
+        if not np.all(np.isfinite(idx)):
+            raise ValueError("time contains NaN or inf values.")
+    elif idx.dtype.kind not in "iu":
+        raise ValueError(f"step must be integer; got dtype {idx.dtype}.")
+    if idx.size >= 2:
+        d = np.diff(idx)
+        if np.any(d == 0):
+            k = int(np.flatnonzero(d == 0)[0])
+            raise ValueError(
+                f"{index} has duplicated values (first: {idx[k]!r} at indices {k} and {k + 1})."
+            )
+        if np.any(d < 0):
+            k = int(np.flatnonzero(d < 0)[0])
+            raise ValueError(
+                f"{index} is not monotonic increasing (first decrease at index {k + 1}: "
+                f"{idx[k]!r} -> {idx[k + 1]!r}); sort the data first."
+            )
+    if require_uniform:
+        sampling_interval(ds)
+    if not ds.data_vars:
+        raise ValueError("the dataset has no data variables.")
+    for name, var in ds.data_vars.items():
+        if var.dtype.kind not in "fiub":
+            raise ValueError(
+                f"variable {name!r} is not numeric (dtype {var.dtype}); drop it or pass "
+                "variables=[...] with the numeric columns only."
+            )
+        values = np.asarray(var.values)
+        if values.dtype.kind == "f" and not np.all(np.isfinite(values)):
+            n_bad = int((~np.isfinite(values)).sum())
+            raise ValueError(
+                f"variable {name!r} contains {n_bad} NaN or inf value(s); clean or "
+                "interpolate them first."
+            )
+        for key in ("units", "long_name"):
+            if key not in var.attrs:
+                if not fill_attrs:
+                    raise ValueError(f"variable {name!r} has no {key!r} attribute.")
+                var.attrs[key] = UNKNOWN_UNITS if key == "units" else str(name)
+    if index == "time":
+        ds["time"].attrs.setdefault("units", "s")
+        ds["time"].attrs.setdefault("long_name", "time")
+        ds["time"].attrs.setdefault("standard_name", "time")
+    else:
+        ds["step"].attrs.setdefault("units", "1")
+        ds["step"].attrs.setdefault("long_name", "iteration")
+    missing = [k for k in REQUIRED_GLOBAL_ATTRS if k not in ds.attrs]
+    if missing:
+        if not fill_attrs:
+            raise ValueError(f"the dataset lacks the global attribute(s) {missing}.")
+        stamp(ds, title=str(ds.attrs.get("title", "imported trajectory")))
+    return ds
+
+
+def sampling_interval(ds: xr.Dataset) -> float:
+    """Return the uniform sampling interval of ``ds`` (seconds, or 1.0 for ``step``).
+
+    Raises
+    ------
+    ValueError
+        If the sampling is not uniform (relative spread above 1e-6) or fewer than 2 samples.
+    """
+    index = _index_name(ds)
+    idx = np.asarray(ds[index].values, dtype=np.float64)
+    if idx.size < 2:
+        raise ValueError(f"need at least 2 samples to define a sampling interval; got {idx.size}.")
+    d = np.diff(idx)
+    dt = float(np.median(d))
+    spread = float(np.max(np.abs(d - dt))) / dt
+    if spread > _UNIFORM_RTOL:
+        raise ValueError(
+            f"{index} is not uniformly sampled (interval varies by {spread:.2e} relative, "
+            f"between {d.min():.6g} and {d.max():.6g}); resample it to a uniform grid "
+            "(e.g. ds.interp(time=np.arange(t0, t1, dt)))."
+        )
+    return dt

@@ -1,0 +1,353 @@
+"""Reading and writing trajectories: the one place where files and foreign containers enter.
+
+Formats
+-------
+netCDF-4 (``.nc``, ``.nc4``, ``.h5``)
+    Written with ``engine="h5netcdf"``; every attribute is kept.
+CSV (``.csv``, ``.txt``, ``.tsv``)
+    One column per variable. ``save_trajectory`` writes the attributes as a JSON comment
+    line (``# chaoskit-attrs: {...}``) above the header so a round trip keeps them; CSV files
+    from elsewhere need no such line.
+npz (``.npz``)
+    One array per variable; ``save_trajectory`` adds a ``__chaoskit_attrs__`` JSON entry.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import uuid
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pandas as pd
+import xarray as xr
+
+from ._contract import append_history, stamp, validate_trajectory
+
+__all__ = ["load_trajectory", "save_trajectory"]
+
+_NETCDF = {".nc", ".nc4", ".netcdf", ".h5", ".hdf5"}
+_CSV = {".csv", ".txt", ".tsv"}
+_NPZ = {".npz"}
+_ATTRS_LINE = "# chaoskit-attrs: "
+_NPZ_ATTRS = "__chaoskit_attrs__"
+_TIME_NAMES = ("time", "t", "Time", "TIME", "t_s", "time_s")
+
+
+def _format_of(path: Path) -> str:
+    suffix = path.suffix.lower()
+    if suffix in _NETCDF:
+        return "netcdf"
+    if suffix in _CSV:
+        return "csv"
+    if suffix in _NPZ:
+        return "npz"
+    accepted = sorted(_NETCDF | _CSV | _NPZ)
+    raise ValueError(f"unknown file format {suffix!r} for {path}; accepted suffixes: {accepted}.")
+
+
+def _attrs_payload(ds: xr.Dataset) -> dict[str, Any]:
+    return {
+        "global": dict(ds.attrs),
+        "variables": {str(k): dict(v.attrs) for k, v in ds.variables.items()},
+    }
+
+
+def _apply_payload(ds: xr.Dataset, payload: dict[str, Any]) -> xr.Dataset:
+    ds.attrs.update(payload.get("global", {}))
+    for name, attrs in payload.get("variables", {}).items():
+        if name in ds.variables:
+            ds[name].attrs.update(attrs)
+    return ds
+
+
+def _from_table(
+    frame: pd.DataFrame, *, time: str | None, dt: float | None, what: str
+) -> xr.Dataset:
+    """Build a Dataset from a table with one column per variable."""
+    frame = frame.copy()
+    frame.columns = [str(c).strip() for c in frame.columns]
+    if time is not None:
+        if time not in frame.columns:
+            raise ValueError(
+                f"time column {time!r} not found in {what}; columns are {list(frame.columns)}."
+            )
+        tname = time
+    else:
+        tname = next((c for c in _TIME_NAMES if c in frame.columns), None)
+    if tname is not None:
+        if dt is not None:
+            raise ValueError("pass either time= (a column) or dt= (uniform sampling), not both.")
+        t = pd.to_numeric(frame[tname], errors="coerce").to_numpy(dtype=np.float64)
+        if np.isnan(t).any():
+            raise ValueError(f"time column {tname!r} in {what} has non-numeric or missing values.")
+        frame = frame.drop(columns=[tname])
+    elif dt is not None:
+        t = float(dt) * np.arange(len(frame), dtype=np.float64)
+    else:
+        raise ValueError(
+            f"no time column in {what} (looked for {list(_TIME_NAMES)}); pass time='column' "
+            "or dt=<sampling interval in s>."
+        )
+    for col in frame.columns:
+        if not pd.api.types.is_numeric_dtype(frame[col]) or pd.api.types.is_bool_dtype(
+            frame[col]
+        ):
+            if not pd.api.types.is_bool_dtype(frame[col]):
+                raise ValueError(
+                    f"column {col!r} in {what} is not numeric (dtype {frame[col].dtype}); "
+                    "pass variables=[...] with the numeric columns only."
+                )
+    data_vars = {col: ("time", frame[col].to_numpy()) for col in frame.columns}
+    return xr.Dataset(data_vars, coords={"time": ("time", t)})
+
+
+def _read_csv(path: Path, *, time: str | None, dt: float | None) -> xr.Dataset:
+    payload = None
+    skip = 0
+    with path.open("r", encoding="utf-8") as fh:
+        for line in fh:
+            if not line.startswith("#"):
+                break
+            skip += 1
+            if line.startswith(_ATTRS_LINE):
+                payload = json.loads(line[len(_ATTRS_LINE) :])
+    sep = "\t" if path.suffix.lower() == ".tsv" else None
+    frame = pd.read_csv(path, skiprows=skip, sep=sep, engine="python")
+    ds = _from_table(frame, time=time, dt=dt, what=str(path))
+    return _apply_payload(ds, payload) if payload else ds
+
+
+def _read_npz(path: Path, *, time: str | None, dt: float | None) -> xr.Dataset:
+    with np.load(path, allow_pickle=False) as z:
+        arrays = {k: z[k] for k in z.files}
+    payload = None
+    if _NPZ_ATTRS in arrays:
+        payload = json.loads(str(arrays.pop(_NPZ_ATTRS)))
+    step = arrays.pop("step", None) if time is None and dt is None else None
+    bad = [k for k, v in arrays.items() if v.ndim != 1]
+    if bad:
+        raise ValueError(f"npz entries must be 1-D series; {bad} are not.")
+    lengths = {k: len(v) for k, v in arrays.items()}
+    if len(set(lengths.values())) > 1:
+        raise ValueError(f"npz entries have different lengths: {lengths}.")
+    if step is not None and step.dtype.kind in "iu":
+        ds = xr.Dataset({k: ("step", v) for k, v in arrays.items()}, coords={"step": step})
+    else:
+        if step is not None:
+            arrays["step"] = step
+        ds = _from_table(pd.DataFrame(arrays), time=time, dt=dt, what=str(path))
+    return _apply_payload(ds, payload) if payload else ds
+
+
+def _from_array(arr: np.ndarray, *, dt: float | None, variables: Sequence[str] | None) -> xr.Dataset:
+    if arr.ndim == 1:
+        arr = arr[:, None]
+    if arr.ndim != 2:
+        raise ValueError(f"a numpy array must be 1-D or 2-D (samples × variables); got {arr.shape}.")
+    if dt is None:
+        raise ValueError("a numpy array carries no time: pass dt=<sampling interval in s>.")
+    names = list(variables) if variables is not None else (
+        ["x"] if arr.shape[1] == 1 else [f"x{i}" for i in range(arr.shape[1])]
+    )
+    if len(names) != arr.shape[1]:
+        raise ValueError(f"variables names {len(names)} columns but the array has {arr.shape[1]}.")
+    frame = pd.DataFrame(arr, columns=names)
+    return _from_table(frame, time=None, dt=dt, what="the array")
+
+
+def load_trajectory(
+    source: Any,
+    *,
+    time: str | None = None,
+    dt: float | None = None,
+    variables: Sequence[str] | None = None,
+    require_uniform: bool = False,
+) -> xr.Dataset:
+    """Load a trajectory from a file or an in-memory container and validate it.
+
+    Parameters
+    ----------
+    source
+        A path to a netCDF (``.nc``), CSV (``.csv``/``.txt``/``.tsv``) or ``.npz`` file, a
+        :class:`pandas.DataFrame`, an :class:`xarray.Dataset` or ``DataArray``, or a numpy
+        array (1-D, or 2-D with one column per variable).
+    time
+        Name of the time column (seconds) in a table. Default: the first of ``time``, ``t``
+        found.
+    dt
+        Sampling interval in seconds, for sources without a time column.
+    variables
+        Names of the variables to keep (for a numpy array: the column names).
+    require_uniform
+        Raise if the sampling is not uniform (the estimators need uniform sampling).
+
+    Returns
+    -------
+    xarray.Dataset
+        A Dataset following the data contract (``docs/data-model.md``); missing ``units``
+        are filled with ``"unknown"`` and missing ``long_name`` with the variable name.
+
+    Examples
+    --------
+    >>> import numpy as np, chaoskit
+    >>> ds = chaoskit.load_trajectory(np.sin(np.arange(100) * 0.1), dt=0.1)
+    >>> float(ds.time[1])
+    0.1
+    """
+    if dt is not None:
+        if not np.isfinite(dt) or dt <= 0:
+            raise ValueError(f"dt must be a finite positive number of seconds; got {dt!r}.")
+    origin: str
+    if isinstance(source, (str, os.PathLike)):
+        path = Path(source)
+        fmt = _format_of(path)
+        if not path.exists():
+            raise FileNotFoundError(f"no such trajectory file: {path}")
+        if fmt == "netcdf":
+            with xr.open_dataset(path, engine="h5netcdf") as opened:
+                ds = opened.load()
+        elif fmt == "csv":
+            ds = _read_csv(path, time=time, dt=dt)
+        else:
+            ds = _read_npz(path, time=time, dt=dt)
+        origin = f"loaded from {path.name}"
+    elif isinstance(source, xr.Dataset):
+        ds, origin = source.copy(), "taken from an xarray.Dataset"
+    elif isinstance(source, xr.DataArray):
+        name = source.name or "x"
+        ds, origin = source.to_dataset(name=str(name)), "taken from an xarray.DataArray"
+    elif isinstance(source, pd.DataFrame):
+        ds = _from_table(source, time=time, dt=dt, what="the DataFrame")
+        origin = "taken from a pandas.DataFrame"
+    elif isinstance(source, pd.Series):
+        frame = source.to_frame(name=str(source.name or "x"))
+        ds = _from_table(frame, time=None, dt=dt, what="the Series")
+        origin = "taken from a pandas.Series"
+    elif isinstance(source, (np.ndarray, list, tuple)):
+        arr = np.asarray(source)
+        if arr.dtype.kind not in "fiub":
+            raise ValueError(f"the array is not numeric (dtype {arr.dtype}).")
+        ds = _from_array(arr, dt=dt, variables=variables)
+        origin, variables = "taken from a numpy array", None
+    else:
+        raise TypeError(
+            f"cannot load a trajectory from {type(source).__name__}; pass a file path, "
+            "DataFrame, xarray object or numpy array."
+        )
+    if isinstance(source, (xr.Dataset, xr.DataArray)) and "time" not in ds.coords:
+        if dt is not None and "step" not in ds.coords:
+            dim = next(iter(ds.dims))
+            ds = ds.rename({dim: "time"}).assign_coords(
+                time=float(dt) * np.arange(ds.sizes[dim], dtype=np.float64)
+            )
+    if variables is not None:
+        missing = [v for v in variables if v not in ds.data_vars]
+        if missing:
+            raise ValueError(f"variables {missing} not found; available: {list(ds.data_vars)}.")
+        ds = ds[list(variables)]
+    had_history = "history" in ds.attrs
+    ds = validate_trajectory(ds, require_uniform=require_uniform, fill_attrs=True)
+    if not had_history:  # foreign data: say where it came from; our own files keep theirs
+        append_history(ds, f"chaoskit.load_trajectory: {origin}")
+    return ds
+
+
+def _check_attr_values(ds: xr.Dataset) -> None:
+    for owner, attrs in [("the dataset", ds.attrs)] + [
+        (f"variable {k!r}", v.attrs) for k, v in ds.variables.items()
+    ]:
+        for key, value in attrs.items():
+            ok = isinstance(value, (str, int, float, np.number)) and not isinstance(value, bool)
+            ok = ok or (isinstance(value, (np.ndarray, list, tuple)) and np.asarray(value).dtype.kind in "fiu")
+            if not ok:
+                raise TypeError(
+                    f"attribute {key!r} of {owner} has type {type(value).__name__}; netCDF "
+                    "attributes must be strings, numbers or numeric arrays (store dicts as JSON)."
+                )
+
+
+def _atomic_write(path: Path, writer: Any) -> None:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.parent / f".{path.name}.{uuid.uuid4().hex[:12]}.tmp"
+    try:
+        writer(Path(tmp))
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+
+
+def save_trajectory(ds: xr.Dataset, path: str | os.PathLike[str]) -> Path:
+    """Write a trajectory atomically (temporary file in the same folder, then rename).
+
+    The format follows the suffix: netCDF-4 through h5netcdf (``.nc``), CSV with the
+    attributes in a JSON comment line (``.csv``; 1-D variables only) or ``.npz``.
+
+    Returns
+    -------
+    pathlib.Path
+        The written path.
+    """
+    path = Path(path)
+    fmt = _format_of(path)
+    ds = validate_trajectory(ds.copy())
+    _check_attr_values(ds)
+    if fmt == "netcdf":
+        _atomic_write(path, lambda p: ds.to_netcdf(p, engine="h5netcdf", invalid_netcdf=False))
+        return path
+    index = "time" if "time" in ds.coords else "step"
+    multi = [k for k, v in ds.data_vars.items() if v.dims != (index,)]
+    if multi:
+        raise ValueError(
+            f"{fmt} files hold 1-D series along {index!r} only; {multi} have other dims. "
+            "Save to netCDF (.nc) instead."
+        )
+    payload = json.dumps(_attrs_payload(ds), default=_json_default)
+    if fmt == "csv":
+        frame = ds.to_dataframe().reset_index()
+
+        def write_csv(p: Path) -> None:
+            with p.open("w", encoding="utf-8", newline="") as fh:
+                fh.write(_ATTRS_LINE + payload + "\n")
+                frame.to_csv(fh, index=False, float_format="%.17g")
+
+        _atomic_write(path, write_csv)
+    else:
+        arrays = {str(k): np.asarray(v.values) for k, v in ds.variables.items()}
+        arrays[_NPZ_ATTRS] = np.asarray(payload)
+
+        def write_npz(p: Path) -> None:
+            with p.open("wb") as fh:
+                np.savez(fh, **arrays)
+
+        _atomic_write(path, write_npz)
+    return path
+
+
+def _json_default(obj: Any) -> Any:
+    if isinstance(obj, np.generic):
+        return obj.item()
+    if isinstance(obj, np.ndarray):
+        return obj.tolist()
+    raise TypeError(f"cannot store {type(obj).__name__} as JSON")
+
+
+def new_trajectory(
+    data_vars: dict[str, tuple[Any, ...]],
+    *,
+    time: np.ndarray,
+    title: str,
+    source: str | None = None,
+    history: str | None = None,
+) -> xr.Dataset:
+    """Build a contract-conforming Dataset from ``{name: (dims, values, attrs)}``."""
+    ds = xr.Dataset(
+        {k: v for k, v in data_vars.items()},
+        coords={"time": ("time", np.asarray(time, dtype=np.float64))},
+    )
+    stamp(ds, title=title, source=source, history=history)
+    return validate_trajectory(ds)
