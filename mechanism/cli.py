@@ -27,3 +27,15 @@ def main(
     ),
 ) -> None:
     """mechanism command line."""
+
+
+# --- scenes (issue 5, scene loading): commands below this line only ---
+
+
+# --- simulation (issue 5, core): commands below this line only ---
+
+
+# --- wear (issue 7): commands below this line only ---
+
+
+# --- flexibility (issue 6): commands below this line only ---
