@@ -70,6 +70,7 @@ def _from_table(
     """Build a Dataset from a table with one column per variable."""
     frame = frame.copy()
     frame.columns = [str(c).strip() for c in frame.columns]
+    tname: str | None
     if time is not None:
         if time not in frame.columns:
             raise ValueError(
@@ -93,9 +94,7 @@ def _from_table(
             "or dt=<sampling interval in s>."
         )
     for col in frame.columns:
-        if not pd.api.types.is_numeric_dtype(frame[col]) or pd.api.types.is_bool_dtype(
-            frame[col]
-        ):
+        if not pd.api.types.is_numeric_dtype(frame[col]) or pd.api.types.is_bool_dtype(frame[col]):
             if not pd.api.types.is_bool_dtype(frame[col]):
                 raise ValueError(
                     f"column {col!r} in {what} is not numeric (dtype {frame[col].dtype}); "
@@ -143,15 +142,21 @@ def _read_npz(path: Path, *, time: str | None, dt: float | None) -> xr.Dataset:
     return _apply_payload(ds, payload) if payload else ds
 
 
-def _from_array(arr: np.ndarray, *, dt: float | None, variables: Sequence[str] | None) -> xr.Dataset:
+def _from_array(
+    arr: np.ndarray, *, dt: float | None, variables: Sequence[str] | None
+) -> xr.Dataset:
     if arr.ndim == 1:
         arr = arr[:, None]
     if arr.ndim != 2:
-        raise ValueError(f"a numpy array must be 1-D or 2-D (samples × variables); got {arr.shape}.")
+        raise ValueError(
+            f"a numpy array must be 1-D or 2-D (samples × variables); got {arr.shape}."
+        )
     if dt is None:
         raise ValueError("a numpy array carries no time: pass dt=<sampling interval in s>.")
-    names = list(variables) if variables is not None else (
-        ["x"] if arr.shape[1] == 1 else [f"x{i}" for i in range(arr.shape[1])]
+    names = (
+        list(variables)
+        if variables is not None
+        else (["x"] if arr.shape[1] == 1 else [f"x{i}" for i in range(arr.shape[1])])
     )
     if len(names) != arr.shape[1]:
         raise ValueError(f"variables names {len(names)} columns but the array has {arr.shape[1]}.")
@@ -262,7 +267,10 @@ def _check_attr_values(ds: xr.Dataset) -> None:
     ]:
         for key, value in attrs.items():
             ok = isinstance(value, (str, int, float, np.number)) and not isinstance(value, bool)
-            ok = ok or (isinstance(value, (np.ndarray, list, tuple)) and np.asarray(value).dtype.kind in "fiu")
+            ok = ok or (
+                isinstance(value, (np.ndarray, list, tuple))
+                and np.asarray(value).dtype.kind in "fiu"
+            )
             if not ok:
                 raise TypeError(
                     f"attribute {key!r} of {owner} has type {type(value).__name__}; netCDF "
@@ -322,7 +330,7 @@ def save_trajectory(ds: xr.Dataset, path: str | os.PathLike[str]) -> Path:
 
         def write_npz(p: Path) -> None:
             with p.open("wb") as fh:
-                np.savez(fh, **arrays)
+                np.savez(fh, **arrays)  # type: ignore[arg-type]
 
         _atomic_write(path, write_npz)
     return path

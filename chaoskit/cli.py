@@ -42,4 +42,5 @@ def demo(
 
     ds = load_trajectory(path)
     typer.echo(f"{path}: {ds.attrs.get('title', '')}")
-    typer.echo(f"  {ds.sizes.get('time', 0)} samples, variables: {', '.join(ds.data_vars)}")
+    names = ", ".join(map(str, ds.data_vars))
+    typer.echo(f"  {ds.sizes.get('time', 0)} samples, variables: {names}")

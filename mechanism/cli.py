@@ -1,4 +1,4 @@
-"""Command-line interface of the simulator: a thin layer that loads, calls the library and prints."""
+"""Simulator command line: a thin layer that loads, calls the library and prints."""
 
 from __future__ import annotations
 
