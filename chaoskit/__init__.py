@@ -21,9 +21,81 @@ _foundation = [
 ]
 
 # --- estimators (issue 3): add imports and names below this line only ---
-_estimators: list[str] = []
+from .embedding import (  # noqa: E402
+    DelayCurve,
+    DelayResult,
+    DimensionResult,
+    autocorrelation,
+    cao,
+    delay_embed,
+    estimate_delay,
+    estimate_embedding_dim,
+    false_nearest_neighbors,
+    mutual_information,
+)
+from .lyapunov import LyapunovResult, lyapunov_rosenstein, lyapunov_wolf  # noqa: E402
+
+_estimators: list[str] = [
+    "DelayCurve",
+    "DelayResult",
+    "DimensionResult",
+    "LyapunovResult",
+    "autocorrelation",
+    "cao",
+    "delay_embed",
+    "estimate_delay",
+    "estimate_embedding_dim",
+    "false_nearest_neighbors",
+    "lyapunov_rosenstein",
+    "lyapunov_wolf",
+    "mutual_information",
+]
 
 # --- views and verdict (issue 4): add imports and names below this line only ---
-_views: list[str] = []
+from . import plot  # noqa: E402
+from ._bifurcation import bifurcation_diagram  # noqa: E402
+from ._portraits import phase_portrait  # noqa: E402
+from .classify import (  # noqa: E402
+    SectionStructure,
+    SurrogateResult,
+    Verdict,
+    VerdictRule,
+    ZeroOneResult,
+    analyze,
+    classify,
+    classify_variables,
+    iaaft_surrogates,
+    section_structure,
+    surrogate_test,
+    verdict_table,
+    zero_one_test,
+)
+from .sections import poincare_section, stroboscopic_map  # noqa: E402
 
-__all__ = _foundation + _estimators + _views
+_views: list[str] = [
+    "SectionStructure",
+    "SurrogateResult",
+    "Verdict",
+    "VerdictRule",
+    "ZeroOneResult",
+    "analyze",
+    "bifurcation_diagram",
+    "classify",
+    "classify_variables",
+    "iaaft_surrogates",
+    "phase_portrait",
+    "plot",
+    "poincare_section",
+    "section_structure",
+    "stroboscopic_map",
+    "surrogate_test",
+    "verdict_table",
+    "zero_one_test",
+]
+
+# --- report (issue 8): add imports and names below this line only ---
+from .report import Report, ReportFigure, ReportTable, SweepMap, report  # noqa: E402
+
+_report: list[str] = ["Report", "ReportFigure", "ReportTable", "SweepMap", "report"]
+
+__all__ = _foundation + _estimators + _views + _report

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 import typer
 
@@ -33,14 +34,293 @@ def main(
     """chaoskit command line."""
 
 
+def _interval(value: float, low: float, high: float) -> str:
+    if value != value:  # NaN
+        return "—"
+    return f"{value:.4g} [{low:.3g}, {high:.3g}]"
+
+
+def format_table(table: Any) -> str:
+    """The rows of :func:`chaoskit.analyze` as a fixed-width text table."""
+    unit = table["mle_rosenstein"].attrs.get("units", "")
+    unit = "1/s" if unit == "s-1" else "per iteration"
+    header = (
+        "variable",
+        "verdict",
+        "period",
+        "confidence",
+        "lag",
+        "m",
+        f"MLE Rosenstein ({unit}) [95% CI]",
+        f"MLE Wolf ({unit}) [95% CI]",
+        "0-1 K",
+        "surrogate p",
+    )
+    rows = [header]
+    for name in table["variable"].values:
+        r = table.sel(variable=name)
+
+        def num(key: str, fmt: str, r: Any = r) -> str:
+            value = float(r[key])
+            return "—" if value != value else format(value, fmt)
+
+        rows.append(
+            (
+                str(name),
+                str(r["label"].item()),
+                num("period", ".0f"),
+                num("confidence", ".2f"),
+                num("lag", ".0f"),
+                num("embedding_dim", ".0f"),
+                _interval(
+                    float(r["mle_rosenstein"]),
+                    float(r["mle_rosenstein_low"]),
+                    float(r["mle_rosenstein_high"]),
+                ),
+                _interval(
+                    float(r["mle_wolf"]), float(r["mle_wolf_low"]), float(r["mle_wolf_high"])
+                ),
+                num("zero_one_k", ".2f"),
+                num("surrogate_p_value", ".2f"),
+            )
+        )
+    widths = [max(len(row[i]) for row in rows) for i in range(len(header))]
+    lines = ["  ".join(cell.ljust(w) for cell, w in zip(row, widths, strict=True)) for row in rows]
+    lines.insert(1, "  ".join("-" * w for w in widths))
+    return "\n".join(line.rstrip() for line in lines)
+
+
+def _write_figures(ds: Any, verdicts: dict[str, Any], directory: Path) -> list[Path]:
+    """One PNG per figure and variable; returns the paths written."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from . import plot
+    from ._portraits import phase_portrait
+
+    directory.mkdir(parents=True, exist_ok=True)
+    written: list[Path] = []
+    for name, verdict in verdicts.items():
+        if verdict.label == "equilibrium":
+            continue
+        figures: list[tuple[str, Any]] = []
+        if "time" in ds.coords:
+            try:
+                portrait = phase_portrait(ds[[name]], variable=name)
+                figures.append(
+                    ("phase_portrait", lambda ax, p=portrait: plot.phase_portrait(p, ax=ax))
+                )
+            except ValueError:
+                pass  # e.g. non-uniform sampling: no estimated derivative, no portrait
+        if verdict.section is not None and verdict.section.sizes.get("crossing", 0) > 1:
+            figures.append(("poincare", lambda ax, v=verdict: plot.poincare(v, ax=ax)))
+        for method in ("rosenstein", "wolf"):
+            result = getattr(verdict, method)
+            if result is not None:
+                figures.append(
+                    (f"divergence_{method}", lambda ax, r=result: plot.divergence(r, ax=ax))
+                )
+        if verdict.delay is not None:
+            figures.append(
+                ("mutual_information", lambda ax, v=verdict: plot.mutual_information(v, ax=ax))
+            )
+        if verdict.dimension is not None:
+            figures.append(
+                (
+                    "false_nearest_neighbors",
+                    lambda ax, v=verdict: plot.false_nearest_neighbors(v, ax=ax),
+                )
+            )
+        for kind, draw in figures:
+            fig, ax = plt.subplots(figsize=(5.0, 4.0), layout="constrained")
+            try:
+                draw(ax)
+                fig.suptitle(f"{name}: {verdict.label}", fontsize=10)
+                path = directory / f"{name}_{kind}.png"
+                fig.savefig(path, dpi=110)
+                written.append(path)
+            finally:
+                plt.close(fig)
+    return written
+
+
+def _run_analysis(
+    path: Path,
+    variables: list[str] | None,
+    *,
+    figures: Path | None,
+    drive_period: float | None,
+    phase_variable: str | None,
+    seed: int,
+    progress: bool,
+) -> None:
+    from ._io import load_trajectory
+    from .classify import classify_variables, verdict_table
+
+    try:
+        ds = load_trajectory(path)
+        verdicts = classify_variables(
+            ds,
+            variables=variables or None,
+            drive_period=drive_period,
+            phase_variable=phase_variable,
+            rng=seed,
+            progress=progress,
+        )
+        table = verdict_table(verdicts)
+    except (ValueError, FileNotFoundError) as exc:
+        typer.echo(f"error: {exc}", err=True)
+        raise typer.Exit(code=2) from exc
+    index = "time" if "time" in ds.coords else "step"
+    typer.echo(f"{path}: {ds.attrs.get('title', '')}")
+    typer.echo(f"  {ds.sizes[index]} samples along {index!r}")
+    typer.echo("")
+    typer.echo(format_table(table))
+    typer.echo("")
+    for name, verdict in verdicts.items():
+        typer.echo(f"{name}: {verdict.reason}")
+    if figures is not None:
+        written = _write_figures(ds, verdicts, figures)
+        typer.echo(f"\n{len(written)} figure(s) written to {figures}")
+
+
+@app.command()
+def analyze(
+    path: Path = typer.Argument(..., help="Trajectory file (netCDF, CSV or npz)."),
+    var: list[str] = typer.Option(
+        None, "--var", help="Variable to analyse (repeat for several; default: all)."
+    ),
+    figures: Path | None = typer.Option(
+        None, "--figures", help="Folder for the figures (PNG), one set per variable."
+    ),
+    drive_period: float | None = typer.Option(
+        None, "--drive-period", help="Period of an external drive, s (stroboscopic section)."
+    ),
+    phase_variable: str | None = typer.Option(
+        None, "--phase-variable", help="Drive angle variable, rad (stroboscopic section)."
+    ),
+    seed: int = typer.Option(0, "--seed", help="Seed of the 0-1 test and the surrogates."),
+) -> None:
+    """Classify each variable of a trajectory and print the evidence table."""
+    _run_analysis(
+        path,
+        list(var) if var else None,
+        figures=figures,
+        drive_period=drive_period,
+        phase_variable=phase_variable,
+        seed=seed,
+        progress=True,
+    )
+
+
 @app.command()
 def demo(
     path: Path = typer.Argument(DEFAULT_SAMPLE, help="Trajectory file (netCDF, CSV or npz)."),
 ) -> None:
     """Analyse a sample trajectory from data/ and print the result."""
-    from ._io import load_trajectory
+    _run_analysis(
+        path, None, figures=None, drive_period=None, phase_variable=None, seed=0, progress=False
+    )
 
-    ds = load_trajectory(path)
-    typer.echo(f"{path}: {ds.attrs.get('title', '')}")
-    names = ", ".join(map(str, ds.data_vars))
-    typer.echo(f"  {ds.sizes.get('time', 0)} samples, variables: {names}")
+
+def _parse_selections(items: list[str]) -> dict[str, str]:
+    out: dict[str, str] = {}
+    for item in items:
+        key, eq, value = item.partition("=")
+        if not eq or not key.strip() or not value.strip():
+            raise ValueError(f"--sel {item!r} must read DIM=VALUE (e.g. joint=C).")
+        out[key.strip()] = value.strip()
+    return out
+
+
+def _read_reference(path: Path) -> Any:
+    import pandas as pd
+
+    frame = pd.read_csv(path, comment="#")
+    missing = [c for c in ("variable", "state") if c not in frame.columns]
+    if missing:
+        raise ValueError(f"the reference table {path} needs the columns variable and state.")
+    frame["variable"] = frame["variable"].astype(str)
+    frame["state"] = frame["state"].astype(str)
+    return frame.set_index(["variable", "state"])
+
+
+@app.command()
+def report(
+    paths: list[Path] = typer.Argument(..., help="Trajectory files, one per state."),
+    var: list[str] = typer.Option(
+        ...,
+        "--var",
+        help="Variable to analyse: NAME, NAME[DIM=VALUE] or ALIAS=NAME[DIM=VALUE] (repeat).",
+    ),
+    label: list[str] = typer.Option(
+        None, "--label", help="Name of each state, in file order (default: file stems)."
+    ),
+    output: Path = typer.Option(
+        ..., "-o", "--output", help="HTML report to write; the Markdown twin goes beside it."
+    ),
+    sel: list[str] = typer.Option(
+        None, "--sel", help="DIM=VALUE applied to every variable with that dimension (repeat)."
+    ),
+    discard: float = typer.Option(
+        0.0, "--discard", help="Transient dropped from the start of each trajectory, s."
+    ),
+    max_samples: int | None = typer.Option(
+        None, "--max-samples", help="Subsample so that at most this many samples are analysed."
+    ),
+    drive_period: float | None = typer.Option(
+        None, "--drive-period", help="Period of an external drive, s (stroboscopic maps)."
+    ),
+    phase_variable: str | None = typer.Option(
+        None, "--phase-variable", help="Drive angle variable, rad (stroboscopic maps)."
+    ),
+    chaos_reference: Path | None = typer.Option(
+        None,
+        "--chaos-reference",
+        help="CSV of reference values for the chaos table: columns variable, state, and any "
+        "of lag, embedding_dim, mle_wolf_bits, ...",
+    ),
+    reference_name: str = typer.Option(
+        "paper", "--reference-name", help="Header of the reference values."
+    ),
+    title: str = typer.Option("chaoskit report", "--title", help="Title of the report."),
+    embed_figures: bool = typer.Option(
+        False, "--embed-figures", help="Embed the figures in the Markdown twin too."
+    ),
+    seed: int = typer.Option(0, "--seed", help="Seed of the 0-1 test and the surrogates."),
+) -> None:
+    """Analyse trajectories and write an HTML report with its Markdown twin."""
+    import shlex
+    import sys
+
+    from .report import report as build_report
+
+    try:
+        reference = _read_reference(chaos_reference) if chaos_reference is not None else None
+        rep = build_report(
+            [str(p) for p in paths],
+            variables=list(var),
+            labels=list(label) if label else None,
+            sel=_parse_selections(list(sel or [])),
+            discard=discard,
+            max_samples=max_samples,
+            drive_period=drive_period,
+            phase_variable=phase_variable,
+            rng=seed,
+            chaos_reference=reference,
+            reference_name=reference_name,
+            title=title,
+            command=shlex.join(["chaoskit", *sys.argv[1:]]),
+            progress=True,
+        )
+        written = rep.write(output, markdown_figures="embed" if embed_figures else "files")
+    except (ValueError, FileNotFoundError) as exc:
+        typer.echo(f"error: {exc}", err=True)
+        raise typer.Exit(code=2) from exc
+    overview = rep.table("verdict per variable").display()
+    typer.echo(overview.droplevel(1, axis=1).to_string())
+    typer.echo("")
+    typer.echo(f"report: {written['html']}")
+    typer.echo(f"markdown: {written['markdown']} ({len(written['figures'])} figure file(s))")

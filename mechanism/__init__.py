@@ -11,15 +11,80 @@ from chaoskit._version import __version__
 _foundation = ["__version__"]
 
 # --- scenes (issue 5, scene loading): add imports and names below this line only ---
-_scenes: list[str] = []
+from . import scene  # noqa: E402
+from .scene import (  # noqa: E402
+    Scene,
+    SceneError,
+    list_scenes,
+    load_scene,
+    save_scene,
+    scene_from_json,
+)
+
+_scenes: list[str] = [
+    "Scene",
+    "SceneError",
+    "list_scenes",
+    "load_scene",
+    "save_scene",
+    "scene",
+    "scene_from_json",
+]
 
 # --- simulation (issue 5, core): add imports and names below this line only ---
-_simulation: list[str] = []
+from . import integrate  # noqa: E402
+from ._simulate import SimulationError, simulate  # noqa: E402
+
+_simulation: list[str] = ["SimulationError", "integrate", "simulate"]
 
 # --- contact and wear (issues 5 and 7): add imports and names below this line only ---
-_contact_wear: list[str] = []
+from .contact import contact_stiffness, hertz_stiffness  # noqa: E402
+from .wear import WornProfile, archard_wear  # noqa: E402
+
+_contact_wear: list[str] = ["WornProfile", "archard_wear", "contact_stiffness", "hertz_stiffness"]
 
 # --- flexibility (issue 6): add imports and names below this line only ---
-_flexibility: list[str] = []
+from .bodies._ancf import (  # noqa: E402
+    AncfMesh,
+    BeamModes,
+    BeamStaticSolution,
+    beam_modes,
+    euler_bernoulli_frequencies,
+    solve_beam_static,
+)
 
-__all__ = _foundation + _scenes + _simulation + _contact_wear + _flexibility
+_flexibility: list[str] = [
+    "AncfMesh",
+    "BeamModes",
+    "BeamStaticSolution",
+    "beam_modes",
+    "euler_bernoulli_frequencies",
+    "solve_beam_static",
+]
+
+# --- sweeps (issue 8): add imports and names below this line only ---
+from ._sweep import (  # noqa: E402
+    Analysis,
+    GridTransform,
+    SweepStoreMismatch,
+    chaos_map,
+    grid_transforms,
+    load_sweep,
+    register_grid_transform,
+    stroboscopic_points,
+    sweep,
+)
+
+_sweeps: list[str] = [
+    "Analysis",
+    "GridTransform",
+    "SweepStoreMismatch",
+    "chaos_map",
+    "grid_transforms",
+    "load_sweep",
+    "register_grid_transform",
+    "stroboscopic_points",
+    "sweep",
+]
+
+__all__ = _foundation + _scenes + _simulation + _contact_wear + _flexibility + _sweeps

@@ -30,12 +30,244 @@ def main(
 
 
 # --- scenes (issue 5, scene loading): commands below this line only ---
+from typing import TYPE_CHECKING, Any  # noqa: E402
+
+if TYPE_CHECKING:
+    from collections.abc import Sequence
+
+    from mechanism.scene import Scene
+
+SET_HELP = (
+    "Change a scene key, e.g. --set joints.C.clearance=2e-4 --set effects.wear=true; "
+    "values are TOML literals (a bare word is a string). Repeatable."
+)
+
+
+def parse_set_options(options: Sequence[str] | None) -> dict[str, Any]:
+    """Parse ``--set KEY=VALUE`` options into the mapping :meth:`Scene.replace` takes.
+
+    Each value is read as a TOML literal: ``2e-4`` → float, ``16`` → int, ``true`` → bool,
+    ``[0.0, -9.81]`` → list, ``{ law = "hertz" }`` → dict, ``"text"`` → str. Anything that
+    is not a TOML literal is kept as the plain string (``solver.method=Radau``). Later
+    options win over earlier ones for the same key.
+
+    Examples
+    --------
+    >>> parse_set_options(["joints.C.clearance=2e-4", "solver.method=Radau", "effects.wear=true"])
+    {'joints.C.clearance': 0.0002, 'solver.method': 'Radau', 'effects.wear': True}
+    """
+    import tomllib
+
+    changes: dict[str, Any] = {}
+    for option in options or ():
+        key, sep, text = option.partition("=")
+        key = key.strip()
+        if not sep or not key or any(not part for part in key.split(".")):
+            raise typer.BadParameter(
+                f"{option!r}: expected KEY=VALUE with a dotted key, e.g. joints.C.clearance=2e-4",
+                param_hint="--set",
+            )
+        text = text.strip()
+        try:
+            value = tomllib.loads(f"value = {text}")["value"]
+        except tomllib.TOMLDecodeError:
+            value = text
+        changes[key] = value
+    return changes
+
+
+def load_scene_option(scene: str, set_options: Sequence[str] | None = None) -> Scene:
+    """Load ``scene`` (built-in name or TOML path) and apply ``--set`` options; exit with
+    status 2 and the scene error on stderr when it is invalid. For all scene commands."""
+    from mechanism.scene import SceneError, load_scene
+
+    changes = parse_set_options(set_options)
+    try:
+        resolved = load_scene(scene)
+        return resolved.replace(changes) if changes else resolved
+    except SceneError as exc:
+        typer.echo(f"Error: {exc}", err=True)
+        raise typer.Exit(code=2) from None
+
+
+@app.command("scenes")
+def scenes_command() -> None:
+    """List the built-in scenes with their descriptions."""
+    from mechanism.scene import list_scenes
+
+    table = list_scenes()
+    width = max(map(len, table), default=0)
+    for name, description in table.items():
+        typer.echo(f"{name:<{width}}  {description}")
+
+
+@app.command("show")
+def show_command(
+    scene: str = typer.Argument(..., help="Built-in scene name or path of a TOML scene."),
+    set_options: list[str] | None = typer.Option(None, "--set", metavar="KEY=VALUE", help=SET_HELP),
+    as_json: bool = typer.Option(False, "--json", help="Print JSON instead of TOML."),
+) -> None:
+    """Print the resolved scene (after any --set changes) as TOML."""
+    resolved = load_scene_option(scene, set_options)
+    typer.echo(resolved.to_json() if as_json else resolved.to_toml(), nl=as_json)
 
 
 # --- simulation (issue 5, core): commands below this line only ---
+
+
+@app.command("simulate")
+def simulate_command(
+    scene: str = typer.Argument(..., help="Built-in scene name or path of a TOML scene."),
+    output: str = typer.Option(..., "-o", "--output", help="Trajectory file (.nc, .csv, .npz)."),
+    set_options: list[str] | None = typer.Option(None, "--set", metavar="KEY=VALUE", help=SET_HELP),
+    revolutions: float | None = typer.Option(
+        None, "--revolutions", help="Simulated drive periods (default 1)."
+    ),
+    t_end: float | None = typer.Option(None, "--t-end", help="Simulated time in s."),
+    method: str | None = typer.Option(
+        None, "--method", help="dopri5, RK45, DOP853, Radau, BDF, LSODA or generalized-alpha."
+    ),
+    rtol: float | None = typer.Option(None, "--rtol", help="Relative tolerance."),
+    atol: float | None = typer.Option(None, "--atol", help="Absolute tolerance."),
+    output_step: float | None = typer.Option(
+        None, "--output-step", help="Output spacing in s (default drive period / 10000)."
+    ),
+    progress: bool = typer.Option(True, "--progress/--no-progress", help="Show a progress bar."),
+) -> None:
+    """Simulate a scene and write its trajectory (netCDF by default)."""
+    import chaoskit
+    from mechanism import SimulationError, simulate
+
+    resolved = load_scene_option(scene, set_options)
+    try:
+        ds = simulate(
+            resolved,
+            revolutions=revolutions,
+            t_end=t_end,
+            method=method,
+            rtol=rtol,
+            atol=atol,
+            output_step=output_step,
+            progress=progress,
+        )
+    except (ValueError, SimulationError) as exc:
+        typer.echo(f"Error: {exc}", err=True)
+        raise typer.Exit(code=1) from None
+    path = chaoskit.save_trajectory(ds, output)
+    typer.echo(
+        f"{path}: {ds.sizes['time']} samples, t_end = {ds.attrs['t_end']:.6g} s, "
+        f"{ds.attrs['solver_steps']} steps ({ds.attrs['solver_rejected_steps']} rejected), "
+        f"{ds.attrs['solver_contact_events']} contact events, "
+        f"{ds.attrs['solver_wall_time'] + ds.attrs['ideal_solver_wall_time']:.3g} s"
+    )
 
 
 # --- wear (issue 7): commands below this line only ---
 
 
 # --- flexibility (issue 6): commands below this line only ---
+
+
+# --- sweeps (issue 8): commands below this line only ---
+from pathlib import Path  # noqa: E402
+
+GRID_HELP = (
+    "A swept key and its values, e.g. --grid joints.C.clearance=1e-4,2e-4 "
+    "--grid drive.speed_rpm=30,90,150 --grid wear=before,after; values are TOML literals "
+    "(a bare word is a string). Repeatable: the grid is every combination."
+)
+
+
+def parse_grid_options(options: Sequence[str]) -> dict[str, list[Any]]:
+    """Parse ``--grid KEY=V1,V2,...`` options into the ``grid`` mapping of ``mechanism.sweep``.
+
+    Examples
+    --------
+    >>> parse_grid_options(["joints.C.clearance=1e-4,2e-4", "drive.speed_rpm=30,90", "wear=before"])
+    {'joints.C.clearance': [0.0001, 0.0002], 'drive.speed_rpm': [30, 90], 'wear': ['before']}
+    """
+    import tomllib
+
+    grid: dict[str, list[Any]] = {}
+    for option in options:
+        key, sep, text = option.partition("=")
+        key = key.strip()
+        items = [t.strip() for t in text.split(",")]
+        if not sep or not key or not all(items):
+            raise typer.BadParameter(
+                f"{option!r}: expected KEY=V1,V2,... e.g. joints.C.clearance=1e-4,2e-4",
+                param_hint="--grid",
+            )
+        if key in grid:
+            raise typer.BadParameter(f"{key!r} is given twice", param_hint="--grid")
+        values = []
+        for item in items:
+            try:
+                values.append(tomllib.loads(f"value = {item}")["value"])
+            except tomllib.TOMLDecodeError:
+                values.append(item)
+        grid[key] = values
+    return grid
+
+
+@app.command("sweep")
+def sweep_command(
+    scene: str = typer.Argument(..., help="Built-in scene name or path of a TOML scene."),
+    grid: list[str] = typer.Option(..., "--grid", metavar="KEY=V1,V2,...", help=GRID_HELP),
+    store: Path = typer.Option(
+        ..., "--store", help="Folder for the point files and summary.nc; a re-run resumes."
+    ),
+    revolutions: float = typer.Option(3.0, "--revolutions", help="Crank revolutions per point."),
+    scheduler: str | None = typer.Option(
+        None,
+        "--scheduler",
+        metavar="ADDRESS",
+        help="dask scheduler address (tcp://host:8786); 'serial' runs in this process.",
+    ),
+    workers: int | None = typer.Option(
+        None, "--workers", min=1, help="Workers of the local dask cluster (default: CPU count)."
+    ),
+    set_options: list[str] | None = typer.Option(None, "--set", metavar="KEY=VALUE", help=SET_HELP),
+    variables: list[str] | None = typer.Option(
+        None, "--var", help="Variable for chaoskit.analyze (default: eccentricity_x and _y)."
+    ),
+    no_analysis: bool = typer.Option(False, "--no-analysis", help="Response metrics only."),
+    discard: float = typer.Option(
+        1.0, "--discard", help="Revolutions discarded before metrics and analysis."
+    ),
+    progress: bool = typer.Option(True, "--progress/--no-progress", help="Progress bar."),
+) -> None:
+    """Simulate and analyse a scene over a grid, one dask task per point (issue 8)."""
+    from mechanism import Analysis, sweep
+
+    if scheduler is not None and workers is not None:
+        raise typer.BadParameter("give --scheduler or --workers, not both", param_hint="--workers")
+    parsed = parse_grid_options(grid)
+    resolved = load_scene_option(scene, set_options)
+    try:
+        analysis = Analysis(
+            variables=() if no_analysis else tuple(variables or Analysis().variables),
+            discard_revolutions=discard,
+        )
+        ds = sweep(
+            resolved,
+            grid=parsed,
+            revolutions=revolutions,
+            analysis=analysis,
+            client=scheduler,
+            n_workers=workers,
+            store=store,
+            progress=progress,
+        )
+    except ValueError as exc:
+        typer.echo(f"Error: {exc}", err=True)
+        raise typer.Exit(code=2) from None
+    status = ds["status"].values.ravel()
+    counts = ", ".join(f"{(status == s).sum()} {s}" for s in ("ok", "failed", "diverged"))
+    typer.echo(ds.attrs["history"].splitlines()[-1].split(" ", 1)[1])
+    typer.echo(f"{status.size} points: {counts}")
+    messages = ds["message"].values.ravel()
+    for pid, state, message in zip(ds["point_id"].values.ravel(), status, messages, strict=True):
+        if state != "ok":
+            typer.echo(f"  {state:>8}  {pid}: {message}")
+    typer.echo(f"summary: {Path(ds.attrs['store']) / 'summary.nc'}")

@@ -1,6 +1,32 @@
-"""Scenes: mechanisms described as data (TOML), validated into frozen dataclasses."""
+"""Scenes: mechanisms described as data (TOML), validated into frozen dataclasses.
 
+Load a built-in scene or a TOML file with :func:`load_scene`, change it with
+:meth:`Scene.replace` (dotted keys such as ``"joints.C.clearance"``), store it with
+:func:`save_scene` or :meth:`Scene.to_json`. ``docs/scenes.md`` lists every key with its
+unit and accepted range.
+"""
+
+from ._load import (
+    SceneError,
+    list_scenes,
+    load_scene,
+    save_scene,
+    scene_from_dict,
+    scene_from_json,
+    scene_from_toml,
+    validate_scene,
+)
 from ._model import *  # noqa: F403
 from ._model import __all__ as _model_all
 
-__all__ = list(_model_all)
+__all__ = [
+    *_model_all,
+    "SceneError",
+    "list_scenes",
+    "load_scene",
+    "save_scene",
+    "scene_from_dict",
+    "scene_from_json",
+    "scene_from_toml",
+    "validate_scene",
+]

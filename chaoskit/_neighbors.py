@@ -1,0 +1,136 @@
+"""Nearest-neighbour search in delay space with an exact Theiler window.
+
+A KD-tree (:class:`scipy.spatial.cKDTree`) gives the ``k`` nearest candidates of each query
+point in O(log N); candidates closer in time than the Theiler window are dropped and the
+first remaining one is the neighbour. Points whose ``k`` candidates are all excluded are
+queried again with a larger ``k`` (×4 each round). ``k = 2w + 2`` always contains an admissible
+point, because at most ``2w + 1`` points (the point itself included) lie inside the window,
+so the loop ends after a few rounds. Time O(N log N), memory O(N·m) plus a bounded
+``chunk × k`` candidate block.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.spatial import cKDTree
+
+__all__ = [
+    "build_tree",
+    "check_theiler_window",
+    "default_theiler_window",
+    "mean_period",
+    "nearest_neighbors",
+]
+
+_CHUNK_ENTRIES = 2_000_000  # candidates held at once (≈ 32 MB of index + distance)
+_FIRST_K = 8
+
+
+def check_theiler_window(theiler_window: int, n_points: int) -> None:
+    """Raise a ValueError if ``theiler_window`` leaves some point without a neighbour.
+
+    Point ``i`` has an admissible neighbour iff some ``j`` in ``[0, n_points)`` has
+    ``|i - j| > theiler_window``; this holds for every ``i`` iff ``n_points >= 2w + 2``.
+    """
+    if n_points < 2 * theiler_window + 2:
+        raise ValueError(
+            f"theiler_window={theiler_window} leaves no admissible neighbour: excluding pairs "
+            f"with |i - j| <= {theiler_window} needs at least {2 * theiler_window + 2} "
+            f"embedded points, but only {n_points} are available. Use a smaller "
+            "theiler_window or a longer series."
+        )
+
+
+def build_tree(points: np.ndarray) -> cKDTree:
+    """Build the KD-tree used by :func:`nearest_neighbors` (reuse it across queries)."""
+    return cKDTree(points, leafsize=16, balanced_tree=False, compact_nodes=False)
+
+
+def nearest_neighbors(
+    points: np.ndarray,
+    *,
+    theiler_window: int,
+    query: np.ndarray | None = None,
+    tree: cKDTree | None = None,
+    p: float = 2.0,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Nearest neighbour of each query point with ``|i - j| > theiler_window``.
+
+    Parameters
+    ----------
+    points
+        ``(M, m)`` contiguous float64 array; row ``i`` is the state at sample ``i``.
+    theiler_window
+        Pairs with ``|i - j| <= theiler_window`` are excluded (``0`` excludes only the point
+        itself).
+    query
+        Row indices to find neighbours for (default: all rows).
+    tree
+        A tree from :func:`build_tree` over ``points``, to avoid rebuilding it.
+    p
+        Minkowski norm (2 Euclidean, ``np.inf`` maximum norm).
+
+    Returns
+    -------
+    index, distance
+        ``int64`` and ``float64`` arrays of the length of ``query``.
+
+    Raises
+    ------
+    ValueError
+        If the window leaves some point without an admissible neighbour (see
+        :func:`check_theiler_window`).
+    """
+    n_points = points.shape[0]
+    check_theiler_window(theiler_window, n_points)
+    if tree is None:
+        tree = build_tree(points)
+    q = np.arange(n_points, dtype=np.int64) if query is None else np.asarray(query, np.int64)
+    out_idx = np.full(q.size, -1, dtype=np.int64)
+    out_dist = np.full(q.size, np.inf)
+    k_max = min(n_points, 2 * theiler_window + 2)
+    k = min(_FIRST_K, k_max)
+    pending = np.arange(q.size)
+    while pending.size:
+        chunk = max(1, _CHUNK_ENTRIES // k)
+        unresolved = []
+        for start in range(0, pending.size, chunk):
+            sel = pending[start : start + chunk]
+            qi = q[sel]
+            dist, idx = tree.query(points[qi], k=k, p=p)
+            if k == 1:
+                dist, idx = dist[:, None], idx[:, None]
+            ok = np.abs(idx - qi[:, None]) > theiler_window
+            ok &= idx < n_points
+            has = ok.any(axis=1)
+            first = ok.argmax(axis=1)
+            rows = np.flatnonzero(has)
+            out_idx[sel[rows]] = idx[rows, first[rows]]
+            out_dist[sel[rows]] = dist[rows, first[rows]]
+            unresolved.append(sel[~has])
+        pending = np.concatenate(unresolved)
+        if pending.size and k >= k_max:  # cannot happen when check_theiler_window passed
+            raise RuntimeError("neighbour search failed to resolve all points")
+        k = min(4 * k, k_max)
+    return out_idx, out_dist
+
+
+def mean_period(x: np.ndarray) -> float:
+    """Mean period in samples, 1 / (power-weighted mean frequency) of the periodogram.
+
+    Used as the default Theiler window (Rosenstein et al. 1993): neighbours closer in time
+    than about one mean period lie on the same stretch of trajectory.
+    """
+    y = x - x.mean()
+    power = np.abs(np.fft.rfft(y)) ** 2
+    freq = np.fft.rfftfreq(y.size)
+    total = power[1:].sum()
+    if total <= 0.0:
+        return 1.0
+    return float(total / (freq[1:] * power[1:]).sum())
+
+
+def default_theiler_window(x: np.ndarray, n_points: int) -> int:
+    """``ceil(mean_period(x))`` capped at ``n_points // 10`` so that neighbours remain."""
+    w = int(np.ceil(mean_period(x)))
+    return int(max(1, min(w, n_points // 10)))

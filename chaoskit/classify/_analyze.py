@@ -1,0 +1,222 @@
+"""``analyze``: the one call that reports and sweeps use — one row per variable.
+
+``classify_variables`` gives the verdicts themselves (with their curves, for figures) and
+``verdict_table`` turns any verdicts into the same table.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from typing import Any
+
+import numpy as np
+import xarray as xr
+
+from .._contract import stamp
+from .._io import load_trajectory
+from ._rng import as_generator
+from ._verdict import LABELS, Verdict, VerdictRule, classify
+
+__all__ = ["analyze", "classify_variables", "verdict_table"]
+
+#: Every field of an analyze row: (long_name, units). ``T`` stands for the time unit of the
+#: data (s for flows, iterations for maps); the actual unit is written into ``units``.
+FIELDS: dict[str, tuple[str, str]] = {
+    "label": ("verdict", ""),
+    "period": ("period k of a period-k orbit (section points per period)", "1"),
+    "confidence": ("fraction of the evidence agreeing with the verdict", "1"),
+    "lag": ("embedding delay", "samples"),
+    "lag_time": ("embedding delay", "T"),
+    "embedding_dim": ("embedding dimension", "1"),
+    "mle_rosenstein": ("largest Lyapunov exponent, Rosenstein", "T-1"),
+    "mle_rosenstein_low": ("lower end of the 95% interval, Rosenstein", "T-1"),
+    "mle_rosenstein_high": ("upper end of the 95% interval, Rosenstein", "T-1"),
+    "mle_rosenstein_bits": ("largest Lyapunov exponent, Rosenstein, bits per sample", "bit"),
+    "mle_wolf": ("largest Lyapunov exponent, Wolf", "T-1"),
+    "mle_wolf_low": ("lower end of the 95% interval, Wolf", "T-1"),
+    "mle_wolf_high": ("upper end of the 95% interval, Wolf", "T-1"),
+    "mle_wolf_bits": ("largest Lyapunov exponent, Wolf, bits per sample", "bit"),
+    "zero_one_k": ("0-1 test for chaos, median K", "1"),
+    "surrogate_p_value": ("surrogate test p-value (prediction error, IAAFT)", "1"),
+    "surrogate_effect": ("relative predictability gain over the median surrogate", "1"),
+    "section_points": ("points in the Poincare/stroboscopic set", "1"),
+    "section_structure": ("structure of the section set", ""),
+    "characteristic_time": ("characteristic time of the growth test", "T"),
+    "noise_level": ("estimated noise standard deviation over the signal's", "1"),
+    "dt": ("sampling interval", "T"),
+    "n_samples": ("series length", "samples"),
+}
+_STRINGS = ("label", "section_structure")
+
+
+def verdict_table(verdicts: Mapping[str, Verdict]) -> xr.Dataset:
+    """Stack verdicts into a Dataset over the dimension ``variable`` (see :func:`analyze`).
+
+    Exponents and times are in s and s⁻¹ when any verdict comes from a flow, per iteration
+    when all come from maps.
+    """
+    names = list(verdicts)
+    rows = [v.summary() for v in verdicts.values()]
+    time_unit = "1" if rows and all(v.kind == "map" for v in verdicts.values()) else "s"
+    data_vars = {}
+    for key, (long_name, units) in FIELDS.items():
+        values = [row[key] for row in rows]
+        if key in _STRINGS:
+            arr = np.array(values, dtype=object)
+            attrs = {"long_name": long_name}
+        else:
+            arr = np.array(values, dtype=np.float64)
+            unit = units.replace("T-1", "s-1" if time_unit == "s" else "1")
+            attrs = {"long_name": long_name, "units": unit.replace("T", time_unit)}
+        data_vars[key] = ("variable", arr, attrs)
+    ds = xr.Dataset(
+        data_vars,
+        coords={"variable": ("variable", np.array(names, dtype=object), {"long_name": "variable"})},
+    )
+    ds["label"].attrs["flag_meanings"] = " ".join(LABELS)
+    ds.attrs["reasons"] = " | ".join(f"{n}: {v.reason}" for n, v in verdicts.items())
+    return ds
+
+
+def classify_variables(
+    data: Any,
+    *,
+    variables: Sequence[str] | None = None,
+    drive_period: float | None = None,
+    phase_variable: str | None = None,
+    n_surrogates: int = 19,
+    rule: VerdictRule | None = None,
+    rng: Any = None,
+    progress: bool = False,
+) -> dict[str, Verdict]:
+    """:func:`chaoskit.classify` for several variables of one trajectory, failures as data.
+
+    A variable whose analysis raises a ``ValueError`` gets an ``"undetermined"`` verdict whose
+    reason and ``errors`` hold the message; the others are still analysed. Parameters as in
+    :func:`analyze`.
+    """
+    ds = load_trajectory(data)
+    index = "time" if "time" in ds.coords else "step"
+    if variables is None:
+        variables = [
+            str(k) for k, v in ds.data_vars.items() if v.dims == (index,) and k != phase_variable
+        ]
+    elif isinstance(variables, str):
+        variables = [variables]
+    variables = list(variables)
+    if not variables:
+        raise ValueError("no variable to analyse.")
+    missing = [v for v in variables if v not in ds.data_vars]
+    if phase_variable is not None and phase_variable not in ds.data_vars:
+        missing.append(phase_variable)
+    if missing:
+        raise ValueError(f"variables {missing} not found; available: {list(ds.data_vars)}.")
+    streams = as_generator(rng).spawn(len(variables))
+    pairs: Any = zip(variables, streams, strict=True)
+    if progress:
+        from tqdm.auto import tqdm
+
+        pairs = tqdm(list(pairs), desc="analyze", unit="variable")
+    verdicts: dict[str, Verdict] = {}
+    for name, stream in pairs:
+        keep = [name] if phase_variable is None else [name, phase_variable]
+        try:
+            verdicts[name] = classify(
+                ds[keep],
+                variable=name,
+                drive_period=drive_period,
+                phase_variable=phase_variable,
+                n_surrogates=n_surrogates,
+                rule=rule,
+                rng=stream,
+            )
+        except ValueError as exc:
+            verdicts[name] = Verdict(
+                label="undetermined",
+                period=None,
+                confidence=float("nan"),
+                reason=f"analysis failed: {exc}",
+                votes={},
+                errors={"classify": str(exc)},
+                variable=name,
+                kind="map" if index == "step" else "flow",
+                dt=1.0,
+                n_samples=int(ds.sizes[index]),
+            )
+    return verdicts
+
+
+def analyze(
+    data: Any,
+    *,
+    variables: Sequence[str] | None = None,
+    drive_period: float | None = None,
+    phase_variable: str | None = None,
+    n_surrogates: int = 19,
+    rule: VerdictRule | None = None,
+    rng: Any = None,
+    progress: bool = False,
+) -> xr.Dataset:
+    """Classify each variable of a trajectory and tabulate the evidence: one row per variable.
+
+    Runs :func:`chaoskit.classify` on every requested variable and keeps scalars only, so
+    that the tables of many runs stack with ``xarray.concat`` along new grid dimensions.
+    A variable whose analysis fails is recorded as ``"undetermined"`` with NaN fields and
+    the error in the ``reasons`` attribute, and the others are still analysed. For the
+    verdicts themselves (curves, section points) use :func:`classify_variables` and
+    :func:`verdict_table`.
+
+    Parameters
+    ----------
+    data
+        A trajectory (anything :func:`chaoskit.load_trajectory` accepts).
+    variables
+        Names to analyse (default: every 1-D variable along ``time``/``step``, except
+        ``phase_variable``).
+    drive_period, phase_variable, n_surrogates, rule
+        Passed to :func:`chaoskit.classify`.
+    rng
+        Seed or Generator; each variable gets an independent stream spawned from it.
+    progress
+        Show a tqdm bar over the variables.
+
+    Returns
+    -------
+    xarray.Dataset
+        Dimension ``variable``; fields ``label`` (string), ``period``, ``confidence``,
+        ``lag`` (samples), ``lag_time``, ``embedding_dim``, ``mle_rosenstein`` and
+        ``mle_wolf`` with ``_low``/``_high`` (95 % interval) and ``_bits`` (bits per
+        sample), ``zero_one_k``, ``surrogate_p_value``, ``surrogate_effect``,
+        ``section_points``, ``section_structure`` (string), ``characteristic_time``,
+        ``noise_level``, ``dt``, ``n_samples``. Exponents are natural-log per second for
+        flows and per iteration for maps; NaN where undefined (e.g. no period unless
+        periodic).
+
+    Examples
+    --------
+    >>> import chaoskit
+    >>> ds = chaoskit.load_trajectory(chaoskit.systems.henon(1500), dt=1.0,
+    ...                               variables=["x", "y"])
+    >>> table = chaoskit.analyze(ds, variables=["x"], rng=0)
+    >>> str(table.label.sel(variable="x").item())
+    'chaotic'
+    """
+    ds = load_trajectory(data)
+    verdicts = classify_variables(
+        ds,
+        variables=variables,
+        drive_period=drive_period,
+        phase_variable=phase_variable,
+        n_surrogates=n_surrogates,
+        rule=rule,
+        rng=rng,
+        progress=progress,
+    )
+    out = verdict_table(verdicts)
+    out.attrs["history"] = ds.attrs.get("history", "")
+    return stamp(
+        out,
+        title=f"chaoskit.analyze of {ds.attrs.get('title', 'a trajectory')}",
+        history=f"chaoskit.analyze(variables={list(verdicts)!r}, drive_period={drive_period!r}, "
+        f"phase_variable={phase_variable!r}, n_surrogates={n_surrogates})",
+    )

@@ -1,0 +1,746 @@
+"""The verdict: equilibrium, periodic, quasi-periodic, chaotic, noise-like or undetermined.
+
+The evidence is computed by independent estimators; :func:`combine` applies the written rule
+(see :func:`classify` and ``docs/verdict.md``) and nothing else decides the label.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any, Literal
+
+import numpy as np
+import xarray as xr
+from scipy.signal import find_peaks, savgol_filter
+
+from .._contract import sampling_interval, stamp
+from .._io import load_trajectory
+from .._portraits import savgol_derivative
+from .._validate import as_series, check_int, check_positive, check_probability
+from ..embedding import estimate_delay, estimate_embedding_dim
+from ..lyapunov import lyapunov_rosenstein, lyapunov_wolf
+from ..sections import poincare_section, stroboscopic_map
+from ._clusters import SectionStructure, section_structure
+from ._rng import as_generator
+from ._surrogates import SurrogateResult, surrogate_test
+from ._zero_one import ZeroOneResult, zero_one_test
+
+__all__ = ["LABELS", "Verdict", "VerdictRule", "classify"]
+
+Label = Literal[
+    "equilibrium", "periodic", "quasi-periodic", "chaotic", "noise-like", "undetermined"
+]
+LABELS: tuple[str, ...] = (
+    "equilibrium",
+    "periodic",
+    "quasi-periodic",
+    "chaotic",
+    "noise-like",
+    "undetermined",
+)
+Kind = Literal["map", "flow", "forced"]
+Vote = Literal["supports", "opposes", "neutral", "missing"]
+MIN_SAMPLES = 200
+DIMENSION_POINTS = 2000  # FNN reference points: the fraction is known to about ±1 %
+
+
+@dataclass(frozen=True, kw_only=True)
+class VerdictRule:
+    """The thresholds of the combination rule (see :func:`classify`).
+
+    Attributes
+    ----------
+    min_growth
+        An MLE counts as clearly positive when its 95 % interval lies above 0 *and*
+        :math:`\\lambda_1 T \\ge` ``min_growth``, with :math:`T` the characteristic time
+        (mean time between section points; the drive period; one iteration for maps).
+        0.1 means neighbouring orbits separate by at least 10 % per cycle.
+    alpha
+        Significance level of the surrogate test.
+    min_effect
+        Smallest relative gain in predictability over the median surrogate for the
+        surrogate test to reject.
+    cluster_tol
+        Largest cluster RMS radius, as a fraction of the signal's standard deviation, for
+        clusters to count as distinct points of a periodic orbit.
+    noise_factor, max_noise_allowance
+        For flows the radius allowance grows to ``noise_factor`` times the estimated
+        measurement-noise level (relative to the standard deviation), at most
+        ``max_noise_allowance``.
+    max_period
+        Largest period looked for.
+    zero_one_regular, zero_one_chaotic
+        0–1 test K at or below which the series counts as regular, at or above which as
+        irregular (between: no vote).
+    equilibrium_rtol
+        The series is an equilibrium when its standard deviation is at most this fraction
+        of its mean magnitude (or exactly zero).
+    """
+
+    min_growth: float = 0.1
+    alpha: float = 0.05
+    min_effect: float = 0.1
+    cluster_tol: float = 0.05
+    noise_factor: float = 3.0
+    max_noise_allowance: float = 0.3
+    max_period: int = 32
+    zero_one_regular: float = 0.2
+    zero_one_chaotic: float = 0.8
+    equilibrium_rtol: float = 1e-9
+
+    def __post_init__(self) -> None:
+        check_positive(self.min_growth, name="min_growth")
+        check_probability(self.alpha, name="alpha")
+        if not 0.0 <= self.min_effect < 1.0:
+            raise ValueError(f"min_effect must be in [0, 1); got {self.min_effect!r}.")
+        check_positive(self.cluster_tol, name="cluster_tol")
+        check_positive(self.noise_factor, name="noise_factor", allow_zero=True)
+        check_positive(self.max_noise_allowance, name="max_noise_allowance")
+        check_int(self.max_period, name="max_period", minimum=1)
+        if not 0.0 <= self.zero_one_regular < self.zero_one_chaotic <= 1.0:
+            raise ValueError("need 0 <= zero_one_regular < zero_one_chaotic <= 1.")
+        check_positive(self.equilibrium_rtol, name="equilibrium_rtol", allow_zero=True)
+
+
+@dataclass(frozen=True, kw_only=True)
+class Verdict:
+    """A label with the evidence it rests on.
+
+    Attributes
+    ----------
+    label
+        One of ``"equilibrium"``, ``"periodic"``, ``"quasi-periodic"``, ``"chaotic"``,
+        ``"noise-like"``, ``"undetermined"``.
+    period
+        :math:`k` of a period-:math:`k` orbit (section points per period), else None.
+    confidence
+        Fraction of the available, non-neutral pieces of evidence that agree with the label
+        (1.0 for an exact equilibrium; NaN when undetermined). See ``votes``.
+    reason
+        The rule that fired, in words.
+    votes
+        For each piece of evidence (``section``, ``rosenstein``, ``wolf``, ``zero_one``,
+        ``surrogates``): ``"supports"``, ``"opposes"``, ``"neutral"`` or ``"missing"``.
+    errors
+        Evidence that could not be computed, with the estimator's message.
+    variable, kind, dt, n_samples
+        What was classified: the variable name, ``"map"``, ``"flow"`` or ``"forced"``,
+        the sampling interval (s; 1 per iteration for maps) and the length.
+    lag, embedding_dim
+        Delay (samples) and embedding dimension used throughout.
+    characteristic_time
+        :math:`T` of the growth test (s, or iterations for maps).
+    noise_level
+        Estimated measurement-noise standard deviation over the signal's (flows; NaN for
+        maps).
+    rosenstein_positive, wolf_positive
+        Whether each MLE is clearly positive (None if missing).
+    delay, dimension, rosenstein, wolf, structure, section, zero_one, surrogates
+        The evidence itself: :class:`~chaoskit.DelayResult`,
+        :class:`~chaoskit.DimensionResult`, two :class:`~chaoskit.LyapunovResult`, the
+        :class:`SectionStructure` of the section points in ``section`` (a Dataset along
+        ``crossing``), :class:`ZeroOneResult` and :class:`SurrogateResult`.
+    rule
+        The :class:`VerdictRule` applied.
+    """
+
+    label: Label
+    period: int | None
+    confidence: float
+    reason: str
+    votes: dict[str, Vote]
+    errors: dict[str, str]
+    variable: str | None
+    kind: Kind
+    dt: float
+    n_samples: int
+    lag: int | None = None
+    embedding_dim: int | None = None
+    characteristic_time: float = float("nan")
+    noise_level: float = float("nan")
+    rosenstein_positive: bool | None = None
+    wolf_positive: bool | None = None
+    # The evidence objects carry curves and point sets: kept out of the repr.
+    delay: Any = field(default=None, repr=False)
+    dimension: Any = field(default=None, repr=False)
+    rosenstein: Any = field(default=None, repr=False)
+    wolf: Any = field(default=None, repr=False)
+    structure: SectionStructure | None = field(default=None, repr=False)
+    section: xr.Dataset | None = field(default=None, repr=False)
+    zero_one: ZeroOneResult | None = field(default=None, repr=False)
+    surrogates: SurrogateResult | None = field(default=None, repr=False)
+    rule: VerdictRule = field(default_factory=VerdictRule, repr=False)
+
+    def summary(self) -> dict[str, Any]:
+        """Scalar fields (NaN where undefined): one row of :func:`chaoskit.analyze`."""
+        nan = float("nan")
+
+        def mle(res: Any) -> tuple[float, float, float, float]:
+            if res is None:
+                return nan, nan, nan, nan
+            return (
+                float(res.mle),
+                float(res.ci[0]),
+                float(res.ci[1]),
+                float(res.mle_bits_per_sample),
+            )
+
+        ros = mle(self.rosenstein)
+        wolf = mle(self.wolf)
+        st = self.structure
+        return {
+            "label": self.label,
+            "period": nan if self.period is None else float(self.period),
+            "confidence": float(self.confidence),
+            "lag": nan if self.lag is None else float(self.lag),
+            "lag_time": nan if self.lag is None else float(self.lag * self.dt),
+            "embedding_dim": nan if self.embedding_dim is None else float(self.embedding_dim),
+            "mle_rosenstein": ros[0],
+            "mle_rosenstein_low": ros[1],
+            "mle_rosenstein_high": ros[2],
+            "mle_rosenstein_bits": ros[3],
+            "mle_wolf": wolf[0],
+            "mle_wolf_low": wolf[1],
+            "mle_wolf_high": wolf[2],
+            "mle_wolf_bits": wolf[3],
+            "zero_one_k": nan if self.zero_one is None else float(self.zero_one.k),
+            "surrogate_p_value": nan if self.surrogates is None else self.surrogates.p_value,
+            "surrogate_effect": nan if self.surrogates is None else self.surrogates.effect,
+            "section_points": nan if st is None else float(st.n_points),
+            "section_structure": "none" if st is None else st.kind,
+            "characteristic_time": float(self.characteristic_time),
+            "noise_level": float(self.noise_level),
+            "dt": float(self.dt),
+            "n_samples": float(self.n_samples),
+        }
+
+    def to_dataset(self) -> xr.Dataset:
+        """The summary as a Dataset of scalars (see :func:`chaoskit.analyze` for units)."""
+        from ._analyze import verdict_table
+
+        return verdict_table({self.variable or "x": self})
+
+
+# ---------------------------------------------------------------- input handling
+
+
+@dataclass(frozen=True)
+class _Input:
+    x: np.ndarray
+    t: np.ndarray
+    dt: float
+    kind: Kind
+    variable: str | None
+    angle: np.ndarray | None
+
+
+def _pick_variable(ds: xr.Dataset, variable: str | None) -> str:
+    if variable is None:
+        names = [str(k) for k in ds.data_vars]
+        if len(names) != 1:
+            raise ValueError(f"the data hold several variables {names}; pass variable=...")
+        return names[0]
+    if variable not in ds.data_vars:
+        raise ValueError(f"variable {variable!r} not found; available: {list(ds.data_vars)}.")
+    return variable
+
+
+def _read_input(
+    data: Any, *, variable: str | None, dt: float | None, phase_variable: str | None
+) -> _Input:
+    if isinstance(data, (xr.Dataset, xr.DataArray)):
+        ds = load_trajectory(data, dt=dt if "time" not in data.coords else None)
+        name = _pick_variable(ds, variable)
+        if ds[name].ndim != 1:
+            raise ValueError(f"variable {name!r} must be one-dimensional; dims {ds[name].dims}.")
+        x = np.asarray(ds[name].values, dtype=np.float64)
+        angle = None
+        if "time" in ds.coords:
+            step = sampling_interval(ds)
+            t = np.asarray(ds["time"].values, dtype=np.float64)
+            if phase_variable is not None:
+                angle = np.asarray(ds[_pick_variable(ds, phase_variable)].values, dtype=float)
+            return _Input(x, t, step, "flow", name, angle)
+        return _Input(x, np.arange(x.size, dtype=np.float64), 1.0, "map", name, None)
+    if phase_variable is not None:
+        raise ValueError("phase_variable needs a Dataset that holds the angle variable.")
+    x = np.asarray(getattr(data, "values", data))
+    given = variable if variable is not None else getattr(data, "name", None)
+    label = None if given is None else str(given)
+    if dt is None:
+        return _Input(x, np.arange(x.size, dtype=np.float64), 1.0, "map", label, None)
+    step = check_positive(dt, name="dt")
+    return _Input(x, np.arange(x.size) * step, step, "flow", label, None)
+
+
+def _is_equilibrium(x: np.ndarray, rtol: float) -> bool:
+    if x.dtype.kind not in "fiu" or x.ndim != 1 or x.size < 2 or not np.all(np.isfinite(x)):
+        return False
+    x = x.astype(np.float64)
+    spread = float(np.std(x))
+    return spread == 0.0 or spread <= rtol * float(np.abs(np.mean(x)))
+
+
+def noise_level(x: np.ndarray) -> float:
+    """Robust estimate of white measurement noise relative to the standard deviation.
+
+    For a smooth, densely sampled signal the second difference is :math:`O(h^2)` and the
+    noise contributes :math:`\\sqrt 6\\,\\sigma`; the median absolute deviation makes the
+    estimate robust to the rare large curvature.
+    """
+    d2 = np.diff(x, 2)
+    mad = float(np.median(np.abs(d2 - np.median(d2))))
+    return 1.4826 * mad / np.sqrt(6.0) / float(np.std(x))
+
+
+# ---------------------------------------------------------------- sections
+
+
+def _delay_dataset(
+    x: np.ndarray, t: np.ndarray, lag: int, n_coords: int, name: str, extra: dict[str, Any]
+) -> xr.Dataset:
+    """Delay coordinates x(t), x(t − τ), … on the common time axis."""
+    span = (n_coords - 1) * lag
+    n = x.size - span
+    data_vars: dict[str, Any] = {}
+    for j in range(n_coords):
+        key = name if j == 0 else f"{name}_lag{j}"
+        long = name if j == 0 else f"{name}(t - {j} lag)"
+        data_vars[key] = (
+            "time",
+            x[span - j * lag : span - j * lag + n],
+            {"units": "1", "long_name": long},
+        )
+    for key, values in extra.items():
+        data_vars[key] = ("time", values[span : span + n], {"units": "1", "long_name": key})
+    ds = xr.Dataset(data_vars, coords={"time": ("time", t[span : span + n])})
+    return stamp(ds, title="delay coordinates", history="chaoskit.classify: delay coordinates")
+
+
+def _section_points(
+    inp: _Input,
+    x: np.ndarray,
+    lag: int,
+    n_coords: int,
+    drive_period: float | None,
+    noise: float,
+) -> tuple[xr.Dataset, np.ndarray, float]:
+    """Section Dataset, its points (rows) and the characteristic time T."""
+    name = inp.variable or "x"
+    if inp.kind == "map":
+        n = x.size - (n_coords - 1) * lag
+        data_vars = {
+            (name if j == 0 else f"{name}_lag{j}"): (
+                "crossing",
+                x[j * lag : j * lag + n],
+                {"units": "1", "long_name": name if j == 0 else f"{name}(n + {j} lag)"},
+            )
+            for j in range(n_coords)
+        }
+        sec = xr.Dataset(data_vars, coords={"crossing": np.arange(n)})
+        sec.attrs["section_kind"] = "delay vectors of a map"
+        points = np.column_stack([sec[k].values for k in sec.data_vars])
+        return sec, points, 1.0
+    if inp.kind == "forced":
+        extra = {"__angle": inp.angle} if inp.angle is not None else {}
+        ds = _delay_dataset(x, inp.t, lag, n_coords, name, extra)
+        if inp.angle is not None:
+            sec = stroboscopic_map(ds, phase_variable="__angle")
+        else:
+            sec = stroboscopic_map(ds, period=drive_period)
+        points = np.column_stack([sec[k].values for k in sec.data_vars])
+        times = sec["time"].values
+        period = float(np.mean(np.diff(times))) if times.size > 1 else float("nan")
+        return sec, points, period
+    # Autonomous flow: the successive maxima M_n of the (lightly smoothed) signal, one per
+    # loop, and their return map (M_n, M_n+1, M_n+2): Lorenz's own section of his flow.
+    # Values at maxima do not depend, to first order, on where noise puts the maximum.
+    window = max(5, 2 * (lag // 2) + 1)
+    smooth = savgol_filter(x, window, 3) if x.size > window else x
+    dwin = max(5, 2 * (lag // 4) + 1)
+    rate = savgol_derivative(smooth, dt=inp.dt, window=dwin, polyorder=3)
+    ds = _delay_dataset(smooth, inp.t, 1, 1, name, {"__rate": rate})
+    sec = poincare_section(ds, variable="__rate", level=0.0, direction="down")
+    # Noise leaves wiggles with maxima of their own: keep one crossing per maximum whose
+    # prominence (scipy.signal.find_peaks) exceeds four noise standard deviations.
+    peaks, _ = find_peaks(smooth, prominence=4.0 * noise * float(np.std(x)))
+    times = sec["time"].values
+    keep = np.arange(0)
+    if peaks.size and times.size:
+        peak_times = inp.t[peaks]
+        right = np.clip(np.searchsorted(peak_times, times), 0, peak_times.size - 1)
+        left = np.maximum(right - 1, 0)
+        match = np.where(
+            np.abs(peak_times[right] - times) < np.abs(peak_times[left] - times), right, left
+        )
+        gap = np.abs(peak_times[match] - times)
+        order = np.lexsort((gap, match))
+        first = order[np.r_[True, match[order][1:] != match[order][:-1]]]
+        keep = np.sort(first[gap[first] <= 1.5 * inp.dt])
+    maxima = sec[name].values[keep]
+    times = times[keep]
+    n_map = max(maxima.size - n_coords + 1, 0)
+    data_vars = {
+        (name if j == 0 else f"{name}_next{j}"): (
+            "crossing",
+            maxima[j : j + n_map],
+            {"units": "1", "long_name": f"maximum {'n' if j == 0 else f'n + {j}'} of {name}"},
+        )
+        for j in range(n_coords)
+    }
+    sec = xr.Dataset(
+        data_vars,
+        coords={"crossing": np.arange(n_map), "time": ("crossing", times[:n_map], {"units": "s"})},
+    )
+    sec.attrs["section_kind"] = "return map of the maxima"
+    points = np.column_stack([sec[k].values for k in sec.data_vars])
+    period = float(np.mean(np.diff(times))) if times.size > 1 else 4.0 * lag * inp.dt
+    return sec, points, period
+
+
+# ---------------------------------------------------------------- the rule
+
+
+def _describe(exc: Exception) -> str:
+    return str(exc) if isinstance(exc, ValueError) else f"{type(exc).__name__}: {exc}"
+
+
+def _positive(res: Any, time_scale: float, rule: VerdictRule) -> bool | None:
+    if res is None:
+        return None
+    return bool(res.ci[0] > 0.0 and res.mle > 0.0 and res.mle * time_scale >= rule.min_growth)
+
+
+def _votes(
+    label: str,
+    *,
+    structure: SectionStructure | None,
+    positives: dict[str, bool | None],
+    k: float | None,
+    rejected: bool | None,
+    rule: VerdictRule,
+) -> dict[str, Vote]:
+    regular = label in ("periodic", "quasi-periodic")
+    votes: dict[str, Vote] = {}
+    if structure is None or structure.kind == "too-few-points":
+        votes["section"] = "missing" if structure is None else "neutral"
+    else:
+        wanted = {"periodic": "clusters", "quasi-periodic": "closed-curve"}.get(label, "scattered")
+        votes["section"] = "supports" if structure.kind == wanted else "opposes"
+    for name, pos in positives.items():
+        if pos is None:
+            votes[name] = "missing"
+        elif label == "noise-like":
+            votes[name] = "neutral"  # noise gives spurious positive exponents as often as not
+        else:
+            votes[name] = "supports" if pos == (label == "chaotic") else "opposes"
+    if k is None:
+        votes["zero_one"] = "missing"
+    elif k <= rule.zero_one_regular:
+        votes["zero_one"] = "supports" if regular else "opposes"
+    elif k >= rule.zero_one_chaotic:
+        votes["zero_one"] = "opposes" if regular else "supports"
+    else:
+        votes["zero_one"] = "neutral"
+    if rejected is None:
+        votes["surrogates"] = "missing"
+    elif regular:
+        votes["surrogates"] = "neutral"  # a periodic signal is its own linear surrogate
+    else:
+        votes["surrogates"] = "supports" if rejected == (label == "chaotic") else "opposes"
+    return votes
+
+
+def combine(
+    *,
+    structure: SectionStructure | None,
+    rosenstein_positive: bool | None,
+    wolf_positive: bool | None,
+    zero_one_k: float | None,
+    surrogates_rejected: bool | None,
+    rule: VerdictRule,
+) -> tuple[Label, int | None, float, str, dict[str, Vote]]:
+    """Apply the rule of :func:`classify` to the evidence; returns label, period, confidence,
+    reason and votes."""
+    both_positive = rosenstein_positive is True and wolf_positive is True
+    period: int | None = None
+    label: Label
+    if structure is not None and structure.kind == "clusters":
+        label, period = "periodic", structure.n_clusters
+        reason = f"the section is {period} tight cluster(s) visited in a fixed cyclic order"
+    elif structure is not None and structure.kind == "closed-curve":
+        if both_positive:
+            label = "undetermined"
+            reason = "the section fills a closed curve but both exponents are clearly positive"
+        else:
+            label = "quasi-periodic"
+            reason = "the section fills a closed curve and not both exponents are clearly positive"
+    elif surrogates_rejected is False:
+        label = "noise-like"
+        reason = "the surrogate test cannot reject linear Gaussian noise"
+    elif surrogates_rejected is True and both_positive:
+        label = "chaotic"
+        reason = (
+            "both exponents are clearly positive, the data are more predictable than their "
+            "IAAFT surrogates, and the section is neither a few clusters nor a closed curve"
+        )
+    else:
+        label = "undetermined"
+        missing = [
+            name
+            for name, ok in (
+                ("Rosenstein exponent clearly positive", rosenstein_positive),
+                ("Wolf exponent clearly positive", wolf_positive),
+                ("surrogate test rejects", surrogates_rejected),
+            )
+            if ok is not True
+        ]
+        reason = "not periodic, quasi-periodic or noise-like, and not: " + "; ".join(missing)
+    votes = _votes(
+        label,
+        structure=structure,
+        positives={"rosenstein": rosenstein_positive, "wolf": wolf_positive},
+        k=zero_one_k,
+        rejected=surrogates_rejected,
+        rule=rule,
+    )
+    if label == "undetermined":
+        confidence = float("nan")
+    else:
+        counted = [v for v in votes.values() if v in ("supports", "opposes")]
+        confidence = sum(v == "supports" for v in counted) / len(counted) if counted else 0.0
+    return label, period, confidence, reason, votes
+
+
+# ---------------------------------------------------------------- classify
+
+
+def classify(
+    data: Any,
+    *,
+    variable: str | None = None,
+    dt: float | None = None,
+    drive_period: float | None = None,
+    phase_variable: str | None = None,
+    lag: int | None = None,
+    embedding_dim: int | None = None,
+    n_surrogates: int = 19,
+    surrogate_max_samples: int = 4096,
+    rule: VerdictRule | None = None,
+    rng: Any = None,
+) -> Verdict:
+    r"""Decide whether a series is an equilibrium, periodic, quasi-periodic, chaotic or noise.
+
+    **Evidence.** From the series :math:`x` (one variable of a trajectory):
+
+    1. delay :math:`\tau` (:func:`~chaoskit.estimate_delay`, ``method="auto"``) and
+       embedding dimension :math:`m` (:func:`~chaoskit.estimate_embedding_dim`, FNN);
+    2. the largest Lyapunov exponent by Rosenstein's and by Wolf's method, each with its
+       95 % interval; an exponent is *clearly positive* when the interval lies above 0 and
+       :math:`\lambda_1 T \ge` ``rule.min_growth`` (default 0.1), :math:`T` being the
+       characteristic time below — a tiny but "significant" slope (e.g. 0.001 bits per
+       sample) is not evidence of chaos;
+    3. a section: for a map, the delay vectors :math:`(x_n, x_{n+\tau}, \ldots)` with
+       :math:`\max(2, m)` coordinates; for a forced flow (``drive_period`` or
+       ``phase_variable``), the stroboscopic map of those delay vectors; for an autonomous
+       flow, the return map :math:`(M_n, M_{n+1}, M_{n+2})` of the successive maxima
+       :math:`M_n` of :math:`x` (Lorenz's section of his own flow), taken after a
+       Savitzky–Golay smoothing over about :math:`\tau` samples and keeping only maxima
+       more prominent than four noise standard deviations. :math:`T` is one iteration, the
+       drive period, or the mean time between maxima (:math:`4\tau` when there are too few).
+       Its structure (:func:`section_structure`) is a few tight clusters visited
+       cyclically, a closed curve, or scattered; the cluster-radius allowance is
+       ``rule.cluster_tol`` of the signal's standard deviation, raised for noisy flows to
+       ``rule.noise_factor`` times the estimated noise level (at most
+       ``rule.max_noise_allowance``);
+    4. the 0–1 test for chaos (:func:`zero_one_test`; flows subsampled every :math:`\tau`
+       samples);
+    5. a surrogate test (:func:`surrogate_test`): is :math:`x` more predictable than
+       ``n_surrogates`` IAAFT surrogates sharing its spectrum and value distribution?
+
+    **Rule.**
+
+    * *equilibrium* if the series is constant (standard deviation at most
+      ``rule.equilibrium_rtol`` of its mean magnitude); nothing else is computed;
+    * else *periodic* (period :math:`k`) if the section is :math:`k` tight clusters
+      visited in a fixed cyclic order;
+    * else *quasi-periodic* if the section fills a closed curve and not both exponents are
+      clearly positive (both positive: *undetermined*);
+    * else *noise-like* if the surrogate test cannot reject linear Gaussian noise;
+    * else *chaotic* if both exponents are clearly positive (and, by the steps above, the
+      surrogate test rejects and the section is neither clusters nor a closed curve);
+    * else *undetermined*.
+
+    Evidence that cannot be computed (e.g. an estimator refusing an exactly periodic series)
+    counts as missing; *chaotic* needs all three of its pieces. The 0–1 test never decides:
+    it is consistent with chaos and with noise alike, and enters the confidence only.
+
+    **Confidence** is the fraction of the available, non-neutral pieces of evidence
+    (section, each exponent, 0–1 test, surrogate test) that agree with the label
+    (``Verdict.votes``): e.g. for *periodic*, an exponent that is not clearly positive and
+    :math:`K \le 0.2` agree, a clearly positive exponent disagrees; the surrogate test is
+    neutral for regular labels, the exponents for *noise-like*.
+
+    Parameters
+    ----------
+    data
+        A trajectory Dataset (``time`` in s: a flow; ``step``: a map) or DataArray, or a
+        1-D array / Series (a map unless ``dt`` is given).
+    variable
+        The variable to classify (required if the Dataset has several).
+    dt
+        Sampling interval in s for array input without a time axis.
+    drive_period
+        Period of an external drive, s: use the stroboscopic map.
+    phase_variable
+        Name of a drive-angle variable (rad): stroboscopic map at each turn.
+    lag, embedding_dim
+        Override the estimated delay (samples) and dimension.
+    n_surrogates
+        IAAFT surrogates (19 gives a smallest p-value of 0.05).
+    surrogate_max_samples
+        The surrogate test uses at most this many samples (the last ones).
+    rule
+        Thresholds of the rule (:class:`VerdictRule`).
+    rng
+        Seed or :class:`numpy.random.Generator` (0–1 frequencies, surrogates).
+
+    Returns
+    -------
+    Verdict
+
+    References
+    ----------
+    M. T. Rosenstein, J. J. Collins, C. J. De Luca, Physica D 65, 117 (1993); A. Wolf,
+    J. B. Swift, H. L. Swinney, J. A. Vastano, Physica D 16, 285 (1985); G. A. Gottwald and
+    I. Melbourne, SIAM J. Appl. Dyn. Syst. 8, 129 (2009); T. Schreiber and A. Schmitz,
+    Phys. Rev. Lett. 77, 635 (1996); J. Theiler et al., Physica D 58, 77 (1992).
+
+    Examples
+    --------
+    >>> from chaoskit import classify, systems
+    >>> v = classify(systems.logistic(1000, r=3.5), rng=0)
+    >>> v.label, v.period
+    ('periodic', 4)
+    """
+    rule = VerdictRule() if rule is None else rule
+    n_surrogates = check_int(n_surrogates, name="n_surrogates", minimum=1)
+    surrogate_max_samples = check_int(
+        surrogate_max_samples, name="surrogate_max_samples", minimum=MIN_SAMPLES
+    )
+    gen = as_generator(rng)
+    inp = _read_input(data, variable=variable, dt=dt, phase_variable=phase_variable)
+    if drive_period is not None or inp.angle is not None:
+        if inp.kind == "map":
+            raise ValueError("drive_period needs a continuous-time series (a 'time' axis or dt).")
+        if drive_period is not None and inp.angle is not None:
+            raise ValueError("give drive_period or phase_variable, not both.")
+        if drive_period is not None:
+            drive_period = check_positive(drive_period, name="drive_period")
+        inp = _Input(inp.x, inp.t, inp.dt, "forced", inp.variable, inp.angle)
+    base: dict[str, Any] = {"variable": inp.variable, "kind": inp.kind, "dt": inp.dt, "rule": rule}
+    if _is_equilibrium(inp.x, rule.equilibrium_rtol):
+        return Verdict(
+            label="equilibrium", period=None, confidence=1.0,
+            reason="the series is constant", votes={}, errors={},
+            n_samples=int(inp.x.size), **base,
+        )  # fmt: skip
+    x = as_series(inp.x, name=inp.variable or "x", min_length=MIN_SAMPLES)
+    errors: dict[str, str] = {}
+    delay = estimate_delay(x, method="auto") if lag is None else None
+    lag = delay.lag if delay is not None else check_int(lag, name="lag", minimum=1)
+    dimension = None
+    if embedding_dim is None:
+        max_dim = min(10, (x.size - 10) // lag - 1)
+        dimension = estimate_embedding_dim(
+            x, lag=lag, max_dim=max(1, max_dim), max_points=DIMENSION_POINTS
+        )
+        embedding_dim = dimension.embedding_dim
+    embedding_dim = check_int(embedding_dim, name="embedding_dim", minimum=1)
+    noise = noise_level(x) if inp.kind != "map" else float("nan")
+
+    structure = section = None
+    # T of the growth test until the section gives a better one: a delay is about a quarter
+    # of the mean period of a flow.
+    time_scale = 1.0 if inp.kind == "map" else (drive_period or 4.0 * lag * inp.dt)
+    try:
+        n_coords = 3 if inp.kind == "flow" else max(2, embedding_dim)
+        section, points, time_scale = _section_points(inp, x, lag, n_coords, drive_period, noise)
+        tol = rule.cluster_tol
+        if inp.kind != "map":
+            tol = max(tol, min(rule.noise_factor * noise, rule.max_noise_allowance))
+        structure = section_structure(
+            points, scale=float(np.std(x)), cluster_tol=tol, max_clusters=rule.max_period
+        )
+    except ValueError as exc:
+        errors["section"] = str(exc)
+
+    lyap: dict[str, Any] = {}
+    for name, func in (("rosenstein", lyapunov_rosenstein), ("wolf", lyapunov_wolf)):
+        try:
+            lyap[name] = func(x, embedding_dim=embedding_dim, lag=lag, dt=inp.dt)
+        except Exception as exc:  # failure is data: the verdict records it and goes on
+            lyap[name] = None
+            errors[name] = _describe(exc)
+    positives = {name: _positive(res, time_scale, rule) for name, res in lyap.items()}
+
+    zero_one = None
+    try:
+        phi = x if inp.kind == "map" else x[::lag]
+        zero_one = zero_one_test(phi, rng=gen)
+    except ValueError as exc:
+        errors["zero_one"] = str(exc)
+
+    surrogates = None
+    try:
+        # A densely sampled flow is thinned to about four samples per delay: the statistic
+        # only has to discriminate, and it costs less for the data and every surrogate alike.
+        step = max(1, lag // 4)
+        theiler = embedding_dim * lag
+        if lyap.get("rosenstein") is not None:
+            theiler = int(lyap["rosenstein"].theiler_window)
+        surrogates = surrogate_test(
+            x[::step][-surrogate_max_samples:],
+            embedding_dim=embedding_dim,
+            lag=max(1, round(lag / step)),
+            theiler_window=-(-theiler // step),
+            n_surrogates=n_surrogates,
+            alpha=rule.alpha,
+            min_effect=rule.min_effect,
+            rng=gen,
+        )
+    except ValueError as exc:
+        errors["surrogates"] = str(exc)
+
+    label, period, confidence, reason, votes = combine(
+        structure=structure,
+        rosenstein_positive=positives["rosenstein"],
+        wolf_positive=positives["wolf"],
+        zero_one_k=None if zero_one is None else zero_one.k,
+        surrogates_rejected=None if surrogates is None else surrogates.rejected,
+        rule=rule,
+    )
+    return Verdict(
+        label=label,
+        period=period,
+        confidence=confidence,
+        reason=reason,
+        votes=votes,
+        errors=errors,
+        n_samples=int(x.size),
+        lag=int(lag),
+        embedding_dim=int(embedding_dim),
+        characteristic_time=float(time_scale),
+        noise_level=float(noise),
+        rosenstein_positive=positives["rosenstein"],
+        wolf_positive=positives["wolf"],
+        delay=delay,
+        dimension=dimension,
+        rosenstein=lyap["rosenstein"],
+        wolf=lyap["wolf"],
+        structure=structure,
+        section=section,
+        zero_one=zero_one,
+        surrogates=surrogates,
+        **base,
+    )

@@ -1,0 +1,31 @@
+"""Delay embedding and the choice of its delay and dimension.
+
+Curves first, choices second: :func:`mutual_information` and :func:`autocorrelation` return
+curves over lag, :func:`estimate_delay` picks a lag from them; :func:`false_nearest_neighbors`
+and :func:`cao` return curves over dimension with the chosen ``embedding_dim``.
+"""
+
+from __future__ import annotations
+
+from ._delay import (
+    DelayCurve,
+    DelayResult,
+    autocorrelation,
+    estimate_delay,
+    mutual_information,
+)
+from ._dimension import DimensionResult, cao, estimate_embedding_dim, false_nearest_neighbors
+from ._embed import delay_embed
+
+__all__ = [
+    "DelayCurve",
+    "DelayResult",
+    "DimensionResult",
+    "autocorrelation",
+    "cao",
+    "delay_embed",
+    "estimate_delay",
+    "estimate_embedding_dim",
+    "false_nearest_neighbors",
+    "mutual_information",
+]

@@ -1,0 +1,9 @@
+"""Largest Lyapunov exponent from a scalar series (Rosenstein 1993, Wolf 1985)."""
+
+from __future__ import annotations
+
+from ._result import LyapunovResult
+from ._rosenstein import lyapunov_rosenstein
+from ._wolf import lyapunov_wolf
+
+__all__ = ["LyapunovResult", "lyapunov_rosenstein", "lyapunov_wolf"]

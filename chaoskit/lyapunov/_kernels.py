@@ -1,0 +1,451 @@
+"""Compiled kernels for the Lyapunov estimators (no validation here)."""
+
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+
+@njit(cache=True)
+def _sq_distance(pts: np.ndarray, i: int, j: int, transverse: bool) -> float:
+    """‖y_j − y_i‖², or of its part perpendicular to the local flow direction at y_i.
+
+    The flow direction is the central difference y_{i+1} − y_{i−1} (one-sided at the ends).
+    """
+    n, m = pts.shape
+    lo = i - 1 if i > 0 else i
+    hi = i + 1 if i + 1 < n else i
+    d2 = 0.0
+    dv = 0.0
+    v2 = 0.0
+    for c in range(m):
+        diff = pts[j, c] - pts[i, c]
+        d2 += diff * diff
+        if transverse:
+            vel = pts[hi, c] - pts[lo, c]
+            dv += diff * vel
+            v2 += vel * vel
+    if transverse and v2 > 0.0:
+        d2 -= dv * dv / v2
+    return d2 if d2 > 0.0 else 0.0
+
+
+@njit(cache=True)
+def _log_distance(pts: np.ndarray, i: int, j: int, transverse: bool) -> float:
+    """ln of the distance of :func:`_sq_distance`; −inf for a zero distance."""
+    d2 = _sq_distance(pts, i, j, transverse)
+    if d2 <= 0.0:
+        return -np.inf
+    return 0.5 * np.log(d2)
+
+
+@njit(cache=True)
+def log_divergence(
+    pts: np.ndarray, ref: np.ndarray, nbr: np.ndarray, ks: np.ndarray, transverse: bool
+) -> tuple[np.ndarray, np.ndarray]:
+    """Σ ln‖y_{i+k} − y_{j+k}‖ over pairs and the number of terms, for each k in ``ks``.
+
+    ``ks`` is increasing. Pairs leaving the data or at zero distance are skipped at that k.
+    The logarithm dominates the cost, so squared distances are multiplied in groups of up to
+    eight (flushed early before the product could leave [1e-200, 1e200]) and one log is
+    taken per group: ln a + ln b = ln ab.
+    """
+    n, m = pts.shape
+    total = np.zeros(ks.size)
+    count = np.zeros(ks.size, dtype=np.int64)
+    prod = np.ones(ks.size)
+    held = np.zeros(ks.size, dtype=np.int64)
+    for p in range(ref.size):
+        i = ref[p]
+        j = nbr[p]
+        for q in range(ks.size):
+            k = ks[q]
+            if i + k >= n or j + k >= n:
+                break
+            if transverse:
+                d2 = _sq_distance(pts, i + k, j + k, True)
+            else:
+                d2 = 0.0
+                for c in range(m):
+                    diff = pts[j + k, c] - pts[i + k, c]
+                    d2 += diff * diff
+            if d2 > 0.0:
+                pr = prod[q] * d2
+                if held[q] == 8 or pr < 1e-200 or pr > 1e200:
+                    total[q] += 0.5 * np.log(prod[q])
+                    pr = d2
+                    held[q] = 0
+                prod[q] = pr
+                held[q] += 1
+                count[q] += 1
+    for q in range(ks.size):
+        total[q] += 0.5 * np.log(prod[q])
+    return total, count
+
+
+@njit(cache=True)
+def pair_slopes(
+    pts: np.ndarray, ref: np.ndarray, nbr: np.ndarray, ks: np.ndarray, transverse: bool
+) -> tuple[np.ndarray, np.ndarray]:
+    """Least-squares slope (per sample) of ln‖y_{i+k} − y_{j+k}‖ over k in ``ks``, per pair.
+
+    Returns (slope, valid); a pair is invalid if it leaves the data or touches zero distance.
+    """
+    n = pts.shape[0]
+    slope = np.zeros(ref.size)
+    valid = np.zeros(ref.size, dtype=np.bool_)
+    kbar = 0.0
+    for q in range(ks.size):
+        kbar += ks[q]
+    kbar /= ks.size
+    sxx = 0.0
+    for q in range(ks.size):
+        sxx += (ks[q] - kbar) ** 2
+    last = ks[ks.size - 1]
+    for p in range(ref.size):
+        i = ref[p]
+        j = nbr[p]
+        if i + last >= n or j + last >= n:
+            continue
+        sxy = 0.0
+        ok = True
+        for q in range(ks.size):
+            k = ks[q]
+            ld = _log_distance(pts, i + k, j + k, transverse)
+            if ld == -np.inf:
+                ok = False
+                break
+            sxy += (k - kbar) * ld
+        if ok:
+            slope[p] = sxy / sxx
+            valid[p] = True
+    return slope, valid
+
+
+@njit(cache=True)
+def mean_log_distance(pts: np.ndarray, i: np.ndarray, j: np.ndarray, transverse: bool) -> float:
+    """Mean of ln‖y_i − y_j‖ (or its transverse part) over the pairs; zeros skipped."""
+    total = 0.0
+    count = 0
+    for p in range(i.size):
+        ld = _log_distance(pts, i[p], j[p], transverse)
+        if ld > -np.inf:
+            total += ld
+            count += 1
+    return total / count if count else 0.0
+
+
+@njit(cache=True)
+def _ls_slope(c1, c2, cy, cky, a, b):
+    # prefix sums are exclusive at the left: sums over [a, b] = c[b + 1] - c[a]
+    n = b - a + 1
+    s1 = c1[b + 1] - c1[a]
+    s2 = c2[b + 1] - c2[a]
+    sy = cy[b + 1] - cy[a]
+    sky = cky[b + 1] - cky[a]
+    den = n * s2 - s1 * s1
+    if den <= 0.0:
+        return 0.0
+    return (n * sky - s1 * sy) / den
+
+
+@njit(cache=True)
+def best_linear_window(
+    k: np.ndarray, y: np.ndarray, min_len: float, tol: float
+) -> tuple[int, int, bool]:
+    """Window [a, b] of indices into (k, y) with the largest fitted rise that is straight.
+
+    Straight: positive least-squares slope s, and the slopes fitted to the first, middle
+    and last fifth of the window (at least two points each) spread by at most ``tol · s``.
+    Windows must span at least ``min_len`` in ``k``. Returns (a, b, found); when none
+    qualifies, (0, n - 1, False).
+    """
+    n = k.size
+    c1 = np.zeros(n + 1)
+    c2 = np.zeros(n + 1)
+    cy = np.zeros(n + 1)
+    cky = np.zeros(n + 1)
+    for i in range(n):
+        c1[i + 1] = c1[i] + k[i]
+        c2[i + 1] = c2[i] + k[i] * k[i]
+        cy[i + 1] = cy[i] + y[i]
+        cky[i + 1] = cky[i] + k[i] * y[i]
+    best = -1.0
+    ba = 0
+    bb = n - 1
+    found = False
+    for a in range(n):
+        for b in range(a + 3, n):
+            span = k[b] - k[a]
+            if span < min_len:
+                continue
+            s = _ls_slope(c1, c2, cy, cky, a, b)
+            if s <= 0.0:
+                continue
+            rise = s * span
+            if rise <= best:
+                continue
+            m3 = max(2, (b - a + 1) // 5)
+            s_first = _ls_slope(c1, c2, cy, cky, a, a + m3 - 1)
+            s_last = _ls_slope(c1, c2, cy, cky, b - m3 + 1, b)
+            mid = (a + b) // 2
+            s_mid = _ls_slope(c1, c2, cy, cky, mid - m3 // 2, mid - m3 // 2 + m3 - 1)
+            spread = max(s_first, s_mid, s_last) - min(s_first, s_mid, s_last)
+            if spread <= tol * s:
+                best = rise
+                ba = a
+                bb = b
+                found = True
+    return ba, bb, found
+
+
+@njit(cache=True)
+def evolve_pair(
+    pts: np.ndarray, i: int, j: int, steps: int, stop: int, inc: np.ndarray
+) -> tuple[int, int, float]:
+    """Evolve the pair (i, j) by up to ``steps`` samples, writing ln(d'/d) into ``inc[i]``.
+
+    Stops early when either index reaches ``stop``. Returns the evolved (i, j) and their
+    distance.
+    """
+    m = pts.shape[1]
+    d0 = 0.0
+    for c in range(m):
+        diff = pts[i, c] - pts[j, c]
+        d0 += diff * diff
+    d0 = np.sqrt(d0)
+    for _ in range(steps):
+        if i + 1 >= stop or j + 1 >= stop:
+            break
+        d1 = 0.0
+        for c in range(m):
+            diff = pts[i + 1, c] - pts[j + 1, c]
+            d1 += diff * diff
+        d1 = np.sqrt(d1)
+        if d0 > 0.0 and d1 > 0.0:
+            inc[i] = np.log(d1 / d0)
+        else:
+            inc[i] = 0.0  # a coincident pair carries no stretching information
+        i += 1
+        j += 1
+        d0 = d1
+    return i, j, d0
+
+
+# --- Wolf: replacement search on a uniform grid and the evolve/replace loop -------------
+#
+# The replacement candidates (a strided pool of the embedded points) are bucketed on a
+# uniform grid over the first ``g = min(m, 3)`` coordinates: ``keys`` holds the sorted,
+# distinct linear cell ids and ``starts`` the offsets of their members in ``members``. A
+# search of radius R visits the (2c + 1)^g cells around the query cell, c = ⌊R/h⌋ + 1, and
+# checks the full m-dimensional distance, so the grid is only a prefilter and the result
+# does not depend on it.
+
+
+@njit(cache=True)
+def _find_key(keys: np.ndarray, key: int) -> int:
+    """Position of ``key`` in the sorted ``keys``, or −1."""
+    lo = 0
+    hi = keys.size
+    while lo < hi:
+        mid = (lo + hi) // 2
+        if keys[mid] < key:
+            lo = mid + 1
+        else:
+            hi = mid
+    if lo < keys.size and keys[lo] == key:
+        return lo
+    return -1
+
+
+@njit(cache=True)
+def _band_scan(
+    pts, fid, old, norm_old, w, lower, radius, upper, dlt, cos_max, stop, grid_lo, cell,
+    ncell, stride, keys, starts, members, pool, use_levels,
+):  # fmt: skip
+    """Best candidate within ``radius`` of ``pts[fid]``: lowest widening level, then cosine.
+
+    Candidates: ``|c − fid| > w``, ``c + 1 < stop``, distance in [lower, radius] and cosine
+    to ``old`` ≥ ``cos_max``. The level is ⌈(d − upper)/dlt⌉ (0 inside the band) when
+    ``use_levels``, else 0. Returns (index, level, cosine); index −1 if none.
+    """
+    m = pts.shape[1]
+    g = grid_lo.size
+    reach = int(np.floor(radius / cell)) + 1
+    side = 2 * reach + 1
+    total = 1
+    for _ in range(g):
+        total *= side
+    centre = np.empty(g, dtype=np.int64)
+    frac = np.empty(g)  # position of the query inside its cell, in cells
+    for d in range(g):
+        u = (pts[fid, d] - grid_lo[d]) / cell
+        c = min(max(int(np.floor(u)), 0), ncell[d] - 1)
+        centre[d] = c
+        frac[d] = u - c
+    best = -1
+    best_level = np.inf
+    best_cos = -np.inf
+    best_d2 = np.inf
+    r2 = radius * radius
+    rc2 = (radius / cell) ** 2
+    for t in range(total):
+        key = 0
+        rest = t
+        inside = True
+        gap2 = 0.0  # squared distance (in cells) from the query to the cell's box
+        for d in range(g):
+            off = rest % side - reach
+            rest //= side
+            c = centre[d] + off
+            if c < 0 or c >= ncell[d]:
+                inside = False
+                break
+            if off > 0:
+                gap2 += (off - frac[d]) ** 2
+            elif off < 0:
+                gap2 += (frac[d] - off - 1.0) ** 2
+            key += c * stride[d]
+        if not inside or gap2 > rc2:
+            continue
+        pos = _find_key(keys, key)
+        if pos < 0:
+            continue
+        for q in range(starts[pos], starts[pos + 1]):
+            c = members[q]
+            if abs(c - fid) <= w or c + 1 >= stop:
+                continue
+            d2 = 0.0
+            for k in range(m):
+                diff = pool[q, k] - pts[fid, k]
+                d2 += diff * diff
+            if d2 > r2:
+                continue
+            dist = np.sqrt(d2)
+            if dist < lower:
+                continue
+            if norm_old > 0.0:
+                if dist <= 0.0:
+                    continue
+                dot = 0.0
+                for k in range(m):
+                    dot += (pool[q, k] - pts[fid, k]) * old[k]
+                cos = dot / (dist * norm_old)
+            else:
+                cos = 1.0
+            if cos < cos_max:
+                continue
+            level = 0.0
+            if use_levels and dlt > 0.0 and dist > upper:
+                level = np.ceil((dist - upper) / dlt)
+            # ties (every same-side point has cosine 1 in one dimension) go to the nearer
+            # point, then the earlier one, so the result does not depend on the grid
+            if (
+                level < best_level
+                or (level == best_level and cos > best_cos)
+                or (level == best_level and cos == best_cos and (d2, c) < (best_d2, best))
+            ):
+                best = c
+                best_level = level
+                best_cos = cos
+                best_d2 = d2
+    return best, best_level, best_cos
+
+
+@njit(cache=True)
+def _nearest_beyond(pts, fid, w, lower, stop, members):
+    """Nearest pool point with ``|c − fid| > w``, ``c + 1 < stop`` and distance ≥ lower.
+
+    If none is that far, the nearest admissible point at any distance; −1 if none at all.
+    Brute force: only needed when a neighbour ran off the data or hit the fiducial point.
+    """
+    m = pts.shape[1]
+    far = -1
+    far_d2 = np.inf
+    any_ = -1
+    any_d2 = np.inf
+    lower2 = lower * lower
+    for q in range(members.size):
+        c = members[q]
+        if abs(c - fid) <= w or c + 1 >= stop:
+            continue
+        d2 = 0.0
+        for k in range(m):
+            diff = pts[c, k] - pts[fid, k]
+            d2 += diff * diff
+        if d2 < any_d2:
+            any_ = c
+            any_d2 = d2
+        if d2 >= lower2 and d2 < far_d2:
+            far = c
+            far_d2 = d2
+    return far if far >= 0 else any_
+
+
+@njit(cache=True)
+def wolf_loop(
+    pts, w, lower, upper, dlt, widen, cos_max, evolve, always, grid_lo, cell, ncell, stride,
+    keys, starts, members, pool, inc,
+):  # fmt: skip
+    """Wolf's fixed-evolution/replacement loop; ln(L'/L) per sample goes into ``inc``.
+
+    The pair is evolved ``evolve`` samples; then, unless the separation is still inside the
+    band [lower, upper] (and ``always`` is false), the neighbour is replaced by the band
+    point with the smallest angle to the old separation (cosine ≥ ``cos_max``), widening
+    the upper bound by ``dlt`` up to ``widen`` times. With no such point the evolved
+    neighbour is kept, unless it ran off the data or coincides with the fiducial point;
+    then the nearest point beyond ``lower`` is taken. Returns (replacements, replacements
+    meeting the angle condition, intervals kept without replacement).
+    """
+    n, m = pts.shape
+    wide = upper + widen * dlt
+    zero = np.zeros(m)
+    j, _, _ = _band_scan(
+        pts, 0, zero, 0.0, w, lower, wide, upper, dlt, -1.0, n, grid_lo, cell, ncell, stride,
+        keys, starts, members, pool, True,
+    )  # fmt: skip
+    if j < 0:
+        j = _nearest_beyond(pts, 0, w, lower, n, members)
+    if j < 0:
+        return 0, 0, 0
+    i = 0
+    replacements = 0
+    angle_ok = 0
+    kept = 0
+    old = np.empty(m)
+    while i + 1 < n:
+        i, j, d = evolve_pair(pts, i, j, evolve, n, inc)
+        if i + 1 >= n:
+            break
+        valid = j + 1 < n and d > 0.0
+        if valid and not always and lower <= d <= upper:
+            continue
+        norm2 = 0.0
+        for k in range(m):
+            old[k] = pts[j, k] - pts[i, k]
+            norm2 += old[k] * old[k]
+        norm_old = np.sqrt(norm2)
+        # inside the band first: if anything qualifies there, no widening is needed
+        new, _, _ = _band_scan(
+            pts, i, old, norm_old, w, lower, upper, upper, dlt, cos_max, n, grid_lo, cell,
+            ncell, stride, keys, starts, members, pool, False,
+        )  # fmt: skip
+        if new < 0 and widen > 0:
+            new, _, _ = _band_scan(
+                pts, i, old, norm_old, w, lower, wide, upper, dlt, cos_max, n, grid_lo,
+                cell, ncell, stride, keys, starts, members, pool, True,
+            )  # fmt: skip
+        if new >= 0:
+            angle_ok += 1
+        else:
+            if valid:  # Wolf: no acceptable replacement, keep the evolved neighbour
+                kept += 1
+                continue
+            new = _nearest_beyond(pts, i, w, lower, n, members)
+            if new < 0:
+                break
+        j = new
+        replacements += 1
+        if j + 1 >= n:  # no neighbour with a future left anywhere: stop here
+            break
+    return replacements, angle_ok, kept

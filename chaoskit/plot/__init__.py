@@ -1,0 +1,29 @@
+"""Figures of chaoskit results.
+
+Every function takes ``ax=None`` (a new figure is made when it is None), returns the
+:class:`matplotlib.axes.Axes` it drew on, imports matplotlib only when called and never
+calls ``show()``.
+"""
+
+from __future__ import annotations
+
+from ._figures import (
+    bifurcation,
+    divergence,
+    false_nearest_neighbors,
+    mutual_information,
+    phase_portrait,
+    poincare,
+)
+from ._report_figures import chaos_map, wear_profile
+
+__all__ = [
+    "bifurcation",
+    "chaos_map",
+    "divergence",
+    "false_nearest_neighbors",
+    "mutual_information",
+    "phase_portrait",
+    "poincare",
+    "wear_profile",
+]

@@ -1,0 +1,30 @@
+"""Reports: analyses, figures and tables of one or more trajectories as HTML and Markdown.
+
+:func:`report` analyses each trajectory (one state each, e.g. before and after wear),
+draws the figures with :mod:`chaoskit.plot` and assembles a frozen :class:`Report` of
+captioned tables (pandas DataFrames) and figures (PNG bytes), with whatever tables, wear
+profiles, sweep maps and bifurcation diagrams the caller adds; :meth:`Report.write` writes
+a self-contained HTML page and its Markdown twin. See ``docs/reports.md``.
+
+Note that the top-level name ``chaoskit.report`` is the function; import the classes from
+``chaoskit`` directly.
+"""
+
+from __future__ import annotations
+
+from ._build import CHAOS_COLUMNS, Report, SweepMap, VariableSpec, parse_variable, report
+from ._items import ReportCode, ReportFigure, ReportSection, ReportTable, format_number
+
+__all__ = [
+    "CHAOS_COLUMNS",
+    "Report",
+    "ReportCode",
+    "ReportFigure",
+    "ReportSection",
+    "ReportTable",
+    "SweepMap",
+    "VariableSpec",
+    "format_number",
+    "parse_variable",
+    "report",
+]

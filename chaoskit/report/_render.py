@@ -1,0 +1,197 @@
+"""Render a :class:`~chaoskit.report.Report` to HTML and Markdown with Jinja2 templates.
+
+Both renderers take their cell text from :meth:`ReportTable.display`, so the page and its
+Markdown twin print the same strings. The templates ship as package data in
+``chaoskit/report/templates/``.
+"""
+
+from __future__ import annotations
+
+import base64
+import re
+from functools import cache
+from typing import TYPE_CHECKING, Any, Literal
+
+from ._items import MISSING, ReportCode, ReportFigure, ReportTable
+
+if TYPE_CHECKING:
+    from jinja2 import Environment
+
+    from ._build import Report
+
+__all__ = ["render_html", "render_markdown", "table_cells"]
+
+
+@cache
+def _environment() -> Environment:
+    from jinja2 import Environment, PackageLoader, StrictUndefined, select_autoescape
+
+    return Environment(
+        loader=PackageLoader("chaoskit.report", "templates"),
+        autoescape=select_autoescape(["html", "html.j2"]),
+        undefined=StrictUndefined,
+        trim_blocks=True,
+        lstrip_blocks=True,
+        keep_trailing_newline=True,
+    )
+
+
+def _anchor(text: str) -> str:
+    return re.sub(r"[^a-z0-9]+", "-", text.lower()).strip("-") or "section"
+
+
+def table_cells(table: ReportTable) -> tuple[list[list[dict[str, Any]]], list[list[str]]]:
+    """Header rows (cells with text, colspan, rowspan) and body rows (strings) of a table.
+
+    The body rows start with the row labels (one cell per index level).
+    """
+    shown = table.display()
+    names = [str(n) for n in shown.index.names]
+    cols = list(shown.columns)
+    two_levels = any(sub for _, sub in cols)
+    top: list[dict[str, Any]] = [
+        {"text": n, "colspan": 1, "rowspan": 2 if two_levels else 1, "row_label": True}
+        for n in names
+    ]
+    second: list[dict[str, Any]] = []
+    i = 0
+    while i < len(cols):
+        label, sub = cols[i]
+        if not sub:
+            top.append({"text": label, "colspan": 1, "rowspan": 2 if two_levels else 1})
+            i += 1
+            continue
+        j = i
+        while j < len(cols) and cols[j][0] == label and cols[j][1]:
+            second.append({"text": cols[j][1], "colspan": 1, "rowspan": 1})
+            j += 1
+        top.append({"text": label, "colspan": j - i, "rowspan": 1})
+        i = j
+    header = [top, second] if two_levels else [top]
+    body = []
+    for key, row in zip(shown.index, shown.itertuples(index=False), strict=True):
+        keys = list(key) if isinstance(key, tuple) else [key]
+        body.append([str(k) for k in keys] + [str(c) for c in row])
+    return header, body
+
+
+_NUMERIC = re.compile(r"^[-+−]?(\d[\d.]*([eE][-+]?\d+)?|∞)( \[.*\])?$")
+
+
+def _numeric_columns(body: list[list[str]], n_labels: int) -> list[bool]:
+    """Per cell position: True when every non-missing cell of that column is a number."""
+    width = len(body[0]) if body else 0
+    out = []
+    for j in range(width):
+        cells = [row[j] for row in body if row[j] != MISSING]
+        out.append(j >= n_labels and bool(cells) and all(_NUMERIC.match(c) for c in cells))
+    return out
+
+
+def _flat_header(table: ReportTable) -> list[str]:
+    shown = table.display()
+    names = [str(n) for n in shown.index.names]
+    return names + [f"{a}: {b}" if b else str(a) for a, b in shown.columns]
+
+
+def _context(report: Report, *, figure_src: Any) -> dict[str, Any]:
+    sections = []
+    for section in report.sections:
+        items = []
+        for item in section.items:
+            if isinstance(item, ReportTable):
+                header, body = table_cells(item)
+                n_labels = item.display().index.nlevels
+                items.append(
+                    {
+                        "kind": "table",
+                        "number": item.number,
+                        "caption": item.caption,
+                        "header": header,
+                        "flat_header": _flat_header(item),
+                        "body": body,
+                        "n_row_labels": n_labels,
+                        "numeric": _numeric_columns(body, n_labels),
+                        "notes": item.notes,
+                    }
+                )
+            elif isinstance(item, ReportFigure):
+                items.append(
+                    {
+                        "kind": "figure",
+                        "number": item.number,
+                        "caption": item.caption,
+                        "src": figure_src(item),
+                        "name": item.name,
+                    }
+                )
+            elif isinstance(item, ReportCode):
+                items.append(
+                    {
+                        "kind": "code",
+                        "caption": item.caption,
+                        "text": item.text,
+                        "language": item.language,
+                    }
+                )
+        sections.append(
+            {
+                "title": section.title,
+                "anchor": _anchor(section.title),
+                "text": section.text,
+                "entries": items,
+            }
+        )
+    return {"title": report.title, "created": report.created, "sections": sections}
+
+
+def _data_uri(figure: ReportFigure) -> str:
+    return "data:image/png;base64," + base64.b64encode(figure.png).decode("ascii")
+
+
+def render_html(report: Report) -> str:
+    """The self-contained page: inline CSS, figures as base64 PNG data URIs."""
+    template = _environment().get_template("report.html.j2")
+    return template.render(**_context(report, figure_src=_data_uri))
+
+
+def _md_cell(text: str) -> str:
+    return str(text).replace("\\", "\\\\").replace("|", "\\|").replace("\n", " ")
+
+
+def _md_code_fence(text: str) -> str:
+    longest = max((len(m) for m in re.findall(r"`+", text)), default=0)
+    return "`" * max(3, longest + 1)
+
+
+def render_markdown(
+    report: Report,
+    *,
+    figures: Literal["files", "embed"] = "files",
+    figure_dir: str = "figures",
+) -> str:
+    """The Markdown twin: pipe tables, figures linked as files or embedded as data URIs."""
+    if figures not in ("files", "embed"):
+        raise ValueError(f"figures must be 'files' or 'embed'; got {figures!r}.")
+
+    def src(fig: ReportFigure) -> str:
+        if figures == "embed":
+            return _data_uri(fig)
+        return f"{figure_dir.rstrip('/')}/{report.figure_filename(fig)}"
+
+    context = _context(report, figure_src=src)
+    for section in context["sections"]:
+        for item in section["entries"]:
+            if item["kind"] == "table":
+                item["md_lines"] = _md_table(item)
+    template = _environment().get_template("report.md.j2")
+    return template.render(**context, fence=_md_code_fence)
+
+
+def _md_table(item: dict[str, Any]) -> list[str]:
+    def line(cells: list[str]) -> str:
+        return "| " + " | ".join(_md_cell(c) for c in cells) + " |"
+
+    numeric = item["numeric"] or [False] * len(item["flat_header"])
+    rule = "| " + " | ".join("--:" if num else ":--" for num in numeric) + " |"
+    return [line(item["flat_header"]), rule, *(line(row) for row in item["body"])]

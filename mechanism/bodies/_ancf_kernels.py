@@ -1,0 +1,651 @@
+"""Compiled kernels of the 2-D gradient-deficient ANCF beam (Berzeri–Shabana interpolation).
+
+Every kernel works on one beam of ``n_elements`` equal elements of length ``element_length``
+whose nodal vector ``e`` holds ``[r_1, r_1,x, r_2, r_2,x, ...]`` (4 DOFs per node, node ``j``
+at ``e[4 j : 4 j + 4]``, element ``i`` at ``e[4 i : 4 i + 8]``). Kernels never allocate:
+forces and matrices are *added*, multiplied by ``scale``, into ``out`` starting at row (and
+column) ``offset``, so the multibody core can assemble several beams into its global arrays
+once per right-hand-side evaluation.
+
+Constitutive choices are integer codes (see ``docs/ancf.md``):
+
+* ``axial_law``: ``AXIAL_GREEN`` ε = ½(r,ₓᵀr,ₓ − 1), the Berzeri–Shabana form of the paper;
+  ``AXIAL_BIOT`` ε = |r,ₓ| − 1, the form of Gerstmayr & Irschik (2008).
+* ``bending_law``: ``BENDING_LINEAR`` ½EI|r,ₓₓ|² (constant K_t, the paper's form);
+  ``BENDING_MATERIAL`` κ = (r,ₓ × r,ₓₓ)/|r,ₓ|² (Gerstmayr & Irschik 2008, Exudyn's
+  ``ANCFCable2D``); ``BENDING_GEOMETRIC`` κ = (r,ₓ × r,ₓₓ)/|r,ₓ|³ (curvature of the deformed
+  centre line).
+
+The elastic force is F_e = ∂U/∂e with U = ∫ ½EA ε² + ½EI κ² dx, integrated with
+``n_gauss_axial`` and ``n_gauss_bending`` Gauss–Legendre points per element (1…5).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+AXIAL_GREEN = 0
+AXIAL_BIOT = 1
+BENDING_LINEAR = 0
+BENDING_MATERIAL = 1
+BENDING_GEOMETRIC = 2
+MAX_GAUSS = 5
+
+
+def _gauss_table() -> tuple[np.ndarray, np.ndarray]:
+    # Gauss–Legendre points and weights mapped to [0, 1], row n-1 holds the n-point rule.
+    xs = np.zeros((MAX_GAUSS, MAX_GAUSS))
+    ws = np.zeros((MAX_GAUSS, MAX_GAUSS))
+    for n in range(1, MAX_GAUSS + 1):
+        x, w = np.polynomial.legendre.leggauss(n)
+        xs[n - 1, :n] = 0.5 * (x + 1.0)
+        ws[n - 1, :n] = 0.5 * w
+    return xs, ws
+
+
+# numba freezes module-level arrays into the compiled code as constants
+_GAUSS_X, _GAUSS_W = _gauss_table()
+
+
+@njit(cache=True, inline="always")
+def _d1(xi: float, l: float) -> tuple[float, float, float, float]:
+    # ∂s_k/∂x of the cubic Hermite shape functions at ξ = x/l
+    return (
+        6.0 * xi * (xi - 1.0) / l,
+        1.0 - 4.0 * xi + 3.0 * xi * xi,
+        6.0 * xi * (1.0 - xi) / l,
+        xi * (3.0 * xi - 2.0),
+    )
+
+
+@njit(cache=True, inline="always")
+def _d2(xi: float, l: float) -> tuple[float, float, float, float]:
+    # ∂²s_k/∂x²
+    return (
+        (12.0 * xi - 6.0) / (l * l),
+        (6.0 * xi - 4.0) / l,
+        (6.0 - 12.0 * xi) / (l * l),
+        (6.0 * xi - 2.0) / l,
+    )
+
+
+@njit(cache=True)
+def shape_functions(xi: float, l: float) -> tuple[float, float, float, float]:
+    """Cubic Hermite shape functions s_1…s_4 at ξ = x/l (the slope ones carry the factor l)."""
+    xi2 = xi * xi
+    xi3 = xi2 * xi
+    return (
+        1.0 - 3.0 * xi2 + 2.0 * xi3,
+        l * (xi - 2.0 * xi2 + xi3),
+        3.0 * xi2 - 2.0 * xi3,
+        l * (xi3 - xi2),
+    )
+
+
+@njit(cache=True, inline="always")
+def _slope(e: np.ndarray, b: int, d: tuple[float, float, float, float]) -> tuple[float, float]:
+    x = d[0] * e[b] + d[1] * e[b + 2] + d[2] * e[b + 4] + d[3] * e[b + 6]
+    y = d[0] * e[b + 1] + d[1] * e[b + 3] + d[2] * e[b + 5] + d[3] * e[b + 7]
+    return x, y
+
+
+@njit(cache=True, inline="always")
+def _axial(rx: float, ry: float, axial_law: int) -> tuple[float, float]:
+    """Strain ε and the factor c with ∂ε/∂r,ₓ = c r,ₓ."""
+    w2 = rx * rx + ry * ry
+    if axial_law == AXIAL_GREEN:
+        return 0.5 * (w2 - 1.0), 1.0
+    lam = math.sqrt(w2)
+    return lam - 1.0, 1.0 / lam
+
+
+@njit(cache=True, inline="always")
+def _curvature(
+    rx: float, ry: float, sx: float, sy: float, bending_law: int
+) -> tuple[float, float, float, float, float, float]:
+    """κ, ∂κ/∂r,ₓ and ∂κ/∂r,ₓₓ (r,ₓₓ = (sx, sy)) for the nonlinear curvature laws."""
+    c = rx * sy - ry * sx
+    w2 = rx * rx + ry * ry
+    q = 1.0 if bending_law == BENDING_MATERIAL else 1.5
+    wq = w2**-q
+    kappa = c * wq
+    f = 2.0 * q * c / w2
+    return kappa, wq * (sy - f * rx), wq * (-sx - f * ry), -wq * ry, wq * rx, wq
+
+
+@njit(cache=True)
+def beam_elastic_force(
+    e: np.ndarray,
+    n_elements: int,
+    element_length: float,
+    axial_stiffness: float,
+    bending_stiffness: float,
+    axial_law: int,
+    bending_law: int,
+    n_gauss_axial: int,
+    n_gauss_bending: int,
+    scale: float,
+    out: np.ndarray,
+    offset: int,
+) -> None:
+    """Add ``scale`` · F_e(e) into ``out[offset : offset + 4 (n_elements + 1)]``."""
+    l = element_length
+    ea = axial_stiffness
+    ei = bending_stiffness
+    for i in range(n_elements):
+        b = 4 * i
+        o = offset + b
+        for g in range(n_gauss_axial):
+            xi = _GAUSS_X[n_gauss_axial - 1, g]
+            wt = _GAUSS_W[n_gauss_axial - 1, g] * l * scale
+            d1 = _d1(xi, l)
+            rx, ry = _slope(e, b, d1)
+            eps, c = _axial(rx, ry, axial_law)
+            f = wt * ea * eps * c
+            for k in range(4):
+                out[o + 2 * k] += f * d1[k] * rx
+                out[o + 2 * k + 1] += f * d1[k] * ry
+        for g in range(n_gauss_bending):
+            xi = _GAUSS_X[n_gauss_bending - 1, g]
+            wt = _GAUSS_W[n_gauss_bending - 1, g] * l * scale
+            d2 = _d2(xi, l)
+            sx, sy = _slope(e, b, d2)
+            if bending_law == BENDING_LINEAR:
+                for k in range(4):
+                    out[o + 2 * k] += wt * ei * d2[k] * sx
+                    out[o + 2 * k + 1] += wt * ei * d2[k] * sy
+                continue
+            d1 = _d1(xi, l)
+            rx, ry = _slope(e, b, d1)
+            kap, k1x, k1y, k2x, k2y, _ = _curvature(rx, ry, sx, sy, bending_law)
+            f = wt * ei * kap
+            for k in range(4):
+                out[o + 2 * k] += f * (d1[k] * k1x + d2[k] * k2x)
+                out[o + 2 * k + 1] += f * (d1[k] * k1y + d2[k] * k2y)
+
+
+@njit(cache=True)
+def beam_elastic_jacobian(
+    e: np.ndarray,
+    n_elements: int,
+    element_length: float,
+    axial_stiffness: float,
+    bending_stiffness: float,
+    axial_law: int,
+    bending_law: int,
+    n_gauss_axial: int,
+    n_gauss_bending: int,
+    scale: float,
+    out: np.ndarray,
+    offset: int,
+) -> None:
+    """Add ``scale`` · ∂F_e/∂e into the square block of ``out`` starting at (offset, offset)."""
+    l = element_length
+    ea = axial_stiffness
+    ei = bending_stiffness
+    for i in range(n_elements):
+        b = 4 * i
+        o = offset + b
+        for g in range(n_gauss_axial):
+            xi = _GAUSS_X[n_gauss_axial - 1, g]
+            wt = _GAUSS_W[n_gauss_axial - 1, g] * l * scale * ea
+            d1 = _d1(xi, l)
+            rx, ry = _slope(e, b, d1)
+            eps, c = _axial(rx, ry, axial_law)
+            # Green: S'ᵀ(r' r'ᵀ + ε I)S'; Biot: S'ᵀ(r' r'ᵀ/λ³ + (1 − 1/λ) I)S'
+            diag = eps * c
+            c3 = c * c * c
+            axx = wt * (c3 * rx * rx + diag)
+            axy = wt * c3 * rx * ry
+            ayy = wt * (c3 * ry * ry + diag)
+            for k in range(4):
+                for m in range(4):
+                    s = d1[k] * d1[m]
+                    out[o + 2 * k, o + 2 * m] += s * axx
+                    out[o + 2 * k, o + 2 * m + 1] += s * axy
+                    out[o + 2 * k + 1, o + 2 * m] += s * axy
+                    out[o + 2 * k + 1, o + 2 * m + 1] += s * ayy
+        for g in range(n_gauss_bending):
+            xi = _GAUSS_X[n_gauss_bending - 1, g]
+            wt = _GAUSS_W[n_gauss_bending - 1, g] * l * scale * ei
+            d2 = _d2(xi, l)
+            if bending_law == BENDING_LINEAR:
+                for k in range(4):
+                    for m in range(4):
+                        s = wt * d2[k] * d2[m]
+                        out[o + 2 * k, o + 2 * m] += s
+                        out[o + 2 * k + 1, o + 2 * m + 1] += s
+                continue
+            d1 = _d1(xi, l)
+            rx, ry = _slope(e, b, d1)
+            sx, sy = _slope(e, b, d2)
+            kap, k1x, k1y, k2x, k2y, wq = _curvature(rx, ry, sx, sy, bending_law)
+            q = 1.0 if bending_law == BENDING_MATERIAL else 1.5
+            w2 = rx * rx + ry * ry
+            c = kap / wq
+            # second derivatives of κ: H11 = ∂²κ/∂r'², H12 = ∂²κ/∂r'∂r'' (∂²κ/∂r''² = 0)
+            ax, ay = sy, -sx
+            h = 2.0 * q * wq / w2
+            g2 = 4.0 * q * (q + 1.0) * c * wq / (w2 * w2)
+            h11xx = -h * 2.0 * ax * rx + g2 * rx * rx - h * c
+            h11xy = -h * (ax * ry + rx * ay) + g2 * rx * ry
+            h11yy = -h * 2.0 * ay * ry + g2 * ry * ry - h * c
+            bx, by = -ry, rx
+            h12xx = -h * rx * bx
+            h12xy = wq - h * rx * by
+            h12yx = -wq - h * ry * bx
+            h12yy = -h * ry * by
+            for k in range(4):
+                gkx = d1[k] * k1x + d2[k] * k2x
+                gky = d1[k] * k1y + d2[k] * k2y
+                for m in range(4):
+                    gmx = d1[m] * k1x + d2[m] * k2x
+                    gmy = d1[m] * k1y + d2[m] * k2y
+                    p11 = d1[k] * d1[m]
+                    p12 = d1[k] * d2[m]
+                    p21 = d2[k] * d1[m]
+                    hxx = p11 * h11xx + p12 * h12xx + p21 * h12xx
+                    hxy = p11 * h11xy + p12 * h12xy + p21 * h12yx
+                    hyx = p11 * h11xy + p12 * h12yx + p21 * h12xy
+                    hyy = p11 * h11yy + p12 * h12yy + p21 * h12yy
+                    out[o + 2 * k, o + 2 * m] += wt * (gkx * gmx + kap * hxx)
+                    out[o + 2 * k, o + 2 * m + 1] += wt * (gkx * gmy + kap * hxy)
+                    out[o + 2 * k + 1, o + 2 * m] += wt * (gky * gmx + kap * hyx)
+                    out[o + 2 * k + 1, o + 2 * m + 1] += wt * (gky * gmy + kap * hyy)
+
+
+@njit(cache=True)
+def beam_damping_force(
+    e: np.ndarray,
+    e_dot: np.ndarray,
+    n_elements: int,
+    element_length: float,
+    axial_stiffness: float,
+    bending_stiffness: float,
+    axial_law: int,
+    bending_law: int,
+    n_gauss_axial: int,
+    n_gauss_bending: int,
+    damping: float,
+    scale: float,
+    out: np.ndarray,
+    offset: int,
+) -> None:
+    """Add ``scale`` · F_d, the stiffness-proportional structural damping force.
+
+    F_d = β ∫ (EA ε̇ ∂ε/∂e + EI κ̇ ∂κ/∂e) dx = β K_m(e) ė with β = ``damping`` (s) and K_m the
+    material (non-geometric) part of the tangent stiffness; it vanishes for rigid motion.
+    """
+    l = element_length
+    ea = axial_stiffness * damping
+    ei = bending_stiffness * damping
+    for i in range(n_elements):
+        b = 4 * i
+        o = offset + b
+        for g in range(n_gauss_axial):
+            xi = _GAUSS_X[n_gauss_axial - 1, g]
+            wt = _GAUSS_W[n_gauss_axial - 1, g] * l * scale
+            d1 = _d1(xi, l)
+            rx, ry = _slope(e, b, d1)
+            vx, vy = _slope(e_dot, b, d1)
+            _, c = _axial(rx, ry, axial_law)
+            f = wt * ea * c * c * (rx * vx + ry * vy)
+            for k in range(4):
+                out[o + 2 * k] += f * d1[k] * rx
+                out[o + 2 * k + 1] += f * d1[k] * ry
+        for g in range(n_gauss_bending):
+            xi = _GAUSS_X[n_gauss_bending - 1, g]
+            wt = _GAUSS_W[n_gauss_bending - 1, g] * l * scale
+            d2 = _d2(xi, l)
+            wx, wy = _slope(e_dot, b, d2)
+            if bending_law == BENDING_LINEAR:
+                for k in range(4):
+                    out[o + 2 * k] += wt * ei * d2[k] * wx
+                    out[o + 2 * k + 1] += wt * ei * d2[k] * wy
+                continue
+            d1 = _d1(xi, l)
+            rx, ry = _slope(e, b, d1)
+            sx, sy = _slope(e, b, d2)
+            vx, vy = _slope(e_dot, b, d1)
+            _, k1x, k1y, k2x, k2y, _ = _curvature(rx, ry, sx, sy, bending_law)
+            f = wt * ei * (k1x * vx + k1y * vy + k2x * wx + k2y * wy)
+            for k in range(4):
+                out[o + 2 * k] += f * (d1[k] * k1x + d2[k] * k2x)
+                out[o + 2 * k + 1] += f * (d1[k] * k1y + d2[k] * k2y)
+
+
+@njit(cache=True)
+def beam_damping_jacobian(
+    e: np.ndarray,
+    n_elements: int,
+    element_length: float,
+    axial_stiffness: float,
+    bending_stiffness: float,
+    axial_law: int,
+    bending_law: int,
+    n_gauss_axial: int,
+    n_gauss_bending: int,
+    damping: float,
+    scale: float,
+    out: np.ndarray,
+    offset: int,
+) -> None:
+    """Add ``scale`` · ∂F_d/∂ė = ``scale`` · β K_m(e) into the block at (offset, offset)."""
+    l = element_length
+    ea = axial_stiffness * damping
+    ei = bending_stiffness * damping
+    for i in range(n_elements):
+        b = 4 * i
+        o = offset + b
+        for g in range(n_gauss_axial):
+            xi = _GAUSS_X[n_gauss_axial - 1, g]
+            wt = _GAUSS_W[n_gauss_axial - 1, g] * l * scale * ea
+            d1 = _d1(xi, l)
+            rx, ry = _slope(e, b, d1)
+            _, c = _axial(rx, ry, axial_law)
+            c2 = c * c
+            for k in range(4):
+                for m in range(4):
+                    s = wt * c2 * d1[k] * d1[m]
+                    out[o + 2 * k, o + 2 * m] += s * rx * rx
+                    out[o + 2 * k, o + 2 * m + 1] += s * rx * ry
+                    out[o + 2 * k + 1, o + 2 * m] += s * ry * rx
+                    out[o + 2 * k + 1, o + 2 * m + 1] += s * ry * ry
+        for g in range(n_gauss_bending):
+            xi = _GAUSS_X[n_gauss_bending - 1, g]
+            wt = _GAUSS_W[n_gauss_bending - 1, g] * l * scale * ei
+            d2 = _d2(xi, l)
+            if bending_law == BENDING_LINEAR:
+                for k in range(4):
+                    for m in range(4):
+                        s = wt * d2[k] * d2[m]
+                        out[o + 2 * k, o + 2 * m] += s
+                        out[o + 2 * k + 1, o + 2 * m + 1] += s
+                continue
+            d1 = _d1(xi, l)
+            rx, ry = _slope(e, b, d1)
+            sx, sy = _slope(e, b, d2)
+            _, k1x, k1y, k2x, k2y, _ = _curvature(rx, ry, sx, sy, bending_law)
+            for k in range(4):
+                gkx = d1[k] * k1x + d2[k] * k2x
+                gky = d1[k] * k1y + d2[k] * k2y
+                for m in range(4):
+                    gmx = d1[m] * k1x + d2[m] * k2x
+                    gmy = d1[m] * k1y + d2[m] * k2y
+                    out[o + 2 * k, o + 2 * m] += wt * gkx * gmx
+                    out[o + 2 * k, o + 2 * m + 1] += wt * gkx * gmy
+                    out[o + 2 * k + 1, o + 2 * m] += wt * gky * gmx
+                    out[o + 2 * k + 1, o + 2 * m + 1] += wt * gky * gmy
+
+
+@njit(cache=True)
+def beam_mass_matrix(
+    n_elements: int,
+    element_length: float,
+    mass_per_length: float,
+    scale: float,
+    out: np.ndarray,
+    offset: int,
+) -> None:
+    """Add ``scale`` · M, the constant consistent mass matrix ρA l · m̄ ⊗ I₂ per element."""
+    l = element_length
+    f = scale * mass_per_length * l
+    for i in range(n_elements):
+        o = offset + 4 * i
+        for k in range(4):
+            for m in range(4):
+                v = f * _mbar(k, m, l)
+                out[o + 2 * k, o + 2 * m] += v
+                out[o + 2 * k + 1, o + 2 * m + 1] += v
+
+
+@njit(cache=True, inline="always")
+def _mbar(k: int, m: int, l: float) -> float:
+    # m̄ of the Hermite cubic (symmetric); entries with a slope index carry l or l²
+    if k > m:
+        k, m = m, k
+    if k == 0:
+        return (13.0 / 35.0, 11.0 * l / 210.0, 9.0 / 70.0, -13.0 * l / 420.0)[m]
+    if k == 1:
+        return (0.0, l * l / 105.0, 13.0 * l / 420.0, -l * l / 140.0)[m]
+    if k == 2:
+        return (0.0, 0.0, 13.0 / 35.0, -11.0 * l / 210.0)[m]
+    return l * l / 105.0
+
+
+@njit(cache=True)
+def beam_distributed_force(
+    n_elements: int,
+    element_length: float,
+    force_per_length_x: float,
+    force_per_length_y: float,
+    scale: float,
+    out: np.ndarray,
+    offset: int,
+) -> None:
+    """Add ``scale`` · ∫Sᵀ f dx for a constant force per length f (gravity: f = ρA g)."""
+    l = element_length
+    w = (0.5 * l, l * l / 12.0, 0.5 * l, -l * l / 12.0)
+    for i in range(n_elements):
+        o = offset + 4 * i
+        for k in range(4):
+            out[o + 2 * k] += scale * w[k] * force_per_length_x
+            out[o + 2 * k + 1] += scale * w[k] * force_per_length_y
+
+
+@njit(cache=True)
+def beam_locate(n_elements: int, element_length: float, s: float) -> tuple[int, float]:
+    """Element index and local ξ ∈ [0, 1] of arc length ``s`` (clipped to the beam)."""
+    i = math.floor(s / element_length)
+    if i < 0:
+        i = 0
+    if i > n_elements - 1:
+        i = n_elements - 1
+    xi = s / element_length - i
+    return i, min(max(xi, 0.0), 1.0)
+
+
+@njit(cache=True)
+def beam_position(
+    e: np.ndarray, n_elements: int, element_length: float, s: float
+) -> tuple[float, float]:
+    """Position r(s) = S(ξ) e of the centre line at reference arc length ``s``."""
+    i, xi = beam_locate(n_elements, element_length, s)
+    return _slope(e, 4 * i, shape_functions(xi, element_length))
+
+
+@njit(cache=True)
+def beam_slope(
+    e: np.ndarray, n_elements: int, element_length: float, s: float
+) -> tuple[float, float]:
+    """Slope r,ₓ(s) = S,ₓ(ξ) e at reference arc length ``s``."""
+    i, xi = beam_locate(n_elements, element_length, s)
+    return _slope(e, 4 * i, _d1(xi, element_length))
+
+
+@njit(cache=True)
+def beam_point_force(
+    n_elements: int,
+    element_length: float,
+    s: float,
+    fx: float,
+    fy: float,
+    scale: float,
+    out: np.ndarray,
+    offset: int,
+) -> None:
+    """Add ``scale`` · S(ξ)ᵀ f, the generalised force of a point force f at arc length ``s``."""
+    i, xi = beam_locate(n_elements, element_length, s)
+    sh = shape_functions(xi, element_length)
+    o = offset + 4 * i
+    for k in range(4):
+        out[o + 2 * k] += scale * sh[k] * fx
+        out[o + 2 * k + 1] += scale * sh[k] * fy
+
+
+@njit(cache=True)
+def beam_axial_strain(
+    e: np.ndarray,
+    n_elements: int,
+    element_length: float,
+    axial_law: int,
+    stations: np.ndarray,
+    out: np.ndarray,
+) -> None:
+    """Write the axial strain ε(s) at the reference arc lengths ``stations`` into ``out``."""
+    for j in range(stations.size):
+        rx, ry = beam_slope(e, n_elements, element_length, stations[j])
+        out[j] = _axial(rx, ry, axial_law)[0]
+
+
+@njit(cache=True)
+def beam_axial_strain_history(
+    coordinates: np.ndarray,
+    offset: int,
+    n_elements: int,
+    element_length: float,
+    axial_law: int,
+    stations: np.ndarray,
+    out: np.ndarray,
+) -> None:
+    """out[t, j] = ε at ``stations[j]`` of the beam at ``coordinates[t, offset:]``."""
+    n = 4 * (n_elements + 1)
+    for t in range(coordinates.shape[0]):
+        beam_axial_strain(
+            coordinates[t, offset : offset + n],
+            n_elements,
+            element_length,
+            axial_law,
+            stations,
+            out[t],
+        )
+
+
+@njit(cache=True)
+def beam_midspan_deflection_history(
+    coordinates: np.ndarray,
+    offset: int,
+    n_elements: int,
+    element_length: float,
+    out: np.ndarray,
+) -> None:
+    """out[t] = signed distance of r(L/2) from the end-node chord (positive to its left)."""
+    n = 4 * (n_elements + 1)
+    half = 0.5 * n_elements * element_length
+    for t in range(coordinates.shape[0]):
+        e = coordinates[t, offset : offset + n]
+        ax, ay = e[0], e[1]
+        cx, cy = e[n - 4] - ax, e[n - 3] - ay
+        mx, my = beam_position(e, n_elements, element_length, half)
+        out[t] = (cx * (my - ay) - cy * (mx - ax)) / math.sqrt(cx * cx + cy * cy)
+
+
+# --- beam tables for the multibody core ---------------------------------------------------
+# One row per flexible body: beam_i = [offset, n_elements, axial_law, bending_law,
+# gauss_axial, gauss_bending] (int64), beam_f = [element_length, EA, EI, damping] (float64).
+BEAM_I_COLUMNS = 6
+BEAM_F_COLUMNS = 4
+
+
+@njit(cache=True)
+def beams_force_add(
+    beam_i: np.ndarray,
+    beam_f: np.ndarray,
+    q: np.ndarray,
+    v: np.ndarray,
+    scale: float,
+    out: np.ndarray,
+) -> None:
+    """out += scale · (F_e(q) + F_d(q, q̇)) of every beam in the tables (q, v: global).
+
+    Call with ``scale = -1`` to add the elastic and damping forces to Q.
+    """
+    for b in range(beam_i.shape[0]):
+        o = beam_i[b, 0]
+        ne = beam_i[b, 1]
+        n = 4 * (ne + 1)
+        e = q[o : o + n]
+        beam_elastic_force(
+            e,
+            ne,
+            beam_f[b, 0],
+            beam_f[b, 1],
+            beam_f[b, 2],
+            beam_i[b, 2],
+            beam_i[b, 3],
+            beam_i[b, 4],
+            beam_i[b, 5],
+            scale,
+            out,
+            o,
+        )
+        if beam_f[b, 3] > 0.0:
+            beam_damping_force(
+                e,
+                v[o : o + n],
+                ne,
+                beam_f[b, 0],
+                beam_f[b, 1],
+                beam_f[b, 2],
+                beam_i[b, 2],
+                beam_i[b, 3],
+                beam_i[b, 4],
+                beam_i[b, 5],
+                beam_f[b, 3],
+                scale,
+                out,
+                o,
+            )
+
+
+@njit(cache=True)
+def beams_jacobian_add(
+    beam_i: np.ndarray,
+    beam_f: np.ndarray,
+    q: np.ndarray,
+    stiffness_scale: float,
+    damping_scale: float,
+    out: np.ndarray,
+) -> None:
+    """out += stiffness_scale · ∂F_e/∂q + damping_scale · ∂F_d/∂q̇ for every beam.
+
+    E.g. the Newton matrix of an implicit step M + γh C + βh² K takes
+    ``stiffness_scale = βh²`` and ``damping_scale = γh``.
+    """
+    for b in range(beam_i.shape[0]):
+        o = beam_i[b, 0]
+        ne = beam_i[b, 1]
+        e = q[o : o + 4 * (ne + 1)]
+        beam_elastic_jacobian(
+            e,
+            ne,
+            beam_f[b, 0],
+            beam_f[b, 1],
+            beam_f[b, 2],
+            beam_i[b, 2],
+            beam_i[b, 3],
+            beam_i[b, 4],
+            beam_i[b, 5],
+            stiffness_scale,
+            out,
+            o,
+        )
+        if beam_f[b, 3] > 0.0 and damping_scale != 0.0:
+            beam_damping_jacobian(
+                e,
+                ne,
+                beam_f[b, 0],
+                beam_f[b, 1],
+                beam_f[b, 2],
+                beam_i[b, 2],
+                beam_i[b, 3],
+                beam_i[b, 4],
+                beam_i[b, 5],
+                beam_f[b, 3],
+                damping_scale,
+                out,
+                o,
+            )

@@ -1,0 +1,642 @@
+"""Compiled time loops: Dormand–Prince 5(4) with dense output and generalized-α.
+
+Both loops run entirely inside numba; the Python layer (``_methods.py``) calls them in
+chunks only to drive an optional progress bar, and the trajectory does not depend on the
+chunking. Outputs are written on the caller's uniform grid ``t_out`` into a ``Recording``
+(one right-hand-side evaluation per output sample gives q̈, λ and the contact quantities).
+
+``state`` (float64[4]) carries [t, h, facold, last step rejected] between chunks,
+``cursor`` (int64[1]) the next output index, ``counters`` the statistics of
+``mechanism._kernels`` (steps, rejected, f evaluations, contact events, contact-law
+evaluations, Jacobians, Newton iterations).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from mechanism._kernels import (
+    CNT_JAC,
+    CNT_NEWTON,
+    CNT_REJECTED,
+    CNT_STEPS,
+    STATUS_OK,
+    accelerations,
+    derived_outputs,
+    entry_depth_ratio,
+    project,
+    rhs,
+    update_latch,
+)
+
+STATUS_RUNNING = 1
+STATUS_STEP_TOO_SMALL = -1
+STATUS_SINGULAR = -2
+STATUS_NONFINITE = -3
+STATUS_MAX_STEPS = -4
+STATUS_NEWTON = -5
+
+# Dormand–Prince 5(4) tableau (Dormand & Prince 1980; Hairer, Nørsett & Wanner, II.5)
+C2 = 1.0 / 5.0
+C3 = 3.0 / 10.0
+C4 = 4.0 / 5.0
+C5 = 8.0 / 9.0
+A21 = 1.0 / 5.0
+A31 = 3.0 / 40.0
+A32 = 9.0 / 40.0
+A41 = 44.0 / 45.0
+A42 = -56.0 / 15.0
+A43 = 32.0 / 9.0
+A51 = 19372.0 / 6561.0
+A52 = -25360.0 / 2187.0
+A53 = 64448.0 / 6561.0
+A54 = -212.0 / 729.0
+A61 = 9017.0 / 3168.0
+A62 = -355.0 / 33.0
+A63 = 46732.0 / 5247.0
+A64 = 49.0 / 176.0
+A65 = -5103.0 / 18656.0
+A71 = 35.0 / 384.0
+A73 = 500.0 / 1113.0
+A74 = 125.0 / 192.0
+A75 = -2187.0 / 6784.0
+A76 = 11.0 / 84.0
+E1 = 71.0 / 57600.0
+E3 = -71.0 / 16695.0
+E4 = 71.0 / 1920.0
+E5 = -17253.0 / 339200.0
+E6 = 22.0 / 525.0
+E7 = -1.0 / 40.0
+# continuous extension of order 4 (Hairer's DOPRI5 dense output)
+D1 = -12715105075.0 / 11282082432.0
+D3 = 87487479700.0 / 32700410799.0
+D4 = -10690763975.0 / 1880347072.0
+D5 = 701980252875.0 / 199316789632.0
+D6 = -1453857185.0 / 822651844.0
+D7 = 69997945.0 / 29380423.0
+
+_EPS = 2.220446049250313e-16
+
+
+@njit(cache=True)
+def record_sample(model, ws, rec, i, t, y, vimp, scratch, counters):
+    """Write output sample ``i`` of state ``y`` at time ``t``: one right-hand-side
+    evaluation gives q̈, λ and the contact quantities, from which the derived outputs
+    (crank angle, slider kinematics, energy, constraint residual, joint reactions) follow."""
+    n = model.n_dof
+    status = rhs(model, ws, t, y, vimp, scratch, counters)
+    rec.t[i] = t
+    for k in range(n):
+        rec.q[i, k] = y[k]
+        rec.v[i, k] = y[n + k]
+        rec.a[i, k] = scratch[n + k]
+    for k in range(model.n_rows):
+        rec.lam[i, k] = ws.lam[k]
+    for j in range(ws.cj.shape[0]):
+        for c in range(ws.cj.shape[1]):
+            rec.cj[i, j, c] = ws.cj[j, c]
+    derived_outputs(model, ws, y[:n], y[n:], scratch[n:], rec.out[i], rec.jf[i])
+    return status
+
+
+@njit(cache=True)
+def record_batch(model, ws, rec, i0, times, states, vimp, counters):
+    """Record ``times[k]`` / ``states[:, k]`` as output samples i0, i0 + 1, ..."""
+    scratch = np.empty(states.shape[0])
+    y = np.empty(states.shape[0])
+    for k in range(times.shape[0]):
+        for r in range(states.shape[0]):
+            y[r] = states[r, k]
+        status = record_sample(model, ws, rec, i0 + k, times[k], y, vimp, scratch, counters)
+        if status != STATUS_OK:
+            return status
+    return STATUS_OK
+
+
+@njit(cache=True)
+def _wrms(err, y0, y1, rtol, atol):
+    s = 0.0
+    n = err.shape[0]
+    for i in range(n):
+        sk = atol + rtol * max(abs(y0[i]), abs(y1[i]))
+        e = err[i] / sk
+        s += e * e
+    return math.sqrt(s / n)
+
+
+@njit(cache=True)
+def _initial_step(model, ws, t, y, f0, vimp, counters, rtol, atol, max_step):
+    """Starting step size in the manner of Hairer's HINIT (order 5)."""
+    n2 = y.shape[0]
+    dnf = 0.0
+    dny = 0.0
+    for i in range(n2):
+        sk = atol + rtol * abs(y[i])
+        dnf += (f0[i] / sk) ** 2
+        dny += (y[i] / sk) ** 2
+    dnf /= n2
+    dny /= n2
+    if dnf <= 1e-10 or dny <= 1e-10:
+        h = 1e-6
+    else:
+        h = 0.01 * math.sqrt(dny / dnf)
+    h = min(h, max_step)
+    y1 = np.empty(n2)
+    f1 = np.empty(n2)
+    for i in range(n2):
+        y1[i] = y[i] + h * f0[i]
+    rhs(model, ws, t + h, y1, vimp, f1, counters)
+    der2 = 0.0
+    for i in range(n2):
+        sk = atol + rtol * abs(y[i])
+        der2 += ((f1[i] - f0[i]) / sk) ** 2
+    der2 = math.sqrt(der2 / n2) / h
+    der12 = max(abs(der2), math.sqrt(dnf))
+    if der12 <= 1e-15:
+        h1 = max(1e-6, h * 1e-3)
+    else:
+        h1 = (0.01 / der12) ** 0.2
+    return min(100.0 * h, h1, max_step)
+
+
+@njit(cache=True)
+def dopri5_start(model, ws, t, y, k1, vimp, state, counters, rtol, atol, max_step):
+    """Evaluate k1 = f(t, y) and the starting step; returns a status."""
+    status = rhs(model, ws, t, y, vimp, k1, counters)
+    if status != STATUS_OK:
+        return -status
+    state[0] = t
+    if state[1] <= 0.0:
+        state[1] = _initial_step(model, ws, t, y, k1, vimp, counters, rtol, atol, max_step)
+    state[2] = 1e-4
+    state[3] = 0.0
+    return STATUS_RUNNING
+
+
+@njit(cache=True)
+def dopri5_advance(
+    model,
+    ws,
+    rec,
+    t_out,
+    cursor,
+    y,
+    k1,
+    state,
+    vimp,
+    contact,
+    counters,
+    t_stop,
+    t_end,
+    rtol,
+    atol,
+    max_step,
+    projection,
+    max_steps,
+):
+    """Advance the Dormand–Prince 5(4) integration until ``t ≥ t_stop`` (or ``t_end``).
+
+    Step-size control as in Hairer's DOPRI5 (PI controller, β = 0.04, safety 0.9, growth
+    limited to [0.2, 10]); error norm ‖e/(atol + rtol·max(|y|, |y_new|))‖_rms. Returns
+    ``STATUS_RUNNING`` (1) when ``t_stop`` is reached before ``t_end``, 0 at ``t_end``, or a
+    negative failure status.
+    """
+    n2 = y.shape[0]
+    k2 = np.empty(n2)
+    k3 = np.empty(n2)
+    k4 = np.empty(n2)
+    k5 = np.empty(n2)
+    k6 = np.empty(n2)
+    k7 = np.empty(n2)
+    ytmp = np.empty(n2)
+    ynew = np.empty(n2)
+    err = np.empty(n2)
+    r2 = np.empty(n2)
+    r3 = np.empty(n2)
+    r4 = np.empty(n2)
+    r5 = np.empty(n2)
+    yout = np.empty(n2)
+    scratch = np.empty(n2)
+    out_counters = np.zeros(counters.shape[0], dtype=np.int64)
+    n_out = t_out.shape[0]
+    beta = 0.04
+    expo1 = 0.2 - beta * 0.75
+    t = state[0]
+    h = state[1]
+    facold = state[2]
+    last_rejected = state[3] > 0.0
+    status = STATUS_RUNNING
+    while True:
+        if t >= t_end:
+            status = STATUS_OK
+            break
+        if t >= t_stop:
+            break
+        if counters[CNT_STEPS] + counters[CNT_REJECTED] >= max_steps:
+            status = STATUS_MAX_STEPS
+            break
+        h = min(h, max_step)
+        if t + 1.01 * h >= t_end:
+            h = t_end - t
+        if h < 10.0 * _EPS * max(abs(t), 1e-300) or h <= 0.0:
+            status = STATUS_STEP_TOO_SMALL
+            break
+        st = STATUS_OK
+        for i in range(n2):
+            ytmp[i] = y[i] + h * A21 * k1[i]
+        st |= rhs(model, ws, t + C2 * h, ytmp, vimp, k2, counters)
+        for i in range(n2):
+            ytmp[i] = y[i] + h * (A31 * k1[i] + A32 * k2[i])
+        st |= rhs(model, ws, t + C3 * h, ytmp, vimp, k3, counters)
+        for i in range(n2):
+            ytmp[i] = y[i] + h * (A41 * k1[i] + A42 * k2[i] + A43 * k3[i])
+        st |= rhs(model, ws, t + C4 * h, ytmp, vimp, k4, counters)
+        for i in range(n2):
+            ytmp[i] = y[i] + h * (A51 * k1[i] + A52 * k2[i] + A53 * k3[i] + A54 * k4[i])
+        st |= rhs(model, ws, t + C5 * h, ytmp, vimp, k5, counters)
+        for i in range(n2):
+            ytmp[i] = y[i] + h * (
+                A61 * k1[i] + A62 * k2[i] + A63 * k3[i] + A64 * k4[i] + A65 * k5[i]
+            )
+        st |= rhs(model, ws, t + h, ytmp, vimp, k6, counters)
+        for i in range(n2):
+            ynew[i] = y[i] + h * (
+                A71 * k1[i] + A73 * k3[i] + A74 * k4[i] + A75 * k5[i] + A76 * k6[i]
+            )
+        st |= rhs(model, ws, t + h, ynew, vimp, k7, counters)
+        if st & 2:
+            status = STATUS_SINGULAR
+            break
+        for i in range(n2):
+            err[i] = h * (
+                E1 * k1[i] + E3 * k3[i] + E4 * k4[i] + E5 * k5[i] + E6 * k6[i] + E7 * k7[i]
+            )
+        e = _wrms(err, y, ynew, rtol, atol)
+        if not math.isfinite(e):
+            counters[CNT_REJECTED] += 1
+            h *= 0.1
+            last_rejected = True
+            continue
+        fac11 = e**expo1
+        if e <= 1.0:
+            # dense-output coefficients before y is overwritten
+            for i in range(n2):
+                d = ynew[i] - y[i]
+                b = h * k1[i] - d
+                r2[i] = d
+                r3[i] = b
+                r4[i] = d - h * k7[i] - b
+                r5[i] = h * (
+                    D1 * k1[i] + D3 * k3[i] + D4 * k4[i] + D5 * k5[i] + D6 * k6[i] + D7 * k7[i]
+                )
+            told = t
+            t = t + h
+            if t_end - t < 4.0 * _EPS * max(abs(t_end), 1.0):
+                t = t_end
+            while cursor[0] < n_out and t_out[cursor[0]] <= t:
+                th = (t_out[cursor[0]] - told) / h
+                th1 = 1.0 - th
+                for i in range(n2):
+                    yout[i] = y[i] + th * (r2[i] + th1 * (r3[i] + th * (r4[i] + th1 * r5[i])))
+                record_sample(
+                    model, ws, rec, cursor[0], t_out[cursor[0]], yout, vimp, scratch, out_counters
+                )
+                cursor[0] += 1
+            for i in range(n2):
+                y[i] = ynew[i]
+                k1[i] = k7[i]
+            counters[CNT_STEPS] += 1
+            update_latch(model, ws, y, vimp, contact, counters)
+            if projection:
+                if not project(model, ws, t, y, 1e-12, 5):
+                    status = STATUS_SINGULAR
+                    break
+                rhs(model, ws, t, y, vimp, k1, counters)
+            fac = fac11 / facold**beta
+            fac = max(0.1, min(5.0, fac / 0.9))
+            hnew = h / fac
+            facold = max(e, 1e-4)
+            if last_rejected:
+                hnew = min(hnew, h)
+            last_rejected = False
+            h = hnew
+        else:
+            counters[CNT_REJECTED] += 1
+            h = h / min(5.0, fac11 / 0.9)
+            last_rejected = True
+    state[0] = t
+    state[1] = h
+    state[2] = facold
+    state[3] = 1.0 if last_rejected else 0.0
+    return status
+
+
+# --------------------------------------------------------------------------- generalized-α
+
+
+@njit(cache=True)
+def _lu_factor(a, piv):
+    """In-place LU factorisation with partial pivoting; False if singular."""
+    n = a.shape[0]
+    for k in range(n):
+        p = k
+        big = abs(a[k, k])
+        for i in range(k + 1, n):
+            if abs(a[i, k]) > big:
+                big = abs(a[i, k])
+                p = i
+        if not big > 0.0:
+            return False
+        piv[k] = p
+        if p != k:
+            for j in range(n):
+                tmp = a[k, j]
+                a[k, j] = a[p, j]
+                a[p, j] = tmp
+        inv = 1.0 / a[k, k]
+        for i in range(k + 1, n):
+            a[i, k] *= inv
+            f = a[i, k]
+            if f != 0.0:
+                for j in range(k + 1, n):
+                    a[i, j] -= f * a[k, j]
+    return True
+
+
+@njit(cache=True)
+def _lu_solve(a, piv, b):
+    n = a.shape[0]
+    for k in range(n):
+        p = piv[k]
+        if p != k:
+            tmp = b[k]
+            b[k] = b[p]
+            b[p] = tmp
+    for i in range(n):
+        s = b[i]
+        for j in range(i):
+            s -= a[i, j] * b[j]
+        b[i] = s
+    for i in range(n - 1, -1, -1):
+        s = b[i]
+        for j in range(i + 1, n):
+            s -= a[i, j] * b[j]
+        b[i] = s / a[i, i]
+
+
+@njit(cache=True)
+def _fd_jacobian(model, ws, t, q, v, vimp, kq, cv, counters):
+    """Forward-difference ∂q̈/∂q and ∂q̈/∂q̇ (2n + 1 evaluations).
+
+    The base value is evaluated here: the integrator's q̈ is a Newton iterate, accurate only
+    to the tolerance, and its error divided by the tiny increments would swamp the
+    Jacobian.
+    """
+    n = q.shape[0]
+    qp = q.copy()
+    vp = v.copy()
+    f0 = np.empty(n)
+    f1 = np.empty(n)
+    accelerations(model, ws, t, q, v, vimp, f0, counters)
+    for j in range(n):
+        eps = 1.4901161193847656e-08 * max(abs(q[j]), 1e-2)
+        qp[j] = q[j] + eps
+        accelerations(model, ws, t, qp, v, vimp, f1, counters)
+        qp[j] = q[j]
+        for i in range(n):
+            kq[i, j] = (f1[i] - f0[i]) / eps
+    for j in range(n):
+        eps = 1.4901161193847656e-08 * max(abs(v[j]), 1e-1)
+        vp[j] = v[j] + eps
+        accelerations(model, ws, t, q, vp, vimp, f1, counters)
+        vp[j] = v[j]
+        for i in range(n):
+            cv[i, j] = (f1[i] - f0[i]) / eps
+    counters[CNT_JAC] += 1
+
+
+@njit(cache=True)
+def genalpha_advance(
+    model,
+    ws,
+    rec,
+    t_out,
+    cursor,
+    y,
+    acc,
+    apse,
+    kq,
+    cv,
+    state,
+    vimp,
+    contact,
+    counters,
+    t_stop,
+    t_end,
+    rtol,
+    atol,
+    max_step,
+    rho_inf,
+    max_newton,
+    entry_depth,
+    projection,
+    max_steps,
+):
+    """Advance a variable-step generalized-α integration (Chung & Hulbert 1993) of
+    q̈ = a(t, q, q̇) until ``t ≥ t_stop`` (or ``t_end``).
+
+    Parameters αm = (2ρ∞ − 1)/(ρ∞ + 1), αf = ρ∞/(ρ∞ + 1), γ = ½ + αf − αm,
+    β = ¼(γ + ½)² (Arnold & Brüls 2007 form with pseudo-accelerations ``apse``). Each step
+    solves R(x) = x − a(t + h, q(x), q̇(x)) for x = q̈ₙ₊₁ by modified Newton on
+    J = I − c_q ∂a/∂q − c_v ∂a/∂q̇ (forward differences, refreshed when Newton stalls or a
+    clearance joint changes between contact and separation; convergence from the observed
+    contraction rate, at least two iterations). The step is rejected when Newton fails,
+    when the local error estimate e_q = h²|β − 1/6| Δq̈, e_v = h(|γ − ½| + 1/12) Δq̈
+    exceeds the tolerance, or when a
+    separated clearance joint would enter contact deeper than ``entry_depth`` × clearance
+    (so that every impact starts with a short step and a well-defined approach speed).
+
+    ``state`` = [t, h, Jacobian valid, unused]. Returns 1 (``t_stop`` reached), 0 (done) or
+    a negative failure status.
+    """
+    n = model.n_dof
+    n2 = 2 * n
+    q = y[:n]
+    v = y[n:]
+    am = (2.0 * rho_inf - 1.0) / (rho_inf + 1.0)
+    af = rho_inf / (rho_inf + 1.0)
+    gm = 0.5 + af - am
+    bt = 0.25 * (gm + 0.5) ** 2
+    x = np.empty(n)
+    f = np.empty(n)
+    dx = np.empty(n)
+    anew = np.empty(n)
+    qn = np.empty(n)
+    vn = np.empty(n)
+    jm = np.empty((n, n))
+    piv = np.empty(n, dtype=np.int64)
+    yout = np.empty(n2)
+    scratch = np.empty(n2)
+    out_counters = np.zeros(counters.shape[0], dtype=np.int64)
+    was = np.zeros(contact.shape[0], dtype=contact.dtype)
+    n_out = t_out.shape[0]
+    t = state[0]
+    h = state[1]
+    jac_valid = state[2] > 0.0
+    h_lu = -1.0
+    fresh = False
+    status = STATUS_RUNNING
+    while True:
+        if t >= t_end:
+            status = STATUS_OK
+            break
+        if t >= t_stop:
+            break
+        if counters[CNT_STEPS] + counters[CNT_REJECTED] >= max_steps:
+            status = STATUS_MAX_STEPS
+            break
+        h = min(h, max_step)
+        if t + 1.01 * h >= t_end:
+            h = t_end - t
+        if h < 10.0 * _EPS * max(abs(t), 1e-300) or h <= 0.0:
+            status = STATUS_STEP_TOO_SMALL
+            break
+        if not jac_valid:
+            _fd_jacobian(model, ws, t, q, v, vimp, kq, cv, counters)
+            jac_valid = True
+            fresh = True
+            h_lu = -1.0
+        cq = h * h * bt * (1.0 - af) / (1.0 - am)
+        cvv = h * gm * (1.0 - af) / (1.0 - am)
+        if h != h_lu:
+            for i in range(n):
+                for j in range(n):
+                    jm[i, j] = -cq * kq[i, j] - cvv * cv[i, j]
+                jm[i, i] += 1.0
+            if not _lu_factor(jm, piv):
+                status = STATUS_SINGULAR
+                break
+            h_lu = h
+        for i in range(n):
+            x[i] = acc[i]
+        converged = False
+        prev = np.inf
+        st = STATUS_OK
+        for it in range(max_newton):
+            for i in range(n):
+                anew[i] = ((1.0 - af) * x[i] + af * acc[i] - am * apse[i]) / (1.0 - am)
+                qn[i] = q[i] + h * v[i] + h * h * ((0.5 - bt) * apse[i] + bt * anew[i])
+                vn[i] = v[i] + h * ((1.0 - gm) * apse[i] + gm * anew[i])
+            st = accelerations(model, ws, t + h, qn, vn, vimp, f, counters)
+            counters[CNT_NEWTON] += 1
+            if st != STATUS_OK:
+                break
+            for i in range(n):
+                dx[i] = f[i] - x[i]
+            _lu_solve(jm, piv, dx)
+            sq = 0.0
+            for i in range(n):
+                x[i] += dx[i]
+                sk_q = atol + rtol * abs(q[i])
+                sk_v = atol + rtol * abs(v[i])
+                sq += (cq * dx[i] / sk_q) ** 2 + (cvv * dx[i] / sk_v) ** 2
+            conv = math.sqrt(sq / n2)
+            if not math.isfinite(conv):
+                break
+            # Convergence from the observed contraction rate θ (Hairer & Wanner IV.8): a
+            # stale Jacobian can make the first update small while the residual is not,
+            # so at least two iterations are always taken.
+            if it >= 1:
+                if conv <= 1e-12 * (1.0 + prev):
+                    converged = True
+                    break
+                theta = conv / prev
+                if theta >= 0.9:
+                    break
+                if theta / (1.0 - theta) * conv < 0.03:
+                    converged = True
+                    break
+            prev = conv
+        if st == STATUS_SINGULAR:
+            status = STATUS_SINGULAR
+            break
+        if not converged:
+            if not fresh:
+                jac_valid = False
+                continue
+            counters[CNT_REJECTED] += 1
+            h *= 0.25
+            continue
+        for i in range(n):
+            anew[i] = ((1.0 - af) * x[i] + af * acc[i] - am * apse[i]) / (1.0 - am)
+            qn[i] = q[i] + h * v[i] + h * h * ((0.5 - bt) * apse[i] + bt * anew[i])
+            vn[i] = v[i] + h * ((1.0 - gm) * apse[i] + gm * anew[i])
+        # local error estimate from the change of acceleration over the step
+        ce_q = h * h * abs(bt - 1.0 / 6.0)
+        ce_v = h * (abs(gm - 0.5) + 1.0 / 12.0)
+        sq = 0.0
+        for i in range(n):
+            da = x[i] - acc[i]
+            sk_q = atol + rtol * max(abs(q[i]), abs(qn[i]))
+            sk_v = atol + rtol * max(abs(v[i]), abs(vn[i]))
+            sq += (ce_q * da / sk_q) ** 2 + (ce_v * da / sk_v) ** 2
+        e = math.sqrt(sq / n2)
+        for i in range(n):
+            yout[i] = qn[i]
+            yout[n + i] = vn[i]
+        if entry_depth > 0.0 and entry_depth_ratio(model, ws, yout, contact) > entry_depth:
+            counters[CNT_REJECTED] += 1
+            h *= 0.3
+            continue
+        if not e <= 1.0:
+            counters[CNT_REJECTED] += 1
+            h *= max(0.2, 0.9 * e ** (-1.0 / 3.0)) if math.isfinite(e) else 0.2
+            continue
+        fresh = False
+        told = t
+        t = t + h
+        if t_end - t < 4.0 * _EPS * max(abs(t_end), 1.0):
+            t = t_end
+        while cursor[0] < n_out and t_out[cursor[0]] <= t:
+            th = (t_out[cursor[0]] - told) / h
+            h00 = (1.0 + 2.0 * th) * (1.0 - th) ** 2
+            h10 = th * (1.0 - th) ** 2
+            h01 = th * th * (3.0 - 2.0 * th)
+            h11 = th * th * (th - 1.0)
+            for i in range(n):
+                yout[i] = h00 * q[i] + h10 * h * v[i] + h01 * qn[i] + h11 * h * vn[i]
+                yout[n + i] = h00 * v[i] + h10 * h * acc[i] + h01 * vn[i] + h11 * h * x[i]
+            record_sample(
+                model, ws, rec, cursor[0], t_out[cursor[0]], yout, vimp, scratch, out_counters
+            )
+            cursor[0] += 1
+        for i in range(n):
+            q[i] = qn[i]
+            v[i] = vn[i]
+            apse[i] = anew[i]
+            acc[i] = x[i]
+        counters[CNT_STEPS] += 1
+        changed = False
+        for j in range(contact.shape[0]):
+            was[j] = contact[j]
+        update_latch(model, ws, y, vimp, contact, counters)
+        for j in range(contact.shape[0]):
+            if was[j] != contact[j]:
+                changed = True
+        if changed:
+            # contact stiffness appears or vanishes: the Jacobian is no longer useful
+            jac_valid = False
+        if projection:
+            if not project(model, ws, t, y, 1e-12, 5):
+                status = STATUS_SINGULAR
+                break
+            accelerations(model, ws, t, q, v, vimp, acc, counters)
+        grow = 2.0 if e < 1e-10 else min(2.0, max(0.2, 0.9 * e ** (-1.0 / 3.0)))
+        h *= grow
+    state[0] = t
+    state[1] = h
+    state[2] = 1.0 if jac_valid else 0.0
+    return status

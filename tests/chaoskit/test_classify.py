@@ -1,0 +1,234 @@
+"""The verdict on systems whose answer is known, and the combination rule itself."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+import xarray as xr
+
+import chaoskit
+from chaoskit import SectionStructure, Verdict, VerdictRule, classify, systems
+from chaoskit.classify._verdict import combine
+from tests.chaoskit.test_sections import duffing_dataset
+
+DRIVE = 2 * np.pi / 1.2  # forced Duffing drive period, s
+
+
+def ar1(n: int, phi: float, seed: int) -> np.ndarray:
+    rng = np.random.default_rng(seed)
+    e = rng.standard_normal(n)
+    x = np.empty(n)
+    x[0] = e[0]
+    for i in range(1, n):
+        x[i] = phi * x[i - 1] + e[i]
+    return x
+
+
+def noisy_sine(n: int = 3000, dt: float = 0.05, noise: float = 0.05, seed: int = 0) -> np.ndarray:
+    """sin(2π·0.2 t) plus white noise of ``noise`` times the amplitude (5 % by default)."""
+    t = np.arange(n) * dt
+    return np.sin(2 * np.pi * 0.2 * t) + noise * np.random.default_rng(seed).standard_normal(n)
+
+
+def duffing_x(gamma: float, n_periods: int) -> xr.Dataset:
+    return duffing_dataset(gamma, n_periods, spp=50)[["x"]]
+
+
+# (name, data factory, classify keywords, expected label, expected period)
+CASES = [
+    ("logistic r=3.2", lambda: systems.logistic(800, r=3.2), {}, "periodic", 2),
+    ("logistic r=3.5", lambda: systems.logistic(800, r=3.5), {}, "periodic", 4),
+    ("logistic r=3.9", lambda: systems.logistic(1000, r=3.9), {}, "chaotic", None),
+    ("henon", lambda: systems.henon(1000)[:, 0], {}, "chaotic", None),
+    ("lorenz", lambda: systems.lorenz(10_000, dt=0.01)[:, 0], {"dt": 0.01}, "chaotic", None),
+    ("rossler", lambda: systems.rossler(3000, dt=0.1)[:, 0], {"dt": 0.1}, "chaotic", None),
+    ("duffing periodic window", lambda: duffing_x(0.37, 80), {"drive_period": DRIVE},
+     "periodic", 5),
+    ("duffing gamma=0.28", lambda: duffing_x(0.28, 80), {"drive_period": DRIVE}, "periodic", 2),
+    ("duffing gamma=0.5", lambda: duffing_x(0.5, 120), {"drive_period": DRIVE}, "chaotic", None),
+    ("torus", lambda: systems.torus(3000, dt=0.05), {"dt": 0.05}, "quasi-periodic", None),
+    ("sine + 5% noise", lambda: noisy_sine(), {"dt": 0.05}, "periodic", 1),
+    ("constant", lambda: np.full(500, 2.5), {}, "equilibrium", None),
+    ("white noise", lambda: np.random.default_rng(1).standard_normal(1000), {}, "noise-like",
+     None),
+    ("red noise", lambda: ar1(2000, 0.9, 3), {"dt": 1.0}, "noise-like", None),
+]  # fmt: skip
+
+
+@pytest.mark.parametrize(
+    ("make", "kwargs", "label", "period"),
+    [pytest.param(*case[1:], id=case[0]) for case in CASES],
+)
+def test_verdict_on_known_systems(make, kwargs: dict, label: str, period: int | None) -> None:
+    verdict = classify(make(), rng=1, **kwargs)
+    assert verdict.label == label, verdict.reason
+    assert verdict.period == period
+    assert 0.5 <= verdict.confidence <= 1.0
+    assert verdict.reason
+    if label == "equilibrium":
+        return
+    # the evidence travels with the verdict
+    assert verdict.lag >= 1 and verdict.embedding_dim >= 1
+    assert verdict.structure is not None and verdict.section is not None
+    assert verdict.zero_one is not None and verdict.surrogates is not None
+    assert set(verdict.votes) == {"section", "rosenstein", "wolf", "zero_one", "surrogates"}
+    if label == "chaotic":
+        assert verdict.rosenstein_positive and verdict.wolf_positive
+        assert verdict.surrogates.rejected and verdict.structure.kind == "scattered"
+        assert verdict.confidence == 1.0 or verdict.votes["zero_one"] == "neutral"
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_noise_is_never_chaotic(seed: int) -> None:
+    for x, dt in ((np.random.default_rng(seed).standard_normal(800), None),
+                  (ar1(1500, 0.95, seed), 0.01)):  # fmt: skip
+        assert classify(x, dt=dt, rng=seed).label == "noise-like"
+
+
+def test_same_seed_same_verdict() -> None:
+    x = systems.henon(600)[:, 0]
+    a, b = classify(x, rng=4), classify(x, rng=4)
+    np.testing.assert_array_equal(a.surrogates.surrogate_statistics,
+                                  b.surrogates.surrogate_statistics)  # fmt: skip
+    np.testing.assert_equal(a.summary(), b.summary())
+
+
+def test_dataset_and_dataarray_input() -> None:
+    ds = chaoskit.load_trajectory(systems.henon(800), dt=1.0, variables=["x", "y"])
+    with pytest.raises(ValueError, match="several variables"):
+        classify(ds)
+    v = classify(ds, variable="x", rng=0)
+    assert v.label == "chaotic" and v.variable == "x" and v.kind == "flow"
+    step = xr.Dataset({"x": ("step", systems.logistic(800, r=3.5))},
+                      coords={"step": np.arange(800)})  # fmt: skip
+    v = classify(step["x"], rng=0)
+    assert (v.label, v.period, v.kind, v.dt) == ("periodic", 4, "map", 1.0)
+
+
+def test_stroboscopic_by_drive_angle() -> None:
+    ds = duffing_dataset(0.28, 80, spp=50)
+    ds["drive_angle"] = ("time", 1.2 * ds["time"].values, {"units": "rad", "long_name": "phase"})
+    v = classify(ds, variable="x", phase_variable="drive_angle", rng=0)
+    assert (v.label, v.period, v.kind) == ("periodic", 2, "forced")
+    assert v.characteristic_time == pytest.approx(DRIVE, rel=1e-9)
+
+
+def test_bad_input() -> None:
+    with pytest.raises(ValueError, match="too short"):
+        classify(systems.logistic(100, r=3.9))
+    with pytest.raises(ValueError, match="continuous-time"):
+        classify(systems.logistic(500), drive_period=1.0)
+    with pytest.raises(ValueError, match="not both"):
+        ds = duffing_dataset(0.28, 10, spp=50)
+        ds["a"] = ("time", ds["time"].values, {"units": "rad", "long_name": "a"})
+        classify(ds, variable="x", drive_period=DRIVE, phase_variable="a")
+    with pytest.raises(ValueError, match="NaN"):
+        classify(np.r_[np.nan, systems.logistic(500)])
+
+
+# ----------------------------------------------------------------- the rule alone
+
+
+def _structure(kind: str, n_clusters: int = 0) -> SectionStructure:
+    nan = float("nan")
+    return SectionStructure(
+        kind=kind, n_clusters=n_clusters, labels=np.zeros(50, dtype=np.int64),
+        cluster_radius=nan, cyclic_fraction=nan, curve_closure=nan, curve_coverage=nan,
+        curve_thickness=nan, n_points=50, scale=1.0,
+    )  # fmt: skip
+
+
+RULE = VerdictRule()
+
+
+def test_rule_noise_beats_positive_exponents() -> None:
+    label, *_ = combine(structure=_structure("scattered"), rosenstein_positive=True,
+                        wolf_positive=True, zero_one_k=1.0, surrogates_rejected=False,
+                        rule=RULE)  # fmt: skip
+    assert label == "noise-like"
+
+
+def test_rule_chaos_needs_every_piece() -> None:
+    full = {"structure": _structure("scattered"), "rosenstein_positive": True,
+            "wolf_positive": True, "zero_one_k": 0.95, "surrogates_rejected": True}  # fmt: skip
+    assert combine(**full, rule=RULE)[0] == "chaotic"
+    assert combine(**full, rule=RULE)[2] == 1.0
+    for key, value in (("rosenstein_positive", False), ("wolf_positive", None),
+                       ("surrogates_rejected", None)):  # fmt: skip
+        label, _, confidence, reason, _ = combine(**{**full, key: value}, rule=RULE)
+        assert label == "undetermined" and np.isnan(confidence) and "not:" in reason
+    assert combine(**{**full, "structure": _structure("clusters", 3)}, rule=RULE)[:2] == (
+        "periodic",
+        3,
+    )
+    assert combine(**{**full, "structure": _structure("closed-curve")}, rule=RULE)[0] == (
+        "undetermined"
+    )
+
+
+def test_rule_confidence_counts_disagreement() -> None:
+    label, period, confidence, _, votes = combine(
+        structure=_structure("clusters", 2), rosenstein_positive=False, wolf_positive=True,
+        zero_one_k=0.5, surrogates_rejected=True, rule=RULE,
+    )  # fmt: skip
+    assert (label, period) == ("periodic", 2)
+    assert votes == {"section": "supports", "rosenstein": "supports", "wolf": "opposes",
+                     "zero_one": "neutral", "surrogates": "neutral"}  # fmt: skip
+    assert confidence == pytest.approx(2 / 3)
+    label, _, confidence, _, _ = combine(
+        structure=_structure("closed-curve"), rosenstein_positive=False, wolf_positive=False,
+        zero_one_k=0.05, surrogates_rejected=True, rule=RULE,
+    )  # fmt: skip
+    assert label == "quasi-periodic" and confidence == 1.0
+
+
+@pytest.mark.parametrize(
+    ("field", "value"),
+    [("min_growth", 0.0), ("alpha", 1.0), ("min_effect", 1.0), ("max_period", 0),
+     ("zero_one_regular", 0.9)],
+)  # fmt: skip
+def test_rule_validation(field: str, value: float) -> None:
+    with pytest.raises(ValueError):
+        VerdictRule(**{field: value})
+
+
+def test_verdict_is_frozen_and_tabulates() -> None:
+    v = classify(systems.logistic(600, r=3.2), rng=0)
+    assert isinstance(v, Verdict)
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        v.label = "chaotic"  # type: ignore[misc]
+    row = v.summary()
+    assert row["label"] == "periodic" and row["period"] == 2.0
+    assert np.isnan(row["mle_rosenstein"])  # Rosenstein refuses an exactly periodic series
+    assert "rosenstein" in v.errors and v.votes["rosenstein"] == "missing"
+    ds = v.to_dataset()
+    assert ds.sizes["variable"] == 1 and str(ds["label"].values[0]) == "periodic"
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("seed", range(10))
+def test_verdicts_are_stable_across_seeds_and_lengths(seed: int) -> None:
+    g = np.random.default_rng(100 + seed)
+    assert classify(g.standard_normal(1000), rng=seed).label == "noise-like"
+    assert classify(ar1(2000, 0.9, seed), dt=1.0, rng=seed).label == "noise-like"
+    assert classify(noisy_sine(seed=seed), dt=0.05, rng=seed).label == "periodic"
+    assert classify(systems.torus(2000 + 500 * seed), dt=0.05, rng=seed).label == ("quasi-periodic")
+    x = systems.logistic(600 + 100 * seed, r=3.9, x0=0.1 + 0.05 * seed)
+    assert classify(x, rng=seed).label == "chaotic"
+
+
+def _words(text: str) -> str:
+    return " ".join(text.split())
+
+
+def test_docs_state_the_same_rule_as_the_docstring() -> None:
+    from tests.conftest import REPO
+
+    doc = classify.__doc__ or ""
+    rule = doc[doc.index("**Rule.**") + len("**Rule.**") : doc.index("Parameters")]
+    page = (REPO / "docs" / "verdict.md").read_text(encoding="utf-8")
+    block = page[page.index("<!-- rule") : page.index("<!-- /rule -->")]
+    block = block[block.index("-->") + 3 :]
+    assert _words(rule).rstrip("-") == _words(block)

@@ -1,0 +1,258 @@
+"""Largest Lyapunov exponent: known exponents, non-chaotic signals, nolds cross-check."""
+
+from __future__ import annotations
+
+import math
+
+import nolds
+import numpy as np
+import pandas as pd
+import pytest
+import xarray as xr
+from numpy.testing import assert_allclose
+
+from chaoskit import LyapunovResult, lyapunov_rosenstein, lyapunov_wolf, systems
+
+LOGISTIC = math.log(2.0)
+HENON = 0.4192
+LORENZ = 0.9056
+ROSSLER = 0.0714
+
+METHODS = [lyapunov_rosenstein, lyapunov_wolf]
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_logistic_map(method) -> None:
+    res = method(systems.logistic(10_000))
+    assert_allclose(res.mle, LOGISTIC, rtol=0.02)
+    assert res.lag == 1 and res.embedding_dim == 1
+    assert_allclose(res.mle_bits_per_sample, res.mle / math.log(2.0), rtol=1e-12)
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_henon_map(method) -> None:
+    res = method(systems.henon(10_000)[:, 0])
+    assert_allclose(res.mle, HENON, rtol=0.02)
+    assert res.embedding_dim == 2
+    assert res.ci[0] < res.mle < res.ci[1]
+
+
+@pytest.mark.parametrize("n", [10_000, 50_000])
+def test_lorenz_x_rosenstein(n: int) -> None:
+    res = lyapunov_rosenstein(systems.lorenz(n, dt=0.01)[:, 0], dt=0.01)
+    assert_allclose(res.mle, LORENZ, rtol=0.05)
+    assert res.fit_found and res.embedding_dim == 3 and 15 <= res.lag <= 19
+    # the fit starts after the alignment transient and ends before saturation
+    assert 20 <= res.fit_range[0] < res.fit_range[1] <= 500
+
+
+@pytest.mark.parametrize("n", [10_000, 50_000])
+def test_lorenz_x_wolf(n: int) -> None:
+    res = lyapunov_wolf(systems.lorenz(n, dt=0.01)[:, 0], dt=0.01)
+    assert_allclose(res.mle, LORENZ, rtol=0.10)
+
+
+@pytest.mark.parametrize("n", [50_000, 100_000])
+def test_rossler_x_rosenstein(n: int) -> None:
+    res = lyapunov_rosenstein(systems.rossler(n, dt=0.05)[:, 0], dt=0.05)
+    assert_allclose(res.mle, ROSSLER, rtol=0.10)
+    # weak chaos per orbit: the automatic rule switches to the transverse distance
+    assert res.params["distance"] == "transverse"
+
+
+def test_distance_rule_keeps_euclidean_for_lorenz_and_maps() -> None:
+    assert (
+        lyapunov_rosenstein(systems.lorenz(10_000)[:, 0], dt=0.01).params["distance"] == "euclidean"
+    )
+    assert lyapunov_rosenstein(systems.henon(5000)[:, 0]).params["distance"] == "euclidean"
+
+
+def test_explicit_distances_differ_only_in_the_curve() -> None:
+    x = systems.rossler(20_000)[:, 0]
+    e = lyapunov_rosenstein(x, dt=0.05, distance="euclidean")
+    t = lyapunov_rosenstein(x, dt=0.05, distance="transverse")
+    assert (e.lag, e.embedding_dim, e.n_points) == (t.lag, t.embedding_dim, t.n_points)
+    assert t.mle > e.mle  # removing the neutral along-flow part steepens the curve
+    with pytest.raises(ValueError, match="distance must be one of"):
+        lyapunov_rosenstein(x, dt=0.05, distance="manhattan")
+
+
+def _sine(n: int) -> tuple[np.ndarray, float]:
+    dt = 0.05
+    return np.sin(2 * np.pi * 0.37 * np.arange(n) * dt), dt
+
+
+def _vdp(n: int) -> tuple[np.ndarray, float]:
+    return systems.van_der_pol(n, dt=0.05)[:, 0], 0.05
+
+
+def _torus(n: int) -> tuple[np.ndarray, float]:
+    return systems.torus(n, dt=0.05), 0.05
+
+
+@pytest.mark.parametrize("signal", [_sine, _vdp, _torus], ids=["sine", "van_der_pol", "torus"])
+@pytest.mark.parametrize("method", METHODS)
+def test_never_a_confident_positive_on_regular_signals(signal, method) -> None:
+    x, dt = signal(10_000)
+    res = method(x, dt=dt)
+    # the interval contains 0, or the exponent is below 1 % of the sampling rate
+    assert res.ci[0] <= 0.0 <= res.ci[1] or res.mle < 0.01 / dt, (res.mle, res.ci)
+
+
+@pytest.mark.parametrize(
+    ("name", "x", "dt", "m", "lag", "w", "fit"),
+    [
+        ("henon", systems.henon(3000)[:, 0], 1.0, 2, 1, 10, (1, 10)),
+        ("lorenz", systems.lorenz(3000)[:, 0], 0.01, 3, 17, 100, (60, 250)),
+    ],
+)
+def test_rosenstein_agrees_with_nolds(name, x, dt, m, lag, w, fit) -> None:
+    """Independent implementation, same embedding, Theiler window and fit range: within 2 %."""
+    a, b = fit
+    expected = nolds.lyap_r(
+        x,
+        emb_dim=m,
+        lag=lag,
+        min_tsep=w,
+        tau=dt,
+        trajectory_len=b + 1,
+        fit="poly",
+        fit_offset=a,
+    )
+    res = lyapunov_rosenstein(
+        x,
+        embedding_dim=m,
+        lag=lag,
+        dt=dt,
+        theiler_window=w,
+        max_horizon=b,
+        fit_range=fit,
+        max_points=10**6,
+    )
+    assert_allclose(res.mle, expected, rtol=0.02)
+    assert res.fit_range == fit and not res.subsampled
+
+
+def test_given_parameters_are_used_and_reported() -> None:
+    x = systems.henon(5000)[:, 0]
+    res = lyapunov_rosenstein(x, embedding_dim=3, lag=1, theiler_window=7, max_horizon=30)
+    assert (res.embedding_dim, res.lag, res.theiler_window) == (3, 1, 7)
+    assert res.lag_rule == res.dim_rule == "given"
+    assert res.horizon[-1] == 30 and res.curve.shape == res.horizon.shape
+    assert res.params["max_horizon"] == 30
+
+
+def test_long_series_are_subsampled_and_say_so() -> None:
+    res = lyapunov_rosenstein(systems.logistic(30_000), max_points=2000)
+    assert res.subsampled and res.n_points == 2000
+    assert_allclose(res.mle, LOGISTIC, rtol=0.02)
+
+
+@pytest.mark.parametrize(
+    "wrap", [pd.Series, lambda a: xr.DataArray(a, dims="time"), lambda a: list(a)]
+)
+def test_input_types(wrap) -> None:
+    x = systems.henon(3000)[:, 0]
+    ref = lyapunov_rosenstein(x).mle
+    assert lyapunov_rosenstein(wrap(x)).mle == ref
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_result_is_frozen_and_converts_to_a_dataset(method, tmp_path) -> None:
+    res = method(systems.henon(3000)[:, 0])
+    assert isinstance(res, LyapunovResult)
+    with pytest.raises(AttributeError):
+        res.mle = 0.0  # type: ignore[misc]
+    ds = res.to_dataset()
+    for name in ds.variables:
+        assert "units" in ds[name].attrs and "long_name" in ds[name].attrs
+    assert ds.attrs["mle"] == res.mle and ds.attrs["method"] == method.__name__[9:]
+    ds.to_netcdf(tmp_path / "res.nc", engine="h5netcdf")  # attrs are netCDF-safe
+    with xr.open_dataset(tmp_path / "res.nc", engine="h5netcdf") as back:
+        assert back.attrs["mle"] == res.mle
+
+
+@pytest.mark.parametrize("method", METHODS)
+@pytest.mark.parametrize(
+    ("kwargs", "match"),
+    [
+        ({"dt": 0.0}, "dt must be finite and > 0"),
+        ({"dt": -1.0}, "dt"),
+        ({"lag": 0}, "lag"),
+        ({"embedding_dim": 0}, "embedding_dim"),
+        ({"theiler_window": -1}, "theiler_window"),
+        ({"theiler_window": 600}, "needs at least"),
+    ],
+)
+def test_bad_options(method, kwargs, match) -> None:
+    with pytest.raises(ValueError, match=match):
+        method(systems.henon(1000)[:, 0], **kwargs)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "match"),
+    [
+        ({"fit_range": "manual"}, "fit_range"),
+        ({"fit_range": (5, 2)}, "fit_range"),
+        ({"max_horizon": 10, "fit_range": (1, 20)}, "beyond max_horizon"),
+        ({"max_horizon": 1}, "max_horizon"),
+        ({"max_horizon": 5000}, "needs at least"),
+    ],
+)
+def test_bad_rosenstein_options(kwargs, match) -> None:
+    with pytest.raises(ValueError, match=match):
+        lyapunov_rosenstein(systems.henon(1000)[:, 0], **kwargs)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "match"),
+    [
+        ({"scale": (1.0, 0.5)}, "scale"),
+        ({"scale": "wide"}, "scale"),
+        ({"max_angle": 4.0}, "max_angle"),
+        ({"evolve": 0}, "evolve"),
+        ({"replace": "never"}, "replace"),
+    ],
+)
+def test_bad_wolf_options(kwargs, match) -> None:
+    with pytest.raises(ValueError, match=match):
+        lyapunov_wolf(systems.henon(1000)[:, 0], **kwargs)
+
+
+def test_wolf_paper_variant_runs_and_reports_bits() -> None:
+    x = systems.henon(5000)[:, 0]
+    res = lyapunov_wolf(x, evolve=1, replace="always")
+    assert res.params["replace"] == "always" and res.params["evolve"] == 1
+    assert_allclose(res.mle, HENON, rtol=0.05)
+    assert_allclose(res.mle_bits_per_sample, res.mle / math.log(2.0), rtol=1e-12)
+
+
+def _synthetic_curve(noise: float, seed: int = 0) -> tuple[np.ndarray, np.ndarray, float]:
+    """Steep transient (k < 30), straight part of slope 0.02, then exponential saturation."""
+    k = np.arange(1000)
+    y = np.where(k < 30, 0.06 * k, 1.8 + 0.02 * (k - 30))
+    bend = k > 300
+    y = np.where(bend, 7.8 + 4.0 * (1 - np.exp(-0.02 * (k - 300))), y)
+    y = y + noise * np.random.default_rng(seed).standard_normal(k.size)
+    return k, y - 5.0, 11.8 - 5.0  # curve and plateau
+
+
+@pytest.mark.parametrize("noise", [0.0, 0.01])
+def test_scaling_region_finds_the_straight_part(noise: float) -> None:
+    from chaoskit.lyapunov._scaling import scaling_region
+
+    k, y, plateau = _synthetic_curve(noise)
+    a, b, found = scaling_region(k, y, plateau=plateau, min_span=50)
+    assert found
+    assert 25 <= k[a] <= 60 and 150 <= k[b] <= 305
+    slope = np.polyfit(k[a : b + 1], y[a : b + 1], 1)[0]
+    assert_allclose(slope, 0.02, rtol=0.02)
+
+
+def test_scaling_region_reports_missing_straight_part() -> None:
+    from chaoskit.lyapunov._scaling import scaling_region
+
+    k = np.arange(200)
+    y = np.random.default_rng(1).standard_normal(200)  # no trend at all
+    a, b, found = scaling_region(k, y, plateau=5.0, min_span=20)
+    assert not found and (a, b) == (0, 199)

@@ -1,0 +1,245 @@
+"""mechanism.simulate: the output contract, integrators, failure as data, the CLI."""
+
+from __future__ import annotations
+
+import doctest
+import json
+import math
+
+import numpy as np
+import pytest
+import xarray as xr
+from typer.testing import CliRunner
+
+import chaoskit
+import mechanism
+import mechanism._simulate
+from mechanism.cli import app
+from mechanism.integrate import Dopri5, GeneralizedAlpha, ScipyIVP, resolve_method
+from tests.mechanism.scenes import rotating_guide, s3
+
+CLEARANCE_VARS = (
+    "eccentricity_x",
+    "eccentricity_y",
+    "penetration",
+    "contact_force",
+    "friction_force",
+    "contact_angle",
+    "in_contact",
+)
+SLIDER_VARS = ("slider_position", "slider_velocity", "slider_acceleration")
+
+
+@pytest.fixture(scope="module")
+def paper_ds():
+    return mechanism.simulate(mechanism.load_scene("paper"), revolutions=0.1)
+
+
+def test_dataset_follows_the_data_contract(paper_ds) -> None:
+    ds = paper_ds
+    chaoskit.validate_trajectory(ds, require_uniform=True)
+    assert ds.time.dtype == np.float64
+    for name, var in ds.data_vars.items():
+        assert var.attrs.get("units") and var.attrs.get("long_name"), name
+    for name in ("crank_angle", "driving_torque", "displacement_error", "speed_error"):
+        assert ds[name].dims == ("time",)
+    for name in SLIDER_VARS:
+        assert ds[name].dims == ("time",) and ds[f"{name}_ideal"].dims == ("time",)
+    for name in CLEARANCE_VARS:
+        assert ds[name].dims == ("time", "joint")
+    assert ds.position.dims == ("time", "body", "axis")
+    assert list(ds.axis.values) == ["x", "y", "theta"]
+    assert list(ds.joint.values) == ["C"]
+    assert set(ds.body.values) == {"crank", "plate", "rod3", "rod4", "slider"}
+    assert ds.joint_force.dims == ("time", "ideal_joint")
+    for key in ("steps", "rejected_steps", "function_evaluations", "contact_events"):
+        assert isinstance(ds.attrs[f"solver_{key}"], int)
+    assert ds.attrs["solver_status"] == 0 and ds.attrs["solver_wall_time"] > 0
+    assert ds.attrs["solver_message"]
+
+
+def test_output_grid_defaults_to_a_ten_thousandth_of_the_period(paper_ds) -> None:
+    period = 60.0 / 150.0
+    assert chaoskit.sampling_interval(paper_ds) == pytest.approx(period / 10000, rel=1e-9)
+    assert paper_ds.sizes["time"] == 1001
+    assert paper_ds.attrs["output_step"] == pytest.approx(period / 10000)
+
+
+def test_scene_attribute_round_trips(paper_ds) -> None:
+    scene = mechanism.scene_from_json(paper_ds.attrs["scene"])
+    assert scene == mechanism.load_scene("paper")
+    assert json.loads(paper_ds.attrs["scene"])["name"] == "paper"
+
+
+def test_crank_angle_and_driving_torque(paper_ds) -> None:
+    ds = paper_ds
+    w = 150 * 2 * math.pi / 60
+    np.testing.assert_allclose(ds.crank_angle.values, w * ds.time.values, atol=1e-8)
+    # T = −λ_drive is the torque the drive delivers: its power equals the rate of change of
+    # the mechanism's energy (no dissipation except contact damping and friction)
+    assert np.isfinite(ds.driving_torque.values).all()
+    power = ds.driving_torque_ideal.values * w
+    energy = ds.mechanical_energy.values
+    assert ds.displacement_error.values[0] == pytest.approx(0.0, abs=1e-12)
+    # the ideal mechanism conserves energy up to the drive's work
+    dt = float(ds.time[1] - ds.time[0])
+    work = np.concatenate([[0.0], np.cumsum(0.5 * (power[1:] + power[:-1]) * dt)])
+    ideal = mechanism.simulate(
+        mechanism.load_scene("paper").replace({"effects.clearance": False}), revolutions=0.1
+    )
+    np.testing.assert_allclose(
+        ideal.mechanical_energy.values - ideal.mechanical_energy.values[0], work, atol=2e-3
+    )
+    assert energy.shape == power.shape
+
+
+def test_saved_trajectory_round_trips(tmp_path, paper_ds) -> None:
+    path = chaoskit.save_trajectory(paper_ds, tmp_path / "run.nc")
+    back = xr.open_dataset(path, engine="h5netcdf")
+    np.testing.assert_array_equal(back.contact_force.values, paper_ds.contact_force.values)
+    assert back.attrs["solver_steps"] == paper_ds.attrs["solver_steps"]
+
+
+@pytest.mark.parametrize(
+    "method",
+    ["dopri5", "RK45", "DOP853", "Radau", "BDF", "LSODA", "generalized-alpha"],
+)
+def test_every_method_reproduces_the_rotating_guide(method) -> None:
+    """A mechanism with a moving prismatic guide, a welded body, a profile drive and a
+    pendulum: all integrators agree with a tight dopri5 reference."""
+    scene = rotating_guide(clearance=False)
+    kw = {"t_end": 0.2, "output_step": 0.01}
+    ref = mechanism.simulate(scene, rtol=1e-11, atol=1e-11, **kw)
+    tol = 1e-6 if method == "generalized-alpha" else 1e-8
+    ds = mechanism.simulate(scene, method=method, rtol=tol, atol=tol, **kw)
+    assert ds.attrs["solver_method"] == method
+    assert ds.attrs["solver_status"] == 0
+    err = np.abs(ds.position.values - ref.position.values).max()
+    assert err < (1e-5 if method == "generalized-alpha" else 1e-6)
+    assert np.abs(ds.slider_position.values - ref.slider_position.values).max() < 1e-5
+    assert ds.constraint_violation.values.max() < 1e-6
+
+
+def test_projection_removes_the_drift_that_no_stabilisation_leaves() -> None:
+    """Without Baumgarte terms the constraints drift; projecting q and q̇ after each step
+    leaves only the interpolation error of the dense output between steps."""
+    base = rotating_guide(clearance=False).replace(
+        {"solver.baumgarte_alpha": 0.0, "solver.baumgarte_beta": 0.0, "solver.max_step": 0.002}
+    )
+    kw = {"t_end": 0.2, "output_step": 0.01, "rtol": 1e-6, "atol": 1e-6}
+    drift = mechanism.simulate(base, **kw).constraint_violation.values.max()
+    ds = mechanism.simulate(base.replace({"solver.projection": True}), **kw)
+    assert ds.attrs["projection"] == 1
+    assert drift > 1e-7
+    assert ds.constraint_violation.values.max() < 1e-10
+
+
+def test_strategy_objects_and_names() -> None:
+    assert isinstance(resolve_method("dopri5"), Dopri5)
+    assert isinstance(resolve_method("generalized-alpha"), GeneralizedAlpha)
+    assert resolve_method("LSODA") == ScipyIVP(method="LSODA")
+    with pytest.raises(ValueError, match="method must be one of"):
+        resolve_method("euler")
+    with pytest.raises(ValueError, match="rho_inf"):
+        GeneralizedAlpha(rho_inf=1.5)
+    with pytest.raises(ValueError, match="method must be one of"):
+        ScipyIVP(method="RK23")  # type: ignore[arg-type]
+
+
+def test_failure_raises_or_becomes_data() -> None:
+    scene = mechanism.load_scene("slider-crank")
+    with pytest.raises(mechanism.SimulationError, match="maximum number of steps"):
+        mechanism.simulate(scene, revolutions=1, method=Dopri5(max_steps=5))
+    ds = mechanism.simulate(scene, revolutions=1, method=Dopri5(max_steps=5), throw=False)
+    assert ds.attrs["solver_status"] < 0
+    assert "maximum number of steps" in ds.attrs["solver_message"]
+    assert 1 < ds.sizes["time"] < 10001
+    chaoskit.validate_trajectory(ds)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "message"),
+    [
+        ({"revolutions": 1, "t_end": 0.1}, "either revolutions or t_end"),
+        ({"revolutions": -1}, "revolutions"),
+        ({"rtol": 0.0}, "rtol"),
+        ({"output_step": 1.0, "t_end": 0.01}, "output_step"),
+        ({"method": "euler"}, "method"),
+    ],
+)
+def test_bad_arguments_raise_value_errors(kwargs, message) -> None:
+    with pytest.raises(ValueError, match=message):
+        mechanism.simulate(mechanism.load_scene("slider-crank"), **kwargs)
+
+
+def test_scene_without_drive_needs_t_end() -> None:
+    scene = mechanism.load_scene("slider-crank").replace({"drive": None})
+    with pytest.raises(ValueError, match="t_end"):
+        mechanism.simulate(scene, revolutions=2)
+    ds = mechanism.simulate(scene, t_end=0.05, output_step=0.001)
+    # released at rest, the mechanism falls under gravity: no driving torque output
+    assert "driving_torque" not in ds and ds.sizes["time"] == 51
+
+
+def test_progress_bar_is_opt_in(capsys) -> None:
+    scene = mechanism.load_scene("slider-crank")
+    mechanism.simulate(scene, revolutions=0.05)
+    assert capsys.readouterr().err == ""
+    mechanism.simulate(scene, revolutions=0.05, progress=True)
+    assert "100%" in capsys.readouterr().err
+
+
+def test_ideal_companion_and_errors() -> None:
+    ds = mechanism.simulate(s3(friction=0.1), t_end=0.004, output_step=1e-5)
+    np.testing.assert_allclose(
+        ds.displacement_error.values,
+        ds.slider_position.values - ds.slider_position_ideal.values,
+    )
+    rigid = mechanism.simulate(mechanism.load_scene("slider-crank"), t_end=0.004, output_step=1e-5)
+    np.testing.assert_allclose(
+        ds.slider_position_ideal.values, rigid.slider_position.values, atol=1e-9
+    )
+    # the journal can move at most the clearance away from the ideal position
+    assert np.abs(ds.displacement_error.values).max() < 2 * 5e-4
+    assert np.abs(ds.displacement_error.values).max() > 1e-5
+    assert ds.attrs["ideal_solver_contact_evaluations"] == 0
+
+
+def test_cli_simulate_writes_a_trajectory(tmp_path) -> None:
+    out = tmp_path / "sc.nc"
+    result = CliRunner().invoke(
+        app,
+        [
+            "simulate",
+            "slider-crank-clearance",
+            "--revolutions",
+            "0.5",
+            "--set",
+            "drive.speed_rpm=1000",
+            "--output-step",
+            "1e-4",
+            "--no-progress",
+            "-o",
+            str(out),
+        ],
+    )
+    assert result.exit_code == 0, result.output
+    assert "contact events" in result.output
+    ds = chaoskit.load_trajectory(out)
+    assert ds.sizes["time"] == 301
+    assert mechanism.scene_from_json(ds.attrs["scene"]).drive.speed_rpm == 1000
+
+
+def test_cli_reports_bad_values(tmp_path) -> None:
+    result = CliRunner().invoke(
+        app, ["simulate", "slider-crank", "--rtol", "-1", "-o", str(tmp_path / "x.nc")]
+    )
+    assert result.exit_code == 1
+    assert "rtol" in result.output
+
+
+def test_docstring_examples_run() -> None:
+    failures, _ = doctest.testmod(mechanism._simulate, raise_on_error=False)
+    assert failures == 0
+    failures, _ = doctest.testmod(mechanism.integrate._methods, raise_on_error=False)
+    assert failures == 0
