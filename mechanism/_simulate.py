@@ -197,8 +197,9 @@ def simulate(
         max_step=max_step, progress=progress, label=f"{scene.name}",
     )  # fmt: skip
     if not run.stats.success and throw:
+        t_fail = run.recording.t[-1] if run.recording.t.size else 0.0
         raise SimulationError(
-            f"simulation of {scene.name!r} failed at t = {run.recording.t[-1]:.6g} s "
+            f"simulation of {scene.name!r} failed after t = {t_fail:.6g} s "
             f"({integrator.name}): {run.stats.message}"
         )
     if model.clearance_joints:

@@ -204,7 +204,8 @@ def _chunks(t0: float, t_end: float, progress: bool) -> list[float]:
 
 def _initial_latch(model: Model, y0: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     n_cj = model.kernel.cj_i.shape[0]
-    vimp = np.zeros(n_cj)
+    # a journal that starts in contact keeps the floor as its impact velocity
+    vimp = model.kernel.cj_f[:, k.CF_FLOOR].copy()
     contact = np.zeros(n_cj, dtype=np.int64)
     counters = np.zeros(k.CNT_COLUMNS, dtype=np.int64)
     k.update_latch(model.kernel, model.workspace(), y0, vimp, contact, counters)
@@ -317,8 +318,8 @@ class GeneralizedAlpha(Integrator):
         Newton iterations per step before the Jacobian is refreshed or the step is
         reduced.
     contact_entry_depth : float
-        A step from a separated state is rejected (and retried with a quarter of the
-        step) when it ends deeper than this fraction of the radial clearance, so every
+        A step from a separated state is rejected (and retried with 0.3 of the step)
+        when it ends deeper than this fraction of the radial clearance, so every
         impact starts with a short step; 0 disables the check.
     max_steps : int
         Upper bound on attempted steps.

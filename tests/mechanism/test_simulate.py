@@ -243,3 +243,19 @@ def test_docstring_examples_run() -> None:
     assert failures == 0
     failures, _ = doctest.testmod(mechanism.integrate._methods, raise_on_error=False)
     assert failures == 0
+
+
+def test_paper_scene_runs_three_revolutions_with_kilonewton_contact_forces() -> None:
+    """Issue 5: rigid rods, clearance at C, 150 rpm, scene defaults (seed-paper.txt reports
+    9.18 kN before wear with flexible rods)."""
+    ds = mechanism.simulate(mechanism.load_scene("paper"), revolutions=3)
+    assert ds.attrs["solver_status"] == 0 and ds.attrs["revolutions"] == pytest.approx(3.0)
+    late = ds.isel(time=slice(10000, None))  # discard the first revolution
+    peak = float(late.contact_force.max())
+    assert 1e3 < peak < 3e4
+    clearance = 2e-4
+    assert 0 < float(late.penetration.max()) < 0.5 * clearance
+    assert ds.attrs["solver_contact_events"] > 3
+    assert float(late.in_contact.mean()) > 0.5
+    assert ds.constraint_violation.values.max() < 1e-7
+    assert np.abs(late.driving_torque.values).max() > 10.0
