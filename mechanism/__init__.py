@@ -38,12 +38,23 @@ from ._simulate import SimulationError, simulate  # noqa: E402
 _simulation: list[str] = ["SimulationError", "integrate", "simulate"]
 
 # --- contact and wear (issues 5 and 7): add imports and names below this line only ---
+from ._wear import Comparison, WearPrediction, compare, predict_wear  # noqa: E402
 from .contact import contact_stiffness, hertz_stiffness  # noqa: E402
 from .wear import WornProfile, archard_wear  # noqa: E402
 
-_contact_wear: list[str] = ["WornProfile", "archard_wear", "contact_stiffness", "hertz_stiffness"]
+_contact_wear: list[str] = [
+    "Comparison",
+    "WearPrediction",
+    "WornProfile",
+    "archard_wear",
+    "compare",
+    "contact_stiffness",
+    "hertz_stiffness",
+    "predict_wear",
+]
 
 # --- flexibility (issue 6): add imports and names below this line only ---
+from ._convergence import ElementConvergence, element_convergence  # noqa: E402
 from .bodies._ancf import (  # noqa: E402
     AncfMesh,
     BeamModes,
@@ -57,7 +68,9 @@ _flexibility: list[str] = [
     "AncfMesh",
     "BeamModes",
     "BeamStaticSolution",
+    "ElementConvergence",
     "beam_modes",
+    "element_convergence",
     "euler_bernoulli_frequencies",
     "solve_beam_static",
 ]
@@ -87,4 +100,11 @@ _sweeps: list[str] = [
     "sweep",
 ]
 
-__all__ = _foundation + _scenes + _simulation + _contact_wear + _flexibility + _sweeps
+# --- paper study (issue 8): add imports and names below this line only ---
+from ._paper import PaperStudy, StudySettings, paper_tables, run_paper_study  # noqa: E402
+
+_paper_study: list[str] = ["PaperStudy", "StudySettings", "paper_tables", "run_paper_study"]
+
+__all__ = (
+    _foundation + _scenes + _simulation + _contact_wear + _flexibility + _sweeps + _paper_study
+)

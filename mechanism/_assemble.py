@@ -39,6 +39,8 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
+from mechanism.bodies._ancf import AncfLayout
+from mechanism.bodies._ancf_kernels import BEAM_F_COLUMNS, BEAM_I_COLUMNS
 from mechanism.bodies._rigid import RigidLayout, rigid_bar_from_beam
 from mechanism.contact._laws import contact_parameters
 from mechanism.joints._kernels import (
@@ -93,12 +95,20 @@ class KernelModel(NamedTuple):
     spline_c: np.ndarray
     cj_i: np.ndarray  # (n_cj, 4) [bearing point, journal point, law code, friction code]
     cj_f: np.ndarray  # (n_cj, CF_COLUMNS)
+    cw_i: np.ndarray  # (n_cj, CW_COLUMNS) worn-profile layout (issue 7; CW_WORN = 0: unworn)
+    cw_f: np.ndarray  # (n_cj, 2) [E*, radius ratio limit]
+    cw_h: np.ndarray  # flat wear depths (m) of all worn surfaces
+    cw_k: np.ndarray  # flat tabulated curvatures (1/m) of the same regions
+    cw_s: np.ndarray  # flat slopes dh/dφ (m/rad) of the smoothed depths, same regions
     out_i: np.ndarray  # [crank point a, crank point b, guide point, slider point] (−1: none)
     out_f: np.ndarray  # [ux, uy] slider guide axis in the guide body's frame
     jt_i: np.ndarray  # (n_ideal, 3) [JOINT_PIN | JOINT_PRISMATIC, first row, guide point]
     jt_f: np.ndarray  # (n_ideal, 2) prismatic guide normal in the guide body's frame
     alpha: float
     beta: float
+    # flexible bodies (issue 6): one row per ANCF beam, see ``beams_force_add``
+    beam_i: np.ndarray  # (n_beams, BEAM_I_COLUMNS) int64
+    beam_f: np.ndarray  # (n_beams, BEAM_F_COLUMNS) float64
 
 
 class Workspace(NamedTuple):
@@ -161,6 +171,9 @@ class Model:
         Bodies in coordinate order and the index of each body's first coordinate.
     rigid_bodies
         Names of the bodies with (x, y, θ) coordinates (outputs ``position``/``velocity``).
+    beams
+        Layout of every flexible ANCF beam by body name (empty when
+        ``effects.flexibility`` is off); its coordinates start at its body offset.
     dof_names
         ``"body.coordinate"`` for every coordinate.
     ideal_joints
@@ -183,6 +196,7 @@ class Model:
     body_names: tuple[str, ...]
     body_offsets: tuple[int, ...]
     rigid_bodies: tuple[str, ...]
+    beams: dict[str, AncfLayout]
     dof_names: tuple[str, ...]
     point_index: dict[tuple[str, str], int]
     ideal_joints: tuple[IdealJointRows, ...]
@@ -246,11 +260,16 @@ def _layouts(scene: Scene) -> list[Any]:
             layouts.append(RigidLayout(name=name, body=body))
         elif isinstance(body, AncfBeam):
             if scene.effects.flexibility:
-                raise NotImplementedError(
-                    f"bodies.{name}: flexible ANCF beams are not assembled yet (issue 6); "
-                    "set effects.flexibility = false to use the equivalent rigid bar."
+                layouts.append(
+                    AncfLayout(
+                        name=name,
+                        beam=body,
+                        axial_strain=body.axial_strain,
+                        curvature=body.curvature,
+                    )
                 )
-            layouts.append(RigidLayout(name=name, body=rigid_bar_from_beam(body)))
+            else:
+                layouts.append(RigidLayout(name=name, body=rigid_bar_from_beam(body)))
         else:
             raise TypeError(f"bodies.{name}: unsupported body type {type(body).__name__}.")
     return layouts
@@ -315,7 +334,11 @@ class _Builder:
 def _angle_guess(layouts: dict[str, Any], body: str) -> float:
     if body == GROUND:
         return 0.0
-    return float(layouts[body].initial_coordinates()[2])
+    layout = layouts[body]
+    if isinstance(layout, AncfLayout):
+        # a beam's frame angle is the slope angle of its (straight) initial chord
+        return layout.chord_angle
+    return float(layout.initial_coordinates()[2])
 
 
 def _profile_tables(drive: AngleProfileDrive) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -386,6 +409,48 @@ def _drive_tables(
     raise TypeError(f"unsupported drive type {type(drive).__name__}.")
 
 
+def _worn_tables(
+    joint: ClearanceRevolute, p: Any, flat: list[np.ndarray]
+) -> tuple[list[int], list[float]]:
+    """Worn-profile row of one clearance joint; appends its depth and curvature arrays.
+
+    ``flat`` cycles through depth, curvature and slope arrays; offsets index their
+    concatenations. The slope dh/dφ of the smoothed depth (central difference) gives the
+    rate of the local clearance while the contact moves over a worn flank.
+    An unworn joint (both profiles empty) gets ``CW_WORN = 0`` and no arrays, so its
+    contact runs the unworn code path.
+    """
+    from .wear import WornProfile
+    from .wear import _kernels as wk
+
+    row_i = [0] * k.CW_COLUMNS
+    row_f = [p.effective_modulus, float(joint.wear.radius_ratio_limit)]
+    if not (joint.wear.bearing_profile or joint.wear.journal_profile):
+        return row_i, row_f
+    profile = WornProfile.from_joint(joint)
+    offset = sum(a.size for a in flat[0::3])
+    row_i[k.CW_WORN] = 1
+    row_i[k.CW_FORM] = p.stiffness_form_code if p.form is not None else -1
+    for depth, radius, outward, col in (
+        (profile.bearing_depth, joint.bearing_radius, True, k.CW_B_OFF),
+        (profile.journal_depth, joint.journal_radius, False, k.CW_J_OFF),
+    ):
+        depth = np.ascontiguousarray(depth, dtype=np.float64)
+        if not depth.any():
+            continue  # an unworn surface: empty slice, nominal clearance and curvature
+        kappa = np.empty(depth.size)
+        wk.curvature_profile(radius, depth, profile.smoothing_regions, outward, kappa)
+        smooth = np.array(
+            [wk.smoothed_depth(depth, i, profile.smoothing_regions) for i in range(depth.size)]
+        )
+        slope = (np.roll(smooth, -1) - np.roll(smooth, 1)) * (depth.size / (4.0 * np.pi))
+        row_i[col] = offset
+        row_i[col + 1] = depth.size
+        flat.extend((depth, kappa, slope))
+        offset += depth.size
+    return row_i, row_f
+
+
 def assemble(scene: Scene, *, ideal: bool = False, eccentricity_offsets: bool = False) -> Model:
     """Compile a scene into a :class:`Model`.
 
@@ -443,6 +508,8 @@ def assemble(scene: Scene, *, ideal: bool = False, eccentricity_offsets: bool = 
     clearance_names: list[str] = []
     cj_i: list[list[int]] = []
     cj_f: list[list[float]] = []
+    worn: list[tuple[list[int], list[float]]] = []
+    cw_h: list[np.ndarray] = []
     use_clearance = scene.effects.clearance and not ideal
     for name, joint in scene.joints.items():
         where = f"joints.{name}"
@@ -465,6 +532,7 @@ def assemble(scene: Scene, *, ideal: bool = False, eccentricity_offsets: bool = 
                 row_f[k.CF_FLOOR] = p.impact_velocity_floor
                 cj_i.append([pb, pj, p.law_code, friction])
                 cj_f.append(row_f)
+                worn.append(_worn_tables(joint, p, cw_h))
                 clearance_names.append(name)
             else:
                 ex, ey = joint.initial_eccentricity if eccentricity_offsets else (0.0, 0.0)
@@ -548,6 +616,10 @@ def assemble(scene: Scene, *, ideal: bool = False, eccentricity_offsets: bool = 
     def arr_f(rows: list[list[float]], width: int) -> np.ndarray:
         return np.ascontiguousarray(np.array(rows, dtype=np.float64).reshape(-1, width))
 
+    beam_names = [lay.name for lay in layouts if isinstance(lay, AncfLayout)]
+    beam_rows = {
+        lay.name: lay.beam_row(offsets[lay.name]) for lay in layouts if isinstance(lay, AncfLayout)
+    }
     solver = scene.solver
     kernel = KernelModel(
         n_dof=n,
@@ -567,6 +639,11 @@ def assemble(scene: Scene, *, ideal: bool = False, eccentricity_offsets: bool = 
         spline_c=spline_c,
         cj_i=arr_i(cj_i, 4),
         cj_f=arr_f(cj_f, k.CF_COLUMNS),
+        cw_i=arr_i([w[0] for w in worn], k.CW_COLUMNS),
+        cw_f=arr_f([w[1] for w in worn], 2),
+        cw_h=np.ascontiguousarray(np.concatenate([np.zeros(0), *cw_h[0::3]])),
+        cw_k=np.ascontiguousarray(np.concatenate([np.zeros(0), *cw_h[1::3]])),
+        cw_s=np.ascontiguousarray(np.concatenate([np.zeros(0), *cw_h[2::3]])),
         out_i=np.array(
             [
                 *(crank_points if crank_points is not None else (-1, -1)),
@@ -585,6 +662,8 @@ def assemble(scene: Scene, *, ideal: bool = False, eccentricity_offsets: bool = 
         jt_f=arr_f([list(j.normal) for j in ideal_rows], 2),
         alpha=float(solver.baumgarte_alpha),
         beta=float(solver.baumgarte_beta),
+        beam_i=arr_i([beam_rows[n][0] for n in beam_names], BEAM_I_COLUMNS),
+        beam_f=arr_f([beam_rows[n][1] for n in beam_names], BEAM_F_COLUMNS),
     )
     return Model(
         scene=scene,
@@ -592,6 +671,7 @@ def assemble(scene: Scene, *, ideal: bool = False, eccentricity_offsets: bool = 
         body_names=tuple(lay.name for lay in layouts),
         body_offsets=tuple(offsets[lay.name] for lay in layouts),
         rigid_bodies=tuple(lay.name for lay in layouts if isinstance(lay, RigidLayout)),
+        beams={lay.name: lay for lay in layouts if isinstance(lay, AncfLayout)},
         dof_names=tuple(dof_names),
         point_index=dict(b.point_index),
         ideal_joints=tuple(ideal_rows),
@@ -640,6 +720,12 @@ def initial_state(
     ideal-mechanism velocities with the journal at rest relative to the bearing.
     ``eccentricity=False`` centres every journal (the ideal mechanism).
 
+    With flexible ANCF beams the state is that of the rigid mechanism
+    (``effects.flexibility = False``) mapped onto straight, unstressed beams moving
+    rigidly (:meth:`~mechanism.bodies.AncfLayout.from_rigid_state`), plus each beam's
+    ``initial_sine_velocities``; the minimum-norm velocity projection would give
+    interior nodes a non-rigid velocity field that excites the axial modes.
+
     Returns
     -------
     (q0, v0) : tuple of numpy.ndarray
@@ -649,6 +735,10 @@ def initial_state(
     ValueError
         If the constraints cannot be satisfied from the guesses.
     """
+    if model.beams:
+        return _flexible_initial_state(
+            model, t0=t0, eccentricity=eccentricity, tol=tol, max_iter=max_iter
+        )
     assembly = assemble(model.scene, ideal=True, eccentricity_offsets=eccentricity)
     km = assembly.kernel
     ws = assembly.workspace()
@@ -680,4 +770,33 @@ def initial_state(
     s = phiq @ w
     lam = np.linalg.lstsq(s, ws.phit, rcond=None)[0]
     v = -w @ lam
+    return q, v
+
+
+def _flexible_initial_state(
+    model: Model, *, t0: float, eccentricity: bool, tol: float, max_iter: int
+) -> tuple[np.ndarray, np.ndarray]:
+    """Rigid-mechanism initial state mapped onto the ANCF beams (docs/ancf.md §6.6)."""
+    scene = model.scene
+    rigid_scene = dataclasses.replace(
+        scene, effects=dataclasses.replace(scene.effects, flexibility=False)
+    )
+    rigid = assemble(rigid_scene)
+    qr, vr = initial_state(rigid, t0=t0, eccentricity=eccentricity, tol=tol, max_iter=max_iter)
+    rigid_offsets = dict(zip(rigid.body_names, rigid.body_offsets, strict=True))
+    q = np.zeros(model.n_dof)
+    v = np.zeros(model.n_dof)
+    for name, o in zip(model.body_names, model.body_offsets, strict=True):
+        r = rigid_offsets[name]
+        layout = model.beams.get(name)
+        if layout is None:
+            q[o : o + 3] = qr[r : r + 3]
+            v[o : o + 3] = vr[r : r + 3]
+            continue
+        e, e_dot = layout.from_rigid_state(qr[r : r + 2], qr[r + 2], vr[r : r + 2], vr[r + 2])
+        amplitudes = layout.beam.initial_sine_velocities
+        if amplitudes:
+            e_dot = e_dot + layout.mesh.sine_modes(amplitudes, angle=float(qr[r + 2]))
+        q[o : o + layout.n_dof] = e
+        v[o : o + layout.n_dof] = e_dot
     return q, v

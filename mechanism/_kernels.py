@@ -24,6 +24,7 @@ import math
 import numpy as np
 from numba import njit
 
+from mechanism.bodies._ancf_kernels import beams_force_add
 from mechanism.contact._kernels import (
     FRICTION_NONE,
     contact_potential,
@@ -44,6 +45,7 @@ from mechanism.joints._kernels import (
     point_acceleration,
     update_points,
 )
+from mechanism.wear._kernels import local_clearance, local_stiffness_tabulated, region_value
 
 # columns of the per-clearance-joint table ``ws.cj`` filled by every force evaluation
 CJ_EX = 0
@@ -55,7 +57,8 @@ CJ_FN = 5
 CJ_FT = 6
 CJ_PHI_B = 7
 CJ_PHI_J = 8
-CJ_COLUMNS = 9
+CJ_K = 9  # contact stiffness used (the local K_n on a worn profile)
+CJ_COLUMNS = 10
 
 # columns of the clearance parameter table ``model.cj_f``
 CF_RB = 0
@@ -78,7 +81,19 @@ CNT_CONTACT_EVENTS = 3
 CNT_CONTACT_EVALS = 4
 CNT_JAC = 5
 CNT_NEWTON = 6
-CNT_COLUMNS = 7
+CNT_WORN_EVALS = 7  # contact evaluations that read a worn profile (0 for unworn scenes)
+CNT_COLUMNS = 8
+
+# worn-profile table ``model.cw_i`` (n_cj, CW_COLUMNS) of every clearance joint: depths and
+# tabulated curvatures of both surfaces are slices of the flat ``cw_h`` / ``cw_k``
+CW_WORN = 0  # 1 when a profile is non-empty (else the unworn path runs)
+CW_B_OFF = 1
+CW_B_N = 2
+CW_J_OFF = 3
+CW_J_N = 4
+CW_FORM = 5  # stiffness form code for the local stiffness, −1: K is a given number
+CW_COLUMNS = 6
+# ``model.cw_f`` (n_cj, 2) = [E*, radius ratio limit]
 
 STATUS_OK = 0
 STATUS_SINGULAR = 2
@@ -121,22 +136,83 @@ def evaluate_constraints(model, ws, t, q, v):
 
 
 @njit(cache=True)
-def _clearance_forces(cj_i, cj_f, pci, pcf, vimp, gen, cj, counters):
+def worn_contact(cw_i, cw_f, cw_h, cw_k, j, r_bearing, r_journal, clearance, stiffness,
+                 phi_b, phi_j):  # fmt: skip
+    """Local clearance c(φ_b, φ_j) (m) and stiffness K_n of clearance joint ``j``.
+
+    Unworn joints return (c₀, K). A worn one reads the local clearance
+    c₀ + h_b(φ_b) + h_j(φ_j) and K_n = (4/3)E*√R*_n from the curvatures tabulated once per
+    profile (paper-model §2.7); the damping of the force laws scales with K, so it follows.
+    """
+    if cw_i[j, CW_WORN] == 0:
+        return clearance, stiffness
+    bo = cw_i[j, CW_B_OFF]
+    bn = cw_i[j, CW_B_N]
+    jo = cw_i[j, CW_J_OFF]
+    jn = cw_i[j, CW_J_N]
+    c = local_clearance(clearance, cw_h[bo : bo + bn], cw_h[jo : jo + jn], phi_b, phi_j)
+    if cw_i[j, CW_FORM] < 0:
+        return c, stiffness
+    kn = local_stiffness_tabulated(
+        cw_f[j, 0], cw_i[j, CW_FORM], r_bearing, r_journal, cw_k[bo : bo + bn],
+        cw_k[jo : jo + jn], phi_b, phi_j, cw_f[j, 1],
+    )  # fmt: skip
+    return c, kn
+
+
+@njit(cache=True)
+def worn_clearance_rate(cw_i, cw_s, j, pcf, bearing, journal, ex, ey, phi_b, phi_j):
+    """dc/dt = h_b'(φ_b) φ̇_b + h_j'(φ_j) φ̇_j (m/s) of a worn joint (0 when unworn).
+
+    The local clearance changes while the contact direction moves over a worn flank, so the
+    penetration rate is δ̇ = d|e|/dt − dc/dt; h' is the slope of the smoothed profile
+    (tabulated in ``cw_s``) and φ̇ = (e × ė)/|e|² minus each part's rotation rate.
+    """
+    if cw_i[j, CW_WORN] == 0:
+        return 0.0
+    e2 = ex * ex + ey * ey
+    if not e2 > 0.0:
+        return 0.0
+    dvx = pcf[journal, PC_VX] - pcf[bearing, PC_VX]
+    dvy = pcf[journal, PC_VY] - pcf[bearing, PC_VY]
+    rate = (ex * dvy - ey * dvx) / e2
+    bo = cw_i[j, CW_B_OFF]
+    bn = cw_i[j, CW_B_N]
+    jo = cw_i[j, CW_J_OFF]
+    jn = cw_i[j, CW_J_N]
+    out = 0.0
+    if bn > 0:
+        out += region_value(cw_s[bo : bo + bn], phi_b) * (rate - pcf[bearing, PC_RATE])
+    if jn > 0:
+        out += region_value(cw_s[jo : jo + jn], phi_j) * (rate - pcf[journal, PC_RATE])
+    return out
+
+
+@njit(cache=True)
+def _clearance_forces(model, pci, pcf, vimp, gen, cj, counters):
+    cj_i = model.cj_i
+    cj_f = model.cj_f
+    cw_i = model.cw_i
     for j in range(cj_i.shape[0]):
         b = cj_i[j, 0]
         jn = cj_i[j, 1]
         rb = cj_f[j, CF_RB]
         rj = cj_f[j, CF_RJ]
-        ex, ey, nx, ny, delta, ddot, vt, phib, phij = clearance_kinematics(
-            pcf, b, jn, rb, rj, cj_f[j, CF_C]
-        )
+        c0 = cj_f[j, CF_C]
+        ex, ey, nx, ny, delta, ddot, vt, phib, phij = clearance_kinematics(pcf, b, jn, rb, rj, c0)
+        kn = cj_f[j, CF_K]
+        if cw_i[j, CW_WORN] != 0:
+            counters[CNT_WORN_EVALS] += 1
+            c, kn = worn_contact(
+                cw_i, model.cw_f, model.cw_h, model.cw_k, j, rb, rj, c0, kn, phib, phij
+            )
+            delta += c0 - c
+            ddot -= worn_clearance_rate(cw_i, model.cw_s, j, pcf, b, jn, ex, ey, phib, phij)
         fn = 0.0
         ft = 0.0
         if delta > 0.0:
             counters[CNT_CONTACT_EVALS] += 1
-            fn = normal_force(
-                cj_i[j, 2], cj_f[j, CF_K], cj_f[j, CF_EXP], cj_f[j, CF_CE], delta, ddot, vimp[j]
-            )
+            fn = normal_force(cj_i[j, 2], kn, cj_f[j, CF_EXP], cj_f[j, CF_CE], delta, ddot, vimp[j])
             if cj_i[j, 3] != FRICTION_NONE:
                 ft = friction_force(
                     cj_i[j, 3], cj_f[j, CF_MU], cj_f[j, CF_V0], cj_f[j, CF_V1], fn, vt
@@ -151,6 +227,7 @@ def _clearance_forces(cj_i, cj_f, pci, pcf, vimp, gen, cj, counters):
         cj[j, CJ_FT] = ft
         cj[j, CJ_PHI_B] = phib
         cj[j, CJ_PHI_J] = phij
+        cj[j, CJ_K] = kn
 
 
 @njit(cache=True)
@@ -240,11 +317,12 @@ def accelerations(model, ws, t, q, v, vimp, acc, counters):
         t, model.con_i, model.con_f, model.drive_i, model.drive_f, model.spline_x,
         model.spline_c, pci, pcf, phi, phiq, phit, gam,
     )  # fmt: skip
-    # Q = gravity + contact/friction; flexible bodies (issue 6) add −F_e(q) (and damping)
-    # here from their own tables, so nothing else in the core changes
+    # Q = gravity − elastic/damping forces of the ANCF beams + contact/friction
     gen[:] = model.gravity_force
+    if model.beam_i.shape[0] > 0:
+        beams_force_add(model.beam_i, model.beam_f, q, v, -1.0, gen)
     if model.cj_i.shape[0] > 0:
-        _clearance_forces(model.cj_i, model.cj_f, pci, pcf, vimp, gen, ws.cj, counters)
+        _clearance_forces(model, pci, pcf, vimp, gen, ws.cj, counters)
     return _solve(
         model.minv, model.blk_lo, model.blk_hi, model.alpha, model.beta, phi, phiq, phit, gam,
         gen, v, ws.a0, ws.w, ws.s, ws.lam, ws.nz_n, ws.nz_j, acc,
@@ -301,16 +379,21 @@ def rhs(model, ws, t, y, vimp, dydt, counters):
 
 @njit(cache=True)
 def _clearance_state(model, ws, y, j):
-    """(δ, δ̇) of clearance joint ``j`` at state ``y`` (point cache must be current)."""
-    res = clearance_kinematics(
-        ws.pcf,
-        model.cj_i[j, 0],
-        model.cj_i[j, 1],
-        model.cj_f[j, CF_RB],
-        model.cj_f[j, CF_RJ],
-        model.cj_f[j, CF_C],
-    )
-    return res[4], res[5]
+    """(δ, δ̇, K) of clearance joint ``j`` at state ``y`` (point cache must be current);
+    δ and K from the local clearance and stiffness on a worn profile."""
+    rb = model.cj_f[j, CF_RB]
+    rj = model.cj_f[j, CF_RJ]
+    c0 = model.cj_f[j, CF_C]
+    res = clearance_kinematics(ws.pcf, model.cj_i[j, 0], model.cj_i[j, 1], rb, rj, c0)
+    c, kn = worn_contact(
+        model.cw_i, model.cw_f, model.cw_h, model.cw_k, j, rb, rj, c0, model.cj_f[j, CF_K],
+        res[7], res[8],
+    )  # fmt: skip
+    rate = worn_clearance_rate(
+        model.cw_i, model.cw_s, j, ws.pcf, model.cj_i[j, 0], model.cj_i[j, 1], res[0], res[1],
+        res[7], res[8],
+    )  # fmt: skip
+    return res[4] + c0 - c, res[5] - rate, kn
 
 
 @njit(cache=True)
@@ -328,7 +411,7 @@ def update_latch(model, ws, y, vimp, contact, counters):
     n = model.n_dof
     update_points(y[:n], y[n:], model.pt_i, model.pt_f, ws.pci, ws.pcf)
     for j in range(model.cj_i.shape[0]):
-        delta, ddot = _clearance_state(model, ws, y, j)
+        delta, ddot, _ = _clearance_state(model, ws, y, j)
         if delta > 0.0:
             if contact[j] == 0:
                 contact[j] = 1
@@ -352,7 +435,7 @@ def entry_depth_ratio(model, ws, y, contact):
     for j in range(model.cj_i.shape[0]):
         if contact[j] != 0:
             continue
-        delta, _ = _clearance_state(model, ws, y, j)
+        delta, _, _ = _clearance_state(model, ws, y, j)
         r = delta / model.cj_f[j, CF_C]
         if r > worst:
             worst = r
@@ -427,8 +510,8 @@ def mechanical_energy(model, ws, y):
     if model.cj_i.shape[0] > 0:
         update_points(q, v, model.pt_i, model.pt_f, ws.pci, ws.pcf)
         for j in range(model.cj_i.shape[0]):
-            delta, _ = _clearance_state(model, ws, y, j)
-            pot += contact_potential(model.cj_f[j, CF_K], model.cj_f[j, CF_EXP], delta)
+            delta, _, kn = _clearance_state(model, ws, y, j)
+            pot += contact_potential(kn, model.cj_f[j, CF_EXP], delta)
     return kin + pot
 
 
@@ -514,7 +597,7 @@ def derived_outputs(model, ws, q, v, a, out, jf):
             x += model.mass[i, j] * v[j]
         energy += 0.5 * v[i] * x - model.gravity_force[i] * q[i]
     for j in range(model.cj_i.shape[0]):
-        energy += contact_potential(model.cj_f[j, CF_K], model.cj_f[j, CF_EXP], ws.cj[j, CJ_DELTA])
+        energy += contact_potential(ws.cj[j, CJ_K], model.cj_f[j, CF_EXP], ws.cj[j, CJ_DELTA])
     out[OUT_ENERGY] = energy
     worst = 0.0
     for k in range(model.n_rows):

@@ -76,6 +76,64 @@ def _common(model: Model, rec: Recording, suffix: str, label: str) -> dict[str, 
     return out
 
 
+def _beam_outputs(model: Model, rec: Recording) -> tuple[dict[str, xr.Variable], dict[str, Any]]:
+    """Axial strain along every ANCF beam, its signed extreme and the mid-span deflection.
+
+    Stations are the nodes and element mid-points (the accurate points of the
+    gradient-deficient element's axial strain, docs/ancf.md §6.7) as fractions s/L of
+    each rod's length; rods with different element counts share the stations of the
+    finest mesh.
+    """
+    names = tuple(model.beams)
+    offsets = dict(zip(model.body_names, model.body_offsets, strict=True))
+    n_el = max(lay.mesh.n_elements for lay in model.beams.values())
+    fraction = np.linspace(0.0, 1.0, 2 * n_el + 1)
+    strain = np.empty((rec.q.shape[0], len(names), fraction.size))
+    deflection = np.empty((rec.q.shape[0], len(names)))
+    arc = np.empty((len(names), fraction.size))
+    out: dict[str, xr.Variable] = {}
+    for b, name in enumerate(names):
+        mesh = model.beams[name].mesh
+        arc[b] = fraction * mesh.length
+        strain[:, b] = mesh.axial_strain_history(rec.q, arc[b], offset=offsets[name])
+        deflection[:, b] = mesh.midspan_deflection_history(rec.q, offset=offsets[name])
+        flat = strain[:, b].reshape(-1)
+        extreme = float(flat[np.argmax(np.abs(flat))]) if flat.size else float("nan")
+        out[f"strain_{name}"] = _var(
+            (),
+            np.array(1e6 * extreme),
+            "1e-6",
+            f"signed extreme axial strain of {name} over time and stations "
+            "(micro-strain, positive = tension)",
+        )
+    out["strain"] = _var(
+        ("time", "rod", "station"),
+        strain,
+        "1",
+        "axial strain along each flexible rod (|r,x| - 1 or the Green strain)",
+    )
+    out["midspan_deflection"] = _var(
+        ("time", "rod"),
+        deflection,
+        "m",
+        "distance of the rod's mid-point from the chord of its end nodes, positive to the left",
+    )
+    coords = {
+        "rod": ("rod", np.array(names, dtype=object)),
+        "station": (
+            "station",
+            fraction,
+            {"units": "1", "long_name": "arc length along the rod over its length (s/L)"},
+        ),
+        "arc_length": (
+            ("rod", "station"),
+            arc,
+            {"units": "m", "long_name": "unstressed arc length along the rod"},
+        ),
+    }
+    return out, coords
+
+
 def to_dataset(
     model: Model,
     run: Integration,
@@ -161,6 +219,9 @@ def to_dataset(
         data["in_contact"] = _var(
             dims, (delta > 0.0).astype(np.int8), "1", "journal touches the bearing (1) or not (0)"
         )
+    if model.beams:
+        strain_vars, strain_coords = _beam_outputs(model, rec)
+        data.update(strain_vars)
     data["mechanical_energy"] = _var(
         ("time",), rec.out[:, k.OUT_ENERGY], "J", "kinetic + gravity + contact potential energy"
     )
@@ -182,6 +243,8 @@ def to_dataset(
             "ideal_joint",
             np.array([j.name for j in model.ideal_joints], dtype=object),
         )
+    if model.beams:
+        coords.update(strain_coords)
     ds = xr.Dataset(data, coords=coords)
     ds.attrs["scene"] = scene_to_json(model.scene)
     ds.attrs["scene_name"] = model.scene.name

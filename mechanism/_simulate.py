@@ -231,4 +231,9 @@ def simulate(
     if period is not None:
         attrs["drive_period"] = float(period)
         attrs["revolutions"] = float(t_out[-1] / period)
-    return to_dataset(model, run, ideal_model, ideal_run, attrs=attrs)
+    ds = to_dataset(model, run, ideal_model, ideal_run, attrs=attrs)
+    if scene.effects.wear and model.clearance_joints:
+        from ._wear import add_run_wear  # issue 7: the run's Archard wear
+
+        ds = add_run_wear(ds, scene)
+    return ds

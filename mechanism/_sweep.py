@@ -38,6 +38,16 @@ from chaoskit._contract import stamp
 from chaoskit._version import __version__
 
 from . import _sweep_store as _store
+from ._metrics import (
+    METRIC_SOURCES,
+    METRICS,
+    reduce_values,
+    response_metrics,
+    window_start,
+)
+from ._metrics import (
+    ROD_STRAIN as ROD_STRAIN,
+)
 from ._sweep_store import SweepStoreMismatch
 
 __all__ = [
@@ -59,22 +69,8 @@ STATUSES: tuple[str, ...] = ("ok", "failed", "diverged")
 _TWO_PI = 2.0 * math.pi
 _SOURCE = f"mechanism (chaoskit {__version__})"
 
-# Response metrics: name -> (units, long_name). Evaluated over the window after the discard.
-METRICS: dict[str, tuple[str, str]] = {
-    "peak_contact_force": ("N", "peak normal contact force (all clearance joints)"),
-    "max_penetration": ("m", "maximum penetration depth (all clearance joints)"),
-    "max_displacement_error": ("m", "maximum |slider position - ideal slider position|"),
-    "max_speed_error": ("m s-1", "maximum |slider velocity - ideal slider velocity|"),
-    "driving_torque_extreme": ("N m", "signed extreme of the driving torque"),
-}
-_METRIC_SOURCES = {
-    "peak_contact_force": ("contact_force", "max"),
-    "max_penetration": ("penetration", "max"),
-    "max_displacement_error": ("displacement_error", "absmax"),
-    "max_speed_error": ("speed_error", "absmax"),
-    "driving_torque_extreme": ("driving_torque", "extreme"),
-}
-ROD_STRAIN = "rod_strain_extreme"
+# Response metrics (paper-model §2.10): one definition, shared with compare/predict_wear.
+_METRIC_SOURCES = METRIC_SOURCES
 
 
 # --------------------------------------------------------------------------- configuration
@@ -235,14 +231,32 @@ def grid_transforms() -> Mapping[str, GridTransform]:
     return MappingProxyType(_GRID_TRANSFORMS)
 
 
-def _wear_transform(scene: Any, value: Any) -> Any:
-    """``"before"``: the scene as is; ``"after"``: the worn scene (issue 7)."""
+#: predict_wear settings of the grid value wear = "after" (see docs/wear.md): the paper
+#: scene reaches the paper's peak-contact-force ratio near this amount of wear.
+WEAR_AFTER_SETTINGS: dict[str, float] = {
+    "updates": 4,
+    "cycles_per_update": 1000.0,
+    "max_depth_increment": 0.25,
+    "settle_revolutions": 1.0,
+}
+
+
+def _wear_transform(scene: Any, value: Any, **settings: Any) -> Any:
+    """``"before"``: the scene as is; ``"after"``: the worn scene of
+    :func:`mechanism.predict_wear` with :data:`WEAR_AFTER_SETTINGS` (overridden by
+    ``settings``; register ``functools.partial(_wear_transform, ...)`` to change them)."""
     if value == "before":
         return scene
-    raise NotImplementedError(
-        "wear='after' needs the worn scene from the wear predictor of issue 7 "
-        "(mechanism.predict_wear), which is not available yet."
-    )
+    from ._wear import predict_wear
+
+    options = {**WEAR_AFTER_SETTINGS, **settings}
+    return predict_wear(
+        scene,
+        updates=int(options["updates"]),
+        cycles_per_update=float(options["cycles_per_update"]),
+        max_depth_increment=float(options["max_depth_increment"]),
+        settle_revolutions=float(options["settle_revolutions"]),
+    ).worn_scene
 
 
 register_grid_transform(
@@ -327,62 +341,9 @@ def _simulation_status(traj: xr.Dataset) -> tuple[str, str]:
     return "ok", ""
 
 
-def _window_start(traj: xr.Dataset, discard_revolutions: float) -> int:
-    """First sample after ``discard_revolutions`` crank turns (from ``crank_angle``)."""
-    if discard_revolutions == 0:
-        return 0
-    if "crank_angle" not in traj:
-        raise ValueError("the trajectory has no 'crank_angle'; cannot discard revolutions.")
-    angle = np.asarray(traj["crank_angle"].values, dtype=np.float64)
-    turned = np.abs(angle - angle[0])
-    past = np.flatnonzero(turned >= _TWO_PI * discard_revolutions * (1.0 - 1e-12))
-    if past.size == 0 or past[0] >= angle.size - 1:
-        raise ValueError(
-            f"the trajectory covers {turned.max() / _TWO_PI:.3g} revolutions, not more than "
-            f"discard_revolutions={discard_revolutions}; simulate longer or discard less."
-        )
-    return int(past[0])
-
-
-def _reduce(values: np.ndarray, how: str) -> float:
-    if values.size == 0:
-        return math.nan
-    if how == "max":
-        return float(np.max(values))
-    if how == "absmax":
-        return float(np.max(np.abs(values)))
-    return float(values.flat[int(np.argmax(np.abs(values)))])  # signed extreme
-
-
-def _response_metrics(traj: xr.Dataset, start: int) -> dict[str, xr.DataArray]:
-    """Paper-model §2.10 output definitions over ``time[start:]``; NaN where not simulated."""
-    window = traj.isel(time=slice(start, None))
-    out: dict[str, xr.DataArray] = {}
-    for name, (source, how) in _METRIC_SOURCES.items():
-        units, long_name = METRICS[name]
-        value = math.nan
-        if source in window:
-            value = _reduce(np.asarray(window[source].values, dtype=np.float64), how)
-        out[name] = xr.DataArray(value, attrs={"units": units, "long_name": long_name})
-    strains = [
-        k
-        for k, v in window.data_vars.items()
-        if "strain" in str(k) and "rod" in v.dims and "time" in v.dims
-    ]
-    if strains:
-        var = window[strains[0]].transpose("rod", ...)
-        flat = np.asarray(var.values, dtype=np.float64).reshape(var.sizes["rod"], -1)
-        extremes = np.array([_reduce(row, "extreme") for row in flat])
-        out[ROD_STRAIN] = xr.DataArray(
-            extremes,
-            dims=("rod",),
-            coords={"rod": np.asarray(var["rod"].values).astype(str)},
-            attrs={
-                "units": "1",
-                "long_name": f"signed extreme of {strains[0]} per rod (positive = tension)",
-            },
-        )
-    return out
+_window_start = window_start
+_reduce = reduce_values
+_response_metrics = response_metrics
 
 
 def _analysis_input(

@@ -165,7 +165,98 @@ def simulate_command(
 # --- wear (issue 7): commands below this line only ---
 
 
+@app.command("wear")
+def wear_command(
+    scene: str = typer.Argument(..., help="Built-in scene name or path of a TOML scene."),
+    output: str = typer.Option(..., "-o", "--output", help="Wear prediction file (.nc)."),
+    updates: int = typer.Option(..., "--updates", help="Number of profile updates (>= 1)."),
+    cycles_per_update: float = typer.Option(
+        ..., "--cycles-per-update", help="Crank cycles extrapolated per update (> 0)."
+    ),
+    set_options: list[str] | None = typer.Option(None, "--set", metavar="KEY=VALUE", help=SET_HELP),
+    max_depth_increment: float = typer.Option(
+        0.25, "--max-depth-increment", help="Largest depth step per update / clearance."
+    ),
+    settle_revolutions: float = typer.Option(
+        2.0, "--settle-revolutions", help="Revolutions simulated before the measured cycle."
+    ),
+    progress: bool = typer.Option(True, "--progress/--no-progress", help="Show a progress bar."),
+) -> None:
+    """Predict the worn profile (cycle extrapolation) and write it with the worn scene."""
+    from mechanism import SimulationError, predict_wear
+
+    resolved = load_scene_option(scene, set_options)
+    try:
+        pred = predict_wear(
+            resolved,
+            updates=updates,
+            cycles_per_update=cycles_per_update,
+            max_depth_increment=max_depth_increment,
+            settle_revolutions=settle_revolutions,
+            progress=progress,
+        )
+    except (ValueError, SimulationError) as exc:
+        typer.echo(f"Error: {exc}", err=True)
+        raise typer.Exit(code=1) from None
+    ds = pred.to_dataset()
+    ds.to_netcdf(output, engine="h5netcdf")
+    force = ds["peak_contact_force"].values
+    typer.echo(
+        f"{output}: {pred.updates} updates, {float(pred.cycles[-1]):.6g} cycles, "
+        f"max depth {float(ds['wear_depth'].isel(update=-1).max()):.3g} m, "
+        f"peak contact force {force[0]:.4g} -> {force[-1]:.4g} N"
+    )
+
+
 # --- flexibility (issue 6): commands below this line only ---
+
+
+@app.command("convergence")
+def convergence_command(
+    scene: str = typer.Argument(..., help="Built-in scene name or path of a TOML scene."),
+    rod: list[str] | None = typer.Option(
+        None, "--rod", help="ANCF beam to refine (repeatable; default: every beam)."
+    ),
+    elements: str = typer.Option(
+        "4,8,12,16,20,24", "--elements", help="Comma-separated element counts."
+    ),
+    set_options: list[str] | None = typer.Option(None, "--set", metavar="KEY=VALUE", help=SET_HELP),
+    revolutions: float | None = typer.Option(
+        None, "--revolutions", help="Simulated drive periods (default 1)."
+    ),
+    t_end: float | None = typer.Option(None, "--t-end", help="Simulated time in s."),
+    method: str | None = typer.Option(None, "--method", help="Integrator (default: the scene's)."),
+    output: str | None = typer.Option(None, "-o", "--output", help="Write the table (.nc)."),
+    progress: bool = typer.Option(False, "--progress/--no-progress", help="Show progress bars."),
+) -> None:
+    """Element-convergence table: extreme rod strains (µε) against elements per rod."""
+    from mechanism import SimulationError, element_convergence
+
+    resolved = load_scene_option(scene, set_options)
+    try:
+        counts = [int(x) for x in elements.split(",") if x.strip()]
+    except ValueError:
+        typer.echo(
+            f"Error: --elements must be comma-separated integers; got {elements!r}.", err=True
+        )
+        raise typer.Exit(code=2) from None
+    try:
+        table = element_convergence(
+            resolved,
+            rods=rod or None,
+            elements=counts,
+            revolutions=revolutions,
+            t_end=t_end,
+            method=method,
+            progress=progress,
+        )
+    except (ValueError, SimulationError) as exc:
+        typer.echo(f"Error: {exc}", err=True)
+        raise typer.Exit(code=1) from None
+    typer.echo(table.to_markdown())
+    if output is not None:
+        table.to_dataset().to_netcdf(output, engine="h5netcdf")
+        typer.echo(f"{output}: written")
 
 
 # --- sweeps (issue 8): commands below this line only ---
@@ -271,3 +362,47 @@ def sweep_command(
         if state != "ok":
             typer.echo(f"  {state:>8}  {pid}: {message}")
     typer.echo(f"summary: {Path(ds.attrs['store']) / 'summary.nc'}")
+
+
+# --- paper study (issue 8): commands below this line only ---
+
+
+@app.command("paper")
+def paper_command(
+    output: Path = typer.Option(..., "-o", "--output", help="Folder for the report and runs."),
+    quick: bool = typer.Option(
+        False, "--quick", help="Documented reductions (docs/paper-study.md); ~10 min on 2 cores."
+    ),
+    workers: int | None = typer.Option(
+        None, "--workers", min=1, help="Workers of the local dask cluster (default: CPU count)."
+    ),
+    scheduler: str | None = typer.Option(
+        None,
+        "--scheduler",
+        metavar="ADDRESS",
+        help="dask scheduler address (tcp://host:8786); 'serial' runs in this process.",
+    ),
+    progress: bool = typer.Option(True, "--progress/--no-progress", help="Progress bars."),
+) -> None:
+    """Reproduce the seed paper's study (all tables, the chaos table) and write the report."""
+    import shlex
+    import sys
+
+    from mechanism import run_paper_study
+
+    if scheduler is not None and workers is not None:
+        raise typer.BadParameter("give --scheduler or --workers, not both", param_hint="--workers")
+    study = run_paper_study(
+        output,
+        quick=quick,
+        client=scheduler,
+        n_workers=workers,
+        progress=progress,
+        command="mechanism " + " ".join(shlex.quote(a) for a in sys.argv[1:]),
+    )
+    for line in study.unavailable:
+        typer.echo(f"not available in this version: {line}")
+    typer.echo(f"report: {study.report_html}")
+    if study.report_markdown is not None:
+        typer.echo(f"markdown: {study.report_markdown}")
+    typer.echo(f"wall time: {study.wall_time:.1f} s")

@@ -30,6 +30,43 @@ def _sq_distance(pts: np.ndarray, i: int, j: int, transverse: bool) -> float:
     return d2 if d2 > 0.0 else 0.0
 
 
+# distance modes of the divergence kernels
+EUCLIDEAN = 0  # ‖y_{j+k} − y_{i+k}‖ to the neighbour sample
+TRANSVERSE = 1  # its part perpendicular to the local flow direction at y_{i+k}
+ORBIT = 2  # to the neighbour's orbit point shifted by a fraction of a sample
+SAMPLE_ORBIT = 3  # geometric mean of EUCLIDEAN and ORBIT
+
+
+@njit(cache=True)
+def _orbit_sq_distance(pts: np.ndarray, i: int, j: int, s: float) -> float:
+    """‖y(j + s) − y_i‖² with y(j + s) quadratic through y_{j−1}, y_j, y_{j+1} (|s| ≤ 1)."""
+    m = pts.shape[1]
+    d2 = 0.0
+    for c in range(m):
+        yj = pts[j, c]
+        if s != 0.0:
+            vel = 0.5 * (pts[j + 1, c] - pts[j - 1, c])
+            acc = pts[j + 1, c] - 2.0 * yj + pts[j - 1, c]
+            yj = yj + s * vel + 0.5 * s * s * acc
+        diff = yj - pts[i, c]
+        d2 += diff * diff
+    return d2
+
+
+@njit(cache=True)
+def _pair_sq(pts: np.ndarray, i: int, j: int, s: float, mode: int) -> float:
+    """Squared distance of the pair (i, j) in ``mode``; for SAMPLE_ORBIT the geometric mean
+    of the two squared distances, so that ½ ln of it is the mean of the two log distances."""
+    if mode == TRANSVERSE:
+        return _sq_distance(pts, i, j, True)
+    if mode == ORBIT:
+        return _orbit_sq_distance(pts, i, j, s)
+    d2 = _sq_distance(pts, i, j, False)
+    if mode == SAMPLE_ORBIT:
+        return np.sqrt(d2 * _orbit_sq_distance(pts, i, j, s))
+    return d2
+
+
 @njit(cache=True)
 def _log_distance(pts: np.ndarray, i: int, j: int, transverse: bool) -> float:
     """ln of the distance of :func:`_sq_distance`; −inf for a zero distance."""
@@ -40,17 +77,58 @@ def _log_distance(pts: np.ndarray, i: int, j: int, transverse: bool) -> float:
 
 
 @njit(cache=True)
-def log_divergence(
-    pts: np.ndarray, ref: np.ndarray, nbr: np.ndarray, ks: np.ndarray, transverse: bool
-) -> tuple[np.ndarray, np.ndarray]:
-    """Σ ln‖y_{i+k} − y_{j+k}‖ over pairs and the number of terms, for each k in ``ks``.
+def orbit_shifts(pts: np.ndarray, ref: np.ndarray, nbr: np.ndarray) -> np.ndarray:
+    """Fractional sample shift s of each neighbour to the point of its orbit closest to y_i.
 
-    ``ks`` is increasing. Pairs leaving the data or at zero distance are skipped at that k.
-    The logarithm dominates the cost, so squared distances are multiplied in groups of up to
-    eight (flushed early before the product could leave [1e-200, 1e200]) and one log is
-    taken per group: ln a + ln b = ln ab.
+    Minimises ‖y(j + s) − y_i‖ with y(j + s) = y_j + s v + s²/2 a (central differences
+    v, a through y_{j−1}, y_j, y_{j+1}) by a few Newton steps from s = 0, clipped to
+    [−1, 1]; 0 at the ends of the data. A sampled flow leaves each nearest neighbour up to
+    half a sampling step *along* the flow from the closest point of its orbit.
     """
     n, m = pts.shape
+    out = np.zeros(ref.size)
+    for p in range(ref.size):
+        i = ref[p]
+        j = nbr[p]
+        if j < 1 or j + 1 >= n:
+            continue
+        s = 0.0
+        for _ in range(4):
+            grad = 0.0
+            curv = 0.0
+            for c in range(m):
+                vel = 0.5 * (pts[j + 1, c] - pts[j - 1, c])
+                acc = pts[j + 1, c] - 2.0 * pts[j, c] + pts[j - 1, c]
+                r = pts[j, c] + s * vel + 0.5 * s * s * acc - pts[i, c]
+                dr = vel + s * acc
+                grad += r * dr
+                curv += dr * dr + r * acc
+            if curv <= 0.0:
+                break
+            s = min(1.0, max(-1.0, s - grad / curv))
+        out[p] = s
+    return out
+
+
+@njit(cache=True)
+def log_divergence(
+    pts: np.ndarray,
+    ref: np.ndarray,
+    nbr: np.ndarray,
+    ks: np.ndarray,
+    mode: int,
+    shift: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Σ ln d_k over pairs and the number of terms, for each k in ``ks`` (distance ``mode``).
+
+    ``ks`` is increasing; ``shift`` holds each neighbour's orbit shift (ORBIT modes). Pairs
+    leaving the data or at zero distance are skipped at that k. The logarithm dominates the
+    cost, so squared distances are multiplied in groups of up to eight (flushed early
+    before the product could leave [1e-200, 1e200]) and one log is taken per group:
+    ln a + ln b = ln ab.
+    """
+    n, m = pts.shape
+    edge = 1 if mode >= ORBIT else 0  # the interpolated neighbour needs y_{j+k+1}
     total = np.zeros(ks.size)
     count = np.zeros(ks.size, dtype=np.int64)
     prod = np.ones(ks.size)
@@ -58,17 +136,29 @@ def log_divergence(
     for p in range(ref.size):
         i = ref[p]
         j = nbr[p]
+        # Lagrange weights of y_{j−1}, y_j, y_{j+1} for the orbit point y(j + s)
+        s = shift[p]
+        w_prev = 0.5 * s * (s - 1.0)
+        w_here = 1.0 - s * s
+        w_next = 0.5 * s * (s + 1.0)
         for q in range(ks.size):
             k = ks[q]
-            if i + k >= n or j + k >= n:
+            if i + k >= n or j + k + edge >= n:
                 break
-            if transverse:
-                d2 = _sq_distance(pts, i + k, j + k, True)
-            else:
+            if mode == EUCLIDEAN:
                 d2 = 0.0
                 for c in range(m):
                     diff = pts[j + k, c] - pts[i + k, c]
                     d2 += diff * diff
+            elif mode == ORBIT:
+                d2 = 0.0
+                jp = max(j + k - 1, 0)  # weight 0 when s = 0
+                for c in range(m):
+                    y = w_prev * pts[jp, c] + w_here * pts[j + k, c] + w_next * pts[j + k + 1, c]
+                    diff = y - pts[i + k, c]
+                    d2 += diff * diff
+            else:
+                d2 = _pair_sq(pts, i + k, j + k, shift[p], mode)
             if d2 > 0.0:
                 pr = prod[q] * d2
                 if held[q] == 8 or pr < 1e-200 or pr > 1e200:
@@ -85,13 +175,19 @@ def log_divergence(
 
 @njit(cache=True)
 def pair_slopes(
-    pts: np.ndarray, ref: np.ndarray, nbr: np.ndarray, ks: np.ndarray, transverse: bool
+    pts: np.ndarray,
+    ref: np.ndarray,
+    nbr: np.ndarray,
+    ks: np.ndarray,
+    mode: int,
+    shift: np.ndarray,
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Least-squares slope (per sample) of ln‖y_{i+k} − y_{j+k}‖ over k in ``ks``, per pair.
+    """Least-squares slope (per sample) of each pair's ln d_k over k in ``ks``.
 
     Returns (slope, valid); a pair is invalid if it leaves the data or touches zero distance.
     """
     n = pts.shape[0]
+    edge = 1 if mode >= ORBIT else 0
     slope = np.zeros(ref.size)
     valid = np.zeros(ref.size, dtype=np.bool_)
     kbar = 0.0
@@ -105,17 +201,17 @@ def pair_slopes(
     for p in range(ref.size):
         i = ref[p]
         j = nbr[p]
-        if i + last >= n or j + last >= n:
+        if i + last >= n or j + last + edge >= n:
             continue
         sxy = 0.0
         ok = True
         for q in range(ks.size):
             k = ks[q]
-            ld = _log_distance(pts, i + k, j + k, transverse)
-            if ld == -np.inf:
+            d2 = _pair_sq(pts, i + k, j + k, shift[p], mode)
+            if d2 <= 0.0:
                 ok = False
                 break
-            sxy += (k - kbar) * ld
+            sxy += (k - kbar) * 0.5 * np.log(d2)
         if ok:
             slope[p] = sxy / sxx
             valid[p] = True
@@ -260,15 +356,28 @@ def _find_key(keys: np.ndarray, key: int) -> int:
 
 @njit(cache=True)
 def _band_scan(
-    pts, fid, old, norm_old, w, lower, radius, upper, dlt, cos_max, stop, grid_lo, cell,
-    ncell, stride, keys, starts, members, pool, use_levels,
-):  # fmt: skip
+    pts,
+    fid,
+    old,
+    norm_old,
+    w,
+    lower,
+    radius,
+    upper,
+    dlt,
+    cos_max,
+    stop,
+    grid,
+    use_levels,
+):
     """Best candidate within ``radius`` of ``pts[fid]``: lowest widening level, then cosine.
 
     Candidates: ``|c − fid| > w``, ``c + 1 < stop``, distance in [lower, radius] and cosine
     to ``old`` ≥ ``cos_max``. The level is ⌈(d − upper)/dlt⌉ (0 inside the band) when
-    ``use_levels``, else 0. Returns (index, level, cosine); index −1 if none.
+    ``use_levels``, else 0. ``grid`` is the tuple built by ``_wolf._pool_grid``. Returns
+    (index, level, cosine); index −1 if none.
     """
+    grid_lo, cell, ncell, stride, keys, starts, members, pool = grid
     m = pts.shape[1]
     g = grid_lo.size
     reach = int(np.floor(radius / cell)) + 1
@@ -289,7 +398,9 @@ def _band_scan(
     best_d2 = np.inf
     r2 = radius * radius
     rc2 = (radius / cell) ** 2
-    for t in range(total):
+    # visiting more cells than there are candidates costs more than scanning them all
+    brute = total > members.size // 4
+    for t in range(1 if brute else total):
         key = 0
         rest = t
         inside = True
@@ -306,12 +417,16 @@ def _band_scan(
             elif off < 0:
                 gap2 += (frac[d] - off - 1.0) ** 2
             key += c * stride[d]
-        if not inside or gap2 > rc2:
-            continue
-        pos = _find_key(keys, key)
-        if pos < 0:
-            continue
-        for q in range(starts[pos], starts[pos + 1]):
+        if brute:
+            lo, hi = 0, members.size
+        else:
+            if not inside or gap2 > rc2:
+                continue
+            pos = _find_key(keys, key)
+            if pos < 0:
+                continue
+            lo, hi = starts[pos], starts[pos + 1]
+        for q in range(lo, hi):
             c = members[q]
             if abs(c - fid) <= w or c + 1 >= stop:
                 continue
@@ -319,6 +434,8 @@ def _band_scan(
             for k in range(m):
                 diff = pool[q, k] - pts[fid, k]
                 d2 += diff * diff
+                if d2 > r2:
+                    break
             if d2 > r2:
                 continue
             dist = np.sqrt(d2)
@@ -383,10 +500,7 @@ def _nearest_beyond(pts, fid, w, lower, stop, members):
 
 
 @njit(cache=True)
-def wolf_loop(
-    pts, w, lower, upper, dlt, widen, cos_max, evolve, always, grid_lo, cell, ncell, stride,
-    keys, starts, members, pool, inc,
-):  # fmt: skip
+def wolf_loop(pts, w, lower, upper, dlt, widen, cos_max, evolve, always, grid, inc):
     """Wolf's fixed-evolution/replacement loop; ln(L'/L) per sample goes into ``inc``.
 
     The pair is evolved ``evolve`` samples; then, unless the separation is still inside the
@@ -398,12 +512,12 @@ def wolf_loop(
     meeting the angle condition, intervals kept without replacement).
     """
     n, m = pts.shape
+    cell = grid[1]
+    members = grid[6]
     wide = upper + widen * dlt
+    one_pass = (2 * (int(np.floor(wide / cell)) + 1) + 1) ** grid[0].size > members.size // 4
     zero = np.zeros(m)
-    j, _, _ = _band_scan(
-        pts, 0, zero, 0.0, w, lower, wide, upper, dlt, -1.0, n, grid_lo, cell, ncell, stride,
-        keys, starts, members, pool, True,
-    )  # fmt: skip
+    j, _, _ = _band_scan(pts, 0, zero, 0.0, w, lower, wide, upper, dlt, -1.0, n, grid, True)
     if j < 0:
         j = _nearest_beyond(pts, 0, w, lower, n, members)
     if j < 0:
@@ -425,16 +539,17 @@ def wolf_loop(
             old[k] = pts[j, k] - pts[i, k]
             norm2 += old[k] * old[k]
         norm_old = np.sqrt(norm2)
-        # inside the band first: if anything qualifies there, no widening is needed
-        new, _, _ = _band_scan(
-            pts, i, old, norm_old, w, lower, upper, upper, dlt, cos_max, n, grid_lo, cell,
-            ncell, stride, keys, starts, members, pool, False,
-        )  # fmt: skip
-        if new < 0 and widen > 0:
+        # inside the band first: if anything qualifies there, no widening is needed (unless
+        # the widened search scans every candidate anyway)
+        new = -1
+        if not one_pass:
             new, _, _ = _band_scan(
-                pts, i, old, norm_old, w, lower, wide, upper, dlt, cos_max, n, grid_lo,
-                cell, ncell, stride, keys, starts, members, pool, True,
-            )  # fmt: skip
+                pts, i, old, norm_old, w, lower, upper, upper, dlt, cos_max, n, grid, False
+            )
+        if new < 0 and (widen > 0 or one_pass):
+            new, _, _ = _band_scan(
+                pts, i, old, norm_old, w, lower, wide, upper, dlt, cos_max, n, grid, True
+            )
         if new >= 0:
             angle_ok += 1
         else:

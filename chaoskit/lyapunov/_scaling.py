@@ -8,7 +8,7 @@ Rule (also in ``docs/estimators.md``):
    (``saturation = 0.6``). Beyond it a growing share of pairs has stopped separating and
    the mean bends (cutting at 0.75 biased Lorenz x low by 3–5 % at N = 5·10⁴).
 2. **Straight windows.** Among windows ``[a, b]`` inside that range, spanning at least
-   ``min_span`` samples (one mean period of the signal, at least 3), keep those whose
+   ``min_span`` samples (half a mean period of the signal, at least 3), keep those whose
    least-squares slope ``s`` is positive and whose slopes fitted to the first, middle and
    last fifth of the window (≥ 2 points each) spread by at most ``tol·s``: no visible
    curvature and no kink at either end.

@@ -866,6 +866,11 @@ class AncfLayout:
         d = end - start
         return start, math.atan2(d[1], d[0])
 
+    @property
+    def chord_angle(self) -> float:
+        """Angle (rad) of the initial chord ``start`` → ``end``."""
+        return self._chord()[1]
+
     def initial_coordinates(self) -> np.ndarray:
         """Straight, unstressed beam from ``start`` towards ``end`` with its own length."""
         start, angle = self._chord()

@@ -31,6 +31,7 @@ from mechanism._kernels import (
     rhs,
     update_latch,
 )
+from mechanism.bodies._ancf_kernels import beams_jacobian_add
 
 STATUS_RUNNING = 1
 STATUS_STEP_TOO_SMALL = -1
@@ -419,6 +420,85 @@ def _fd_jacobian(model, ws, t, q, v, vimp, kq, cv, counters):
 
 
 @njit(cache=True)
+def _projected_columns(model, ws, kbuf, cols, out):
+    """out[:, j] = −P M⁻¹ kbuf[:, j] for j in ``cols``, P = I − W S⁻¹Φq.
+
+    Reads W, Φq and the Cholesky factor of S = Φq M⁻¹Φqᵀ (lower triangle) left in ``ws``
+    by the last :func:`accelerations` call.
+    """
+    n = out.shape[0]
+    m = model.n_rows
+    y = np.empty(n)
+    u = np.empty(m)
+    for c in range(cols.shape[0]):
+        j = cols[c]
+        for i in range(n):
+            x = 0.0
+            for l in range(model.blk_lo[i], model.blk_hi[i]):
+                x -= model.minv[i, l] * kbuf[l, j]
+            y[i] = x
+        for k in range(m):
+            x = 0.0
+            for i in range(n):
+                x += ws.phiq[k, i] * y[i]
+            u[k] = x
+        for i in range(m):
+            x = u[i]
+            for k in range(i):
+                x -= ws.s[i, k] * u[k]
+            u[i] = x / ws.s[i, i]
+        for i in range(m - 1, -1, -1):
+            x = u[i]
+            for k in range(i + 1, m):
+                x -= ws.s[k, i] * u[k]
+            u[i] = x / ws.s[i, i]
+        for i in range(n):
+            x = y[i]
+            for k in range(m):
+                x -= ws.w[i, k] * u[k]
+            out[i, j] = x
+
+
+@njit(cache=True)
+def _hybrid_jacobian(model, ws, t, q, v, vimp, kq, cv, fd_cols, an_cols, counters):
+    """∂q̈/∂q and ∂q̈/∂q̇: forward differences for the columns ``fd_cols`` and, for the
+    interior ANCF coordinates ``an_cols`` (no joint or contact point reads them, so they
+    enter q̈ only through Q = −F_e − F_d), the exact −P M⁻¹ ∂F/∂q from the analytic
+    element Jacobian (docs/ancf.md §8): 2·len(fd_cols) + 1 evaluations instead of 2n + 1.
+    """
+    n = q.shape[0]
+    f0 = np.empty(n)
+    f1 = np.empty(n)
+    accelerations(model, ws, t, q, v, vimp, f0, counters)
+    if an_cols.shape[0] > 0:
+        kbuf = np.zeros((n, n))
+        beams_jacobian_add(model.beam_i, model.beam_f, q, 1.0, 0.0, kbuf)
+        _projected_columns(model, ws, kbuf, an_cols, kq)
+        kbuf[:, :] = 0.0
+        beams_jacobian_add(model.beam_i, model.beam_f, q, 0.0, 1.0, kbuf)
+        _projected_columns(model, ws, kbuf, an_cols, cv)
+    qp = q.copy()
+    vp = v.copy()
+    for c in range(fd_cols.shape[0]):
+        j = fd_cols[c]
+        eps = 1.4901161193847656e-08 * max(abs(q[j]), 1e-2)
+        qp[j] = q[j] + eps
+        accelerations(model, ws, t, qp, v, vimp, f1, counters)
+        qp[j] = q[j]
+        for i in range(n):
+            kq[i, j] = (f1[i] - f0[i]) / eps
+    for c in range(fd_cols.shape[0]):
+        j = fd_cols[c]
+        eps = 1.4901161193847656e-08 * max(abs(v[j]), 1e-1)
+        vp[j] = v[j] + eps
+        accelerations(model, ws, t, q, vp, vimp, f1, counters)
+        vp[j] = v[j]
+        for i in range(n):
+            cv[i, j] = (f1[i] - f0[i]) / eps
+    counters[CNT_JAC] += 1
+
+
+@njit(cache=True)
 def genalpha_advance(
     model,
     ws,
@@ -444,6 +524,9 @@ def genalpha_advance(
     entry_depth,
     projection,
     max_steps,
+    fixed_step,
+    fd_cols,
+    an_cols,
 ):
     """Advance a variable-step generalized-α integration (Chung & Hulbert 1993) of
     q̈ = a(t, q, q̇) until ``t ≥ t_stop`` (or ``t_end``).
@@ -458,6 +541,12 @@ def genalpha_advance(
     exceeds the tolerance, or when a
     separated clearance joint would enter contact deeper than ``entry_depth`` × clearance
     (so that every impact starts with a short step and a well-defined approach speed).
+
+    With ``fixed_step`` > 0 the error test is skipped and every step after an accepted
+    one is ``fixed_step`` (pass ``max_step`` ≤ ``fixed_step``): the fixed-step scheme of
+    structural dynamics, whose numerical damping (ρ∞ < 1) removes unresolved stiff modes
+    that would otherwise hold an error-controlled step at their period (ANCF axial
+    modes, docs/ancf.md §8).
 
     ``state`` = [t, h, Jacobian valid, unused]. Returns 1 (``t_stop`` reached), 0 (done) or
     a negative failure status.
@@ -505,7 +594,7 @@ def genalpha_advance(
             status = STATUS_STEP_TOO_SMALL
             break
         if not jac_valid:
-            _fd_jacobian(model, ws, t, q, v, vimp, kq, cv, counters)
+            _hybrid_jacobian(model, ws, t, q, v, vimp, kq, cv, fd_cols, an_cols, counters)
             jac_valid = True
             fresh = True
             h_lu = -1.0
@@ -591,7 +680,7 @@ def genalpha_advance(
             counters[CNT_REJECTED] += 1
             h *= 0.3
             continue
-        if not e <= 1.0:
+        if fixed_step <= 0.0 and not e <= 1.0:
             counters[CNT_REJECTED] += 1
             h *= max(0.2, 0.9 * e ** (-1.0 / 3.0)) if math.isfinite(e) else 0.2
             continue
@@ -634,8 +723,11 @@ def genalpha_advance(
                 status = STATUS_SINGULAR
                 break
             accelerations(model, ws, t, q, v, vimp, acc, counters)
-        grow = 2.0 if e < 1e-10 else min(2.0, max(0.2, 0.9 * e ** (-1.0 / 3.0)))
-        h *= grow
+        if fixed_step > 0.0:
+            h = fixed_step
+        else:
+            grow = 2.0 if e < 1e-10 else min(2.0, max(0.2, 0.9 * e ** (-1.0 / 3.0)))
+            h *= grow
     state[0] = t
     state[1] = h
     state[2] = 1.0 if jac_valid else 0.0

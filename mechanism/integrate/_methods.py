@@ -305,6 +305,28 @@ class Dopri5(Integrator):
         )
 
 
+def _jacobian_columns(model: Model) -> tuple[np.ndarray, np.ndarray]:
+    """(finite-difference columns, analytic columns) of the generalized-α Jacobian.
+
+    A node of an ANCF beam that no point of the point table reads (no joint, contact or
+    output touches it) enters q̈ only through its elastic and damping forces, whose
+    Jacobian the element provides; every other coordinate is differenced.
+    """
+    km = model.kernel
+    n = model.n_dof
+    node_start = np.full(n, -1, dtype=np.int64)  # first coordinate of the node of a beam DOF
+    for o, ne in km.beam_i[:, :2]:
+        idx = np.arange(o, o + 4 * (ne + 1))
+        node_start[idx] = o + 4 * ((idx - o) // 4)
+    analytic = node_start >= 0
+    for row in km.pt_i:
+        for d in (row[1], row[3], *row[4:8]):
+            if d >= 0 and node_start[d] >= 0:
+                analytic[node_start[d] : node_start[d] + 4] = False
+    cols = np.arange(n, dtype=np.int64)
+    return np.ascontiguousarray(cols[~analytic]), np.ascontiguousarray(cols[analytic])
+
+
 @dataclass(frozen=True, kw_only=True)
 class GeneralizedAlpha(Integrator):
     """Implicit generalized-α integrator for stiff contact (Chung & Hulbert 1993).
@@ -323,6 +345,15 @@ class GeneralizedAlpha(Integrator):
         impact starts with a short step; 0 disables the check.
     max_steps : int
         Upper bound on attempted steps.
+    step : float or "max_step", optional
+        Fixed step (s), or ``"max_step"`` for the run's maximum step (``solver.max_step``,
+        else the output step of a scene with clearance joints): no local error control
+        or the output spacing when that is unbounded (the tolerances still set the
+        Newton convergence test); a step whose Newton
+        iteration fails, or that enters contact too deep, is retried with a fraction of
+        it. For flexible (ANCF) bodies, whose stiff axial modes an error-controlled step
+        would have to resolve (docs/ancf.md §8). Default: adaptive. The method name
+        ``"generalized-alpha-fixed"`` is ``GeneralizedAlpha(step="max_step")``.
 
     Notes
     -----
@@ -336,6 +367,7 @@ class GeneralizedAlpha(Integrator):
     max_newton: int = 8
     contact_entry_depth: float = 0.01
     max_steps: int = 200_000_000
+    step: float | Literal["max_step"] | None = None
     name: str = field(default="generalized-alpha", init=False)
 
     def __post_init__(self) -> None:
@@ -345,6 +377,13 @@ class GeneralizedAlpha(Integrator):
             raise ValueError(f"max_newton must be ≥ 1; got {self.max_newton!r}.")
         if not float(self.contact_entry_depth) >= 0.0:
             raise ValueError(f"contact_entry_depth must be ≥ 0; got {self.contact_entry_depth!r}.")
+        if self.step is not None and self.step != "max_step":
+            if not (isinstance(self.step, int | float) and math.isfinite(self.step)):
+                raise ValueError(
+                    f"step must be a number > 0 (s), 'max_step' or None; got {self.step!r}."
+                )
+            if not self.step > 0.0:
+                raise ValueError(f"step must be > 0 (s); got {self.step!r}.")
 
     def integrate(
         self,
@@ -379,7 +418,19 @@ class GeneralizedAlpha(Integrator):
             apse = acc.copy()
             kq = np.zeros((n, n))
             cv = np.zeros((n, n))
-            h0 = min(max_step, 1e-3 * (t_end - t0), 1e-4)
+            fd_cols, an_cols = _jacobian_columns(model)
+            if self.step == "max_step":
+                # an unbounded run (e.g. the ideal companion) steps at the output spacing
+                fixed = float(max_step)
+                if not math.isfinite(fixed):
+                    fixed = float(t_out[1] - t_out[0]) if t_out.size > 1 else t_end - t0
+            else:
+                fixed = 0.0 if self.step is None else float(self.step)
+            if fixed > 0.0:
+                max_step = min(max_step, fixed)
+                h0 = max_step
+            else:
+                h0 = min(max_step, 1e-3 * (t_end - t0), 1e-4)
             state = np.array([t0, h0, 0.0, 0.0])
             ik.record_sample(km, ws, rec, 0, t0, y, vimp, np.empty_like(y), counters.copy())
             cursor[0] = 1
@@ -391,6 +442,7 @@ class GeneralizedAlpha(Integrator):
                         contact, counters, t_stop, t_end, rtol, atol, max_step,
                         float(self.rho_inf), int(self.max_newton),
                         float(self.contact_entry_depth), projection, self.max_steps,
+                        fixed, fd_cols, an_cols,
                     )  # fmt: skip
                     bar.update(state[0])
                     if status != ik.STATUS_RUNNING:
@@ -514,6 +566,7 @@ METHODS: tuple[str, ...] = (
     "BDF",
     "LSODA",
     "generalized-alpha",
+    "generalized-alpha-fixed",
 )
 
 
@@ -533,6 +586,8 @@ def resolve_method(method: str | Integrator) -> Integrator:
         return Dopri5()
     if method == "generalized-alpha":
         return GeneralizedAlpha()
+    if method == "generalized-alpha-fixed":
+        return GeneralizedAlpha(step="max_step")
     if method in ("RK45", "DOP853", "Radau", "BDF", "LSODA"):
         return ScipyIVP(method=method)  # type: ignore[arg-type]
     raise ValueError(f"method must be one of {list(METHODS)} or an Integrator; got {method!r}.")

@@ -186,6 +186,13 @@ class AncfBeam:
     end: Annotated[Vec2, Unit("m")]  # initial global position of the last node
     mass: Annotated[Real, Gt(0), Unit("kg")] | None = None  # default density*area*length
     rigid_inertia: Annotated[Real, Gt(0), Unit("kg m2")] | None = None  # about the centroid
+    # formulation (docs/ancf.md §1): Biot strain + material curvature pass S4/S5; the
+    # paper's literal form is axial_strain = "green", curvature = "linear"
+    axial_strain: Literal["biot", "green"] = "biot"
+    curvature: Literal["material", "geometric", "linear"] = "material"
+    # elastic initial velocities (m/s) on sin(k pi s/L), k = 1, 2, ..., along the left
+    # normal of the chord, added to the rigid motion (Simeon's slider-crank, S6)
+    initial_sine_velocities: Annotated[tuple[Real, ...], Unit("m s-1")] = ()
 
     @property
     def point_names(self) -> tuple[str, ...]:
@@ -272,7 +279,10 @@ class FrictionLaw:
 @with_config(_CONFIG)
 @dataclass(frozen=True, kw_only=True)
 class WearSettings:
-    """Archard wear of a clearance joint (issue 7); used only when ``effects.wear`` is on.
+    """Archard wear of a clearance joint (issue 7).
+
+    A non-empty profile always shapes the contact (local clearance and stiffness); wear is
+    accumulated during a simulation only when ``effects.wear`` is on.
 
     A profile is empty (unworn) or holds one depth per region, region n covering the
     angles [n, n + 1)·2π/``regions`` of that part's own frame.
@@ -285,6 +295,8 @@ class WearSettings:
     smoothing_regions: Annotated[Count, Ge(1), Unit("1")] = 5
     bearing_profile: Annotated[tuple[Annotated[Real, Ge(0)], ...], Unit("m")] = ()
     journal_profile: Annotated[tuple[Annotated[Real, Ge(0)], ...], Unit("m")] = ()
+    # bound of the worn local R* relative to the unworn one (flat or bulging worn patches)
+    radius_ratio_limit: Annotated[Real, Ge(1), Unit("1")] = 10.0
 
 
 @with_config(_CONFIG)

@@ -37,27 +37,86 @@ def test_henon_map(method) -> None:
     assert res.ci[0] < res.mle < res.ci[1]
 
 
-@pytest.mark.parametrize("n", [10_000, 50_000])
-def test_lorenz_x_rosenstein(n: int) -> None:
-    res = lyapunov_rosenstein(systems.lorenz(n, dt=0.01)[:, 0], dt=0.01)
+# initial conditions for the robustness tests (each run discards 5000 samples of transient)
+LORENZ_ICS = [(1.0, 1.0, 1.0), (-5.0, 3.0, 20.0), (2.0, -7.0, 25.0), (10.0, 10.0, 30.0)]
+ROSSLER_ICS = [(1.0, 1.0, 0.0), (-3.0, 2.0, 0.1), (4.0, -1.0, 0.3), (-6.0, -2.0, 0.5)]
+
+
+def _lorenz_x(n: int, ic: int) -> np.ndarray:
+    return systems.lorenz(n, dt=0.01, initial=LORENZ_ICS[ic])[:, 0]
+
+
+def _rossler_x(n: int, ic: int) -> np.ndarray:
+    return systems.rossler(n, dt=0.05, initial=ROSSLER_ICS[ic])[:, 0]
+
+
+def _covers(res, value: float) -> bool:
+    return res.ci[0] <= value <= res.ci[1]
+
+
+@pytest.mark.parametrize("ic", [0, 1, 2])
+def test_lorenz_x_rosenstein_50k(ic: int) -> None:
+    res = lyapunov_rosenstein(_lorenz_x(50_000, ic), dt=0.01)
     assert_allclose(res.mle, LORENZ, rtol=0.05)
-    assert res.fit_found and res.embedding_dim == 3 and 15 <= res.lag <= 19
+    assert _covers(res, LORENZ), res.ci
+    assert res.fit_found and res.embedding_dim == 3 and 15 <= res.lag <= 20
+    # a flow: the mean of the nearest-sample and closest-orbit-point curves
+    assert res.params["neighbor"] == "mean" and res.params["distance"] == "euclidean"
     # the fit starts after the alignment transient and ends before saturation
     assert 20 <= res.fit_range[0] < res.fit_range[1] <= 500
 
 
-@pytest.mark.parametrize("n", [10_000, 50_000])
-def test_lorenz_x_wolf(n: int) -> None:
-    res = lyapunov_wolf(systems.lorenz(n, dt=0.01)[:, 0], dt=0.01)
+@pytest.mark.parametrize("ic", [0, 1, 2, 3])
+def test_lorenz_x_rosenstein_10k(ic: int) -> None:
+    """N = 10⁴ (≈ 60 orbits): −5 … +7 % over these initial conditions, interval covers."""
+    res = lyapunov_rosenstein(_lorenz_x(10_000, ic), dt=0.01)
+    assert_allclose(res.mle, LORENZ, rtol=0.08)
+    assert _covers(res, LORENZ), res.ci
+    assert res.fit_found
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("ic", [0, 1, 2, 3])
+def test_lorenz_x_rosenstein_100k(ic: int) -> None:
+    res = lyapunov_rosenstein(_lorenz_x(100_000, ic), dt=0.01)
+    assert_allclose(res.mle, LORENZ, rtol=0.055)
+    assert _covers(res, LORENZ), res.ci
+
+
+def test_lorenz_x_wolf_10k() -> None:
+    res = lyapunov_wolf(_lorenz_x(10_000, 0), dt=0.01)
     assert_allclose(res.mle, LORENZ, rtol=0.10)
 
 
-@pytest.mark.parametrize("n", [50_000, 100_000])
-def test_rossler_x_rosenstein(n: int) -> None:
-    res = lyapunov_rosenstein(systems.rossler(n, dt=0.05)[:, 0], dt=0.05)
+@pytest.mark.parametrize("ic", [0, 1, 2])
+def test_lorenz_x_wolf_50k(ic: int) -> None:
+    res = lyapunov_wolf(_lorenz_x(50_000, ic), dt=0.01)
+    assert_allclose(res.mle, LORENZ, rtol=0.10)
+    assert res.params["max_angle_rule"] == "auto: 45°"
+
+
+@pytest.mark.parametrize("ic", [0, 1, 2, 3])
+def test_rossler_x_rosenstein_50k(ic: int) -> None:
+    res = lyapunov_rosenstein(_rossler_x(50_000, ic), dt=0.05)
     assert_allclose(res.mle, ROSSLER, rtol=0.10)
     # weak chaos per orbit: the automatic rule switches to the transverse distance
     assert res.params["distance"] == "transverse"
+
+
+@pytest.mark.parametrize("ic", [0, 1, 2, 3])
+def test_rossler_x_wolf_50k(ic: int) -> None:
+    res = lyapunov_wolf(_rossler_x(50_000, ic), dt=0.05)
+    assert_allclose(res.mle, ROSSLER, rtol=0.10)
+    # weak chaos per orbit: the automatic rule tightens the replacement angle
+    assert res.params["max_angle"] == pytest.approx(0.2)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("method", METHODS)
+@pytest.mark.parametrize("ic", [0, 1, 2, 3])
+def test_rossler_x_100k(method, ic: int) -> None:
+    res = method(_rossler_x(100_000, ic), dt=0.05)
+    assert_allclose(res.mle, ROSSLER, rtol=0.10)
 
 
 def test_distance_rule_keeps_euclidean_for_lorenz_and_maps() -> None:
@@ -75,6 +134,47 @@ def test_explicit_distances_differ_only_in_the_curve() -> None:
     assert t.mle > e.mle  # removing the neutral along-flow part steepens the curve
     with pytest.raises(ValueError, match="distance must be one of"):
         lyapunov_rosenstein(x, dt=0.05, distance="manhattan")
+
+
+def test_orbit_shift_finds_the_closest_point_of_a_sampled_orbit() -> None:
+    """Two concentric circles sampled coarsely: the orbit distance is the radial gap."""
+    from chaoskit.lyapunov import _kernels as _k
+
+    t = np.arange(400) * 0.1
+    inner = np.c_[np.cos(t), np.sin(t)]
+    outer = 1.01 * np.c_[np.cos(t[:200] + 0.037), np.sin(t[:200] + 0.037)]
+    pts = np.ascontiguousarray(np.vstack([inner[:200], outer]))
+    ref = np.arange(10, 190, dtype=np.int64)
+    nbr = ref + 200  # same sample index on the outer circle, 0.037 rad ahead
+    shift = _k.orbit_shifts(pts, ref, nbr)
+    assert_allclose(shift, -0.37, atol=0.01)  # −0.037 rad at 0.1 rad per sample
+    pairs = zip(ref, nbr, shift, strict=True)
+    d_orbit = [np.sqrt(_k._orbit_sq_distance(pts, i, j, s)) for i, j, s in pairs]
+    d_sample = np.linalg.norm(pts[nbr] - pts[ref], axis=1)
+    assert_allclose(d_orbit, 0.01, rtol=2e-3)
+    assert np.all(d_sample > 0.037)
+
+
+def test_neighbor_options_and_the_mean_curve() -> None:
+    x = _lorenz_x(20_000, 0)
+    kw = {"dt": 0.01, "max_horizon": 400, "fit_range": (80, 250)}
+    sample = lyapunov_rosenstein(x, neighbor="sample", **kw)
+    orbit = lyapunov_rosenstein(x, neighbor="orbit", **kw)
+    mean = lyapunov_rosenstein(x, neighbor="mean", **kw)
+    auto = lyapunov_rosenstein(x, **kw)
+    assert (sample.params["neighbor"], orbit.params["neighbor"]) == ("sample", "orbit")
+    assert auto.params["neighbor"] == "mean" and auto.mle == mean.mle
+    # moving each neighbour to its orbit's closest point removes the along-flow offset
+    assert orbit.curve[0] < sample.curve[0] - 0.3
+    assert_allclose(mean.curve, 0.5 * (sample.curve + orbit.curve), rtol=1e-12)
+    assert sample.mle < mean.mle < orbit.mle
+    # the interval is widened by half the sample-vs-orbit slope difference
+    assert_allclose(mean.params["ci_neighbor_half_width"], 0.5 * (orbit.mle - sample.mle))
+    assert mean.ci[1] - mean.mle >= mean.params["ci_neighbor_half_width"]
+    # maps have no flow direction: nearest sample
+    assert lyapunov_rosenstein(systems.henon(3000)[:, 0]).params["neighbor"] == "sample"
+    with pytest.raises(ValueError, match="neighbor must be one of"):
+        lyapunov_rosenstein(x, dt=0.01, neighbor="closest")
 
 
 def _sine(n: int) -> tuple[np.ndarray, float]:
@@ -128,6 +228,7 @@ def test_rosenstein_agrees_with_nolds(name, x, dt, m, lag, w, fit) -> None:
         max_horizon=b,
         fit_range=fit,
         max_points=10**6,
+        neighbor="sample",
     )
     assert_allclose(res.mle, expected, rtol=0.02)
     assert res.fit_range == fit and not res.subsampled

@@ -186,18 +186,15 @@ def test_points_that_raise_are_recorded_and_the_rest_finish(scene, tmp_path, tra
         scene, grid=grid, revolutions=2, analysis=METRICS_ONLY, client="serial", store=tmp_path
     )
     status = ds["status"]
-    ok = status.sel(wear="before", boom="no")
-    assert (ok == "ok").all()
-    assert np.isfinite(ds["peak_contact_force"].where(status == "ok")).sum() == 2
-    after = ds.sel(wear="after", boom="no")
-    assert (after["status"] == "failed").all()
-    assert all("NotImplementedError" in m and "issue 7" in m for m in after["message"].values)
-    boom = ds.sel(wear="before", boom="raise")
+    ok = status.sel(boom="no")
+    assert (ok == "ok").all()  # wear = "after" runs on the worn scene of predict_wear
+    assert np.isfinite(ds["peak_contact_force"].where(status == "ok")).sum() == 4
+    boom = ds.sel(boom="raise")
     assert (boom["status"] == "failed").all()
-    assert all("deliberate failure" in m for m in boom["message"].values)
+    assert all("deliberate failure" in m for m in boom["message"].values.ravel())
     flat = ds.stack(point=list(grid))
     failed = flat.isel(point=np.flatnonzero(flat["status"].values != "ok"))
-    assert failed.sizes["point"] == 6
+    assert failed.sizes["point"] == 4
     assert np.isnan(failed["peak_contact_force"]).all()
     assert (failed["trajectory_file"] == "").all()
 
@@ -413,35 +410,35 @@ def _fake_analyze(data, *, variables, **options):
     )
 
 
-def test_analysis_fields_are_gathered_with_a_variable_dim(scene, tmp_path, monkeypatch):
+def test_analysis_fields_are_gathered_with_a_variable_dim(scene, tmp_path, monkeypatch, transforms):
     monkeypatch.setattr(chaoskit, "analyze", _fake_analyze, raising=False)
     analysis = mechanism.Analysis(max_samples=50, discard_revolutions=1.0)
     ds = _stand_in_sweep(
         scene,
         tmp_path,
-        grid={CLEARANCE: [1e-4, 2e-4], "wear": ["before", "after"]},
+        grid={CLEARANCE: [1e-4, 2e-4], "boom": ["no", "raise"]},
         analysis=analysis,
     )
     assert list(ds["variable"].values) == ["eccentricity_x", "eccentricity_y"]
-    assert ds["lag"].dims == (CLEARANCE, "wear", "variable")
+    assert ds["lag"].dims == (CLEARANCE, "boom", "variable")
     assert ds["lag"].dtype == np.float64
-    np.testing.assert_array_equal(ds["lag"].sel(wear="before").values, [[3, 4], [3, 4]])
-    assert np.isnan(ds["lag"].sel(wear="after")).all()  # failed points: NaN
-    assert (ds["label"].sel(wear="before") == "periodic").all()
-    assert (ds["label"].sel(wear="after") == "").all()
+    np.testing.assert_array_equal(ds["lag"].sel(boom="no").values, [[3, 4], [3, 4]])
+    assert np.isnan(ds["lag"].sel(boom="raise")).all()  # failed points: NaN
+    assert (ds["label"].sel(boom="no") == "periodic").all()
+    assert (ds["label"].sel(boom="raise") == "").all()
     # the analysed series is the window after the discard, decimated to <= max_samples:
     # 2 revolutions x 200 samples + 1 -> stride 9 -> 45 samples
-    np.testing.assert_array_equal(ds["n_samples"].sel(wear="before").values, 45)
+    np.testing.assert_array_equal(ds["n_samples"].sel(boom="no").values, 45)
     # ptp of eccentricity_y = c sin(phi) over whole turns is 2c (up to the decimation)
-    ptp = ds["mle_rosenstein"].sel(wear="before", variable="eccentricity_y").values
+    ptp = ds["mle_rosenstein"].sel(boom="no", variable="eccentricity_y").values
     np.testing.assert_allclose(ptp, [2e-4, 4e-4], rtol=2e-2)
     assert ds["mle_rosenstein"].attrs["units"] == "s-1"
 
-    cmap = mechanism.chaos_map(ds, x="wear", y=CLEARANCE, variable="eccentricity_y")
-    assert cmap["mle"].dims == (CLEARANCE, "wear")
+    cmap = mechanism.chaos_map(ds, x="boom", y=CLEARANCE, variable="eccentricity_y")
+    assert cmap["mle"].dims == (CLEARANCE, "boom")
     assert cmap.attrs["mle_field"] == "mle_rosenstein"
     assert cmap.attrs["verdict_field"] == "label"
-    assert list(cmap["verdict"].sel(wear="before").values) == ["periodic", "periodic"]
+    assert list(cmap["verdict"].sel(boom="no").values) == ["periodic", "periodic"]
     with pytest.raises(ValueError, match="not a grid key"):
         mechanism.chaos_map(ds, x="speed", y=CLEARANCE)
 
@@ -500,11 +497,11 @@ def test_stroboscopic_points_feed_the_bifurcation_diagram(scene, tmp_path):
     plt.close(ax.figure)
 
 
-def test_stroboscopic_points_leave_failed_points_empty(scene, tmp_path):
-    ds = _stand_in_sweep(scene, tmp_path, grid={CLEARANCE: [1e-4], "wear": ["before", "after"]})
+def test_stroboscopic_points_leave_failed_points_empty(scene, tmp_path, transforms):
+    ds = _stand_in_sweep(scene, tmp_path, grid={CLEARANCE: [1e-4], "boom": ["no", "raise"]})
     pts = mechanism.stroboscopic_points(ds, variables=["eccentricity_x"])
-    assert np.isfinite(pts["eccentricity_x"].sel(wear="before")).all()
-    assert np.isnan(pts["eccentricity_x"].sel(wear="after")).all()
+    assert np.isfinite(pts["eccentricity_x"].sel(boom="no")).all()
+    assert np.isnan(pts["eccentricity_x"].sel(boom="raise")).all()
 
 
 def test_sweep_dataset_writes_to_netcdf_with_dotted_dims(scene, tmp_path):

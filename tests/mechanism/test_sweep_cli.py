@@ -50,14 +50,14 @@ def test_serial_sweep_from_the_command_line_and_resume(tmp_path):
     result = CliRunner().invoke(app, args)
     assert result.exit_code == 0, result.output
     assert "4 points: 4 to run, 0 already done" in result.output
-    assert "4 points: 2 ok, 2 failed, 0 diverged" in result.output
-    assert result.output.count("NotImplementedError") == 2
+    # wear = "after" runs on the worn scene of predict_wear (issue 7)
+    assert "4 points: 4 ok, 0 failed, 0 diverged" in result.output
     ds = mechanism.load_sweep(store)
-    assert ds["status"].sel(wear="before").values.tolist() == ["ok", "ok"]
-    assert ds["peak_contact_force"].sel(wear="before").notnull().all()
+    assert ds["status"].values.ravel().tolist() == ["ok"] * 4
+    assert ds["peak_contact_force"].notnull().all()
     again = CliRunner().invoke(app, args)
     assert again.exit_code == 0, again.output
-    assert "4 points: 2 to run, 2 already done" in again.output  # failed points retried
+    assert "4 points: 0 to run, 4 already done" in again.output
 
 
 def test_local_cluster_sweep_shows_progress(tmp_path):

@@ -1,0 +1,132 @@
+"""Cost and accuracy of the integrators on flexible (ANCF) scenes (issue 6).
+
+Writes ``docs/benchmarks/flexible-integrators.csv``: wall time, steps, right-hand sides
+and the errors of the slider position and mid-span deflection against the S6 reference
+(validation-targets S6), for each integrator, element count and step/tolerance; and
+the paper scene with both rods flexible. Run from the repository root::
+
+    python benchmarks/flexible_integrators.py [--quick]
+
+Wall times are from a shared 2-core machine (JIT warmed up by a first short run).
+"""
+
+from __future__ import annotations
+
+import csv
+import sys
+import time
+from pathlib import Path
+
+import mechanism
+
+S6_X = 0.169737332842786
+S6_W = 1.8932e-4
+OUT = Path(__file__).resolve().parents[1] / "docs" / "benchmarks" / "flexible-integrators.csv"
+
+
+def s6_case(label, method, *, elements=16, t_end=0.1, rtol=1e-6, atol=1e-8, max_step=None):
+    scene = mechanism.load_scene("flexible-slider-crank").replace({"bodies.rod.elements": elements})
+    if max_step is not None:
+        scene = scene.replace({"solver.max_step": max_step})
+    mechanism.simulate(
+        scene,
+        t_end=min(t_end, 2e-4),
+        method=method,
+        rtol=rtol,
+        atol=atol,
+        output_step=1e-4,
+        throw=False,
+    )  # warm-up (JIT)
+    start = time.perf_counter()
+    ds = mechanism.simulate(
+        scene, t_end=t_end, method=method, rtol=rtol, atol=atol, output_step=1e-4, throw=False
+    )
+    wall = time.perf_counter() - start
+    a = ds.attrs
+    row = dict(
+        scene="flexible-slider-crank",
+        integrator=label,
+        elements=elements,
+        rtol=rtol,
+        atol=atol,
+        step=max_step or "",
+        t_end=float(ds.time[-1]),
+        wall_s=round(wall, 3),
+        wall_per_simulated_s=round(wall / float(ds.time[-1]), 2),
+        steps=a["solver_steps"],
+        rejected=a["solver_rejected_steps"],
+        rhs=a["solver_function_evaluations"],
+        jacobians=a["solver_jacobian_evaluations"],
+        status=a["solver_status"],
+        strain_extreme_ue=round(float(ds["strain_rod"]), 3),
+    )
+    if abs(float(ds.time[-1]) - 0.1) < 1e-9:
+        row["slider_x_error_m"] = f"{float(ds.slider_position[-1]) - S6_X:.3e}"
+        row["deflection_error_m"] = f"{float(ds.midspan_deflection.sel(rod='rod')[-1]) - S6_W:.3e}"
+    return row
+
+
+def paper_case(label, method, revolutions, *, max_step=None):
+    scene = mechanism.load_scene("paper").replace({"effects.flexibility": True})
+    if max_step is not None:
+        scene = scene.replace({"solver.max_step": max_step})
+    mechanism.simulate(scene, revolutions=0.002, method=method, throw=False)
+    start = time.perf_counter()
+    ds = mechanism.simulate(scene, revolutions=revolutions, method=method, throw=False)
+    wall = time.perf_counter() - start
+    a = ds.attrs
+    rev = float(ds.time[-1]) / float(a["drive_period"])
+    return dict(
+        scene="paper (flexible)",
+        integrator=label,
+        elements=16,
+        rtol=a["rtol"],
+        atol=a["atol"],
+        step=max_step or a["max_step"],
+        t_end=float(ds.time[-1]),
+        wall_s=round(wall, 2),
+        wall_per_revolution_s=round(wall / rev, 1),
+        steps=a["solver_steps"],
+        rejected=a["solver_rejected_steps"],
+        rhs=a["solver_function_evaluations"],
+        jacobians=a["solver_jacobian_evaluations"],
+        status=a["solver_status"],
+        strain_rod3_ue=round(float(ds["strain_rod3"]), 2),
+        strain_rod4_ue=round(float(ds["strain_rod4"]), 2),
+        contact_force_max_n=round(float(ds.contact_force.max()), 1),
+    )
+
+
+def main(quick: bool) -> None:
+    ga = "generalized-alpha-fixed"
+    rows = []
+    for elements in (4, 8, 16, 24):
+        rows.append(s6_case("generalized-alpha fixed", ga, elements=elements, max_step=1e-4))
+    for step in (5e-5, 2e-5):
+        rows.append(s6_case("generalized-alpha fixed", ga, max_step=step))
+    rows.append(s6_case("dopri5", "dopri5", t_end=0.01))
+    rows.append(
+        s6_case(
+            "generalized-alpha adaptive", "generalized-alpha", t_end=0.002, rtol=1e-5, atol=1e-6
+        )
+    )
+    rows.append(s6_case("Radau (scipy)", "Radau", t_end=0.002, rtol=1e-5, atol=1e-6))
+    rows.append(s6_case("BDF (scipy)", "BDF", t_end=0.002, rtol=1e-5, atol=1e-6))
+    if not quick:
+        rows.append(s6_case("generalized-alpha fixed", ga, t_end=1.0, max_step=1e-4))
+        rows.append(paper_case("generalized-alpha fixed", ga, 0.1))
+        rows.append(paper_case("dopri5", "dopri5", 0.005))
+    keys: list[str] = []
+    for row in rows:
+        keys += [k for k in row if k not in keys]
+    OUT.parent.mkdir(parents=True, exist_ok=True)
+    with OUT.open("w", newline="") as fh:
+        writer = csv.DictWriter(fh, fieldnames=keys)
+        writer.writeheader()
+        writer.writerows(rows)
+    for row in rows:
+        print(row)
+
+
+if __name__ == "__main__":
+    main("--quick" in sys.argv)

@@ -1,0 +1,234 @@
+"""The paper study (issue 8 §4): published numbers as data, and the pipeline end to end.
+
+The default tests run a tiny variant of the whole study (1.5 revolutions, a coarse output
+step, one wear update) and check that the report holds every paper table with ours beside
+it, and that our numbers are the reductions of the stored trajectories. The real
+``mechanism paper --quick`` run is marked slow.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+import xarray as xr
+
+import mechanism
+from mechanism._paper import COLUMNS, StudySettings, paper_wear_zones
+
+# CI clones the repository with shared/ beside it; developers have it at ../shared too.
+SEED_CANDIDATES = [
+    os.environ.get("CHAOSKIT_REFERENCE", ""),
+    str(Path(__file__).resolve().parents[3] / "shared" / "reference"),
+    "/work/shared/reference",
+]
+
+
+def _seed_paper() -> str:
+    for folder in SEED_CANDIDATES:
+        path = Path(folder) / "seed-paper.txt"
+        if folder and path.is_file():
+            return path.read_text(encoding="utf-8")
+    pytest.skip("seed-paper.txt not found (set CHAOSKIT_REFERENCE to its folder)")
+
+
+def _number(text: str) -> float:
+    return float(text.replace("−", "-").replace("\u2212", "-").strip())
+
+
+def _rows(text: str) -> dict[str, list[list[float]]]:
+    """Every '|'-separated line whose cells after the label are all numbers, by label."""
+    out: dict[str, list[list[float]]] = {}
+    for line in text.splitlines():
+        cells = [c.strip() for c in line.split("|")]
+        cells = [c for c in cells if c]
+        if len(cells) < 2:
+            continue
+        label, values = cells[0], cells[1:]
+        # the chaos table carries the state in the second cell ("X direction | Before wear")
+        if len(values) > 1 and not re.fullmatch(r"[−\-0-9.]+", values[0]):
+            label, values = f"{label} / {values[0]}", values[1:]
+        try:
+            numbers = [_number(v) for v in values]
+        except ValueError:
+            continue
+        out.setdefault(label, []).append(numbers)
+    return out
+
+
+# --------------------------------------------------------------------------- the data file
+
+
+def test_published_numbers_match_the_seed_paper_text():
+    rows = _rows(_seed_paper())
+    t = mechanism.paper_tables()
+
+    conv = t["convergence"]
+    assert list(conv.index) == [4, 8, 12, 16, 20, 24]
+    np.testing.assert_array_equal(conv["rod3_strain"], rows["Strain of rod 3 (μm)"][0])
+    np.testing.assert_array_equal(conv["rod4_strain"], rows["Strain of rod 4 (μm)"][0])
+
+    seven = {k: [r for r in v if len(r) == 7] for k, v in rows.items()}
+    np.testing.assert_array_equal(t["wear"].loc["before wear"], seven["Before wear"][0])
+    np.testing.assert_array_equal(t["wear"].loc["after wear"], seven["After wear"][0])
+    for label in ("0.1 mm", "0.2 mm", "0.5 mm"):
+        np.testing.assert_array_equal(t["clearance"].loc[label], seven[label][0])
+    for label in ("30 rpm", "90 rpm", "150 rpm"):
+        np.testing.assert_array_equal(t["speed"].loc[label], seven[label][0])
+    assert list(t["wear"].columns) == list(COLUMNS)
+
+    chaos = t["chaos"]
+    three = {k: [r for r in v if len(r) == 3] for k, v in rows.items()}
+    expected = {
+        ("X", "before wear"): three["X direction / Before wear"][0],
+        ("X", "after wear"): three["After wear"][0],  # the row under "X direction"
+        ("Y", "before wear"): three["Y direction / Before wear"][0],
+        ("Y", "after wear"): three["After wear"][1],
+    }
+    for key, (lag, dim, mle) in expected.items():
+        assert chaos.loc[key, "lag"] == lag
+        assert chaos.loc[key, "embedding_dim"] == dim
+        assert chaos.loc[key, "mle_wolf_bits"] == mle
+
+    # the zones and the "1.54 times" of the text (ratio 2.54) follow from the same numbers
+    text = _seed_paper()
+    for lo, hi in paper_wear_zones():
+        assert f"[{lo:g}°, {hi:g}°]" in text
+    ratio = (
+        t["wear"].loc["after wear", "contact_force"] / t["wear"].loc["before wear", "contact_force"]
+    )
+    assert "increased by 1.54 times" in text
+    assert math.isclose(ratio - 1.0, 1.54, abs_tol=0.005)
+
+
+def test_settings_reject_bad_values():
+    with pytest.raises(ValueError, match="revolutions"):
+        StudySettings(revolutions=1.0, discard_revolutions=1.0)
+    with pytest.raises(ValueError, match="samples_per_revolution"):
+        StudySettings(samples_per_revolution=10)
+    with pytest.raises(ValueError, match="elements"):
+        StudySettings(elements=())
+    quick = StudySettings.quick()
+    assert quick.revolutions < StudySettings.paper().revolutions
+    assert StudySettings.paper().samples_per_revolution == 10_000
+
+
+# --------------------------------------------------------------------------- the pipeline
+
+TINY = {
+    "revolutions": 1.5,
+    "discard_revolutions": 0.5,
+    "samples_per_revolution": 400,
+    "flexible_rods": False,
+    "wear_updates": 1,
+    "wear_cycles_per_update": 1.0e4,
+    "wear_settle_revolutions": 0.25,
+    "elements": (4,),
+    "convergence_revolutions": 0.02,
+    "n_surrogates": 0,
+    "max_samples": 500,
+}
+
+
+@pytest.fixture(scope="module")
+def tiny_study(tmp_path_factory):
+    out = tmp_path_factory.mktemp("paper")
+    return mechanism.run_paper_study(out, client="serial", _settings=TINY, command="test")
+
+
+def _report_tables(md: str) -> list[str]:
+    """Captions of the Markdown tables ("**Table n.** caption")."""
+    return re.findall(r"Table \d+\.\**\s*(.+)", md)
+
+
+def test_report_files_hold_every_paper_table_with_ours_beside(tiny_study):
+    study = tiny_study
+    assert study.report_html.is_file() and study.report_markdown.is_file()
+    html = study.report_html.read_text(encoding="utf-8")
+    md = study.report_markdown.read_text(encoding="utf-8")
+    captions = " ".join(_report_tables(md))
+    for needle in (
+        "Before and after wear",
+        "Clearance size, before wear, 150 rpm",
+        "Clearance size, before wear, 90 rpm",
+        "Driving speed",
+        "Element convergence",
+        "Chaos table",
+    ):
+        assert needle in captions, needle
+        assert needle in html, needle
+    assert "ours" in md and "paper" in md and "difference (%)" in md
+    # every published number is printed (reference cells use up to 6 significant digits)
+    paper = mechanism.paper_tables()
+    for name in ("wear", "clearance", "speed", "convergence"):
+        for value in paper[name].to_numpy().ravel():
+            text = f"{value:.6g}"
+            assert f"| {text} |" in md, (name, text)
+    for value in paper["chaos"]["mle_wolf_bits"]:
+        assert f"{value:.6g}" in md
+    assert "ratio after wear / before wear" in md
+    # parts this version lacks are said so, not skipped
+    for line in study.unavailable:
+        assert "NOT AVAILABLE IN THIS VERSION" in md
+        assert line.split(" (")[0] in md
+
+
+def test_our_numbers_are_reductions_of_the_stored_trajectories(tiny_study):
+    study = tiny_study
+    before = study.sweeps["before"]
+    point = before.sel({"joints.C.clearance": 2e-4, "drive.speed_rpm": 150})
+    path = Path(before.attrs["store"]) / str(point["trajectory_file"].values)
+    with xr.open_dataset(path, engine="h5netcdf") as traj:
+        angle = traj["crank_angle"].values
+        keep = np.abs(angle - angle[0]) >= 2 * np.pi * TINY["discard_revolutions"] * (1 - 1e-12)
+        force = traj["contact_force"].values[keep].max()
+        depth = traj["penetration"].values[keep].max()
+        torque = traj["driving_torque"].values[keep]
+        torque_extreme = torque[np.argmax(np.abs(torque))]
+        err = np.abs(traj["displacement_error"].values[keep]).max()
+    row = study.tables["wear"].loc["before wear"]
+    np.testing.assert_allclose(row["contact_force"], force * 1e-3, rtol=1e-12)
+    np.testing.assert_allclose(row["embedding_depth"], depth * 1e3, rtol=1e-12)
+    np.testing.assert_allclose(row["driving_torque"], torque_extreme, rtol=1e-12)
+    np.testing.assert_allclose(row["displacement_error"], err * 1e3, rtol=1e-12)
+    # the 150 rpm clearance row and the before-wear row are the same point
+    pd.testing.assert_series_equal(study.tables["clearance"].loc["0.2 mm"], row, check_names=False)
+    # rigid rods: no strains
+    assert np.isnan(row["rod3_strain"])
+    if "after" in study.sweeps:
+        after = study.tables["wear"].loc["after wear"]
+        speed = study.tables["speed"].loc["150 rpm"]
+        np.testing.assert_allclose(after.to_numpy(float), speed.to_numpy(float), rtol=1e-12)
+    conv = study.tables["convergence"]
+    assert list(conv.index) == [4, 8, 12, 16, 20, 24]  # every published row, ours or NaN
+    if hasattr(mechanism, "element_convergence"):
+        assert np.isfinite(conv.loc[4]).all(), conv
+        assert np.isnan(conv.loc[24]).all()  # not run in the tiny variant
+    ds = study.to_dataset()
+    assert set(ds["ours"].dims) == {"case", "quantity"}
+    assert ds["paper"].sel(case="wear: after wear", quantity="contact_force") == 23.33
+    for var in ds.data_vars.values():
+        assert var.attrs["units"] and var.attrs["long_name"]
+
+
+@pytest.mark.slow
+def test_quick_command_runs_end_to_end(tmp_path):
+    """The README's main job: ``mechanism paper --quick -o DIR`` (several minutes)."""
+    out = tmp_path / "paper-quick"
+    command = Path(sys.executable).parent / "mechanism"
+    done = subprocess.run(
+        [str(command), "paper", "--quick", "--no-progress", "-o", str(out)],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+    assert done.returncode == 0, done.stderr[-2000:]
+    md = (out / "report.md").read_text(encoding="utf-8")
+    assert "Chaos table" in md and "Before and after wear" in md
