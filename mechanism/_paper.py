@@ -425,9 +425,12 @@ def _predict_worn(scene: Any, settings: StudySettings) -> tuple[Any, xr.Dataset 
     profile = None
     info = ""
     try:
+        from .scene import ClearanceRevolute
         from .wear import WornProfile
 
         joint = worn.joints["C"]
+        if not isinstance(joint, ClearanceRevolute):
+            raise TypeError("the paper scene's joint C must be a clearance_revolute joint")
         profile = WornProfile.from_joint(joint).to_dataset()
         info = (
             f"{prediction.updates} updates, {float(prediction.cycles[-1]):.4g} cycles "

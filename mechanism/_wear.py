@@ -161,7 +161,7 @@ def run_wear(
             slip=slip,
             coefficient=joint.wear.coefficient,
             effective_modulus=p.effective_modulus,
-            form=p.form if p.form is not None else "sum-of-radii",
+            form=p.form if p.form is not None else "sum-of-radii",  # type: ignore[arg-type]
             spread=joint.wear.spread_over_contact_width,
             max_increment=max_increment,
             radius_ratio_limit=joint.wear.radius_ratio_limit,
@@ -241,7 +241,10 @@ def _smooth(values: np.ndarray, width: int) -> np.ndarray:
 def _with_profiles(scene: Scene, profiles: dict[str, WornProfile]) -> Scene:
     joints = dict(scene.joints)
     for name, profile in profiles.items():
-        joints[name] = profile.apply_to(joints[name])
+        joint = joints[name]
+        if not isinstance(joint, ClearanceRevolute):
+            raise TypeError(f"joint {name!r} is not a clearance_revolute joint; it has no profile.")
+        joints[name] = profile.apply_to(joint)
     return dataclasses.replace(scene, joints=joints)
 
 
@@ -360,7 +363,12 @@ def predict_wear(
     profiles = {n: WornProfile.from_joint(_clearance_joint(scene, n)) for n in names}
     if len({p.regions for p in profiles.values()}) != 1:
         raise ValueError("all clearance joints must have the same wear.regions.")
-    kwargs = {"method": method, "rtol": rtol, "atol": atol, "output_step": output_step}
+    kwargs: dict[str, Any] = {
+        "method": method,
+        "rtol": rtol,
+        "atol": atol,
+        "output_step": output_step,
+    }
 
     bar = None
     if progress:
