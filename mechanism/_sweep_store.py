@@ -164,9 +164,14 @@ def check_or_write_manifest(store: Path, manifest: Mapping[str, Any]) -> bool:
     return False
 
 
+def write_netcdf(ds: xr.Dataset, path: str | Path) -> None:
+    """Write any Dataset atomically as netCDF-4 through h5netcdf (temporary file, rename)."""
+    _atomic_write(Path(path), lambda p: ds.to_netcdf(p, engine="h5netcdf"))
+
+
 def write_summary(ds: xr.Dataset, path: Path) -> None:
     """Write one point's summary atomically (netCDF-4 through h5netcdf)."""
-    _atomic_write(path, lambda p: ds.to_netcdf(p, engine="h5netcdf"))
+    write_netcdf(ds, path)
 
 
 def read_summary(path: Path) -> xr.Dataset | None:

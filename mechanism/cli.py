@@ -5,6 +5,7 @@ from __future__ import annotations
 import typer
 
 from chaoskit._version import __version__
+from mechanism._sweep_store import write_netcdf
 
 app = typer.Typer(
     name="mechanism",
@@ -199,7 +200,7 @@ def wear_command(
         typer.echo(f"Error: {exc}", err=True)
         raise typer.Exit(code=1) from None
     ds = pred.to_dataset()
-    ds.to_netcdf(output, engine="h5netcdf")
+    write_netcdf(ds, output)
     force = ds["peak_contact_force"].values
     typer.echo(
         f"{output}: {pred.updates} updates, {float(pred.cycles[-1]):.6g} cycles, "
@@ -255,7 +256,7 @@ def convergence_command(
         raise typer.Exit(code=1) from None
     typer.echo(table.to_markdown())
     if output is not None:
-        table.to_dataset().to_netcdf(output, engine="h5netcdf")
+        write_netcdf(table.to_dataset(), output)
         typer.echo(f"{output}: written")
 
 
