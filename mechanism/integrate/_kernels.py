@@ -19,11 +19,17 @@ import numpy as np
 from numba import njit
 
 from mechanism._kernels import (
+    CF_V0,
+    CF_V1,
+    CJ_DELTA,
+    CJ_VT,
+    CNT_COLUMNS,
     CNT_JAC,
     CNT_NEWTON,
     CNT_REJECTED,
     CNT_STEPS,
     STATUS_OK,
+    _clearance_forces,
     accelerations,
     derived_outputs,
     entry_depth_ratio,
@@ -32,6 +38,8 @@ from mechanism._kernels import (
     update_latch,
 )
 from mechanism.bodies._ancf_kernels import beams_jacobian_add
+from mechanism.contact._kernels import FRICTION_NONE
+from mechanism.joints._kernels import update_points
 
 STATUS_RUNNING = 1
 STATUS_STEP_TOO_SMALL = -1
@@ -80,6 +88,7 @@ D6 = -1453857185.0 / 822651844.0
 D7 = 69997945.0 / 29380423.0
 
 _EPS = 2.220446049250313e-16
+SLOW_NEWTON = 4
 
 
 @njit(cache=True)
@@ -420,43 +429,183 @@ def _fd_jacobian(model, ws, t, q, v, vimp, kq, cv, counters):
 
 
 @njit(cache=True)
-def _projected_columns(model, ws, kbuf, cols, out):
-    """out[:, j] = −P M⁻¹ kbuf[:, j] for j in ``cols``, P = I − W S⁻¹Φq.
+def _project(model, ws, x, out, y, u):
+    """out = P M⁻¹ x, P = I − W S⁻¹Φq (the constrained response to a generalized force).
 
-    Reads W, Φq and the Cholesky factor of S = Φq M⁻¹Φqᵀ (lower triangle) left in ``ws``
-    by the last :func:`accelerations` call.
+    Reads W = M⁻¹Φqᵀ, Φq and the Cholesky factor of S = Φq M⁻¹Φqᵀ (lower triangle) left in
+    ``ws`` by the last :func:`accelerations` call; ``y`` (n) and ``u`` (m) are scratch.
     """
     n = out.shape[0]
     m = model.n_rows
-    y = np.empty(n)
-    u = np.empty(m)
-    for c in range(cols.shape[0]):
-        j = cols[c]
+    for i in range(n):
+        acc = 0.0
+        for l in range(model.blk_lo[i], model.blk_hi[i]):
+            acc += model.minv[i, l] * x[l]
+        y[i] = acc
+    for k in range(m):
+        acc = 0.0
         for i in range(n):
-            x = 0.0
-            for l in range(model.blk_lo[i], model.blk_hi[i]):
-                x -= model.minv[i, l] * kbuf[l, j]
-            y[i] = x
+            acc += ws.phiq[k, i] * y[i]
+        u[k] = acc
+    for i in range(m):
+        acc = u[i]
+        for k in range(i):
+            acc -= ws.s[i, k] * u[k]
+        u[i] = acc / ws.s[i, i]
+    for i in range(m - 1, -1, -1):
+        acc = u[i]
+        for k in range(i + 1, m):
+            acc -= ws.s[k, i] * u[k]
+        u[i] = acc / ws.s[i, i]
+    for i in range(n):
+        acc = y[i]
         for k in range(m):
-            x = 0.0
-            for i in range(n):
-                x += ws.phiq[k, i] * y[i]
-            u[k] = x
-        for i in range(m):
-            x = u[i]
-            for k in range(i):
-                x -= ws.s[i, k] * u[k]
-            u[i] = x / ws.s[i, i]
-        for i in range(m - 1, -1, -1):
-            x = u[i]
-            for k in range(i + 1, m):
-                x -= ws.s[k, i] * u[k]
-            u[i] = x / ws.s[i, i]
+            acc -= ws.w[i, k] * u[k]
+        out[i] = acc
+
+
+@njit(cache=True)
+def _projected_columns(model, ws, kbuf, cols, out):
+    """out[:, j] = −P M⁻¹ kbuf[:, j] for j in ``cols`` (see :func:`_project`), all columns
+    at once with matrix products on the mass blocks (BLAS)."""
+    n = out.shape[0]
+    m = model.n_rows
+    nk = cols.shape[0]
+    x = np.empty((n, nk))
+    for i in range(n):
+        for c in range(nk):
+            x[i, c] = -kbuf[i, cols[c]]
+    y = np.empty((n, nk))
+    i = 0
+    while i < n:
+        lo = model.blk_lo[i]
+        hi = model.blk_hi[i]
+        y[lo:hi, :] = np.dot(
+            np.ascontiguousarray(model.minv[lo:hi, lo:hi]), np.ascontiguousarray(x[lo:hi, :])
+        )
+        i = hi
+    if m == 0:
         for i in range(n):
-            x = y[i]
-            for k in range(m):
-                x -= ws.w[i, k] * u[k]
-            out[i, j] = x
+            for c in range(nk):
+                out[i, cols[c]] = y[i, c]
+        return
+    u = np.dot(np.ascontiguousarray(ws.phiq[:m, :n]), y)
+    for c in range(nk):
+        for r in range(m):
+            acc = u[r, c]
+            for k in range(r):
+                acc -= ws.s[r, k] * u[k, c]
+            u[r, c] = acc / ws.s[r, r]
+        for r in range(m - 1, -1, -1):
+            acc = u[r, c]
+            for k in range(r + 1, m):
+                acc -= ws.s[k, r] * u[k, c]
+            u[r, c] = acc / ws.s[r, r]
+    z = np.dot(np.ascontiguousarray(ws.w[:n, :m]), u)
+    for i in range(n):
+        for c in range(nk):
+            out[i, cols[c]] = y[i, c] - z[i, c]
+
+
+@njit(cache=True)
+def _contact_force(model, q, v, vimp, pci, pcf, gen, cj, scratch_counters):
+    """Generalized forces of the clearance joints alone at (q, q̇) into ``gen``."""
+    gen[:] = 0.0
+    update_points(q, v, model.pt_i, model.pt_f, pci, pcf)
+    _clearance_forces(model, pci, pcf, vimp, gen, cj, scratch_counters)
+
+
+@njit(cache=True)
+def _contact_derivatives(model, ws, q, v, vimp, cc, dq, dv, gt):
+    """Derivatives of the clearance-joint forces with respect to the coordinates ``cc``
+    they read (bearing and journal points): ``dq[a, c] = ∂Q_cc[a]/∂q_cc[c]``,
+    ``dv[a, c] = ∂Q_cc[a]/∂q̇_cc[c]`` and ``gt[j, c] = ∂v_t/∂q̇_cc[c]`` of joint j, by
+    forward differences of the contact law alone (2·len(cc) + 1 contact evaluations; the
+    generalized contact force is nonzero only on ``cc``). Returns whether any clearance
+    joint is in contact at (q, q̇); zeros when none is.
+    """
+    n = q.shape[0]
+    nc = cc.shape[0]
+    n_cj = ws.cj.shape[0]
+    pci = ws.pci.copy()
+    pcf = ws.pcf.copy()
+    cj0 = ws.cj.copy()
+    cj = ws.cj.copy()
+    cnt = np.zeros(CNT_COLUMNS, dtype=np.int64)
+    g0 = np.empty(n)
+    g1 = np.empty(n)
+    _contact_force(model, q, v, vimp, pci, pcf, g0, cj0, cnt)
+    touching = False
+    for j in range(n_cj):
+        if cj0[j, CJ_DELTA] > 0.0:
+            touching = True
+    if not touching:
+        dq[:, :] = 0.0
+        dv[:, :] = 0.0
+        return False
+    qp = q.copy()
+    vp = v.copy()
+    for c in range(nc):
+        j = cc[c]
+        eps = 1.4901161193847656e-08 * max(abs(q[j]), 1e-2)
+        qp[j] = q[j] + eps
+        _contact_force(model, qp, v, vimp, pci, pcf, g1, cj, cnt)
+        qp[j] = q[j]
+        for a in range(nc):
+            dq[a, c] = (g1[cc[a]] - g0[cc[a]]) / eps
+        eps = 1.4901161193847656e-08 * max(abs(v[j]), 1e-1)
+        vp[j] = v[j] + eps
+        _contact_force(model, q, vp, vimp, pci, pcf, g1, cj, cnt)
+        vp[j] = v[j]
+        for a in range(nc):
+            dv[a, c] = (g1[cc[a]] - g0[cc[a]]) / eps
+        for jj in range(n_cj):
+            gt[jj, c] = (cj[jj, CJ_VT] - cj0[jj, CJ_VT]) / eps
+    return True
+
+
+@njit(cache=True)
+def _response_basis(model, ws, cc, basis):
+    """``basis[a] = P M⁻¹ e_cc[a]``: the constrained acceleration response to a unit
+    generalized force on coordinate cc[a] (factors of the last :func:`accelerations`)."""
+    n = basis.shape[1]
+    e = np.zeros(n)
+    y = np.empty(n)
+    u = np.empty(model.n_rows)
+    for a in range(cc.shape[0]):
+        e[cc[a]] = 1.0
+        _project(model, ws, e, basis[a], y, u)
+        e[cc[a]] = 0.0
+
+
+@njit(cache=True)
+def _contact_newton_solve(jm, piv, cc, zb, delta, sm, spiv, w, dx):
+    """Solve (J₀ + Y Δ Eᵀ) dx = r in place (``dx`` holds r) by Sherman–Morrison–Woodbury:
+    J₀ = LU(``jm``, ``piv``), ``zb`` = rows of J₀⁻¹Y, Δ (``delta``, nc × nc) the change of
+    the contact-force derivatives and E the selection of the columns ``cc``. Returns False
+    if the small capacitance matrix is singular."""
+    n = dx.shape[0]
+    nc = cc.shape[0]
+    _lu_solve(jm, piv, dx)
+    # (I + Eᵀ Z Δ) w = Eᵀ y, Z = J₀⁻¹Y; then dx = y − Z Δ w
+    for a in range(nc):
+        for b in range(nc):
+            acc = 0.0
+            for c in range(nc):
+                acc += zb[c, cc[a]] * delta[c, b]
+            sm[a, b] = acc
+        sm[a, a] += 1.0
+        w[a] = dx[cc[a]]
+    if not _lu_factor(sm, spiv):
+        return False
+    _lu_solve(sm, spiv, w)
+    for c in range(nc):
+        acc = 0.0
+        for b in range(nc):
+            acc += delta[c, b] * w[b]
+        for i in range(n):
+            dx[i] -= zb[c, i] * acc
+    return True
 
 
 @njit(cache=True)
@@ -527,6 +676,7 @@ def genalpha_advance(
     fixed_step,
     fd_cols,
     an_cols,
+    cc,
 ):
     """Advance a variable-step generalized-α integration (Chung & Hulbert 1993) of
     q̈ = a(t, q, q̇) until ``t ≥ t_stop`` (or ``t_end``).
@@ -534,9 +684,11 @@ def genalpha_advance(
     Parameters αm = (2ρ∞ − 1)/(ρ∞ + 1), αf = ρ∞/(ρ∞ + 1), γ = ½ + αf − αm,
     β = ¼(γ + ½)² (Arnold & Brüls 2007 form with pseudo-accelerations ``apse``). Each step
     solves R(x) = x − a(t + h, q(x), q̇(x)) for x = q̈ₙ₊₁ by modified Newton on
-    J = I − c_q ∂a/∂q − c_v ∂a/∂q̇ (forward differences, refreshed when Newton stalls or a
-    clearance joint changes between contact and separation; convergence from the observed
-    contraction rate, at least two iterations). The step is rejected when Newton fails,
+    J = I − c_q ∂a/∂q − c_v ∂a/∂q̇ (:func:`_hybrid_jacobian`; refreshed when Newton stalls,
+    when an accepted step needed more than ``SLOW_NEWTON`` iterations, and — in models
+    without contact columns — when a clearance joint changes between contact and
+    separation; convergence from the observed contraction rate, at least two
+    iterations). The step is rejected when Newton fails,
     when the local error estimate e_q = h²|β − 1/6| Δq̈, e_v = h(|γ − ½| + 1/12) Δq̈
     exceeds the tolerance, or when a
     separated clearance joint would enter contact deeper than ``entry_depth`` × clearance
@@ -547,6 +699,16 @@ def genalpha_advance(
     structural dynamics, whose numerical damping (ρ∞ < 1) removes unresolved stiff modes
     that would otherwise hold an error-controlled step at their period (ANCF axial
     modes, docs/ancf.md §8).
+
+    Clearance-joint forces are stiff and only piecewise smooth (contact onset, the
+    stick–slip ramp of regularised friction acting on a light journal), so a Jacobian
+    taken at the start of the step can be useless at its end. The columns ``cc`` that
+    those forces read (the bearing and journal coordinates) are therefore re-linearised
+    at every Newton iterate that touches (:func:`_contact_derivatives`, a few contact-law
+    evaluations) and the change, mapped by the constrained response P M⁻¹ frozen at the
+    Jacobian's state, enters the factorised matrix as a rank-len(cc) Sherman–Morrison–
+    Woodbury correction (:func:`_contact_newton_solve`): a semi-smooth Newton iteration at
+    O(n·len(cc)) extra work per iterate.
 
     ``state`` = [t, h, Jacobian valid, unused]. Returns 1 (``t_stop`` reached), 0 (done) or
     a negative failure status.
@@ -571,6 +733,19 @@ def genalpha_advance(
     scratch = np.empty(n2)
     out_counters = np.zeros(counters.shape[0], dtype=np.int64)
     was = np.zeros(contact.shape[0], dtype=contact.dtype)
+    nc = cc.shape[0]
+    dq0 = np.zeros((nc, nc))
+    dv0 = np.zeros((nc, nc))
+    dqi = np.zeros((nc, nc))
+    dvi = np.zeros((nc, nc))
+    delta = np.zeros((nc, nc))
+    basis = np.zeros((nc, n))
+    zb = np.zeros((nc, n))
+    sm = np.zeros((nc, nc))
+    spiv = np.empty(nc, dtype=np.int64)
+    wv = np.empty(nc)
+    gt = np.zeros((contact.shape[0], nc))
+    base_contact = False
     n_out = t_out.shape[0]
     t = state[0]
     h = state[1]
@@ -595,6 +770,10 @@ def genalpha_advance(
             break
         if not jac_valid:
             _hybrid_jacobian(model, ws, t, q, v, vimp, kq, cv, fd_cols, an_cols, counters)
+            if nc > 0:
+                accelerations(model, ws, t, q, v, vimp, f, counters)
+                base_contact = _contact_derivatives(model, ws, q, v, vimp, cc, dq0, dv0, gt)
+                _response_basis(model, ws, cc, basis)
             jac_valid = True
             fresh = True
             h_lu = -1.0
@@ -608,10 +787,15 @@ def genalpha_advance(
             if not _lu_factor(jm, piv):
                 status = STATUS_SINGULAR
                 break
+            for c in range(nc):
+                for i in range(n):
+                    zb[c, i] = basis[c, i]
+                _lu_solve(jm, piv, zb[c])
             h_lu = h
         for i in range(n):
             x[i] = acc[i]
         converged = False
+        iters = 0
         prev = np.inf
         st = STATUS_OK
         for it in range(max_newton):
@@ -625,21 +809,68 @@ def genalpha_advance(
                 break
             for i in range(n):
                 dx[i] = f[i] - x[i]
-            _lu_solve(jm, piv, dx)
+            touching = False
+            if nc > 0:
+                touching = _contact_derivatives(model, ws, qn, vn, vimp, cc, dqi, dvi, gt)
+            if touching or base_contact:
+                for a in range(nc):
+                    for b in range(nc):
+                        delta[a, b] = -cq * (dqi[a, b] - dq0[a, b]) - cvv * (dvi[a, b] - dv0[a, b])
+                if not _contact_newton_solve(jm, piv, cc, zb, delta, sm, spiv, wv, dx):
+                    break
+            else:
+                _lu_solve(jm, piv, dx)
+            scale = 1.0
+            if touching:
+                # Regularised friction is flat while sliding and in its dead zone and steep
+                # in the narrow ramp between: a full update from a flat piece overshoots (to
+                # the opposite sliding direction, or out of the dead zone) and Newton
+                # oscillates. Such an update is shortened to land in the middle of the ramp,
+                # whose own tangent the contact derivatives capture; convergence is still
+                # judged on the full update.
+                for j in range(contact.shape[0]):
+                    v0 = model.cj_f[j, CF_V0]
+                    v1 = model.cj_f[j, CF_V1]
+                    vt = ws.cj[j, CJ_VT]
+                    if ws.cj[j, CJ_DELTA] <= 0.0 or model.cj_i[j, 3] == FRICTION_NONE:
+                        continue
+                    dvt = 0.0
+                    for c in range(nc):
+                        dvt += gt[j, c] * cvv * dx[cc[c]]
+                    vnew = vt + dvt
+                    target = np.nan
+                    leaves = vt * vnew < 0.0 or abs(vnew) < v0  # into or across the dead zone
+                    if abs(vt) > v1 and leaves:
+                        target = 0.5 * (v0 + v1) * (1.0 if vt > 0.0 else -1.0)
+                    elif abs(vt) >= v0 and leaves:
+                        target = 0.5 * v0 * (1.0 if vt > 0.0 else -1.0)
+                    elif abs(vt) < v0 and abs(vnew) > v1:
+                        target = 0.5 * (v0 + v1) * (1.0 if vnew > 0.0 else -1.0)
+                    if math.isfinite(target) and dvt != 0.0:
+                        r = (target - vt) / dvt
+                        if 0.0 < r < scale:
+                            scale = r
+            # the size of the full Newton update measures convergence, damped or not
             sq = 0.0
             for i in range(n):
-                x[i] += dx[i]
                 sk_q = atol + rtol * abs(q[i])
                 sk_v = atol + rtol * abs(v[i])
                 sq += (cq * dx[i] / sk_q) ** 2 + (cvv * dx[i] / sk_v) ** 2
             conv = math.sqrt(sq / n2)
+            iters = it + 1
+            for i in range(n):
+                x[i] += scale * dx[i]
             if not math.isfinite(conv):
                 break
             # Convergence from the observed contraction rate θ (Hairer & Wanner IV.8): a
             # stale Jacobian can make the first update small while the residual is not,
             # so at least two iterations are always taken.
+            if scale < 1.0:
+                # a shortened update says nothing about the contraction: start afresh
+                prev = np.inf
+                continue
             if it >= 1:
-                if conv <= 1e-12 * (1.0 + prev):
+                if conv <= 1e-12 * (1.0 + prev) or prev <= 0.0:
                     converged = True
                     break
                 theta = conv / prev
@@ -684,6 +915,10 @@ def genalpha_advance(
             counters[CNT_REJECTED] += 1
             h *= max(0.2, 0.9 * e ** (-1.0 / 3.0)) if math.isfinite(e) else 0.2
             continue
+        if iters > SLOW_NEWTON and not fresh:
+            # slow contraction: the Jacobian has gone stale (the rods turn, and their
+            # axial stiffness turns with them); refresh it before the next step
+            jac_valid = False
         fresh = False
         told = t
         t = t + h
@@ -715,7 +950,7 @@ def genalpha_advance(
         for j in range(contact.shape[0]):
             if was[j] != contact[j]:
                 changed = True
-        if changed:
+        if changed and nc == 0:
             # contact stiffness appears or vanishes: the Jacobian is no longer useful
             jac_valid = False
         if projection:

@@ -24,6 +24,7 @@ from typing import TYPE_CHECKING, Any, Literal, NamedTuple
 import numpy as np
 
 from mechanism import _kernels as k
+from mechanism.joints._kernels import ANGLE_RIGID, ANGLE_SLOPE, POINT_LINEAR, POINT_RIGID
 
 from . import _kernels as ik
 
@@ -327,6 +328,26 @@ def _jacobian_columns(model: Model) -> tuple[np.ndarray, np.ndarray]:
     return np.ascontiguousarray(cols[~analytic]), np.ascontiguousarray(cols[analytic])
 
 
+def _contact_columns(model: Model) -> np.ndarray:
+    """The coordinates the clearance joints' bearing and journal points read (position,
+    and the angle that sets the friction moment and the worn-profile region)."""
+    km = model.kernel
+    cols: set[int] = set()
+    for point in km.cj_i[:, :2].ravel():
+        kind, base, angle_kind, slope, *ds = (int(x) for x in km.pt_i[point])
+        if kind == POINT_RIGID:
+            cols.update((base, base + 1, base + 2))
+        elif kind == POINT_LINEAR:
+            for d in ds:
+                if d >= 0:
+                    cols.update((d, d + 1))
+        if angle_kind == ANGLE_RIGID:
+            cols.add(base + 2)
+        elif angle_kind == ANGLE_SLOPE:
+            cols.update((slope, slope + 1))
+    return np.array(sorted(cols), dtype=np.int64)
+
+
 @dataclass(frozen=True, kw_only=True)
 class GeneralizedAlpha(Integrator):
     """Implicit generalized-α integrator for stiff contact (Chung & Hulbert 1993).
@@ -419,6 +440,7 @@ class GeneralizedAlpha(Integrator):
             kq = np.zeros((n, n))
             cv = np.zeros((n, n))
             fd_cols, an_cols = _jacobian_columns(model)
+            contact_cols = _contact_columns(model)
             if self.step == "max_step":
                 # an unbounded run (e.g. the ideal companion) steps at the output spacing
                 fixed = float(max_step)
@@ -442,7 +464,7 @@ class GeneralizedAlpha(Integrator):
                         contact, counters, t_stop, t_end, rtol, atol, max_step,
                         float(self.rho_inf), int(self.max_newton),
                         float(self.contact_entry_depth), projection, self.max_steps,
-                        fixed, fd_cols, an_cols,
+                        fixed, fd_cols, an_cols, contact_cols,
                     )  # fmt: skip
                     bar.update(state[0])
                     if status != ik.STATUS_RUNNING:
