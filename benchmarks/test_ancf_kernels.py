@@ -54,6 +54,34 @@ def test_elastic_jacobian(benchmark, n_elements: int) -> None:
     benchmark(kernels.beam_elastic_jacobian, *args)
 
 
+@pytest.mark.parametrize("curvature", ["material", "linear"])
+def test_damping_force(benchmark, curvature: str) -> None:
+    mesh = _rod(16, curvature=curvature, damping=1e-6)
+    e, e_dot = _state(mesh)
+    out = np.zeros(mesh.n_dofs)
+    args = (e, e_dot, *mesh.kernel_parameters, mesh.damping, 1.0, out, 0)
+    kernels.beam_damping_force(*args)
+    benchmark(kernels.beam_damping_force, *args)
+
+
+def test_damping_jacobian(benchmark) -> None:
+    mesh = _rod(16, damping=1e-6)
+    e, _ = _state(mesh)
+    out = np.zeros((mesh.n_dofs, mesh.n_dofs))
+    args = (e, *mesh.kernel_parameters, mesh.damping, 1.0, out, 0)
+    kernels.beam_damping_jacobian(*args)
+    benchmark(kernels.beam_damping_jacobian, *args)
+
+
+def test_strain_energy(benchmark) -> None:
+    # evaluated once per output sample for the recorded mechanical energy
+    mesh = _rod(16)
+    e, _ = _state(mesh)
+    args = (e, *mesh.kernel_parameters)
+    kernels.beam_strain_energy(*args)
+    benchmark(kernels.beam_strain_energy, *args)
+
+
 def test_two_rods_force_with_damping(benchmark) -> None:
     # the paper scene: rods 3 and 4, 16 elements each, through the beam tables
     meshes = [_rod(16, damping=1e-6), _rod(16, damping=1e-6)]

@@ -24,7 +24,7 @@ import math
 import numpy as np
 from numba import njit
 
-from mechanism.bodies._ancf_kernels import beams_force_add
+from mechanism.bodies._ancf_kernels import beams_force_add, beams_strain_energy
 from mechanism.contact._kernels import (
     FRICTION_NONE,
     contact_potential,
@@ -491,9 +491,11 @@ def project(model, ws, t, y, tol, max_iter):
 
 @njit(cache=True)
 def mechanical_energy(model, ws, y):
-    """Kinetic + gravity + contact potential energy (J) of state ``y``.
+    """Kinetic + gravity + contact potential + beam strain energy (J) of state ``y``.
 
-    T = ½ q̇ᵀMq̇, V_g = −Q_gᵀq (Q_g constant), V_c = Σ K δ^(n+1)/(n+1).
+    T = ½ q̇ᵀMq̇, V_g = −Q_gᵀq (Q_g constant), V_c = Σ K δ^(n+1)/(n+1), and for flexible
+    bodies U = Σ ∫ ½EA ε² + ½EI κ² dx by the quadrature of their elastic forces
+    (:func:`~mechanism.bodies._ancf_kernels.beams_strain_energy`).
     """
     n = model.n_dof
     q = y[:n]
@@ -512,6 +514,8 @@ def mechanical_energy(model, ws, y):
         for j in range(model.cj_i.shape[0]):
             delta, _, kn = _clearance_state(model, ws, y, j)
             pot += contact_potential(kn, model.cj_f[j, CF_EXP], delta)
+    if model.beam_i.shape[0] > 0:
+        pot += beams_strain_energy(model.beam_i, model.beam_f, q)
     return kin + pot
 
 
@@ -598,6 +602,8 @@ def derived_outputs(model, ws, q, v, a, out, jf):
         energy += 0.5 * v[i] * x - model.gravity_force[i] * q[i]
     for j in range(model.cj_i.shape[0]):
         energy += contact_potential(ws.cj[j, CJ_K], model.cj_f[j, CF_EXP], ws.cj[j, CJ_DELTA])
+    if model.beam_i.shape[0] > 0:
+        energy += beams_strain_energy(model.beam_i, model.beam_f, q)
     out[OUT_ENERGY] = energy
     worst = 0.0
     for k in range(model.n_rows):

@@ -223,7 +223,10 @@ def to_dataset(
         strain_vars, strain_coords = _beam_outputs(model, rec)
         data.update(strain_vars)
     data["mechanical_energy"] = _var(
-        ("time",), rec.out[:, k.OUT_ENERGY], "J", "kinetic + gravity + contact potential energy"
+        ("time",),
+        rec.out[:, k.OUT_ENERGY],
+        "J",
+        "kinetic + gravity + contact potential + beam strain energy",
     )
     data["constraint_violation"] = _var(
         ("time",),

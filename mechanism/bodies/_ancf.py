@@ -104,6 +104,15 @@ class AncfMesh:
         Gauss–Legendre points per element for the axial and the bending energy, 1…5
         (defaults 5 and 3; 5 points integrate the Green-strain energy exactly).
 
+    Attributes
+    ----------
+    element_length : float
+        l = L / n_elements, m.
+    axial_stiffness, bending_stiffness : float
+        EA (N) and EI (N m²).
+    mass_per_length, mass : float
+        ρA (kg m⁻¹) and ρAL (kg).
+
     Examples
     --------
     >>> mesh = AncfMesh(length=2.0, n_elements=8, area=0.01, second_moment=0.1**4 / 12,
@@ -123,6 +132,12 @@ class AncfMesh:
     curvature: Curvature = "material"
     gauss_axial: int = 5
     gauss_bending: int = 3
+    # derived in __post_init__ (see Attributes)
+    element_length: float = field(init=False, repr=False, compare=False)
+    axial_stiffness: float = field(init=False, repr=False, compare=False)
+    bending_stiffness: float = field(init=False, repr=False, compare=False)
+    mass_per_length: float = field(init=False, repr=False, compare=False)
+    mass: float = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         for name in ("length", "area", "second_moment", "youngs_modulus", "density"):
@@ -139,6 +154,16 @@ class AncfMesh:
         check_choice(self.curvature, name="curvature", choices=tuple(_CURVATURE_CODES))
         for name in ("gauss_axial", "gauss_bending"):
             check_int(getattr(self, name), name=name, minimum=1, maximum=_k.MAX_GAUSS)
+        mass_per_length = self.density * self.area
+        derived = {
+            "element_length": self.length / self.n_elements,
+            "axial_stiffness": self.youngs_modulus * self.area,
+            "bending_stiffness": self.youngs_modulus * self.second_moment,
+            "mass_per_length": mass_per_length,
+            "mass": mass_per_length * self.length,
+        }
+        for name, value in derived.items():
+            object.__setattr__(self, name, value)
 
     @classmethod
     def from_scene(cls, beam: AncfBeam, **formulation: Any) -> AncfMesh:
@@ -162,11 +187,6 @@ class AncfMesh:
 
     # --- derived sizes -------------------------------------------------------------------
     @property
-    def element_length(self) -> float:
-        """l = L / n_elements, m."""
-        return self.length / self.n_elements
-
-    @property
     def n_nodes(self) -> int:
         return self.n_elements + 1
 
@@ -174,26 +194,6 @@ class AncfMesh:
     def n_dofs(self) -> int:
         """4 (n_elements + 1): position and slope (x, y) of every node."""
         return 4 * self.n_nodes
-
-    @property
-    def axial_stiffness(self) -> float:
-        """EA, N."""
-        return self.youngs_modulus * self.area
-
-    @property
-    def bending_stiffness(self) -> float:
-        """EI, N m²."""
-        return self.youngs_modulus * self.second_moment
-
-    @property
-    def mass_per_length(self) -> float:
-        """ρA, kg m⁻¹."""
-        return self.density * self.area
-
-    @property
-    def mass(self) -> float:
-        """ρAL, kg."""
-        return self.mass_per_length * self.length
 
     @property
     def kernel_parameters(self) -> tuple[int, float, float, float, int, int, int, int]:
@@ -345,32 +345,10 @@ class AncfMesh:
         return out
 
     def strain_energy(self, e: Any) -> float:
-        """U(e) by the same quadrature as the forces, J (used to verify F_e = ∂U/∂e)."""
-        e = self._coordinates(e)
-        l = self.element_length
-        xa, wa = np.polynomial.legendre.leggauss(self.gauss_axial)
-        xb, wb = np.polynomial.legendre.leggauss(self.gauss_bending)
-        energy = 0.0
-        for i in range(self.n_elements):
-            q = e[4 * i : 4 * i + 8].reshape(4, 2)
-            for x, w in zip(0.5 * (xa + 1.0), 0.5 * wa, strict=True):
-                rx = np.asarray(_k._d1(x, l)) @ q
-                strain = (
-                    0.5 * (rx @ rx - 1.0)
-                    if self.axial_strain == "green"
-                    else math.sqrt(rx @ rx) - 1.0
-                )
-                energy += 0.5 * self.axial_stiffness * strain**2 * w * l
-            for x, w in zip(0.5 * (xb + 1.0), 0.5 * wb, strict=True):
-                rx = np.asarray(_k._d1(x, l)) @ q
-                rxx = np.asarray(_k._d2(x, l)) @ q
-                if self.curvature == "linear":
-                    k2 = rxx @ rxx
-                else:
-                    power = 1.0 if self.curvature == "material" else 1.5
-                    k2 = ((rx[0] * rxx[1] - rx[1] * rxx[0]) / (rx @ rx) ** power) ** 2
-                energy += 0.5 * self.bending_stiffness * k2 * w * l
-        return energy
+        """Strain energy U(e) = ∫ ½EA ε² + ½EI κ² dx (J) by the quadrature of the forces,
+        so that F_e = ∂U/∂e (``curvature="linear"``: κ² = |r,ₓₓ|²).
+        """
+        return float(_k.beam_strain_energy(self._coordinates(e), *self.kernel_parameters))
 
     # --- outputs -------------------------------------------------------------------------
     def _arc_length(self, s: Any) -> float:
@@ -391,21 +369,16 @@ class AncfMesh:
         """Axial strain ε at reference arc lengths ``stations`` (m; default: nodes and
         element mid-points, where the cubic interpolation gives its most accurate strain).
         """
+        return self.axial_strain_history(self._coordinates(e)[None, :], stations)[0]
+
+    def _stations(self, stations: Any) -> np.ndarray:
+        # default: nodes and element mid-points
         if stations is None:
-            stations = np.linspace(0.0, self.length, 2 * self.n_elements + 1)
+            return np.linspace(0.0, self.length, 2 * self.n_elements + 1)
         st = np.ascontiguousarray(stations, dtype=np.float64).reshape(-1)
         if st.size == 0 or st.min() < 0.0 or st.max() > self.length:
             raise ValueError(f"stations must lie in [0, {self.length}] m.")
-        out = np.empty(st.size)
-        _k.beam_axial_strain(
-            self._coordinates(e),
-            self.n_elements,
-            self.element_length,
-            _AXIAL_CODES[self.axial_strain],
-            st,
-            out,
-        )
-        return out
+        return st
 
     def _history(self, coordinates: Any, offset: int) -> np.ndarray:
         arr = np.ascontiguousarray(coordinates, dtype=np.float64)
@@ -421,11 +394,7 @@ class AncfMesh:
         ``coordinates`` (time, dof); stations as in :meth:`axial_strain_at`.
         """
         arr = self._history(coordinates, offset)
-        if stations is None:
-            stations = np.linspace(0.0, self.length, 2 * self.n_elements + 1)
-        st = np.ascontiguousarray(stations, dtype=np.float64).reshape(-1)
-        if st.size == 0 or st.min() < 0.0 or st.max() > self.length:
-            raise ValueError(f"stations must lie in [0, {self.length}] m.")
+        st = self._stations(stations)
         out = np.empty((arr.shape[0], st.size))
         _k.beam_axial_strain_history(
             arr,
@@ -599,6 +568,22 @@ def solve_beam_static(
     jac = np.empty((mesh.n_dofs, mesh.n_dofs))
     iterations: list[int] = []
     res_norm = 0.0
+
+    def result(success: bool, message: str) -> BeamStaticSolution:
+        return BeamStaticSolution(
+            mesh=mesh,
+            coordinates=e,
+            reference=e0,
+            load=q,
+            fixed_dofs=tuple(int(i) for i in fixed),
+            load_steps=steps,
+            iterations=tuple(iterations),
+            residual_norm=res_norm,
+            success=success,
+            message=message,
+            wall_time=time.perf_counter() - start,
+        )
+
     for k in range(1, steps + 1):
         target = q * (k / steps)
         step = math.inf
@@ -614,38 +599,17 @@ def solve_beam_static(
                 break
             if it == max_iterations:
                 iterations.append(it)
-                return BeamStaticSolution(
-                    mesh=mesh,
-                    coordinates=e,
-                    reference=e0,
-                    load=q,
-                    fixed_dofs=tuple(int(i) for i in fixed),
-                    load_steps=steps,
-                    iterations=tuple(iterations),
-                    residual_norm=res_norm,
-                    success=False,
-                    message=f"Newton did not converge in load step {k} of {steps} "
+                return result(
+                    False,
+                    f"Newton did not converge in load step {k} of {steps} "
                     f"(|residual| = {res_norm:.3e} N).",
-                    wall_time=time.perf_counter() - start,
                 )
             jac[:] = 0.0
             _k.beam_elastic_jacobian(e, *params, 1.0, jac, 0)
             delta = scipy.linalg.solve(jac[np.ix_(free, free)], residual, assume_a="sym")
             e[free] -= delta
             step = float(np.abs(delta).max())
-    return BeamStaticSolution(
-        mesh=mesh,
-        coordinates=e,
-        reference=e0,
-        load=q,
-        fixed_dofs=tuple(int(i) for i in fixed),
-        load_steps=steps,
-        iterations=tuple(iterations),
-        residual_norm=res_norm,
-        success=True,
-        message="converged",
-        wall_time=time.perf_counter() - start,
-    )
+    return result(True, "converged")
 
 
 # --- modal analysis ------------------------------------------------------------------------

@@ -17,7 +17,11 @@ Constitutive choices are integer codes (see ``docs/ancf.md``):
   centre line).
 
 The elastic force is F_e = ∂U/∂e with U = ∫ ½EA ε² + ½EI κ² dx, integrated with
-``n_gauss_axial`` and ``n_gauss_bending`` Gauss–Legendre points per element (1…5).
+``n_gauss_axial`` and ``n_gauss_bending`` Gauss–Legendre points per element (1…5);
+``beam_strain_energy`` returns U by the same quadrature. F_e and the damping force share one
+quadrature routine (``_strain_force``), ∂F_e/∂e and the damping matrix another
+(``_strain_stiffness``), and every kernel reads its Gauss-point quantities from
+``_axial_point``, ``_bending_point`` and ``_curvature_point``.
 """
 
 from __future__ import annotations
@@ -33,6 +37,10 @@ BENDING_LINEAR = 0
 BENDING_MATERIAL = 1
 BENDING_GEOMETRIC = 2
 MAX_GAUSS = 5
+
+# four shape-function values (or derivatives); the eight DOFs of one element
+Shape = tuple[float, float, float, float]
+Element = tuple[float, float, float, float, float, float, float, float]
 
 
 def _gauss_table() -> tuple[np.ndarray, np.ndarray]:
@@ -51,7 +59,7 @@ _GAUSS_X, _GAUSS_W = _gauss_table()
 
 
 @njit(cache=True, inline="always")
-def _d1(xi: float, l: float) -> tuple[float, float, float, float]:
+def _d1(xi: float, l: float) -> Shape:
     # ∂s_k/∂x of the cubic Hermite shape functions at ξ = x/l
     return (
         6.0 * xi * (xi - 1.0) / l,
@@ -62,7 +70,7 @@ def _d1(xi: float, l: float) -> tuple[float, float, float, float]:
 
 
 @njit(cache=True, inline="always")
-def _d2(xi: float, l: float) -> tuple[float, float, float, float]:
+def _d2(xi: float, l: float) -> Shape:
     # ∂²s_k/∂x²
     return (
         (12.0 * xi - 6.0) / (l * l),
@@ -73,7 +81,7 @@ def _d2(xi: float, l: float) -> tuple[float, float, float, float]:
 
 
 @njit(cache=True)
-def shape_functions(xi: float, l: float) -> tuple[float, float, float, float]:
+def shape_functions(xi: float, l: float) -> Shape:
     """Cubic Hermite shape functions s_1…s_4 at ξ = x/l (the slope ones carry the factor l)."""
     xi2 = xi * xi
     xi3 = xi2 * xi
@@ -86,9 +94,17 @@ def shape_functions(xi: float, l: float) -> tuple[float, float, float, float]:
 
 
 @njit(cache=True, inline="always")
-def _slope(e: np.ndarray, b: int, d: tuple[float, float, float, float]) -> tuple[float, float]:
-    x = d[0] * e[b] + d[1] * e[b + 2] + d[2] * e[b + 4] + d[3] * e[b + 6]
-    y = d[0] * e[b + 1] + d[1] * e[b + 3] + d[2] * e[b + 5] + d[3] * e[b + 7]
+def _element(e: np.ndarray, b: int) -> Element:
+    # the 8 DOFs of the element starting at e[b], as values: helpers that take them instead
+    # of the array keep numba from wrapping every inlined call in a refcount pair
+    return (e[b], e[b + 1], e[b + 2], e[b + 3], e[b + 4], e[b + 5], e[b + 6], e[b + 7])
+
+
+@njit(cache=True, inline="always")
+def _interpolate(q: Element, d: Shape) -> tuple[float, float]:
+    # Σ_k d_k r_k over the element's four vector DOFs, i.e. S e, S,ₓ e or S,ₓₓ e
+    x = d[0] * q[0] + d[1] * q[2] + d[2] * q[4] + d[3] * q[6]
+    y = d[0] * q[1] + d[1] * q[3] + d[2] * q[5] + d[3] * q[7]
     return x, y
 
 
@@ -116,6 +132,219 @@ def _curvature(
     return kappa, wq * (sy - f * rx), wq * (-sx - f * ry), -wq * ry, wq * rx, wq
 
 
+@njit(cache=True, inline="always")
+def _axial_point(
+    q: Element, g: int, n_gauss: int, l: float, axial_law: int
+) -> tuple[float, Shape, float, float, float, float]:
+    """Axial quantities at Gauss point ``g`` of ``n_gauss`` of the element with DOFs ``q``.
+
+    Returns the weight w_g l, S,ₓ (shape derivatives), r,ₓ = (rx, ry), ε and c with
+    ∂ε/∂r,ₓ = c r,ₓ.
+    """
+    d1 = _d1(_GAUSS_X[n_gauss - 1, g], l)
+    rx, ry = _interpolate(q, d1)
+    eps, c = _axial(rx, ry, axial_law)
+    return _GAUSS_W[n_gauss - 1, g] * l, d1, rx, ry, eps, c
+
+
+@njit(cache=True, inline="always")
+def _bending_point(
+    q: Element, g: int, n_gauss: int, l: float
+) -> tuple[float, Shape, Shape, float, float]:
+    """Weight w_g l, S,ₓ, S,ₓₓ and r,ₓₓ = (sx, sy) at Gauss point ``g`` of ``n_gauss`` of the
+    element with DOFs ``q`` (all that ``BENDING_LINEAR`` needs).
+    """
+    xi = _GAUSS_X[n_gauss - 1, g]
+    d2 = _d2(xi, l)
+    sx, sy = _interpolate(q, d2)
+    return _GAUSS_W[n_gauss - 1, g] * l, _d1(xi, l), d2, sx, sy
+
+
+@njit(cache=True, inline="always")
+def _curvature_point(
+    q: Element, d1: Shape, sx: float, sy: float, bending_law: int
+) -> tuple[float, float, float, float, float, float, float, float]:
+    """r,ₓ = (rx, ry) and, from :func:`_curvature`, κ, ∂κ/∂r,ₓ, ∂κ/∂r,ₓₓ and |r,ₓ|^(−2q)
+    for the nonlinear bending laws, at the point of :func:`_bending_point`.
+    """
+    rx, ry = _interpolate(q, d1)
+    kap, k1x, k1y, k2x, k2y, wq = _curvature(rx, ry, sx, sy, bending_law)
+    return rx, ry, kap, k1x, k1y, k2x, k2y, wq
+
+
+@njit(cache=True, inline="always")
+def _curvature_hessian(
+    rx: float, ry: float, sx: float, sy: float, kap: float, wq: float, bending_law: int
+) -> tuple[float, float, float, float, float, float, float]:
+    """(H11xx, H11xy, H11yy, H12xx, H12xy, H12yx, H12yy): H11 = ∂²κ/∂r,ₓ², H12 = ∂²κ/∂r,ₓ∂r,ₓₓ
+    (∂²κ/∂r,ₓₓ² = 0) of κ = (r,ₓ × r,ₓₓ)|r,ₓ|^(−2q); ``wq`` = |r,ₓ|^(−2q).
+    """
+    q = 1.0 if bending_law == BENDING_MATERIAL else 1.5
+    w2 = rx * rx + ry * ry
+    c = kap / wq
+    ax, ay = sy, -sx
+    h = 2.0 * q * wq / w2
+    g2 = 4.0 * q * (q + 1.0) * c * wq / (w2 * w2)
+    bx, by = -ry, rx
+    return (
+        -h * 2.0 * ax * rx + g2 * rx * rx - h * c,
+        -h * (ax * ry + rx * ay) + g2 * rx * ry,
+        -h * 2.0 * ay * ry + g2 * ry * ry - h * c,
+        -h * rx * bx,
+        wq - h * rx * by,
+        -wq - h * ry * bx,
+        -h * ry * by,
+    )
+
+
+# The two quadratures below serve a force and its partner each; they are inlined into the
+# public kernels, so the ``rates`` / ``geometric`` flag is a constant there and costs nothing.
+@njit(cache=True, inline="always")
+def _strain_force(
+    e: np.ndarray,
+    e_dot: np.ndarray,
+    rates: bool,
+    n_elements: int,
+    l: float,
+    ea: float,
+    ei: float,
+    axial_law: int,
+    bending_law: int,
+    n_gauss_axial: int,
+    n_gauss_bending: int,
+    scale: float,
+    out: np.ndarray,
+    offset: int,
+) -> None:
+    """out += scale ∫ ea σ_ε ∂ε/∂e + ei σ_κ ∂κ/∂e dx with (σ_ε, σ_κ) = (ε, κ) of ``e``, or,
+    if ``rates``, (ε̇, κ̇) = (∂ε/∂e ė, ∂κ/∂e ė) with ė = ``e_dot``. ``BENDING_LINEAR`` takes
+    the vector r,ₓₓ (ṙ,ₓₓ) with ∂/∂e = S,ₓₓ in place of κ (κ̇).
+    """
+    for i in range(n_elements):
+        o = offset + 4 * i
+        q = _element(e, 4 * i)
+        q_dot = _element(e_dot, 4 * i) if rates else q
+        for g in range(n_gauss_axial):
+            w, d1, rx, ry, eps, c = _axial_point(q, g, n_gauss_axial, l, axial_law)
+            if rates:
+                vx, vy = _interpolate(q_dot, d1)
+                f = w * scale * ea * c * c * (rx * vx + ry * vy)
+            else:
+                f = w * scale * ea * eps * c
+            for k in range(4):
+                out[o + 2 * k] += f * d1[k] * rx
+                out[o + 2 * k + 1] += f * d1[k] * ry
+        for g in range(n_gauss_bending):
+            w, d1, d2, sx, sy = _bending_point(q, g, n_gauss_bending, l)
+            f = w * scale * ei
+            if bending_law == BENDING_LINEAR:
+                if rates:
+                    sx, sy = _interpolate(q_dot, d2)
+                for k in range(4):
+                    out[o + 2 * k] += f * d2[k] * sx
+                    out[o + 2 * k + 1] += f * d2[k] * sy
+                continue
+            _, _, kap, k1x, k1y, k2x, k2y, _ = _curvature_point(q, d1, sx, sy, bending_law)
+            if rates:
+                vx, vy = _interpolate(q_dot, d1)
+                wx, wy = _interpolate(q_dot, d2)
+                f = f * (k1x * vx + k1y * vy + k2x * wx + k2y * wy)
+            else:
+                f = f * kap
+            for k in range(4):
+                out[o + 2 * k] += f * (d1[k] * k1x + d2[k] * k2x)
+                out[o + 2 * k + 1] += f * (d1[k] * k1y + d2[k] * k2y)
+
+
+@njit(cache=True, inline="always")
+def _strain_stiffness(
+    e: np.ndarray,
+    geometric: bool,
+    n_elements: int,
+    l: float,
+    ea: float,
+    ei: float,
+    axial_law: int,
+    bending_law: int,
+    n_gauss_axial: int,
+    n_gauss_bending: int,
+    scale: float,
+    out: np.ndarray,
+    offset: int,
+) -> None:
+    """out += scale K with K = ∫ ea ∂ε/∂e ∂ε/∂eᵀ + ei ∂κ/∂e ∂κ/∂eᵀ dx (the material part K_m),
+    plus ∫ ea ε ∂²ε/∂e² + ei κ ∂²κ/∂e² dx if ``geometric`` (then K = ∂F_e/∂e).
+    """
+    for i in range(n_elements):
+        o = offset + 4 * i
+        q = _element(e, 4 * i)
+        for g in range(n_gauss_axial):
+            w, d1, rx, ry, eps, c = _axial_point(q, g, n_gauss_axial, l, axial_law)
+            wt = w * scale * ea
+            if geometric:
+                # Green: S'ᵀ(r' r'ᵀ + ε I)S'; Biot: S'ᵀ(r' r'ᵀ/λ³ + (1 − 1/λ) I)S'
+                diag = eps * c
+                c3 = c * c * c
+                axx = wt * (c3 * rx * rx + diag)
+                axy = wt * c3 * rx * ry
+                ayy = wt * (c3 * ry * ry + diag)
+            else:
+                wt = wt * c * c
+                axx = wt * rx * rx
+                axy = wt * rx * ry
+                ayy = wt * ry * ry
+            for k in range(4):
+                for m in range(4):
+                    s = d1[k] * d1[m]
+                    out[o + 2 * k, o + 2 * m] += s * axx
+                    out[o + 2 * k, o + 2 * m + 1] += s * axy
+                    out[o + 2 * k + 1, o + 2 * m] += s * axy
+                    out[o + 2 * k + 1, o + 2 * m + 1] += s * ayy
+        if bending_law == BENDING_LINEAR:
+            # constant K_t; a loop of its own because LLVM does not unswitch this one
+            for g in range(n_gauss_bending):
+                w, _, d2, _, _ = _bending_point(q, g, n_gauss_bending, l)
+                wt = w * scale * ei
+                for k in range(4):
+                    for m in range(4):
+                        s = wt * d2[k] * d2[m]
+                        out[o + 2 * k, o + 2 * m] += s
+                        out[o + 2 * k + 1, o + 2 * m + 1] += s
+            continue
+        for g in range(n_gauss_bending):
+            w, d1, d2, sx, sy = _bending_point(q, g, n_gauss_bending, l)
+            wt = w * scale * ei
+            rx, ry, kap, k1x, k1y, k2x, k2y, wq = _curvature_point(q, d1, sx, sy, bending_law)
+            h11xx, h11xy, h11yy, h12xx, h12xy, h12yx, h12yy = (
+                _curvature_hessian(rx, ry, sx, sy, kap, wq, bending_law)
+                if geometric
+                else (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+            )
+            for k in range(4):
+                gkx = d1[k] * k1x + d2[k] * k2x
+                gky = d1[k] * k1y + d2[k] * k2y
+                for m in range(4):
+                    gmx = d1[m] * k1x + d2[m] * k2x
+                    gmy = d1[m] * k1y + d2[m] * k2y
+                    if not geometric:
+                        out[o + 2 * k, o + 2 * m] += wt * gkx * gmx
+                        out[o + 2 * k, o + 2 * m + 1] += wt * gkx * gmy
+                        out[o + 2 * k + 1, o + 2 * m] += wt * gky * gmx
+                        out[o + 2 * k + 1, o + 2 * m + 1] += wt * gky * gmy
+                        continue
+                    p11 = d1[k] * d1[m]
+                    p12 = d1[k] * d2[m]
+                    p21 = d2[k] * d1[m]
+                    hxx = p11 * h11xx + p12 * h12xx + p21 * h12xx
+                    hxy = p11 * h11xy + p12 * h12xy + p21 * h12yx
+                    hyx = p11 * h11xy + p12 * h12yx + p21 * h12xy
+                    hyy = p11 * h11yy + p12 * h12yy + p21 * h12yy
+                    out[o + 2 * k, o + 2 * m] += wt * (gkx * gmx + kap * hxx)
+                    out[o + 2 * k, o + 2 * m + 1] += wt * (gkx * gmy + kap * hxy)
+                    out[o + 2 * k + 1, o + 2 * m] += wt * (gky * gmx + kap * hyx)
+                    out[o + 2 * k + 1, o + 2 * m + 1] += wt * (gky * gmy + kap * hyy)
+
+
 @njit(cache=True)
 def beam_elastic_force(
     e: np.ndarray,
@@ -132,39 +361,22 @@ def beam_elastic_force(
     offset: int,
 ) -> None:
     """Add ``scale`` · F_e(e) into ``out[offset : offset + 4 (n_elements + 1)]``."""
-    l = element_length
-    ea = axial_stiffness
-    ei = bending_stiffness
-    for i in range(n_elements):
-        b = 4 * i
-        o = offset + b
-        for g in range(n_gauss_axial):
-            xi = _GAUSS_X[n_gauss_axial - 1, g]
-            wt = _GAUSS_W[n_gauss_axial - 1, g] * l * scale
-            d1 = _d1(xi, l)
-            rx, ry = _slope(e, b, d1)
-            eps, c = _axial(rx, ry, axial_law)
-            f = wt * ea * eps * c
-            for k in range(4):
-                out[o + 2 * k] += f * d1[k] * rx
-                out[o + 2 * k + 1] += f * d1[k] * ry
-        for g in range(n_gauss_bending):
-            xi = _GAUSS_X[n_gauss_bending - 1, g]
-            wt = _GAUSS_W[n_gauss_bending - 1, g] * l * scale
-            d2 = _d2(xi, l)
-            sx, sy = _slope(e, b, d2)
-            if bending_law == BENDING_LINEAR:
-                for k in range(4):
-                    out[o + 2 * k] += wt * ei * d2[k] * sx
-                    out[o + 2 * k + 1] += wt * ei * d2[k] * sy
-                continue
-            d1 = _d1(xi, l)
-            rx, ry = _slope(e, b, d1)
-            kap, k1x, k1y, k2x, k2y, _ = _curvature(rx, ry, sx, sy, bending_law)
-            f = wt * ei * kap
-            for k in range(4):
-                out[o + 2 * k] += f * (d1[k] * k1x + d2[k] * k2x)
-                out[o + 2 * k + 1] += f * (d1[k] * k1y + d2[k] * k2y)
+    _strain_force(
+        e,
+        e,
+        False,
+        n_elements,
+        element_length,
+        axial_stiffness,
+        bending_stiffness,
+        axial_law,
+        bending_law,
+        n_gauss_axial,
+        n_gauss_bending,
+        scale,
+        out,
+        offset,
+    )
 
 
 @njit(cache=True)
@@ -183,78 +395,21 @@ def beam_elastic_jacobian(
     offset: int,
 ) -> None:
     """Add ``scale`` · ∂F_e/∂e into the square block of ``out`` starting at (offset, offset)."""
-    l = element_length
-    ea = axial_stiffness
-    ei = bending_stiffness
-    for i in range(n_elements):
-        b = 4 * i
-        o = offset + b
-        for g in range(n_gauss_axial):
-            xi = _GAUSS_X[n_gauss_axial - 1, g]
-            wt = _GAUSS_W[n_gauss_axial - 1, g] * l * scale * ea
-            d1 = _d1(xi, l)
-            rx, ry = _slope(e, b, d1)
-            eps, c = _axial(rx, ry, axial_law)
-            # Green: S'ᵀ(r' r'ᵀ + ε I)S'; Biot: S'ᵀ(r' r'ᵀ/λ³ + (1 − 1/λ) I)S'
-            diag = eps * c
-            c3 = c * c * c
-            axx = wt * (c3 * rx * rx + diag)
-            axy = wt * c3 * rx * ry
-            ayy = wt * (c3 * ry * ry + diag)
-            for k in range(4):
-                for m in range(4):
-                    s = d1[k] * d1[m]
-                    out[o + 2 * k, o + 2 * m] += s * axx
-                    out[o + 2 * k, o + 2 * m + 1] += s * axy
-                    out[o + 2 * k + 1, o + 2 * m] += s * axy
-                    out[o + 2 * k + 1, o + 2 * m + 1] += s * ayy
-        for g in range(n_gauss_bending):
-            xi = _GAUSS_X[n_gauss_bending - 1, g]
-            wt = _GAUSS_W[n_gauss_bending - 1, g] * l * scale * ei
-            d2 = _d2(xi, l)
-            if bending_law == BENDING_LINEAR:
-                for k in range(4):
-                    for m in range(4):
-                        s = wt * d2[k] * d2[m]
-                        out[o + 2 * k, o + 2 * m] += s
-                        out[o + 2 * k + 1, o + 2 * m + 1] += s
-                continue
-            d1 = _d1(xi, l)
-            rx, ry = _slope(e, b, d1)
-            sx, sy = _slope(e, b, d2)
-            kap, k1x, k1y, k2x, k2y, wq = _curvature(rx, ry, sx, sy, bending_law)
-            q = 1.0 if bending_law == BENDING_MATERIAL else 1.5
-            w2 = rx * rx + ry * ry
-            c = kap / wq
-            # second derivatives of κ: H11 = ∂²κ/∂r'², H12 = ∂²κ/∂r'∂r'' (∂²κ/∂r''² = 0)
-            ax, ay = sy, -sx
-            h = 2.0 * q * wq / w2
-            g2 = 4.0 * q * (q + 1.0) * c * wq / (w2 * w2)
-            h11xx = -h * 2.0 * ax * rx + g2 * rx * rx - h * c
-            h11xy = -h * (ax * ry + rx * ay) + g2 * rx * ry
-            h11yy = -h * 2.0 * ay * ry + g2 * ry * ry - h * c
-            bx, by = -ry, rx
-            h12xx = -h * rx * bx
-            h12xy = wq - h * rx * by
-            h12yx = -wq - h * ry * bx
-            h12yy = -h * ry * by
-            for k in range(4):
-                gkx = d1[k] * k1x + d2[k] * k2x
-                gky = d1[k] * k1y + d2[k] * k2y
-                for m in range(4):
-                    gmx = d1[m] * k1x + d2[m] * k2x
-                    gmy = d1[m] * k1y + d2[m] * k2y
-                    p11 = d1[k] * d1[m]
-                    p12 = d1[k] * d2[m]
-                    p21 = d2[k] * d1[m]
-                    hxx = p11 * h11xx + p12 * h12xx + p21 * h12xx
-                    hxy = p11 * h11xy + p12 * h12xy + p21 * h12yx
-                    hyx = p11 * h11xy + p12 * h12yx + p21 * h12xy
-                    hyy = p11 * h11yy + p12 * h12yy + p21 * h12yy
-                    out[o + 2 * k, o + 2 * m] += wt * (gkx * gmx + kap * hxx)
-                    out[o + 2 * k, o + 2 * m + 1] += wt * (gkx * gmy + kap * hxy)
-                    out[o + 2 * k + 1, o + 2 * m] += wt * (gky * gmx + kap * hyx)
-                    out[o + 2 * k + 1, o + 2 * m + 1] += wt * (gky * gmy + kap * hyy)
+    _strain_stiffness(
+        e,
+        True,
+        n_elements,
+        element_length,
+        axial_stiffness,
+        bending_stiffness,
+        axial_law,
+        bending_law,
+        n_gauss_axial,
+        n_gauss_bending,
+        scale,
+        out,
+        offset,
+    )
 
 
 @njit(cache=True)
@@ -279,42 +434,22 @@ def beam_damping_force(
     F_d = β ∫ (EA ε̇ ∂ε/∂e + EI κ̇ ∂κ/∂e) dx = β K_m(e) ė with β = ``damping`` (s) and K_m the
     material (non-geometric) part of the tangent stiffness; it vanishes for rigid motion.
     """
-    l = element_length
-    ea = axial_stiffness * damping
-    ei = bending_stiffness * damping
-    for i in range(n_elements):
-        b = 4 * i
-        o = offset + b
-        for g in range(n_gauss_axial):
-            xi = _GAUSS_X[n_gauss_axial - 1, g]
-            wt = _GAUSS_W[n_gauss_axial - 1, g] * l * scale
-            d1 = _d1(xi, l)
-            rx, ry = _slope(e, b, d1)
-            vx, vy = _slope(e_dot, b, d1)
-            _, c = _axial(rx, ry, axial_law)
-            f = wt * ea * c * c * (rx * vx + ry * vy)
-            for k in range(4):
-                out[o + 2 * k] += f * d1[k] * rx
-                out[o + 2 * k + 1] += f * d1[k] * ry
-        for g in range(n_gauss_bending):
-            xi = _GAUSS_X[n_gauss_bending - 1, g]
-            wt = _GAUSS_W[n_gauss_bending - 1, g] * l * scale
-            d2 = _d2(xi, l)
-            wx, wy = _slope(e_dot, b, d2)
-            if bending_law == BENDING_LINEAR:
-                for k in range(4):
-                    out[o + 2 * k] += wt * ei * d2[k] * wx
-                    out[o + 2 * k + 1] += wt * ei * d2[k] * wy
-                continue
-            d1 = _d1(xi, l)
-            rx, ry = _slope(e, b, d1)
-            sx, sy = _slope(e, b, d2)
-            vx, vy = _slope(e_dot, b, d1)
-            _, k1x, k1y, k2x, k2y, _ = _curvature(rx, ry, sx, sy, bending_law)
-            f = wt * ei * (k1x * vx + k1y * vy + k2x * wx + k2y * wy)
-            for k in range(4):
-                out[o + 2 * k] += f * (d1[k] * k1x + d2[k] * k2x)
-                out[o + 2 * k + 1] += f * (d1[k] * k1y + d2[k] * k2y)
+    _strain_force(
+        e,
+        e_dot,
+        True,
+        n_elements,
+        element_length,
+        axial_stiffness * damping,
+        bending_stiffness * damping,
+        axial_law,
+        bending_law,
+        n_gauss_axial,
+        n_gauss_bending,
+        scale,
+        out,
+        offset,
+    )
 
 
 @njit(cache=True)
@@ -334,51 +469,56 @@ def beam_damping_jacobian(
     offset: int,
 ) -> None:
     """Add ``scale`` · ∂F_d/∂ė = ``scale`` · β K_m(e) into the block at (offset, offset)."""
+    _strain_stiffness(
+        e,
+        False,
+        n_elements,
+        element_length,
+        axial_stiffness * damping,
+        bending_stiffness * damping,
+        axial_law,
+        bending_law,
+        n_gauss_axial,
+        n_gauss_bending,
+        scale,
+        out,
+        offset,
+    )
+
+
+@njit(cache=True)
+def beam_strain_energy(
+    e: np.ndarray,
+    n_elements: int,
+    element_length: float,
+    axial_stiffness: float,
+    bending_stiffness: float,
+    axial_law: int,
+    bending_law: int,
+    n_gauss_axial: int,
+    n_gauss_bending: int,
+) -> float:
+    """Strain energy U(e) = ∫ ½EA ε² + ½EI κ² dx (J) by the quadrature of the forces.
+
+    Same strain measures and Gauss points as :func:`beam_elastic_force`, so F_e = ∂U/∂e
+    holds to round-off; ``BENDING_LINEAR`` takes κ² = |r,ₓₓ|².
+    """
     l = element_length
-    ea = axial_stiffness * damping
-    ei = bending_stiffness * damping
+    axial = 0.0
+    bending = 0.0
     for i in range(n_elements):
-        b = 4 * i
-        o = offset + b
+        q = _element(e, 4 * i)
         for g in range(n_gauss_axial):
-            xi = _GAUSS_X[n_gauss_axial - 1, g]
-            wt = _GAUSS_W[n_gauss_axial - 1, g] * l * scale * ea
-            d1 = _d1(xi, l)
-            rx, ry = _slope(e, b, d1)
-            _, c = _axial(rx, ry, axial_law)
-            c2 = c * c
-            for k in range(4):
-                for m in range(4):
-                    s = wt * c2 * d1[k] * d1[m]
-                    out[o + 2 * k, o + 2 * m] += s * rx * rx
-                    out[o + 2 * k, o + 2 * m + 1] += s * rx * ry
-                    out[o + 2 * k + 1, o + 2 * m] += s * ry * rx
-                    out[o + 2 * k + 1, o + 2 * m + 1] += s * ry * ry
+            w, _, _, _, eps, _ = _axial_point(q, g, n_gauss_axial, l, axial_law)
+            axial += w * eps * eps
         for g in range(n_gauss_bending):
-            xi = _GAUSS_X[n_gauss_bending - 1, g]
-            wt = _GAUSS_W[n_gauss_bending - 1, g] * l * scale * ei
-            d2 = _d2(xi, l)
+            w, d1, _, sx, sy = _bending_point(q, g, n_gauss_bending, l)
             if bending_law == BENDING_LINEAR:
-                for k in range(4):
-                    for m in range(4):
-                        s = wt * d2[k] * d2[m]
-                        out[o + 2 * k, o + 2 * m] += s
-                        out[o + 2 * k + 1, o + 2 * m + 1] += s
-                continue
-            d1 = _d1(xi, l)
-            rx, ry = _slope(e, b, d1)
-            sx, sy = _slope(e, b, d2)
-            _, k1x, k1y, k2x, k2y, _ = _curvature(rx, ry, sx, sy, bending_law)
-            for k in range(4):
-                gkx = d1[k] * k1x + d2[k] * k2x
-                gky = d1[k] * k1y + d2[k] * k2y
-                for m in range(4):
-                    gmx = d1[m] * k1x + d2[m] * k2x
-                    gmy = d1[m] * k1y + d2[m] * k2y
-                    out[o + 2 * k, o + 2 * m] += wt * gkx * gmx
-                    out[o + 2 * k, o + 2 * m + 1] += wt * gkx * gmy
-                    out[o + 2 * k + 1, o + 2 * m] += wt * gky * gmx
-                    out[o + 2 * k + 1, o + 2 * m + 1] += wt * gky * gmy
+                bending += w * (sx * sx + sy * sy)
+            else:
+                kap = _curvature_point(q, d1, sx, sy, bending_law)[2]
+                bending += w * kap * kap
+    return 0.5 * (axial_stiffness * axial + bending_stiffness * bending)
 
 
 @njit(cache=True)
@@ -454,7 +594,7 @@ def beam_position(
 ) -> tuple[float, float]:
     """Position r(s) = S(ξ) e of the centre line at reference arc length ``s``."""
     i, xi = beam_locate(n_elements, element_length, s)
-    return _slope(e, 4 * i, shape_functions(xi, element_length))
+    return _interpolate(_element(e, 4 * i), shape_functions(xi, element_length))
 
 
 @njit(cache=True)
@@ -463,7 +603,7 @@ def beam_slope(
 ) -> tuple[float, float]:
     """Slope r,ₓ(s) = S,ₓ(ξ) e at reference arc length ``s``."""
     i, xi = beam_locate(n_elements, element_length, s)
-    return _slope(e, 4 * i, _d1(xi, element_length))
+    return _interpolate(_element(e, 4 * i), _d1(xi, element_length))
 
 
 @njit(cache=True)
@@ -550,6 +690,26 @@ BEAM_I_COLUMNS = 6
 BEAM_F_COLUMNS = 4
 
 
+@njit(cache=True, inline="always")
+def _beam_row(
+    beam_i: np.ndarray, beam_f: np.ndarray, b: int
+) -> tuple[int, int, tuple[int, float, float, float, int, int, int, int], float]:
+    """Offset, DOF count, the kernel parameters (as ``AncfMesh.kernel_parameters``) and the
+    damping β of row ``b`` of the beam tables."""
+    ne = beam_i[b, 1]
+    params = (
+        ne,
+        beam_f[b, 0],
+        beam_f[b, 1],
+        beam_f[b, 2],
+        beam_i[b, 2],
+        beam_i[b, 3],
+        beam_i[b, 4],
+        beam_i[b, 5],
+    )
+    return beam_i[b, 0], 4 * (ne + 1), params, beam_f[b, 3]
+
+
 @njit(cache=True)
 def beams_force_add(
     beam_i: np.ndarray,
@@ -564,41 +724,11 @@ def beams_force_add(
     Call with ``scale = -1`` to add the elastic and damping forces to Q.
     """
     for b in range(beam_i.shape[0]):
-        o = beam_i[b, 0]
-        ne = beam_i[b, 1]
-        n = 4 * (ne + 1)
+        o, n, params, damping = _beam_row(beam_i, beam_f, b)
         e = q[o : o + n]
-        beam_elastic_force(
-            e,
-            ne,
-            beam_f[b, 0],
-            beam_f[b, 1],
-            beam_f[b, 2],
-            beam_i[b, 2],
-            beam_i[b, 3],
-            beam_i[b, 4],
-            beam_i[b, 5],
-            scale,
-            out,
-            o,
-        )
-        if beam_f[b, 3] > 0.0:
-            beam_damping_force(
-                e,
-                v[o : o + n],
-                ne,
-                beam_f[b, 0],
-                beam_f[b, 1],
-                beam_f[b, 2],
-                beam_i[b, 2],
-                beam_i[b, 3],
-                beam_i[b, 4],
-                beam_i[b, 5],
-                beam_f[b, 3],
-                scale,
-                out,
-                o,
-            )
+        beam_elastic_force(e, *params, scale, out, o)
+        if damping > 0.0:
+            beam_damping_force(e, v[o : o + n], *params, damping, scale, out, o)
 
 
 @njit(cache=True)
@@ -616,36 +746,18 @@ def beams_jacobian_add(
     ``stiffness_scale = βh²`` and ``damping_scale = γh``.
     """
     for b in range(beam_i.shape[0]):
-        o = beam_i[b, 0]
-        ne = beam_i[b, 1]
-        e = q[o : o + 4 * (ne + 1)]
-        beam_elastic_jacobian(
-            e,
-            ne,
-            beam_f[b, 0],
-            beam_f[b, 1],
-            beam_f[b, 2],
-            beam_i[b, 2],
-            beam_i[b, 3],
-            beam_i[b, 4],
-            beam_i[b, 5],
-            stiffness_scale,
-            out,
-            o,
-        )
-        if beam_f[b, 3] > 0.0 and damping_scale != 0.0:
-            beam_damping_jacobian(
-                e,
-                ne,
-                beam_f[b, 0],
-                beam_f[b, 1],
-                beam_f[b, 2],
-                beam_i[b, 2],
-                beam_i[b, 3],
-                beam_i[b, 4],
-                beam_i[b, 5],
-                beam_f[b, 3],
-                damping_scale,
-                out,
-                o,
-            )
+        o, n, params, damping = _beam_row(beam_i, beam_f, b)
+        e = q[o : o + n]
+        beam_elastic_jacobian(e, *params, stiffness_scale, out, o)
+        if damping > 0.0 and damping_scale != 0.0:
+            beam_damping_jacobian(e, *params, damping, damping_scale, out, o)
+
+
+@njit(cache=True)
+def beams_strain_energy(beam_i: np.ndarray, beam_f: np.ndarray, q: np.ndarray) -> float:
+    """Σ U(q) over every beam in the tables (J), see :func:`beam_strain_energy`."""
+    energy = 0.0
+    for b in range(beam_i.shape[0]):
+        o, n, params, _ = _beam_row(beam_i, beam_f, b)
+        energy += beam_strain_energy(q[o : o + n], *params)
+    return energy

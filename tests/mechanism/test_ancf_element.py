@@ -9,33 +9,9 @@ import pytest
 from numpy.testing import assert_allclose
 
 from mechanism.bodies import _ancf_kernels as kernels
-from mechanism.bodies._ancf import AncfMesh
-
-LAWS = [
-    (axial, curvature)
-    for axial in ("biot", "green")
-    for curvature in ("material", "geometric", "linear")
-]
-
-
-def _mesh(n_elements: int = 3, **kw) -> AncfMesh:
-    base = dict(
-        length=0.9,
-        n_elements=n_elements,
-        area=1e-3,
-        second_moment=3.33e-8,
-        youngs_modulus=207e9,
-        density=7800.0,
-    )
-    base.update(kw)
-    return AncfMesh(**base)
-
-
-def _deformed(mesh: AncfMesh, seed: int = 0, amplitude: float = 0.03) -> np.ndarray:
-    rng = np.random.default_rng(seed)
-    return mesh.straight_coordinates((0.1, -0.2), angle=0.4) + amplitude * rng.standard_normal(
-        mesh.n_dofs
-    )
+from tests.mechanism.ancf_meshes import LAWS, central_difference
+from tests.mechanism.ancf_meshes import ancf_mesh as _mesh
+from tests.mechanism.ancf_meshes import deformed as _deformed
 
 
 def _hermite_mass(l: float) -> np.ndarray:
@@ -97,12 +73,7 @@ def test_elastic_force_is_the_gradient_of_the_strain_energy(axial: str, curvatur
     mesh = _mesh(3, axial_strain=axial, curvature=curvature)
     e = _deformed(mesh, seed=1)
     force = mesh.elastic_force(e)
-    h = 1e-6
-    numeric = np.empty(mesh.n_dofs)
-    for i in range(mesh.n_dofs):
-        d = np.zeros(mesh.n_dofs)
-        d[i] = h
-        numeric[i] = (mesh.strain_energy(e + d) - mesh.strain_energy(e - d)) / (2 * h)
+    numeric = central_difference(mesh.strain_energy, e, 1e-6)
     assert_allclose(force, numeric, rtol=0, atol=1e-7 * np.abs(force).max())
 
 
@@ -111,14 +82,23 @@ def test_analytic_jacobian_matches_finite_differences(axial: str, curvature: str
     mesh = _mesh(3, axial_strain=axial, curvature=curvature)
     e = _deformed(mesh, seed=2)
     jac = mesh.elastic_jacobian(e)
-    h = 1e-7
-    numeric = np.empty_like(jac)
-    for i in range(mesh.n_dofs):
-        d = np.zeros(mesh.n_dofs)
-        d[i] = h
-        numeric[:, i] = (mesh.elastic_force(e + d) - mesh.elastic_force(e - d)) / (2 * h)
+    numeric = central_difference(mesh.elastic_force, e, 1e-7)
     assert_allclose(jac, numeric, rtol=0, atol=1e-7 * np.abs(jac).max())
     assert_allclose(jac, jac.T, rtol=0, atol=1e-12 * np.abs(jac).max())
+
+
+@pytest.mark.parametrize("curvature", ["material", "linear"])
+@pytest.mark.parametrize(("gauss_axial", "gauss_bending"), [(1, 1), (2, 4), (4, 5)])
+def test_jacobian_matches_finite_differences_for_every_gauss_rule(
+    curvature: str, gauss_axial: int, gauss_bending: int
+) -> None:
+    # the quadrature loops index the Gauss table by rule and point; other rules than the
+    # defaults and more elements than one shared node pattern exercise that indexing
+    mesh = _mesh(5, curvature=curvature, gauss_axial=gauss_axial, gauss_bending=gauss_bending)
+    e = _deformed(mesh, seed=14)
+    jac = mesh.elastic_jacobian(e)
+    numeric = central_difference(mesh.elastic_force, e, 1e-7)
+    assert_allclose(jac, numeric, rtol=0, atol=1e-7 * np.abs(jac).max())
 
 
 def test_linear_bending_stiffness_is_the_papers_constant_kt() -> None:
@@ -224,6 +204,27 @@ def test_kernels_add_scaled_into_an_offset_block() -> None:
     untouched[offset : offset + n] = False
     assert (vec[untouched] == 1.0).all()
     assert (mat[untouched] == 1.0).all() and (mat[:, untouched] == 1.0).all()
+
+
+def test_damping_kernels_add_scaled_into_an_offset_block() -> None:
+    mesh = _mesh(2, damping=3e-5)
+    e = _deformed(mesh, seed=15)
+    e_dot = np.random.default_rng(16).standard_normal(mesh.n_dofs)
+    params = mesh.kernel_parameters
+    n, offset, scale = mesh.n_dofs, 4, 0.75
+    vec = np.full(n + 6, 2.0)
+    mat = np.full((n + 6, n + 6), 2.0)
+    kernels.beam_damping_force(e, e_dot, *params, mesh.damping, scale, vec, offset)
+    kernels.beam_damping_jacobian(e, *params, mesh.damping, scale, mat, offset)
+    block = slice(offset, offset + n)
+    assert_allclose(vec[block], 2.0 + scale * mesh.damping_force(e, e_dot), rtol=1e-14)
+    assert_allclose(mat[block, block], 2.0 + scale * mesh.damping_jacobian(e), rtol=1e-14)
+    untouched = np.ones(n + 6, bool)
+    untouched[block] = False
+    assert (vec[untouched] == 2.0).all()
+    assert (mat[untouched] == 2.0).all() and (mat[:, untouched] == 2.0).all()
+    # the energy kernel reads the same parameters and returns a number
+    assert kernels.beam_strain_energy(e, *params) == pytest.approx(mesh.strain_energy(e))
 
 
 def test_position_point_force_and_midspan_deflection() -> None:
