@@ -853,54 +853,47 @@ def _report_tables(
 ) -> list[Any]:
     import chaoskit
 
-    ref_clearance = paper["clearance"]
+    def table(key: str, caption: str, *, reference: str | None = None, **options: Any) -> Any:
+        # a table's data, its published values and its notes share one key
+        return chaoskit.ReportTable(
+            caption=caption,
+            data=tables[key],
+            reference=paper[reference or key],
+            labels=LABELS,
+            notes=notes[key],
+            **options,
+        )
+
     return [
-        chaoskit.ReportTable(
-            caption="Before and after wear, 150 rpm (paper Table: before/after wear).",
-            data=tables["wear"],
-            reference=paper["wear"],
+        table(
+            "wear",
+            "Before and after wear, 150 rpm (paper Table: before/after wear).",
             ratio=("after wear", "before wear") if has_after else None,
-            labels=LABELS,
             layout="long",
-            notes=notes["wear"],
         ),
-        chaoskit.ReportTable(
-            caption="Clearance size, before wear, 150 rpm (paper Table: clearance size).",
-            data=tables["clearance"],
-            reference=ref_clearance,
-            labels=LABELS,
+        table(
+            "clearance",
+            "Clearance size, before wear, 150 rpm (paper Table: clearance size).",
             layout="long",
-            notes=notes["clearance"],
         ),
-        chaoskit.ReportTable(
-            caption="Clearance size, before wear, 90 rpm (A3 alternative; paper Table: "
-            "clearance size).",
-            data=tables["clearance_90rpm"],
-            reference=ref_clearance,
-            labels=LABELS,
+        table(
+            "clearance_90rpm",
+            "Clearance size, before wear, 90 rpm (A3 alternative; paper Table: clearance size).",
+            reference="clearance",
             layout="long",
-            notes=notes["clearance_90rpm"],
         ),
-        chaoskit.ReportTable(
-            caption=(
-                "Driving speed, after wear (paper Table: driving speed)."
-                if has_after
-                else "Driving speed, BEFORE wear — wear prediction not available (paper "
-                "Table: driving speed, after wear)."
-            ),
-            data=tables["speed"],
-            reference=paper["speed"],
-            labels=LABELS,
+        table(
+            "speed",
+            "Driving speed, after wear (paper Table: driving speed)."
+            if has_after
+            else "Driving speed, BEFORE wear — wear prediction not available (paper "
+            "Table: driving speed, after wear).",
             layout="long",
-            notes=notes["speed"],
         ),
-        chaoskit.ReportTable(
-            caption="Element convergence: rod strains (µε) before wear, 150 rpm, against "
+        table(
+            "convergence",
+            "Element convergence: rod strains (µε) before wear, 150 rpm, against "
             "ANCF elements per rod (paper Table: element convergence).",
-            data=tables["convergence"],
-            reference=paper["convergence"],
-            labels=LABELS,
-            notes=notes["convergence"],
             section="Element convergence",
         ),
     ]

@@ -292,22 +292,10 @@ def estimate_delay(
     arr = as_series(x, min_length=_MIN_SAMPLES)
     max_lag = _default_max_lag(arr.size) if max_lag is None else _check_max_lag(max_lag, arr.size)
     bins = check_int(bins, name="bins", minimum=2, maximum=1024)
-    if method == "mi_first_minimum":
-        curve = _mi_until_minimum(arr, bins, max_lag, None)
-        lag, rule, found = _mi_choice(curve)
-        return DelayResult(
-            lag=lag,
-            method=method,
-            rule=rule,
-            found=found,
-            lags=np.arange(curve.size),
-            curve=curve,
-            quantity="mutual_information",
-            units="nat",
-        )
-    acf = _acf(arr, max_lag)
-    if method == "auto":
-        lag_e = _first_below(acf, 1.0 / np.e)
+    # the MI-only method skips the autocorrelation; "auto" caps the MI curve at its 1/e time
+    acf = np.empty(0) if method == "mi_first_minimum" else _acf(arr, max_lag)
+    if method in ("mi_first_minimum", "auto"):
+        lag_e = _first_below(acf, 1.0 / np.e) if acf.size else -1
         curve = _mi_until_minimum(arr, bins, max_lag, None if lag_e < 0 else lag_e + 1)
         lag, rule, found = _mi_choice(curve)
         if lag_e > 0 and (lag_e < lag or not found):

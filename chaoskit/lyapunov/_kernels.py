@@ -6,6 +6,16 @@ import numpy as np
 from numba import njit
 
 
+@njit(cache=True, inline="always")
+def _row_sq_distance(a: np.ndarray, i: int, b: np.ndarray, j: int) -> float:
+    """‖a_i − b_j‖² over the columns of ``a``."""
+    d2 = 0.0
+    for c in range(a.shape[1]):
+        diff = a[i, c] - b[j, c]
+        d2 += diff * diff
+    return d2
+
+
 @njit(cache=True)
 def _sq_distance(pts: np.ndarray, i: int, j: int, transverse: bool) -> float:
     """‖y_j − y_i‖², or of its part perpendicular to the local flow direction at y_i.
@@ -146,10 +156,7 @@ def log_divergence(
             if i + k >= n or j + k + edge >= n:
                 break
             if mode == EUCLIDEAN:
-                d2 = 0.0
-                for c in range(m):
-                    diff = pts[j + k, c] - pts[i + k, c]
-                    d2 += diff * diff
+                d2 = _row_sq_distance(pts, j + k, pts, i + k)
             elif mode == ORBIT:
                 d2 = 0.0
                 jp = max(j + k - 1, 0)  # weight 0 when s = 0
@@ -304,20 +311,11 @@ def evolve_pair(
     Stops early when either index reaches ``stop``. Returns the evolved (i, j) and their
     distance.
     """
-    m = pts.shape[1]
-    d0 = 0.0
-    for c in range(m):
-        diff = pts[i, c] - pts[j, c]
-        d0 += diff * diff
-    d0 = np.sqrt(d0)
+    d0 = np.sqrt(_row_sq_distance(pts, i, pts, j))
     for _ in range(steps):
         if i + 1 >= stop or j + 1 >= stop:
             break
-        d1 = 0.0
-        for c in range(m):
-            diff = pts[i + 1, c] - pts[j + 1, c]
-            d1 += diff * diff
-        d1 = np.sqrt(d1)
+        d1 = np.sqrt(_row_sq_distance(pts, i + 1, pts, j + 1))
         if d0 > 0.0 and d1 > 0.0:
             inc[i] = np.log(d1 / d0)
         else:
@@ -352,6 +350,12 @@ def _find_key(keys: np.ndarray, key: int) -> int:
     if lo < keys.size and keys[lo] == key:
         return lo
     return -1
+
+
+@njit(cache=True, inline="always")
+def _is_candidate(c: int, fid: int, w: int, stop: int) -> bool:
+    """Outside the Theiler window ``w`` of ``fid``, with a successor before ``stop``."""
+    return abs(c - fid) > w and c + 1 < stop
 
 
 @njit(cache=True)
@@ -428,7 +432,7 @@ def _band_scan(
             lo, hi = starts[pos], starts[pos + 1]
         for q in range(lo, hi):
             c = members[q]
-            if abs(c - fid) <= w or c + 1 >= stop:
+            if not _is_candidate(c, fid, w, stop):
                 continue
             d2 = 0.0
             for k in range(m):
@@ -476,7 +480,6 @@ def _nearest_beyond(pts, fid, w, lower, stop, members):
     If none is that far, the nearest admissible point at any distance; −1 if none at all.
     Brute force: only needed when a neighbour ran off the data or hit the fiducial point.
     """
-    m = pts.shape[1]
     far = -1
     far_d2 = np.inf
     any_ = -1
@@ -484,12 +487,9 @@ def _nearest_beyond(pts, fid, w, lower, stop, members):
     lower2 = lower * lower
     for q in range(members.size):
         c = members[q]
-        if abs(c - fid) <= w or c + 1 >= stop:
+        if not _is_candidate(c, fid, w, stop):
             continue
-        d2 = 0.0
-        for k in range(m):
-            diff = pts[c, k] - pts[fid, k]
-            d2 += diff * diff
+        d2 = _row_sq_distance(pts, c, pts, fid)
         if d2 < any_d2:
             any_ = c
             any_d2 = d2

@@ -46,6 +46,18 @@ def check_order(order: Any) -> int:
     return order
 
 
+def check_real(value: Any, *, name: str, units: str = "") -> float:
+    """Return ``value`` as a finite float or raise a ValueError naming it (and its units)."""
+    unit = f" ({units})" if units else ""
+    try:
+        out = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a real number{unit}; got {value!r}.") from None
+    if not np.isfinite(out):
+        raise ValueError(f"{name} must be finite{unit}; got {value!r}.")
+    return out
+
+
 def series(ds: xr.Dataset, name: str, *, what: str) -> np.ndarray:
     """One 1-D variable along ``time`` as a contiguous float64 array."""
     if name not in ds.data_vars:

@@ -10,7 +10,7 @@ import xarray as xr
 
 from .._validate import check_choice
 from . import _kernels
-from ._common import as_flow, check_order, points_dataset, series, stack_columns
+from ._common import as_flow, check_order, check_real, points_dataset, series, stack_columns
 
 __all__ = ["poincare_section"]
 
@@ -102,12 +102,7 @@ def poincare_section(
     ds = as_flow(data, what="poincare_section")
     how = check_choice(direction, name="direction", choices=("up", "down", "both"))
     order = check_order(order)
-    try:
-        level = float(level)
-    except (TypeError, ValueError):
-        raise ValueError(f"level must be a real number; got {level!r}.") from None
-    if not np.isfinite(level):
-        raise ValueError(f"level must be finite; got {level!r}.")
+    level = check_real(level, name="level")
     x = series(ds, variable, what="variable")
     t = np.ascontiguousarray(ds["time"].values, dtype=np.float64)
     y, columns = stack_columns(ds, coords, exclude=(variable,))

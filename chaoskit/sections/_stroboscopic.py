@@ -10,7 +10,7 @@ import xarray as xr
 
 from .._validate import check_positive
 from . import _kernels
-from ._common import as_flow, check_order, points_dataset, series, stack_columns
+from ._common import as_flow, check_order, check_real, points_dataset, series, stack_columns
 
 __all__ = ["stroboscopic_map"]
 
@@ -107,12 +107,7 @@ def stroboscopic_map(
     """
     ds = as_flow(data, what="stroboscopic_map")
     order = check_order(order)
-    try:
-        phase = float(phase)
-    except (TypeError, ValueError):
-        raise ValueError(f"phase must be a real number (rad); got {phase!r}.") from None
-    if not np.isfinite(phase):
-        raise ValueError(f"phase must be finite (rad); got {phase!r}.")
+    phase = check_real(phase, name="phase", units="rad")
     if (period is None) == (phase_variable is None):
         raise ValueError("give exactly one of period= (s) and phase_variable= (an angle, rad).")
     t = np.ascontiguousarray(ds["time"].values, dtype=np.float64)

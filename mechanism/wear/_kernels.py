@@ -54,6 +54,17 @@ def region_index(angle: float, regions: int) -> int:
     return i % regions
 
 
+@njit(cache=True, inline="always")
+def _between_centres(angle: float, regions: int) -> tuple[int, float]:
+    """Region ``i0`` whose centre precedes the finite ``angle`` and the weight of ``i0 + 1``.
+
+    ``i0`` is not wrapped (it may be −1); callers take it modulo the region count.
+    """
+    u = wrap_angle(angle) * regions / TWO_PI - 0.5
+    i0 = math.floor(u)
+    return i0, u - i0
+
+
 @njit(cache=True)
 def region_value(values: np.ndarray, angle: float, interpolation: int = 0) -> float:
     """Value of a per-region array at ``angle``; 0 for an empty array."""
@@ -61,9 +72,7 @@ def region_value(values: np.ndarray, angle: float, interpolation: int = 0) -> fl
     if n == 0:
         return 0.0
     if interpolation == INTERP_LINEAR and math.isfinite(angle):
-        u = wrap_angle(angle) * n / TWO_PI - 0.5
-        i0 = math.floor(u)
-        w = u - i0
+        i0, w = _between_centres(angle, n)
         return (1.0 - w) * values[i0 % n] + w * values[(i0 + 1) % n]
     return values[region_index(angle, n)]
 
@@ -161,9 +170,7 @@ def curvature_at(
     if n < 3:
         return 1.0 / radius
     if interpolation == INTERP_LINEAR and math.isfinite(angle):
-        u = wrap_angle(angle) * n / TWO_PI - 0.5
-        i0 = math.floor(u)
-        w = u - i0
+        i0, w = _between_centres(angle, n)
         k0 = surface_curvature(radius, depth, i0 % n, smoothing, outward)
         k1 = surface_curvature(radius, depth, (i0 + 1) % n, smoothing, outward)
         return (1.0 - w) * k0 + w * k1
@@ -232,7 +239,13 @@ def local_stiffness(
         radius_ratio_limit,
         interpolation,
     )
-    return 4.0 / 3.0 * effective_modulus * math.sqrt(r_star)
+    return _hertz_stiffness(effective_modulus, r_star)
+
+
+@njit(cache=True, inline="always")
+def _hertz_stiffness(effective_modulus: float, effective_radius: float) -> float:
+    """K_n = (4/3) E* √R* (N m^-1.5)."""
+    return 4.0 / 3.0 * effective_modulus * math.sqrt(effective_radius)
 
 
 @njit(cache=True)
@@ -285,7 +298,7 @@ def local_stiffness_tabulated(
     r_star = _bounded_effective_radius(
         form, bearing_radius, journal_radius, kb, kj, radius_ratio_limit
     )
-    return 4.0 / 3.0 * effective_modulus * math.sqrt(r_star)
+    return _hertz_stiffness(effective_modulus, r_star)
 
 
 @njit(cache=True)
@@ -442,6 +455,18 @@ def worn_volume(depth: np.ndarray, radius: float, length: float, outward: bool) 
     return total
 
 
+@njit(cache=True, inline="always")
+def _tally(
+    status: int, applied: float, slot: int, counters: np.ndarray, volumes: np.ndarray
+) -> None:
+    """Book one :func:`archard_increment` as :func:`archard_history` reports it."""
+    volumes[slot] += applied
+    if status == STATUS_REDUCED:
+        counters[1] += 1
+    elif status == STATUS_REJECTED:
+        counters[2] += 1
+
+
 @njit(cache=True)
 def archard_history(
     bearing_depth: np.ndarray,
@@ -505,11 +530,7 @@ def archard_history(
             True,
             max_increment,
         )
-        volumes[1] += applied
-        if status == STATUS_REDUCED:
-            counters[1] += 1
-        elif status == STATUS_REJECTED:
-            counters[2] += 1
+        _tally(status, applied, 1, counters, volumes)
         if wear_journal:
             status, applied = archard_increment(
                 journal_depth,
@@ -523,8 +544,4 @@ def archard_history(
                 False,
                 max_increment,
             )
-            volumes[2] += applied
-            if status == STATUS_REDUCED:
-                counters[1] += 1
-            elif status == STATUS_REJECTED:
-                counters[2] += 1
+            _tally(status, applied, 2, counters, volumes)

@@ -12,18 +12,9 @@ import chaoskit
 from chaoskit import SectionStructure, Verdict, VerdictRule, classify, systems
 from chaoskit.classify._verdict import combine
 from tests.chaoskit.test_sections import duffing_dataset
+from tests.chaoskit.test_surrogates import ar1
 
 DRIVE = 2 * np.pi / 1.2  # forced Duffing drive period, s
-
-
-def ar1(n: int, phi: float, seed: int) -> np.ndarray:
-    rng = np.random.default_rng(seed)
-    e = rng.standard_normal(n)
-    x = np.empty(n)
-    x[0] = e[0]
-    for i in range(1, n):
-        x[i] = phi * x[i - 1] + e[i]
-    return x
 
 
 def noisy_sine(n: int = 3000, dt: float = 0.05, noise: float = 0.05, seed: int = 0) -> np.ndarray:

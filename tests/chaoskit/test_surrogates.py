@@ -10,7 +10,8 @@ from chaoskit import SurrogateResult, iaaft_surrogates, surrogate_test, systems
 from chaoskit.classify._surrogates import match_ends, prediction_error
 
 
-def _ar1(n: int, phi: float, seed: int) -> np.ndarray:
+def ar1(n: int, phi: float, seed: int) -> np.ndarray:
+    """AR(1) noise x_i = φ x_{i−1} + e_i: linear, the null hypothesis of the surrogate test."""
     rng = np.random.default_rng(seed)
     e = rng.standard_normal(n)
     x = np.empty(n)
@@ -21,7 +22,7 @@ def _ar1(n: int, phi: float, seed: int) -> np.ndarray:
 
 
 def test_iaaft_keeps_values_exactly_and_spectrum_closely() -> None:
-    x = np.exp(_ar1(1024, 0.9, 1) / 3.0)  # a skewed, correlated series
+    x = np.exp(ar1(1024, 0.9, 1) / 3.0)  # a skewed, correlated series
     s = iaaft_surrogates(x, n_surrogates=4, rng=0)
     assert s.shape == (4, 1024)
     for row in s:
@@ -36,7 +37,7 @@ def test_iaaft_keeps_values_exactly_and_spectrum_closely() -> None:
 
 
 def test_iaaft_is_reproducible() -> None:
-    x = _ar1(256, 0.5, 2)
+    x = ar1(256, 0.5, 2)
     np.testing.assert_array_equal(
         iaaft_surrogates(x, n_surrogates=2, rng=5), iaaft_surrogates(x, n_surrogates=2, rng=5)
     )
@@ -69,7 +70,7 @@ def test_chaotic_map_rejects_linear_noise() -> None:
 
 @pytest.mark.parametrize("seed", [0, 1, 2])
 def test_linear_noise_is_not_rejected(seed: int) -> None:
-    red = _ar1(2000, 0.9, 10 + seed)
+    red = ar1(2000, 0.9, 10 + seed)
     res = surrogate_test(red, embedding_dim=3, lag=2, rng=seed)
     assert not res.rejected
     white = np.random.default_rng(seed).standard_normal(1000)

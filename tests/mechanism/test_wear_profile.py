@@ -34,6 +34,19 @@ def profile(bearing=None, journal=None, **kw) -> WornProfile:
     )
 
 
+def joint_with(wear: WearSettings) -> ClearanceRevolute:
+    return ClearanceRevolute(
+        bearing=("ground", "C"),
+        journal=("rod3", "C"),
+        bearing_radius=RB,
+        clearance=C0,
+        length=L,
+        bearing_material=STEEL,
+        journal_material=STEEL,
+        wear=wear,
+    )
+
+
 def arc_wear(depth: float, start_deg: float, stop_deg: float, n: int = N) -> np.ndarray:
     """A smooth bump of wear (cos²) over [start, stop] degrees, zero elsewhere."""
     centres = (np.arange(n) + 0.5) * 360.0 / n
@@ -306,16 +319,7 @@ def test_to_dataset_is_labelled_and_round_trips(tmp_path) -> None:
 
 
 def test_scene_joint_round_trip() -> None:
-    joint = ClearanceRevolute(
-        bearing=("ground", "C"),
-        journal=("rod3", "C"),
-        bearing_radius=RB,
-        clearance=C0,
-        length=L,
-        bearing_material=STEEL,
-        journal_material=STEEL,
-        wear=WearSettings(regions=180, surfaces="bearing", smoothing_regions=3),
-    )
+    joint = joint_with(WearSettings(regions=180, surfaces="bearing", smoothing_regions=3))
     p = WornProfile.from_joint(joint)
     assert (p.regions, p.surfaces, p.smoothing_regions, p.volume) == (180, "bearing", 3, 0.0)
     worn = p.with_depth(bearing_depth=arc_wear(4e-5, 75, 132, n=180))
@@ -324,16 +328,7 @@ def test_scene_joint_round_trip() -> None:
     assert joint2.wear.coefficient == joint.wear.coefficient
     again = WornProfile.from_joint(joint2)
     np.testing.assert_array_equal(again.bearing_depth, worn.bearing_depth)
-    bad = ClearanceRevolute(
-        bearing=("ground", "C"),
-        journal=("rod3", "C"),
-        bearing_radius=RB,
-        clearance=C0,
-        length=L,
-        bearing_material=STEEL,
-        journal_material=STEEL,
-        wear=WearSettings(regions=360, bearing_profile=(0.0,) * 100),
-    )
+    bad = joint_with(WearSettings(regions=360, bearing_profile=(0.0,) * 100))
     with pytest.raises(ValueError, match="bearing_profile must hold"):
         WornProfile.from_joint(bad)
     with pytest.raises(ValueError, match="clearance"):
