@@ -7,11 +7,13 @@ functions here resolve and validate a scene's settings once. See ``docs/contact-
 """
 
 from ._laws import (
+    APPROACH_SPEEDS,
     CONTACT_LAWS,
     FRICTION_LAWS,
     LOW_RESTITUTION_LIMIT,
     STIFFNESS_FORMS,
     ContactParameters,
+    approach_speed_code,
     check_contact_law,
     contact_parameters,
     contact_stiffness,
@@ -24,11 +26,13 @@ from ._laws import (
 )
 
 __all__ = [
+    "APPROACH_SPEEDS",
     "CONTACT_LAWS",
     "FRICTION_LAWS",
     "LOW_RESTITUTION_LIMIT",
     "STIFFNESS_FORMS",
     "ContactParameters",
+    "approach_speed_code",
     "check_contact_law",
     "contact_parameters",
     "contact_stiffness",

@@ -3,7 +3,9 @@
 Scalars in, scalars out: the integrator calls these once per contact evaluation, so they
 never allocate, never raise and never validate (the Python layer in ``_laws.py`` checks
 parameters once, when the scene is assembled). Law and friction selectors are the integer
-codes below; ``_laws.law_code`` / ``_laws.friction_code`` map the scene names to them.
+codes below; ``_laws.law_code`` / ``_laws.friction_code`` map the scene names to them. A
+law code may carry the flag :data:`APPROACH_BOUNDED` (``law | APPROACH_BOUNDED``), which
+selects the bounded approach speed of :func:`normal_force`; ``law & LAW_MASK`` is the law.
 
 Sign conventions (paper-model §2.4): ``delta`` is the penetration |e| − c (> 0 in contact),
 ``delta_dot`` its rate (> 0 while penetration grows), ``tangential_velocity`` the relative
@@ -20,6 +22,14 @@ LAW_LANKARANI_NIKRAVESH = 0
 LAW_HERTZ = 1
 LAW_FLORES = 2
 LAW_HU_GUO = 3
+LAW_MASK = 7  # the law itself; higher bits are options
+# option flag: while compressing, δ̇⁻ = max(latched, δ̇/APPROACH_RATIO), so the hysteresis
+# term never exceeds APPROACH_RATIO·χ̂Kδⁿ (a free impact reaches χ̂Kδⁿ at most)
+APPROACH_BOUNDED = 8
+# The latch is taken one step before contact and the mechanism keeps pushing, so δ̇ passes
+# δ̇⁻ a little in ordinary impacts (S3: 1.2×); a ratio of 1 put the kink of the bound inside
+# them (docs/contact-and-wear.md §2).
+APPROACH_RATIO = 2.0
 
 FRICTION_NONE = 0
 FRICTION_COULOMB = 1
@@ -33,6 +43,7 @@ FORM_SUM_OF_RADII = 1
 def hysteresis_factor(law: int, restitution: float) -> float:
     """Dimensionless factor χ̂ of F = Kδⁿ(1 + χ̂ δ̇/δ̇⁻) for each law (0 for Hertz)."""
     ce = restitution
+    law = law & LAW_MASK
     if law == LAW_LANKARANI_NIKRAVESH:
         return 0.75 * (1.0 - ce * ce)
     if law == LAW_FLORES:
@@ -56,14 +67,23 @@ def normal_force(
 
     F = Kδⁿ [1 + χ̂(cₑ) δ̇/δ̇⁻] clamped at F ≥ 0; 0 when δ ≤ 0. A non-positive
     ``impact_velocity`` (the integrator should never pass one; it floors the latched value)
-    drops the damping term instead of dividing by zero.
+    drops the damping term instead of dividing by zero. With the :data:`APPROACH_BOUNDED`
+    flag in ``law`` the approach speed while compressing is
+    δ̇⁻ = max(``impact_velocity``, δ̇/:data:`APPROACH_RATIO`), which bounds the force by
+    (1 + 2χ̂)Kδⁿ; a free impact never has δ̇ above its approach speed, so its force is
+    unchanged.
     """
     if not delta > 0.0:  # also catches NaN penetration
         return 0.0
     elastic = stiffness * delta**exponent
-    if law == LAW_HERTZ or not impact_velocity > 0.0:
+    base = law & LAW_MASK
+    if base == LAW_HERTZ or not impact_velocity > 0.0:
         return elastic
-    force = elastic * (1.0 + hysteresis_factor(law, restitution) * delta_dot / impact_velocity)
+    speed = impact_velocity
+    # A contact entered at a grazing speed and then driven in is an impact at the current rate.
+    if (law & APPROACH_BOUNDED) != 0 and delta_dot > APPROACH_RATIO * speed:
+        speed = delta_dot / APPROACH_RATIO
+    force = elastic * (1.0 + hysteresis_factor(base, restitution) * delta_dot / speed)
     # Fast restitution can make the damping term pull; a contact only pushes.
     return force if force > 0.0 else 0.0
 

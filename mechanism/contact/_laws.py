@@ -34,11 +34,13 @@ if TYPE_CHECKING:
     from mechanism.scene import ClearanceRevolute
 
 __all__ = [
+    "APPROACH_SPEEDS",
     "CONTACT_LAWS",
     "FRICTION_LAWS",
     "LOW_RESTITUTION_LIMIT",
     "STIFFNESS_FORMS",
     "ContactParameters",
+    "approach_speed_code",
     "check_contact_law",
     "contact_parameters",
     "contact_stiffness",
@@ -53,6 +55,7 @@ __all__ = [
 ContactLawName = Literal["lankarani-nikravesh", "hertz", "flores", "hu-guo"]
 FrictionLawName = Literal["none", "coulomb", "ambrosio"]
 StiffnessForm = Literal["conformal", "sum-of-radii"]
+ApproachSpeed = Literal["latched", "bounded"]
 
 CONTACT_LAWS: dict[str, int] = {
     "lankarani-nikravesh": k.LAW_LANKARANI_NIKRAVESH,
@@ -68,6 +71,13 @@ FRICTION_LAWS: dict[str, int] = {
 STIFFNESS_FORMS: dict[str, int] = {
     "conformal": k.FORM_CONFORMAL,
     "sum-of-radii": k.FORM_SUM_OF_RADII,
+}
+#: Approach-speed rules of the damping term (``ContactLaw.approach_speed``) → the flag added
+#: to the kernel law code. ``"latched"``: δ̇⁻ is the speed latched at contact entry (floored
+#: at ``impact_velocity_floor``); ``"bounded"``: δ̇⁻ = max(latched, δ̇/2) while compressing.
+APPROACH_SPEEDS: dict[str, int] = {
+    "latched": 0,
+    "bounded": k.APPROACH_BOUNDED,
 }
 
 #: Below this restitution the Lankarani–Nikravesh law dissipates far too little (it is a
@@ -99,6 +109,22 @@ def friction_code(name: str) -> int:
     2
     """
     return FRICTION_LAWS[check_choice(name, name="friction law", choices=tuple(FRICTION_LAWS))]
+
+
+def approach_speed_code(rule: str) -> int:
+    """Kernel flag of an approach-speed rule (``"latched"`` → 0, ``"bounded"`` → 8).
+
+    The flag is or-ed into the law code that :func:`contact_parameters` hands to the time
+    loop (``ContactParameters.law_code``); see ``ContactLaw.approach_speed``.
+
+    Examples
+    --------
+    >>> law_code("lankarani-nikravesh") | approach_speed_code("bounded")
+    8
+    """
+    return APPROACH_SPEEDS[
+        check_choice(rule, name="contact.approach_speed", choices=tuple(APPROACH_SPEEDS))
+    ]
 
 
 def form_code(form: str) -> int:
@@ -293,7 +319,11 @@ class ContactParameters:
     Attributes
     ----------
     law, friction : str
-        Law names; ``law_code`` and ``friction_code`` are their kernel codes.
+        Law names; ``law_code`` and ``friction_code`` are their kernel codes. ``law_code``
+        carries the approach-speed flag (``law_code & k.LAW_MASK`` is the law itself).
+    approach_speed : {"latched", "bounded"}
+        Rule for the approach speed δ̇⁻ that divides the damping term (see
+        ``mechanism.scene.ContactLaw``).
     stiffness : float
         K, N m^-n.
     form : str or None
@@ -314,6 +344,7 @@ class ContactParameters:
 
     law: str
     law_code: int
+    approach_speed: str
     stiffness: float
     form: str | None
     stiffness_form_code: int
@@ -368,14 +399,16 @@ def contact_parameters(joint: ClearanceRevolute) -> ContactParameters:
     ...     bearing_radius=0.010, clearance=5e-4, length=0.04, bearing_material=steel,
     ...     journal_material=steel)
     >>> p = contact_parameters(joint)
-    >>> p.law_code, f"{p.stiffness:.4e}", round(p.effective_radius, 6)
-    (0, '6.6102e+10', 0.19)
+    >>> p.law_code & 7, p.approach_speed, f"{p.stiffness:.4e}", round(p.effective_radius, 6)
+    (0, 'latched', '6.6102e+10', 0.19)
     """
     _check_geometry(joint)
     contact = joint.contact
     stiffness = contact_stiffness(joint)
     exponent = check_positive(contact.exponent, name="contact.exponent")
     floor = check_positive(contact.impact_velocity_floor, name="contact.impact_velocity_floor")
+    rule = contact.approach_speed
+    flag = approach_speed_code(rule)
     e_star = effective_modulus(joint.bearing_material, joint.journal_material)
     if isinstance(contact.stiffness, str):
         form: str | None = contact.stiffness
@@ -388,7 +421,8 @@ def contact_parameters(joint: ClearanceRevolute) -> ContactParameters:
     name, mu, v0, v1 = _friction(joint.friction)
     return ContactParameters(
         law=contact.law,
-        law_code=law_code(contact.law),
+        law_code=law_code(contact.law) | flag,
+        approach_speed=rule,
         stiffness=stiffness,
         form=form,
         stiffness_form_code=code,

@@ -254,6 +254,14 @@ class ContactLaw:
     ``stiffness``: ``"conformal"`` (R* = R_b R_j/(R_b − R_j)), ``"sum-of-radii"``
     (R* = R_b R_j/(R_b + R_j), the form the paper's tables imply) or a number in N m^-n.
     ``impact_velocity_floor`` (m/s) bounds |δ̇⁻| from below for impacts at near-zero speed.
+    ``approach_speed``: the δ̇⁻ that divides the damping term. ``"latched"`` (default, until
+    the sample data are regenerated) is the textbook form, the approach speed latched at
+    contact entry. ``"bounded"`` (recommended after wear) uses
+    max(latched, δ̇/2) while compressing: a contact entered at a grazing speed and then
+    driven in fast (sustained sliding on a worn surface) is damped like an impact at its
+    current rate, so the force stays below (1 + 2χ̂)Kδⁿ instead of a multiple of the
+    elastic force; a free impact never has δ̇ above its approach speed, so its restitution
+    is unchanged (``docs/contact-and-wear.md`` §2).
     """
 
     law: Literal["lankarani-nikravesh", "hertz", "flores", "hu-guo"] = "lankarani-nikravesh"
@@ -262,6 +270,7 @@ class ContactLaw:
     ] = "conformal"
     exponent: Annotated[Real, Ge(1), Le(3), Unit("1")] = 1.5
     impact_velocity_floor: Annotated[Real, Gt(0), Unit("m s-1")] = 1e-3
+    approach_speed: Literal["latched", "bounded"] = "latched"
 
 
 @with_config(_CONFIG)

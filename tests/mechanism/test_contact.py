@@ -110,7 +110,11 @@ def test_contact_parameters_keep_r_star_consistent_with_k() -> None:
             4 / 3 * p.effective_modulus * math.sqrt(p.effective_radius), p.stiffness, rtol=1e-12
         )
     p = contact_parameters(joint())
-    assert (p.law_code, p.friction_code) == (k.LAW_LANKARANI_NIKRAVESH, k.FRICTION_AMBROSIO)
+    # an approach-speed rule other than "latched" travels as a flag in the law code
+    assert (p.law_code & k.LAW_MASK, p.friction_code) == (
+        k.LAW_LANKARANI_NIKRAVESH,
+        k.FRICTION_AMBROSIO,
+    )
     assert p.form == "conformal" and p.stiffness_form_code == k.FORM_CONFORMAL
 
 
@@ -125,6 +129,7 @@ def test_contact_parameters_keep_r_star_consistent_with_k() -> None:
         (dict(contact=ContactLaw(stiffness="concave")), "stiffness form"),
         (dict(contact=ContactLaw(law="kelvin")), "contact law"),
         (dict(contact=ContactLaw(impact_velocity_floor=0.0)), "impact_velocity_floor"),
+        (dict(contact=ContactLaw(approach_speed="peak")), "approach_speed"),
         (dict(restitution=1.2), "restitution"),
         (dict(restitution=0.0, contact=ContactLaw(law="flores")), "restitution"),
         (dict(friction=FrictionLaw(law="stribeck")), "friction law"),
