@@ -80,7 +80,7 @@ def _d2(xi: float, l: float) -> Shape:
     )
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def shape_functions(xi: float, l: float) -> Shape:
     """Cubic Hermite shape functions s_1…s_4 at ξ = x/l (the slope ones carry the factor l)."""
     xi2 = xi * xi
@@ -345,7 +345,7 @@ def _strain_stiffness(
                     out[o + 2 * k + 1, o + 2 * m + 1] += wt * (gky * gmy + kap * hyy)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def beam_elastic_force(
     e: np.ndarray,
     n_elements: int,
@@ -379,7 +379,7 @@ def beam_elastic_force(
     )
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def beam_elastic_jacobian(
     e: np.ndarray,
     n_elements: int,
@@ -412,7 +412,7 @@ def beam_elastic_jacobian(
     )
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def beam_damping_force(
     e: np.ndarray,
     e_dot: np.ndarray,
@@ -452,7 +452,7 @@ def beam_damping_force(
     )
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def beam_damping_jacobian(
     e: np.ndarray,
     n_elements: int,
@@ -486,7 +486,7 @@ def beam_damping_jacobian(
     )
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def beam_strain_energy(
     e: np.ndarray,
     n_elements: int,
@@ -521,7 +521,7 @@ def beam_strain_energy(
     return 0.5 * (axial_stiffness * axial + bending_stiffness * bending)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def beam_mass_matrix(
     n_elements: int,
     element_length: float,
@@ -556,7 +556,7 @@ def _mbar(k: int, m: int, l: float) -> float:
     return l * l / 105.0
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def beam_distributed_force(
     n_elements: int,
     element_length: float,
@@ -576,7 +576,7 @@ def beam_distributed_force(
             out[o + 2 * k + 1] += scale * w[k] * force_per_length_y
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def beam_locate(n_elements: int, element_length: float, s: float) -> tuple[int, float]:
     """Element index and local ξ ∈ [0, 1] of arc length ``s`` (clipped to the beam)."""
     i = math.floor(s / element_length)
@@ -588,7 +588,7 @@ def beam_locate(n_elements: int, element_length: float, s: float) -> tuple[int, 
     return i, min(max(xi, 0.0), 1.0)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def beam_position(
     e: np.ndarray, n_elements: int, element_length: float, s: float
 ) -> tuple[float, float]:
@@ -597,7 +597,7 @@ def beam_position(
     return _interpolate(_element(e, 4 * i), shape_functions(xi, element_length))
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def beam_slope(
     e: np.ndarray, n_elements: int, element_length: float, s: float
 ) -> tuple[float, float]:
@@ -606,7 +606,7 @@ def beam_slope(
     return _interpolate(_element(e, 4 * i), _d1(xi, element_length))
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def beam_point_force(
     n_elements: int,
     element_length: float,
@@ -626,7 +626,7 @@ def beam_point_force(
         out[o + 2 * k + 1] += scale * sh[k] * fy
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def beam_axial_strain(
     e: np.ndarray,
     n_elements: int,
@@ -641,7 +641,7 @@ def beam_axial_strain(
         out[j] = _axial(rx, ry, axial_law)[0]
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def beam_axial_strain_history(
     coordinates: np.ndarray,
     offset: int,
@@ -664,7 +664,7 @@ def beam_axial_strain_history(
         )
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def beam_midspan_deflection_history(
     coordinates: np.ndarray,
     offset: int,
@@ -710,7 +710,7 @@ def _beam_row(
     return beam_i[b, 0], 4 * (ne + 1), params, beam_f[b, 3]
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def beams_force_add(
     beam_i: np.ndarray,
     beam_f: np.ndarray,
@@ -731,7 +731,7 @@ def beams_force_add(
             beam_damping_force(e, v[o : o + n], *params, damping, scale, out, o)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def beams_jacobian_add(
     beam_i: np.ndarray,
     beam_f: np.ndarray,
@@ -753,7 +753,7 @@ def beams_jacobian_add(
             beam_damping_jacobian(e, *params, damping, damping_scale, out, o)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def beams_strain_energy(beam_i: np.ndarray, beam_f: np.ndarray, q: np.ndarray) -> float:
     """Σ U(q) over every beam in the tables (J), see :func:`beam_strain_energy`."""
     energy = 0.0

@@ -347,7 +347,7 @@ def dopri5_advance(
 # --------------------------------------------------------------------------- generalized-α
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _lu_factor(a, piv):
     """In-place LU factorisation with partial pivoting; False if singular."""
     n = a.shape[0]
@@ -376,7 +376,7 @@ def _lu_factor(a, piv):
     return True
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _lu_solve(a, piv, b):
     n = a.shape[0]
     for k in range(n):
@@ -428,7 +428,7 @@ def _fd_jacobian(model, ws, t, q, v, vimp, kq, cv, counters):
     counters[CNT_JAC] += 1
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _project(model, ws, x, out, y, u):
     """out = P M⁻¹ x, P = I − W S⁻¹Φq (the constrained response to a generalized force).
 
@@ -464,7 +464,7 @@ def _project(model, ws, x, out, y, u):
         out[i] = acc
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _projected_columns(model, ws, kbuf, cols, out):
     """out[:, j] = −P M⁻¹ kbuf[:, j] for j in ``cols`` (see :func:`_project`), all columns
     at once with matrix products on the mass blocks (BLAS)."""
@@ -507,7 +507,7 @@ def _projected_columns(model, ws, kbuf, cols, out):
             out[i, cols[c]] = y[i, c] - z[i, c]
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _contact_force(model, q, v, vimp, pci, pcf, gen, cj, scratch_counters):
     """Generalized forces of the clearance joints alone at (q, q̇) into ``gen``."""
     gen[:] = 0.0
@@ -515,7 +515,7 @@ def _contact_force(model, q, v, vimp, pci, pcf, gen, cj, scratch_counters):
     _clearance_forces(model, pci, pcf, vimp, gen, cj, scratch_counters)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _contact_derivatives(model, ws, q, v, vimp, cc, dq, dv, gt):
     """Derivatives of the clearance-joint forces with respect to the coordinates ``cc``
     they read (bearing and journal points): ``dq[a, c] = ∂Q_cc[a]/∂q_cc[c]``,
@@ -564,7 +564,7 @@ def _contact_derivatives(model, ws, q, v, vimp, cc, dq, dv, gt):
     return True
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _response_basis(model, ws, cc, basis):
     """``basis[a] = P M⁻¹ e_cc[a]``: the constrained acceleration response to a unit
     generalized force on coordinate cc[a] (factors of the last :func:`accelerations`)."""
@@ -578,7 +578,7 @@ def _response_basis(model, ws, cc, basis):
         e[cc[a]] = 0.0
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _contact_newton_solve(jm, piv, cc, zb, delta, sm, spiv, w, dx):
     """Solve (J₀ + Y Δ Eᵀ) dx = r in place (``dx`` holds r) by Sherman–Morrison–Woodbury:
     J₀ = LU(``jm``, ``piv``), ``zb`` = rows of J₀⁻¹Y, Δ (``delta``, nc × nc) the change of
@@ -608,7 +608,7 @@ def _contact_newton_solve(jm, piv, cc, zb, delta, sm, spiv, w, dx):
     return True
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _hybrid_jacobian(model, ws, t, q, v, vimp, kq, cv, fd_cols, an_cols, counters):
     """∂q̈/∂q and ∂q̈/∂q̇: forward differences for the columns ``fd_cols`` and, for the
     interior ANCF coordinates ``an_cols`` (no joint or contact point reads them, so they
@@ -647,7 +647,7 @@ def _hybrid_jacobian(model, ws, t, q, v, vimp, kq, cv, fd_cols, an_cols, counter
     counters[CNT_JAC] += 1
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def genalpha_advance(
     model,
     ws,
@@ -752,6 +752,7 @@ def genalpha_advance(
     jac_valid = state[2] > 0.0
     h_lu = -1.0
     fresh = False
+    singular_iterate = False
     status = STATUS_RUNNING
     while True:
         if t >= t_end:
@@ -766,7 +767,7 @@ def genalpha_advance(
         if t + 1.01 * h >= t_end:
             h = t_end - t
         if h < 10.0 * _EPS * max(abs(t), 1e-300) or h <= 0.0:
-            status = STATUS_STEP_TOO_SMALL
+            status = STATUS_SINGULAR if singular_iterate else STATUS_STEP_TOO_SMALL
             break
         if not jac_valid:
             _hybrid_jacobian(model, ws, t, q, v, vimp, kq, cv, fd_cols, an_cols, counters)
@@ -880,9 +881,10 @@ def genalpha_advance(
                     converged = True
                     break
             prev = conv
-        if st == STATUS_SINGULAR:
-            status = STATUS_SINGULAR
-            break
+        # A Newton iterate may leave the admissible configurations (a wild first update
+        # on a stiff contact): that is a failed iteration, handled like any other — the
+        # step is retried smaller, and only a step that shrinks to nothing reports it.
+        singular_iterate = st == STATUS_SINGULAR
         if not converged:
             if not fresh:
                 jac_valid = False
