@@ -692,7 +692,8 @@ def genalpha_advance(
     when the local error estimate e_q = h²|β − 1/6| Δq̈, e_v = h(|γ − ½| + 1/12) Δq̈
     exceeds the tolerance, or when a
     separated clearance joint would enter contact deeper than ``entry_depth`` × clearance
-    (so that every impact starts with a short step and a well-defined approach speed).
+    (so that every impact starts with a short step and a well-defined approach speed; the
+    retry interpolates the entry time, and steps below 1e-6 × ``max_step`` are accepted).
 
     With ``fixed_step`` > 0 the error test is skipped and every step after an accepted
     one is ``fixed_step`` (pass ``max_step`` ≤ ``fixed_step``): the fixed-step scheme of
@@ -909,10 +910,23 @@ def genalpha_advance(
         for i in range(n):
             yout[i] = qn[i]
             yout[n + i] = vn[i]
-        if entry_depth > 0.0 and entry_depth_ratio(model, ws, yout, contact) > entry_depth:
-            counters[CNT_REJECTED] += 1
-            h *= 0.3
-            continue
+        if entry_depth > 0.0:
+            r_end = entry_depth_ratio(model, ws, yout, contact)
+            # A penetration that does not vanish with the step is a jump of the surface
+            # (a worn profile between regions), not an impact to resolve: below
+            # 1e-6 × max_step the entry is accepted rather than retried forever.
+            if r_end > entry_depth and h > 1e-6 * max_step:
+                # Retry with the step at which the penetration, interpolated linearly from
+                # the start of the step, is half the allowed entry depth: one retry lands
+                # inside the contact, where a fixed fraction of the step could approach a
+                # slowly closing gap (a worn flank) in ever shorter steps.
+                r_start = entry_depth_ratio(model, ws, y, contact)
+                frac = 0.3
+                if r_start < 0.5 * entry_depth:
+                    frac = (0.5 * entry_depth - r_start) / (r_end - r_start)
+                counters[CNT_REJECTED] += 1
+                h *= min(0.9, max(0.01, frac))
+                continue
         if fixed_step <= 0.0 and not e <= 1.0:
             counters[CNT_REJECTED] += 1
             h *= max(0.2, 0.9 * e ** (-1.0 / 3.0)) if math.isfinite(e) else 0.2

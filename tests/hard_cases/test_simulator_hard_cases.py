@@ -417,3 +417,50 @@ def test_paper_scene_with_24_ancf_elements_per_rod() -> None:
         ds.slider_position.values, ref.slider_position.values, rtol=0, atol=1e-6
     )
     assert float(ds.contact_force.max()) == pytest.approx(float(ref.contact_force.max()), rel=0.01)
+
+
+def test_flexible_paper_scene_friction_on_an_ancf_journal_needs_almost_no_rejections() -> None:
+    """The journal of joint C is the first node of the ANCF rod 3: Ambrósio friction acts
+    on its light slope coordinates, and Newton used to jump between the two sliding
+    directions (17 101 rejected steps per revolution, docs/ancf.md §8). With the contact
+    columns re-linearised at every iterate and the friction-aware update limiter, 0.15
+    revolution (two contact phases) needs almost none, and halving the step changes the
+    response little."""
+    scene = mechanism.load_scene("paper").replace({"effects.flexibility": True})
+    period = scene.drive.period
+    ds = mechanism.simulate(scene, revolutions=0.15, method="generalized-alpha-fixed")
+    half = mechanism.simulate(
+        scene.replace({"solver.max_step": period / 20000}),
+        revolutions=0.15,
+        method="generalized-alpha-fixed",
+    )
+    for run in (ds, half):
+        assert run.attrs["solver_status"] == 0
+        assert run.attrs["solver_rejected_steps"] <= 20
+        assert run.attrs["solver_jacobian_evaluations"] <= 40
+        assert np.isfinite(run.contact_force.values).all()
+    np.testing.assert_allclose(
+        ds.slider_position.values, half.slider_position.values, rtol=0, atol=2e-5
+    )
+    assert float(ds.contact_force.max()) == pytest.approx(float(half.contact_force.max()), rel=0.1)
+
+
+@pytest.mark.slow
+def test_flexible_journal_entering_a_worn_profile_is_not_refined_forever() -> None:
+    """On a worn profile the penetration can jump when the contact angle crosses between
+    regions; the entry-depth retry must accept such a jump instead of halving the step
+    towards zero (it reached 190 000 rejected steps in 0.02 s before the guard)."""
+    from mechanism.integrate import GeneralizedAlpha
+
+    pred = mechanism.predict_wear(
+        mechanism.load_scene("paper"), updates=2, cycles_per_update=1000.0,
+        settle_revolutions=2.0,
+    )  # fmt: skip
+    worn = pred.worn_scene.replace({"effects.flexibility": True})
+    ds = mechanism.simulate(
+        worn, revolutions=0.2, method=GeneralizedAlpha(step="max_step", max_steps=20_000)
+    )
+    assert ds.attrs["solver_status"] == 0
+    assert ds.attrs["solver_rejected_steps"] < 1000
+    assert np.isfinite(ds.contact_force.values).all()
+    assert float(ds.penetration.max()) < worn.joints["C"].clearance
