@@ -18,15 +18,10 @@ import pytest
 import mechanism
 from mechanism.contact import contact_stiffness
 from mechanism.scene import (
-    ClearanceRevolute,
-    ContactLaw,
-    Effects,
-    FrictionLaw,
     Material,
-    RigidBody,
     Scene,
 )
-from tests.mechanism.scenes import s3
+from tests.mechanism.scenes import drop_scene, s3
 
 S3_PERIOD = 60.0 / 5000.0
 STEEL = Material(youngs_modulus=207e9, poisson_ratio=0.3)
@@ -174,41 +169,6 @@ def test_friction_0_5_with_stick_slip_stays_bounded_by_coulomb() -> None:
 # --------------------------------------------------------------------------- restitution
 
 
-def _drop_scene(law: str, restitution: float, *, gap: float = 0.0, floor: float = 1e-3) -> Scene:
-    """A free pin (0.1 kg, no drive) falling under gravity inside a fixed bearing.
-
-    ``gap`` is the initial distance to the wall below (0: centred journal, it falls the
-    whole clearance c = 0.5 mm and hits at √(2 g c) ≈ 0.099 m/s).
-    """
-    c = 5e-4
-    return Scene(
-        name="drop",
-        effects=Effects(clearance=True, friction=False, gravity=True),
-        gravity=(0.0, -9.81),
-        ground_points={"H": (0.0, 0.0)},
-        bodies={
-            "pin": RigidBody(
-                mass=0.1, inertia=1e-5, position=(0.0, 0.0), angle=0.0, points={"P": (0.0, 0.0)}
-            )
-        },
-        joints={
-            "H": ClearanceRevolute(
-                bearing=("ground", "H"),
-                journal=("pin", "P"),
-                bearing_radius=0.01,
-                clearance=c,
-                length=0.01,
-                restitution=restitution,
-                initial_eccentricity=(0.0, -(c - gap)) if gap else (0.0, 0.0),
-                bearing_material=STEEL,
-                journal_material=STEEL,
-                contact=ContactLaw(law=law, stiffness="conformal", impact_velocity_floor=floor),
-                friction=FrictionLaw(law="none"),
-            )
-        },
-    )
-
-
 def _rebound_ratio(ds) -> float:
     """|v_y| just after the first separation over |v_y| just before the first contact."""
     on = ds.in_contact.isel(joint=0).values > 0
@@ -222,7 +182,7 @@ def _rebound_ratio(ds) -> float:
 @pytest.mark.parametrize(("law", "tolerance"), [("flores", 0.05), ("hu-guo", 0.035)])
 def test_restitution_0_3_flores_and_hu_guo_rebound_near_ce(law, tolerance) -> None:
     ds = mechanism.simulate(
-        _drop_scene(law, 0.3), t_end=0.0106, output_step=2e-7, rtol=1e-9, atol=1e-12
+        drop_scene(law, 0.3), t_end=0.0106, output_step=2e-7, rtol=1e-9, atol=1e-12
     )
     assert ds.attrs["solver_status"] == 0
     ratio = _rebound_ratio(ds)
@@ -230,7 +190,7 @@ def test_restitution_0_3_flores_and_hu_guo_rebound_near_ce(law, tolerance) -> No
 
 
 def test_restitution_0_3_lankarani_nikravesh_warns_and_over_rebounds() -> None:
-    scene = _drop_scene("lankarani-nikravesh", 0.3)
+    scene = drop_scene("lankarani-nikravesh", 0.3)
     with pytest.warns(UserWarning, match="restitution"):
         ds = mechanism.simulate(scene, t_end=0.0106, output_step=2e-7, rtol=1e-9, atol=1e-12)
     # outside its range the L-N law rebounds at ~0.68, not 0.3 (docs/contact-and-wear.md)
@@ -243,7 +203,7 @@ def test_restitution_0_3_lankarani_nikravesh_warns_and_over_rebounds() -> None:
 @pytest.mark.parametrize("halve", [False, True])
 def test_recontact_at_near_zero_approach_speed_settles_without_force_spikes(halve) -> None:
     """The pin starts 1 nm above the wall: it touches at ~1e-4 m/s, below the 1e-3 m/s floor."""
-    scene = _drop_scene("lankarani-nikravesh", 0.9, gap=1e-9)
+    scene = drop_scene("lankarani-nikravesh", 0.9, gap=1e-9)
     ds = _simulate(scene, halve=halve, t_end=0.03, output_step=5e-6, rtol=1e-8, atol=1e-10)
     weight = 0.1 * 9.81
     force = ds.contact_force.isel(joint=0).values
@@ -264,7 +224,7 @@ def test_recontact_at_near_zero_approach_speed_settles_without_force_spikes(halv
 
 def test_hertz_contact_conserves_energy_through_repeated_impacts() -> None:
     """Elastic law, no friction, no drive: kinetic + gravity + contact energy is constant."""
-    scene = _drop_scene("hertz", 1.0)
+    scene = drop_scene("hertz", 1.0)
     ds = mechanism.simulate(scene, t_end=0.07, output_step=2e-6, rtol=1e-10, atol=1e-13)
     assert ds.attrs["solver_status"] == 0
     assert ds.attrs["solver_contact_events"] >= 3  # it bounces back to the top each time

@@ -110,3 +110,51 @@ def rotating_guide(*, clearance: bool = True, drive: str = "profile") -> Scene:
         solver=SolverSettings(rtol=1e-8, atol=1e-8),
         outputs=Outputs(slider_joint="G"),
     )
+
+
+def drop_scene(
+    law: str,
+    restitution: float,
+    *,
+    gap: float = 0.0,
+    floor: float = 1e-3,
+    rule: str = "latched",
+) -> Scene:
+    """A free pin (0.1 kg, no drive) falling under gravity inside a fixed bearing.
+
+    ``gap`` is the initial distance to the wall below (0: centred journal, it falls the
+    whole clearance c = 0.5 mm and hits at √(2 g c) ≈ 0.099 m/s, 99× the default floor);
+    ``floor`` the impact-velocity floor and ``rule`` the contact law's approach speed.
+    """
+    c = 5e-4
+    return Scene(
+        name="drop",
+        effects=Effects(clearance=True, friction=False, gravity=True),
+        gravity=(0.0, -9.81),
+        ground_points={"H": (0.0, 0.0)},
+        bodies={
+            "pin": RigidBody(
+                mass=0.1, inertia=1e-5, position=(0.0, 0.0), angle=0.0, points={"P": (0.0, 0.0)}
+            )
+        },
+        joints={
+            "H": ClearanceRevolute(
+                bearing=("ground", "H"),
+                journal=("pin", "P"),
+                bearing_radius=0.01,
+                clearance=c,
+                length=0.01,
+                restitution=restitution,
+                initial_eccentricity=(0.0, -(c - gap)) if gap else (0.0, 0.0),
+                bearing_material=STEEL,
+                journal_material=STEEL,
+                contact=ContactLaw(
+                    law=law,
+                    stiffness="conformal",
+                    impact_velocity_floor=floor,
+                    approach_speed=rule,
+                ),
+                friction=FrictionLaw(law="none"),
+            )
+        },
+    )

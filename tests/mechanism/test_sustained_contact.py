@@ -23,12 +23,10 @@ from mechanism.contact import approach_speed_code, contact_parameters, law_code
 from mechanism.scene import (
     ClearanceRevolute,
     ContactLaw,
-    Effects,
-    FrictionLaw,
     Material,
-    RigidBody,
     Scene,
 )
+from tests.mechanism.scenes import drop_scene
 
 pytestmark = pytest.mark.filterwarnings("error")
 
@@ -172,32 +170,6 @@ def test_a_contact_driven_in_from_rest_is_no_spike_with_the_bounded_rule() -> No
 # --- the simulator ----------------------------------------------------------------------
 
 
-def _drop_scene(law: str, restitution: float, rule: str) -> Scene:
-    """A free 0.1 kg pin falling across c = 0.5 mm in a fixed bearing: it hits the wall at
-    √(2 g c) ≈ 0.099 m/s, 99× the default floor."""
-    c = 5e-4
-    return Scene(
-        name="drop",
-        effects=Effects(clearance=True, friction=False, gravity=True),
-        gravity=(0.0, -9.81),
-        ground_points={"H": (0.0, 0.0)},
-        bodies={
-            "pin": RigidBody(
-                mass=0.1, inertia=1e-5, position=(0.0, 0.0), angle=0.0, points={"P": (0.0, 0.0)}
-            )
-        },
-        joints={
-            "H": ClearanceRevolute(
-                bearing=("ground", "H"), journal=("pin", "P"), bearing_radius=0.01,
-                clearance=c, length=0.01, restitution=restitution, bearing_material=STEEL,
-                journal_material=STEEL,
-                contact=ContactLaw(law=law, stiffness="conformal", approach_speed=rule),
-                friction=FrictionLaw(law="none"),
-            )
-        },
-    )  # fmt: skip
-
-
 def _rebound(ds) -> float:
     on = ds.in_contact.isel(joint=0).values > 0
     start = int(np.argmax(on))
@@ -214,7 +186,7 @@ def test_a_free_journal_rebounds_at_the_law_restitution_with_either_rule(law, ce
     ratios = {}
     for rule in ("latched", "bounded"):
         ds = mechanism.simulate(
-            _drop_scene(law, ce, rule), t_end=0.0105, output_step=2e-7, rtol=1e-9, atol=1e-12
+            drop_scene(law, ce, rule=rule), t_end=0.0105, output_step=2e-7, rtol=1e-9, atol=1e-12
         )
         assert ds.attrs["solver_status"] == 0
         ratios[rule] = _rebound(ds)
