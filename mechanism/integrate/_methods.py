@@ -10,8 +10,9 @@ output arrays (``Recording``) and :class:`SolverStats`.
   the compiled right-hand side from Python (one Python callback per evaluation: slower;
   a cross-check).
 * :class:`GeneralizedAlpha` — implicit generalized-α (Chung & Hulbert 1993) with Newton
-  iterations on a finite-difference Jacobian and step rejection on deep contact entry, for
-  stiff contact and (issue 6) stiff axial modes.
+  iterations on a hybrid (finite-difference + analytic ANCF) Jacobian whose clearance-contact
+  columns are re-linearised at every iterate (semi-smooth Newton), and step rejection on
+  deep contact entry, for stiff contact and (issue 6) stiff axial modes.
 """
 
 from __future__ import annotations
@@ -361,9 +362,11 @@ class GeneralizedAlpha(Integrator):
         Newton iterations per step before the Jacobian is refreshed or the step is
         reduced.
     contact_entry_depth : float
-        A step from a separated state is rejected (and retried with 0.3 of the step)
-        when it ends deeper than this fraction of the radial clearance, so every
-        impact starts with a short step; 0 disables the check.
+        A step from a separated state is rejected when it ends deeper than this fraction
+        of the radial clearance and retried with the step at which the penetration,
+        interpolated from the start of the step, is half of it, so every impact starts
+        with a short step; a step below 1e-6 × the maximum step is accepted (a worn
+        profile can make the penetration jump). 0 disables the check.
     max_steps : int
         Upper bound on attempted steps.
     step : float or "max_step", optional
