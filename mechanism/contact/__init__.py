@@ -25,21 +25,5 @@ from ._laws import (
     law_code,
 )
 
-__all__ = [
-    "APPROACH_SPEEDS",
-    "CONTACT_LAWS",
-    "FRICTION_LAWS",
-    "LOW_RESTITUTION_LIMIT",
-    "STIFFNESS_FORMS",
-    "ContactParameters",
-    "approach_speed_code",
-    "check_contact_law",
-    "contact_parameters",
-    "contact_stiffness",
-    "effective_modulus",
-    "effective_radius",
-    "form_code",
-    "friction_code",
-    "hertz_stiffness",
-    "law_code",
-]
+# the public names are those of ``_laws``, listed once there
+from ._laws import __all__ as __all__
