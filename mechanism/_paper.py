@@ -448,8 +448,12 @@ def _convergence_run(scene: Any, elements: int, settings: StudySettings) -> list
     from ._convergence import element_convergence
 
     period = 60.0 / abs(float(scene.drive.speed_rpm))
+    # the scene's "auto" method runs flexible rods with the fixed-step generalized-α at
+    # max_step: keep that step at the paper's T/10000 even when the output grid is coarser
+    # (quick settings), where the step would otherwise follow the output step
+    step = min(scene.solver.max_step or math.inf, period / _PAPER_SAMPLES)
     result = element_convergence(
-        scene,
+        scene.replace({"solver.max_step": step}),
         rods=tuple(_RODS.values()),
         elements=(int(elements),),
         revolutions=settings.convergence_revolutions,

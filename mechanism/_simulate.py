@@ -131,9 +131,14 @@ def simulate(
     t_end : float, optional
         Simulated time in s.
     method : str or Integrator, optional
-        ``"dopri5"`` (compiled Dormand–Prince 5(4), default), ``"RK45"``, ``"DOP853"``,
-        ``"Radau"``, ``"BDF"``, ``"LSODA"`` (scipy), ``"generalized-alpha"`` (implicit), or
-        an integrator object from :mod:`mechanism.integrate`. Default: ``scene.solver.method``.
+        ``"auto"`` (the scene default: fixed-step generalized-α when the assembled model
+        has ANCF beams, i.e. ``effects.flexibility`` is on, else ``"dopri5"``),
+        ``"dopri5"`` (compiled Dormand–Prince 5(4)), ``"RK45"``, ``"DOP853"``, ``"Radau"``,
+        ``"BDF"``, ``"LSODA"`` (scipy), ``"generalized-alpha"`` (implicit, adaptive),
+        ``"generalized-alpha-fixed"`` (implicit, step ``solver.max_step``, else the output
+        step), or an integrator object from :mod:`mechanism.integrate`. Default:
+        ``scene.solver.method``; ``solver_method`` in the attributes names the integrator
+        that ran.
     rtol, atol : float, optional
         Tolerances; default ``scene.solver``.
     output_step : float, optional
@@ -186,10 +191,10 @@ def simulate(
     output_step = check_positive(output_step, name="output_step")
     if solver.max_step is not None:
         check_positive(solver.max_step, name="solver.max_step")
-    integrator = resolve_method(solver.method if method is None else method)
     t_out = output_grid(duration, output_step)
 
     model = assemble(scene)
+    integrator = resolve_method(solver.method if method is None else method, model)
     max_step = _max_step(model, output_step)
     q0, v0 = initial_state(model)
     run = _run(

@@ -126,7 +126,11 @@ def simulate_command(
     ),
     t_end: float | None = typer.Option(None, "--t-end", help="Simulated time in s."),
     method: str | None = typer.Option(
-        None, "--method", help="dopri5, RK45, DOP853, Radau, BDF, LSODA or generalized-alpha."
+        None,
+        "--method",
+        help="auto (by the model: generalized-alpha-fixed with ANCF beams, else dopri5), "
+        "dopri5, RK45, DOP853, Radau, BDF, LSODA, generalized-alpha or "
+        "generalized-alpha-fixed (default: the scene's solver.method).",
     ),
     rtol: float | None = typer.Option(None, "--rtol", help="Relative tolerance."),
     atol: float | None = typer.Option(None, "--atol", help="Absolute tolerance."),

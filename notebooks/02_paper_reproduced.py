@@ -43,12 +43,14 @@ import mechanism
 # ## The scene
 #
 # `paper` is a built-in scene (`mechanism show paper` prints it). Rods 3 and 4 are ANCF
-# beams in the paper; here they stay rigid (`effects.flexibility = false`, the scene's
-# default), which is what makes this notebook fast — and one reason our forces differ from
+# beams in the paper, and in the scene by default (16 elements each, fixed-step
+# generalized-α, about 3–4 s per revolution, `docs/ancf.md` §8). Here we switch them off
+# (`effects.flexibility = false`): the rigid model runs with dopri5 in a fraction of that
+# time, which is what makes this notebook fast — and one reason our forces differ from
 # the paper's.
 
 # %%
-scene = mechanism.load_scene("paper")
+scene = mechanism.load_scene("paper").replace({"effects.flexibility": False})
 joint = scene.joints["C"]
 period = 60.0 / scene.drive.speed_rpm  # s
 print(f"drive {scene.drive.speed_rpm:g} rpm (T = {period:.3f} s)")

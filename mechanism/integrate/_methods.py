@@ -584,6 +584,7 @@ class ScipyIVP(Integrator):
 
 
 METHODS: tuple[str, ...] = (
+    "auto",
     "dopri5",
     "RK45",
     "DOP853",
@@ -595,8 +596,21 @@ METHODS: tuple[str, ...] = (
 )
 
 
-def resolve_method(method: str | Integrator) -> Integrator:
+def resolve_method(method: str | Integrator, model: Model | None = None) -> Integrator:
     """Turn a method name (see :data:`METHODS`) or an :class:`Integrator` into a strategy.
+
+    ``"auto"`` picks by the assembled ``model``: the fixed-step generalized-α
+    (``GeneralizedAlpha(step="max_step")``, as ``"generalized-alpha-fixed"``) when it has
+    ANCF beam coordinates, whose axial modes (kHz to 0.1 MHz) hold every error-controlled
+    method at their period (docs/ancf.md §8), and :class:`Dopri5` (the MATLAB ``ode45``
+    scheme of the paper) for a rigid model.
+
+    Parameters
+    ----------
+    method : str or Integrator
+        A name of :data:`METHODS` or an integrator object (returned unchanged).
+    model : mechanism._assemble.Model, optional
+        The assembled mechanism; required by ``"auto"``.
 
     Examples
     --------
@@ -604,9 +618,22 @@ def resolve_method(method: str | Integrator) -> Integrator:
     'Radau'
     >>> resolve_method(GeneralizedAlpha(rho_inf=0.5)).name
     'generalized-alpha'
+    >>> import mechanism
+    >>> from mechanism._assemble import assemble
+    >>> rigid = assemble(mechanism.load_scene("slider-crank"))
+    >>> resolve_method("auto", rigid).name
+    'dopri5'
+    >>> flexible = assemble(mechanism.load_scene("flexible-slider-crank"))
+    >>> resolve_method("auto", flexible).step
+    'max_step'
     """
     if isinstance(method, Integrator):
         return method
+    if method == "auto":
+        if model is None:
+            raise ValueError("method 'auto' needs the assembled model to choose an integrator.")
+        has_beams = model.kernel.beam_i.shape[0] > 0
+        return GeneralizedAlpha(step="max_step") if has_beams else Dopri5()
     if method == "dopri5":
         return Dopri5()
     if method == "generalized-alpha":

@@ -376,9 +376,16 @@ class AngleProfileDrive:
 @dataclass(frozen=True, kw_only=True)
 class SolverSettings:
     """Integrator settings; ``method`` names are those ``mechanism.simulate`` accepts
-    (``"dopri5"``, the scipy ``solve_ivp`` methods, the implicit method)."""
+    (``mechanism.integrate.METHODS``: ``"dopri5"``, the scipy ``solve_ivp`` methods, the
+    implicit ``"generalized-alpha"`` and ``"generalized-alpha-fixed"``).
 
-    method: Name = "dopri5"
+    The default ``"auto"`` is resolved once the scene is assembled: the fixed-step
+    generalized-α (step ``max_step``, else the output step) when the model has ANCF beams
+    (``effects.flexibility`` on), else ``"dopri5"`` (docs/ancf.md §8). Switching
+    flexibility off therefore gives the rigid model at rigid-model cost.
+    """
+
+    method: Name = "auto"
     rtol: Annotated[Real, Gt(0), Lt(1), Unit("1")] = 1e-5
     atol: Annotated[Real, Gt(0), Unit("")] = 1e-5
     max_step: Annotated[Real, Gt(0), Unit("s")] | None = None  # default output_step

@@ -21,7 +21,7 @@ from mechanism.scene import (
     Material,
     Scene,
 )
-from tests.mechanism.scenes import drop_scene, s3
+from tests.mechanism.scenes import drop_scene, rigid_paper, s3
 
 S3_PERIOD = 60.0 / 5000.0
 STEEL = Material(youngs_modulus=207e9, poisson_ratio=0.3)
@@ -110,7 +110,7 @@ def test_large_clearance_2mm_free_flight_and_impacts_stay_bounded(large_clearanc
 
 
 def test_paper_scene_at_600_rpm() -> None:
-    scene = mechanism.load_scene("paper").replace({"drive.speed_rpm": 600.0})
+    scene = rigid_paper({"drive.speed_rpm": 600.0})
     period = scene.drive.period
     run = dict(revolutions=0.5, output_step=period / 4000)
     ds = _simulate(scene, **run)
@@ -254,7 +254,7 @@ def test_constraint_drift_over_100_revolutions_of_s3_does_not_grow() -> None:
 
 @pytest.mark.slow
 def test_constraint_drift_over_100_revolutions_of_the_paper_scene() -> None:
-    drift = _drift_over_revolutions(mechanism.load_scene("paper"), 100)
+    drift = _drift_over_revolutions(rigid_paper(), 100)
     assert drift.max() < 1e-5
     assert drift[-10:].max() <= 3.0 * drift[:10].max()
 
@@ -299,12 +299,12 @@ def test_passage_near_the_singular_configuration_l_close_to_r(halve) -> None:
 
 
 def _grooved_paper_scene(depth_over_c: float = 2.0) -> Scene:
-    """The paper scene with a worn bearing groove deeper than the clearance.
+    """The paper scene (rigid rods) with a worn bearing groove deeper than the clearance.
 
     A raised-cosine groove, ``depth_over_c`` × c deep at 300° and 80° wide, in the bearing
     frame where the journal of the unworn scene spends most of its contact time.
     """
-    scene = mechanism.load_scene("paper")
+    scene = rigid_paper()
     c = scene.joints["C"].clearance
     centre = np.radians(((np.arange(360) + 0.5) - 300.0 + 180.0) % 360.0 - 180.0)
     half_width = np.radians(40.0)
@@ -413,7 +413,7 @@ def test_flexible_journal_entering_a_worn_profile_is_not_refined_forever() -> No
     from mechanism.integrate import GeneralizedAlpha
 
     pred = mechanism.predict_wear(
-        mechanism.load_scene("paper"), updates=2, cycles_per_update=1000.0,
+        rigid_paper(), updates=2, cycles_per_update=1000.0,
         settle_revolutions=2.0,
     )  # fmt: skip
     worn = pred.worn_scene.replace({"effects.flexibility": True})

@@ -8,6 +8,7 @@ slider (fixed joint) and a free link hanging in a clearance joint of that body.
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 
 import numpy as np
 
@@ -30,6 +31,18 @@ from mechanism.scene import (
 )
 
 STEEL = Material(youngs_modulus=207e9, poisson_ratio=0.3)
+
+
+def rigid_paper(changes: Mapping[str, object] | None = None) -> Scene:
+    """The built-in ``paper`` scene with rigid rods 3 and 4 (``effects.flexibility = false``).
+
+    The paper scene is flexible by default; tests about something other than the rods'
+    flexibility (kinematics, contact, wear, sweeps, sample data, CLI) were calibrated with
+    rigid rods and say so with this scene. ``changes`` are further dotted-key replacements.
+    """
+    base: dict[str, object] = {"effects.flexibility": False}
+    base.update(changes or {})
+    return mechanism.load_scene("paper").replace(base)
 
 
 def s3(*, friction: float = 0.0, **changes: object) -> Scene:

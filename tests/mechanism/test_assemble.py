@@ -16,7 +16,7 @@ from mechanism._assemble import assemble, initial_state
 from mechanism.bodies import rigid_bar_from_beam
 from mechanism.joints import _kernels as jk
 from mechanism.scene import AncfBeam, RevoluteJoint
-from tests.mechanism.scenes import rotating_guide
+from tests.mechanism.scenes import rigid_paper, rotating_guide
 
 
 def test_slider_crank_layout_mass_and_gravity() -> None:
@@ -57,7 +57,7 @@ def test_clearance_joint_becomes_a_force_element() -> None:
 
 
 def test_rigid_bar_replaces_an_ancf_beam_when_flexibility_is_off() -> None:
-    scene = mechanism.load_scene("paper")
+    scene = rigid_paper()
     rod3 = scene.bodies["rod3"]
     assert isinstance(rod3, AncfBeam) and not scene.effects.flexibility
     bar = rigid_bar_from_beam(rod3)

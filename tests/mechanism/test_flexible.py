@@ -18,6 +18,7 @@ from mechanism.scene import (
     RevoluteJoint,
     Scene,
 )
+from tests.mechanism.scenes import rigid_paper
 
 # validation-targets S6 (Simeon's flexible slider-crank)
 S6_SLIDER_X = 0.169737332842786
@@ -35,7 +36,7 @@ def _paper_flexible() -> Scene:
 
 
 def test_rigid_path_has_no_beam_tables() -> None:
-    model = assemble(mechanism.load_scene("paper"))
+    model = assemble(rigid_paper())
     assert model.kernel.beam_i.shape == (0, 6) and not model.beams
     assert model.n_dof == 15
 

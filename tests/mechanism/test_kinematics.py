@@ -13,7 +13,7 @@ import mechanism
 from mechanism import _kernels as k
 from mechanism._assemble import assemble, initial_state
 from mechanism.joints import _kernels as jk
-from tests.mechanism.scenes import rotating_guide
+from tests.mechanism.scenes import rigid_paper, rotating_guide
 
 
 def _phi(model, ws, t, q, v=None):
@@ -24,7 +24,7 @@ def _phi(model, ws, t, q, v=None):
 def _models():
     return {
         "rotating-guide": assemble(rotating_guide(clearance=False)),
-        "paper": assemble(mechanism.load_scene("paper")),
+        "paper": assemble(rigid_paper()),
         "slider-crank": assemble(mechanism.load_scene("slider-crank")),
     }
 

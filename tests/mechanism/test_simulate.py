@@ -16,7 +16,7 @@ import mechanism
 import mechanism._simulate
 from mechanism.cli import app
 from mechanism.integrate import Dopri5, GeneralizedAlpha, ScipyIVP, resolve_method
-from tests.mechanism.scenes import rotating_guide, s3
+from tests.mechanism.scenes import rigid_paper, rotating_guide, s3
 
 CLEARANCE_VARS = (
     "eccentricity_x",
@@ -32,7 +32,7 @@ SLIDER_VARS = ("slider_position", "slider_velocity", "slider_acceleration")
 
 @pytest.fixture(scope="module")
 def paper_ds():
-    return mechanism.simulate(mechanism.load_scene("paper"), revolutions=0.1)
+    return mechanism.simulate(rigid_paper(), revolutions=0.1)
 
 
 def test_dataset_follows_the_data_contract(paper_ds) -> None:
@@ -67,7 +67,7 @@ def test_output_grid_defaults_to_a_ten_thousandth_of_the_period(paper_ds) -> Non
 
 def test_scene_attribute_round_trips(paper_ds) -> None:
     scene = mechanism.scene_from_json(paper_ds.attrs["scene"])
-    assert scene == mechanism.load_scene("paper")
+    assert scene == rigid_paper()
     assert json.loads(paper_ds.attrs["scene"])["name"] == "paper"
 
 
@@ -84,9 +84,7 @@ def test_crank_angle_and_driving_torque(paper_ds) -> None:
     # the ideal mechanism conserves energy up to the drive's work
     dt = float(ds.time[1] - ds.time[0])
     work = np.concatenate([[0.0], np.cumsum(0.5 * (power[1:] + power[:-1]) * dt)])
-    ideal = mechanism.simulate(
-        mechanism.load_scene("paper").replace({"effects.clearance": False}), revolutions=0.1
-    )
+    ideal = mechanism.simulate(rigid_paper({"effects.clearance": False}), revolutions=0.1)
     np.testing.assert_allclose(
         ideal.mechanical_energy.values - ideal.mechanical_energy.values[0], work, atol=2e-3
     )
@@ -246,9 +244,9 @@ def test_docstring_examples_run() -> None:
 
 
 def test_paper_scene_runs_three_revolutions_with_kilonewton_contact_forces() -> None:
-    """Issue 5: rigid rods, clearance at C, 150 rpm, scene defaults (seed-paper.txt reports
+    """Issue 5: rigid rods, clearance at C, 150 rpm, other scene defaults (seed-paper.txt reports
     9.18 kN before wear with flexible rods)."""
-    ds = mechanism.simulate(mechanism.load_scene("paper"), revolutions=3)
+    ds = mechanism.simulate(rigid_paper(), revolutions=3)
     assert ds.attrs["solver_status"] == 0 and ds.attrs["revolutions"] == pytest.approx(3.0)
     late = ds.isel(time=slice(10000, None))  # discard the first revolution
     peak = float(late.contact_force.max())

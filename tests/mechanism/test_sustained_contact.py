@@ -26,7 +26,7 @@ from mechanism.scene import (
     Material,
     Scene,
 )
-from tests.mechanism.scenes import drop_scene
+from tests.mechanism.scenes import drop_scene, rigid_paper
 
 pytestmark = pytest.mark.filterwarnings("error")
 
@@ -212,7 +212,7 @@ def test_worn_paper_scene_spike_is_a_damping_artefact_and_the_rule_removes_it() 
     from mechanism.wear import WornProfile
 
     pred = mechanism.predict_wear(
-        _with_rule(mechanism.load_scene("paper"), "latched"),
+        _with_rule(rigid_paper(), "latched"),
         updates=2, cycles_per_update=1000.0, settle_revolutions=2.0,
     )  # fmt: skip
     ratios = {}

@@ -15,6 +15,7 @@ from mechanism import _kernels as k
 from mechanism._assemble import assemble, initial_state
 from mechanism._wear import run_wear
 from mechanism.wear import WornProfile
+from tests.mechanism.scenes import rigid_paper
 
 JOINT = "C"
 C0 = 2e-4  # the paper scene's clearance (m)
@@ -23,7 +24,7 @@ REGIONS = 360
 
 @pytest.fixture(scope="module")
 def paper():
-    return mechanism.load_scene("paper")
+    return rigid_paper()  # the wear tests were calibrated with rigid rods
 
 
 def _with_profile(scene, bearing=(), journal=()):

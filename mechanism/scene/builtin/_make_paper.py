@@ -144,7 +144,8 @@ gravity = [0.0, -9.81]          # along -y (A18)
 clearance = true
 friction = true
 gravity = true
-flexibility = false             # rods rigid until the ANCF coupling lands (issue 6)
+flexibility = true              # rods 3 and 4 flexible [S], 16 ANCF elements each [I];
+                                # false: rigid bars at rigid-model cost (docs/ancf.md §10)
 wear = false
 
 [ground_points]
@@ -246,9 +247,11 @@ speed_rpm = 150.0               # [S]; 30 and 90 rpm in the speed study
 initial_angle = 0.0
 
 # output_step unset: (2 pi/omega)/10000 [S], follows drive.speed_rpm; max_step unset:
-# the output step (§2.9)
+# the output step (§2.9). method "auto": with flexible rods the fixed-step generalized-
+# alpha at max_step (the axial modes stall error-controlled methods, docs/ancf.md §8) [A];
+# with rigid rods Dormand-Prince "dopri5", as the paper's MATLAB ode45 (§2.9) [S]
 [solver]
-method = "dopri5"               # Dormand-Prince, as MATLAB ode45 (§2.9)
+method = "auto"
 rtol = 1.0e-5                   # [S] (A17)
 atol = 1.0e-5
 baumgarte_alpha = 50.0          # [S]
@@ -267,7 +270,8 @@ SCENES = {
         clearance_at="C",
         description=(
             "Jia et al. 2025 six-bar press (paper-model G-a), dry clearance at C, "
-            "rods 3 and 4 as ANCF beams (rigid until flexibility is on), 150 rpm"
+            "rods 3 and 4 as 16-element ANCF beams (rigid bars with effects.flexibility "
+            "= false), 150 rpm"
         ),
     ),
     "paper-gc": dict(
