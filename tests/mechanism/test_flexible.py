@@ -158,14 +158,27 @@ def test_paper_scene_with_flexible_rods_runs() -> None:
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("revolutions", [1, 3])
-def test_paper_scene_with_flexible_rods_runs_revolutions(revolutions: int) -> None:
-    ds = mechanism.simulate(
-        _paper_flexible(), revolutions=revolutions, method="generalized-alpha-fixed"
-    )
+def test_paper_default_scene_stays_stable_over_three_revolutions() -> None:
+    """The default paper scene (flexible rods, T/10000) over the issue's 3 revolutions.
+    Measured (session 3): peak contact force 2.91 / 1.90 / 2.15 kN and penetration
+    37 / 28 / 30 µm per revolution, constraint residual 8.5e-8, rod 3 extreme −14.2 µε,
+    419 Jacobians. The failure modes these bounds catch: the spurious 42 kN / 0.16 mm
+    impact of a marginal step (docs/ancf.md §8), drift, and Jacobian cascades."""
+    scene = mechanism.load_scene("paper")
+    ds = mechanism.simulate(scene, revolutions=3)
+    assert ds.attrs["solver_method"] == "generalized-alpha"
     assert ds.attrs["solver_status"] == 0
-    assert float(ds.attrs["revolutions"]) == pytest.approx(revolutions)
-    assert float(ds.contact_force.max()) > 0.0
+    assert float(ds.attrs["revolutions"]) == pytest.approx(3)
+    assert ds.attrs["solver_rejected_steps"] <= 100
+    assert ds.attrs["solver_jacobian_evaluations"] <= 1000
+    period = scene.drive.period
+    for r in range(3):
+        rev = ds.sel(time=slice(r * period, (r + 1) * period))
+        assert 1.0e3 < float(rev.contact_force.max()) < 6.0e3
+        assert float(rev.penetration.max()) < 6.0e-5
+    assert float(ds.constraint_violation.max()) < 1e-6
+    assert 5.0 < abs(float(ds.strain_rod3)) < 100.0
+    assert abs(float(ds.strain_rod4)) < 1.0e3
 
 
 def test_element_convergence_settles_by_16_elements() -> None:
