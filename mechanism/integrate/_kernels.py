@@ -186,7 +186,7 @@ def dopri5_start(model, ws, t, y, k1, vimp, state, counters, rtol, atol, max_ste
     return STATUS_RUNNING
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def dopri5_advance(
     model,
     ws,
@@ -349,8 +349,13 @@ def dopri5_advance(
 
 @njit(cache=True, error_model="numpy")
 def _lu_factor(a, piv):
-    """In-place LU factorisation with partial pivoting; False if singular."""
+    """In-place LU factorisation with partial pivoting; False if singular.
+
+    On return ``a`` holds the factors *transposed* (row j of ``a`` is column j of L below
+    the diagonal and of U above it), the layout :func:`_lu_solve` reads along rows.
+    """
     n = a.shape[0]
+    row = np.empty(n)
     for k in range(n):
         p = k
         big = abs(a[k, k])
@@ -367,34 +372,50 @@ def _lu_factor(a, piv):
                 a[k, j] = a[p, j]
                 a[p, j] = tmp
         inv = 1.0 / a[k, k]
+        # the pivot row in a separate buffer: the update loop then reads and writes
+        # different arrays, which the compiler vectorises
+        m = n - k - 1
+        for j in range(m):
+            row[j] = a[k, k + 1 + j]
         for i in range(k + 1, n):
             a[i, k] *= inv
             f = a[i, k]
             if f != 0.0:
-                for j in range(k + 1, n):
-                    a[i, j] -= f * a[k, j]
+                ai = a[i, k + 1 :]
+                for j in range(m):
+                    ai[j] -= f * row[j]
+    for i in range(n):
+        for j in range(i + 1, n):
+            tmp = a[i, j]
+            a[i, j] = a[j, i]
+            a[j, i] = tmp
     return True
 
 
 @njit(cache=True, error_model="numpy")
-def _lu_solve(a, piv, b):
-    n = a.shape[0]
+def _lu_solve(lt, piv, b):
+    """Solve A x = b in place from :func:`_lu_factor`'s transposed factors, column by
+    column (contiguous rows of ``lt``)."""
+    n = lt.shape[0]
     for k in range(n):
         p = piv[k]
         if p != k:
             tmp = b[k]
             b[k] = b[p]
             b[p] = tmp
-    for i in range(n):
-        s = b[i]
-        for j in range(i):
-            s -= a[i, j] * b[j]
-        b[i] = s
-    for i in range(n - 1, -1, -1):
-        s = b[i]
-        for j in range(i + 1, n):
-            s -= a[i, j] * b[j]
-        b[i] = s / a[i, i]
+    for j in range(n):
+        bj = b[j]
+        if bj != 0.0:
+            col = lt[j]
+            for i in range(j + 1, n):
+                b[i] -= col[i] * bj
+    for j in range(n - 1, -1, -1):
+        col = lt[j]
+        bj = b[j] / col[j]
+        b[j] = bj
+        if bj != 0.0:
+            for i in range(j):
+                b[i] -= col[i] * bj
 
 
 @njit(cache=True)
@@ -609,11 +630,15 @@ def _contact_newton_solve(jm, piv, cc, zb, delta, sm, spiv, w, dx):
 
 
 @njit(cache=True, error_model="numpy")
-def _hybrid_jacobian(model, ws, t, q, v, vimp, kq, cv, fd_cols, an_cols, counters):
+def _hybrid_jacobian(
+    model, ws, t, q, v, vimp, kq, cv, fd_cols, an_cols, counters, velocity_columns=True
+):
     """∂q̈/∂q and ∂q̈/∂q̇: forward differences for the columns ``fd_cols`` and, for the
     interior ANCF coordinates ``an_cols`` (no joint or contact point reads them, so they
     enter q̈ only through Q = −F_e − F_d), the exact −P M⁻¹ ∂F/∂q from the analytic
     element Jacobian (docs/ancf.md §8): 2·len(fd_cols) + 1 evaluations instead of 2n + 1.
+    With ``velocity_columns`` False the differenced columns of ∂q̈/∂q̇ are left as they
+    are (len(fd_cols) + 1 evaluations).
     """
     n = q.shape[0]
     f0 = np.empty(n)
@@ -636,6 +661,9 @@ def _hybrid_jacobian(model, ws, t, q, v, vimp, kq, cv, fd_cols, an_cols, counter
         qp[j] = q[j]
         for i in range(n):
             kq[i, j] = (f1[i] - f0[i]) / eps
+    if not velocity_columns:
+        counters[CNT_JAC] += 1
+        return
     for c in range(fd_cols.shape[0]):
         j = fd_cols[c]
         eps = 1.4901161193847656e-08 * max(abs(v[j]), 1e-1)
@@ -647,7 +675,7 @@ def _hybrid_jacobian(model, ws, t, q, v, vimp, kq, cv, fd_cols, an_cols, counter
     counters[CNT_JAC] += 1
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", nogil=True)
 def genalpha_advance(
     model,
     ws,
@@ -756,6 +784,7 @@ def genalpha_advance(
     h_lu = -1.0
     fresh = False
     excess = int(state[3])
+    stale = False
     singular_iterate = False
     status = STATUS_RUNNING
     while True:
@@ -774,13 +803,17 @@ def genalpha_advance(
             status = STATUS_SINGULAR if singular_iterate else STATUS_STEP_TOO_SMALL
             break
         if not jac_valid:
-            _hybrid_jacobian(model, ws, t, q, v, vimp, kq, cv, fd_cols, an_cols, counters)
+            _hybrid_jacobian(
+                model, ws, t, q, v, vimp, kq, cv, fd_cols, an_cols, counters, not stale
+            )
             if nc > 0:
                 accelerations(model, ws, t, q, v, vimp, f, counters)
                 base_contact = _contact_derivatives(model, ws, q, v, vimp, cc, dq0, dv0, gt)
                 _response_basis(model, ws, cc, basis)
             jac_valid = True
-            fresh = True
+            # only a complete refresh makes a Newton failure a reason to shorten the step
+            fresh = not stale
+            stale = False
             excess = 0
             h_lu = -1.0
         cq = h * h * bt * (1.0 - af) / (1.0 - am)
@@ -943,6 +976,11 @@ def genalpha_advance(
             excess += iters - 2
         if excess > REFRESH_AFTER and not fresh:
             jac_valid = False
+            # Staleness is the rotation of the stiffness, i.e. of ∂q̈/∂q; the differenced
+            # ∂q̈/∂q̇ columns (constraint stabilisation, ∝ h·2α in J) barely change and are
+            # kept, which halves the refresh. Clearance joints' velocity derivatives
+            # enter the contact correction against the Jacobian's state: refreshed whole.
+            stale = nc == 0
         fresh = False
         told = t
         t = t + h
