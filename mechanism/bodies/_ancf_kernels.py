@@ -688,6 +688,7 @@ def beam_midspan_deflection_history(
 # gauss_axial, gauss_bending] (int64), beam_f = [element_length, EA, EI, damping] (float64).
 BEAM_I_COLUMNS = 6
 BEAM_F_COLUMNS = 4
+BEAM_F_DAMPING = 3  # column of the damping β in beam_f
 
 
 @njit(cache=True, inline="always")

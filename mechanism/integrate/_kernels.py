@@ -37,7 +37,7 @@ from mechanism._kernels import (
     rhs,
     update_latch,
 )
-from mechanism.bodies._ancf_kernels import beams_jacobian_add
+from mechanism.bodies._ancf_kernels import BEAM_F_DAMPING, beams_jacobian_add
 from mechanism.contact._kernels import FRICTION_NONE
 from mechanism.joints._kernels import update_points
 
@@ -648,9 +648,19 @@ def _hybrid_jacobian(
         kbuf = np.zeros((n, n))
         beams_jacobian_add(model.beam_i, model.beam_f, q, 1.0, 0.0, kbuf)
         _projected_columns(model, ws, kbuf, an_cols, kq)
-        kbuf[:, :] = 0.0
-        beams_jacobian_add(model.beam_i, model.beam_f, q, 0.0, 1.0, kbuf)
-        _projected_columns(model, ws, kbuf, an_cols, cv)
+        damped = False
+        for b in range(model.beam_f.shape[0]):
+            if model.beam_f[b, BEAM_F_DAMPING] > 0.0:
+                damped = True
+        if damped:
+            kbuf[:, :] = 0.0
+            beams_jacobian_add(model.beam_i, model.beam_f, q, 0.0, 1.0, kbuf)
+            _projected_columns(model, ws, kbuf, an_cols, cv)
+        else:
+            # undamped beams: interior velocities do not enter q̈ at all
+            for i in range(n):
+                for c in range(an_cols.shape[0]):
+                    cv[i, an_cols[c]] = 0.0
     qp = q.copy()
     vp = v.copy()
     for c in range(fd_cols.shape[0]):
