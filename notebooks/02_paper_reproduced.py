@@ -44,7 +44,7 @@ import mechanism
 #
 # `paper` is a built-in scene (`mechanism show paper` prints it). Rods 3 and 4 are ANCF
 # beams in the paper, and in the scene by default (16 elements each, fixed-step
-# generalized-α, about 3–4 s per revolution, `docs/ancf.md` §8). Here we switch them off
+# generalized-α, about 1.5 s per revolution on two cores, `docs/ancf.md` §8). Here we switch them off
 # (`effects.flexibility = false`): the rigid model runs with dopri5 in a fraction of that
 # time, which is what makes this notebook fast — and one reason our forces differ from
 # the paper's.
