@@ -610,7 +610,8 @@ def resolve_method(method: str | Integrator, model: Model | None = None) -> Inte
     method : str or Integrator
         A name of :data:`METHODS` or an integrator object (returned unchanged).
     model : mechanism._assemble.Model, optional
-        The assembled mechanism; required by ``"auto"``.
+        The assembled mechanism; required by ``"auto"``. Its ``solver.rho_inf`` sets the
+        numerical damping of the generalized-α methods (0.8 without a model).
 
     Examples
     --------
@@ -629,17 +630,19 @@ def resolve_method(method: str | Integrator, model: Model | None = None) -> Inte
     """
     if isinstance(method, Integrator):
         return method
+    # the scene's numerical damping for the generalized-α methods (default 0.8)
+    rho_inf = 0.8 if model is None else float(model.scene.solver.rho_inf)
     if method == "auto":
         if model is None:
             raise ValueError("method 'auto' needs the assembled model to choose an integrator.")
         has_beams = model.kernel.beam_i.shape[0] > 0
-        return GeneralizedAlpha(step="max_step") if has_beams else Dopri5()
+        return GeneralizedAlpha(rho_inf=rho_inf, step="max_step") if has_beams else Dopri5()
     if method == "dopri5":
         return Dopri5()
     if method == "generalized-alpha":
-        return GeneralizedAlpha()
+        return GeneralizedAlpha(rho_inf=rho_inf)
     if method == "generalized-alpha-fixed":
-        return GeneralizedAlpha(step="max_step")
+        return GeneralizedAlpha(rho_inf=rho_inf, step="max_step")
     if method in ("RK45", "DOP853", "Radau", "BDF", "LSODA"):
         return ScipyIVP(method=method)  # type: ignore[arg-type]
     raise ValueError(f"method must be one of {list(METHODS)} or an Integrator; got {method!r}.")

@@ -382,7 +382,9 @@ class SolverSettings:
     The default ``"auto"`` is resolved once the scene is assembled: the fixed-step
     generalized-α (step ``max_step``, else the output step) when the model has ANCF beams
     (``effects.flexibility`` on), else ``"dopri5"`` (docs/ancf.md §8). Switching
-    flexibility off therefore gives the rigid model at rigid-model cost.
+    flexibility off therefore gives the rigid model at rigid-model cost. ``rho_inf`` is
+    the spectral radius at infinite frequency of the generalized-α methods (their
+    numerical damping; ignored by the others).
     """
 
     method: Name = "auto"
@@ -393,6 +395,7 @@ class SolverSettings:
     baumgarte_alpha: Annotated[Real, Ge(0), Unit("s-1")] = 50.0
     baumgarte_beta: Annotated[Real, Ge(0), Unit("s-1")] = 50.0
     projection: Flag = False
+    rho_inf: Annotated[Real, Ge(0), Le(1), Unit("1")] = 0.8
 
 
 @with_config(_CONFIG)

@@ -41,7 +41,15 @@ def test_paper_scenes_default_to_flexible_rods_with_16_elements(name: str) -> No
     assert model.n_dof == 3 * 3 + 2 * BEAM_DOF  # crank, plate, slider rigid
     integrator = resolve_method(scene.solver.method, model)
     assert isinstance(integrator, GeneralizedAlpha) and integrator.step == "max_step"
-    assert integrator == resolve_method("generalized-alpha-fixed")
+    # the scene's numerical damping (docs/ancf.md §8: friction chatter at 0.8)
+    assert integrator.rho_inf == scene.solver.rho_inf == 0.5
+    assert integrator == resolve_method("generalized-alpha-fixed", model)
+    assert resolve_method("generalized-alpha-fixed").rho_inf == 0.8  # without a scene
+
+
+def test_rho_inf_is_validated_at_the_boundary() -> None:
+    with pytest.raises(ValueError, match="rho_inf"):
+        mechanism.load_scene("paper").replace({"solver.rho_inf": 1.5})
 
 
 @pytest.fixture(scope="module")

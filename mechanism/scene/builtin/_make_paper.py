@@ -257,6 +257,9 @@ atol = 1.0e-5
 baumgarte_alpha = 50.0          # [S]
 baumgarte_beta = 50.0           # [S]
 projection = false
+rho_inf = 0.5                   # [A] generalized-alpha damping: at 0.8 the friction ramp on
+                                # the ANCF journal chatters (374 sign flips per revolution,
+                                # 93 at 0.5), docs/ancf.md §8; rigid rods: unused
 
 [outputs]
 slider_joint = "P"
