@@ -160,9 +160,9 @@ def test_paper_scene_with_flexible_rods_runs() -> None:
 @pytest.mark.slow
 def test_paper_default_scene_stays_stable_over_three_revolutions() -> None:
     """The default paper scene (flexible rods, T/10000) over the issue's 3 revolutions.
-    Measured (session 3): peak contact force 2.91 / 1.90 / 2.15 kN and penetration
-    37 / 28 / 30 µm per revolution, constraint residual 8.5e-8, rod 3 extreme −14.2 µε,
-    419 Jacobians. The failure modes these bounds catch: the spurious 42 kN / 0.16 mm
+    Measured (session 3, ρ∞ = 0.5): peak contact force 2.92 / 2.20 / 2.38 kN and
+    penetration 37 / 30 / 32 µm per revolution, 27 rejected steps, 170 Jacobians, rod 3
+    extreme −14.2 µε. The failure modes these bounds catch: the spurious 42 kN / 0.16 mm
     impact of a marginal step (docs/ancf.md §8), drift, and Jacobian cascades."""
     scene = mechanism.load_scene("paper")
     ds = mechanism.simulate(scene, revolutions=3)
