@@ -7,10 +7,13 @@ the paper scene with both rods flexible. Run from the repository root::
 
     python benchmarks/flexible_integrators.py [--quick]
     python benchmarks/flexible_integrators.py --paper-elements
+    python benchmarks/flexible_integrators.py --rho-inf
 
 The second form writes ``docs/benchmarks/paper-element-convergence.csv``: the default
 paper scene re-meshed (both rods), 3 revolutions each, statistics over revolutions 2–3
-(docs/ancf.md §9).
+(docs/ancf.md §9). The third writes ``docs/benchmarks/rho-inf.csv``: the numerical damping
+ρ∞ of generalized-α against S6's slider error and wall time and against the paper
+scene's friction chatter, peak force and wall time (docs/ancf.md §8).
 
 Wall times are from a shared 2-core machine (JIT warmed up by a first short run).
 """
@@ -30,6 +33,7 @@ S6_X = 0.169737332842786
 S6_W = 1.8932e-4
 OUT = Path(__file__).resolve().parents[1] / "docs" / "benchmarks" / "flexible-integrators.csv"
 ELEMENTS_OUT = OUT.with_name("paper-element-convergence.csv")
+RHO_OUT = OUT.with_name("rho-inf.csv")
 
 
 def s6_case(label, method, *, elements=16, t_end=0.1, rtol=1e-6, atol=1e-8, max_step=None):
@@ -178,8 +182,63 @@ def paper_elements(elements=(4, 8, 12, 16, 20, 24), revolutions=3.0) -> list[dic
     return rows
 
 
+def friction_sign_flips(ds) -> tuple[int, int]:
+    """(sign changes of the friction force between consecutive samples, longest run of
+    consecutive changes), ignoring forces below 5 % of the peak."""
+    fr = ds.friction_force.values.ravel()
+    sign = np.sign(fr) * (np.abs(fr) > 0.05 * np.abs(fr).max())
+    flips = sign[1:] * sign[:-1] < 0
+    longest = run = 0
+    for flip in flips:
+        run = run + 1 if flip else 0
+        longest = max(longest, run)
+    return int(flips.sum()), longest
+
+
+def rho_inf_study(values=(0.9, 0.8, 0.7, 0.6, 0.5, 0.3, 0.0)) -> list[dict]:
+    """ρ∞ against accuracy and cost: S6 (16 elements, h = 1e-4 s) slider error at 0.1 s and
+    wall time for 1 s; the default paper scene over one revolution: wall time, Newton
+    counts, friction sign flips, peak contact force and rod 3's extreme strain."""
+    s6 = mechanism.load_scene("flexible-slider-crank")
+    paper = mechanism.load_scene("paper")
+    mechanism.simulate(s6, t_end=2e-4)  # warm-up (JIT)
+    mechanism.simulate(paper, revolutions=0.002)
+    rows = []
+    for rho in values:
+        row: dict = {"rho_inf": rho}
+        scene = s6.replace({"solver.rho_inf": rho})
+        start = time.perf_counter()
+        ds = mechanism.simulate(scene, t_end=1.0, throw=False)
+        row["s6_wall_s"] = round(time.perf_counter() - start, 3)
+        row["s6_status"] = ds.attrs["solver_status"]
+        x = float(ds.slider_position.sel(time=0.1, method="nearest"))
+        row["s6_slider_x_error_m"] = f"{x - S6_X:.3e}"
+        row["s6_newton_iterations"] = ds.attrs["solver_newton_iterations"]
+        scene = paper.replace({"solver.rho_inf": rho})
+        start = time.perf_counter()
+        ds = mechanism.simulate(scene, revolutions=1.0, throw=False)
+        row["paper_wall_s"] = round(time.perf_counter() - start, 3)
+        row["paper_status"] = ds.attrs["solver_status"]
+        row["paper_newton_iterations"] = ds.attrs["solver_newton_iterations"]
+        row["paper_jacobians"] = ds.attrs["solver_jacobian_evaluations"]
+        flips, longest = friction_sign_flips(ds)
+        row["paper_friction_sign_flips"] = flips
+        row["paper_longest_flip_run"] = longest
+        row["paper_contact_force_max_n"] = round(float(ds.contact_force.max()), 1)
+        row["paper_strain_rod3_ue"] = round(float(ds["strain_rod3"]), 3)
+        rows.append(row)
+        print(row, flush=True)
+    with RHO_OUT.open("w", newline="") as fh:
+        writer = csv.DictWriter(fh, fieldnames=list(rows[0]))
+        writer.writeheader()
+        writer.writerows(rows)
+    return rows
+
+
 if __name__ == "__main__":
-    if "--paper-elements" in sys.argv:
+    if "--rho-inf" in sys.argv:
+        rho_inf_study()
+    elif "--paper-elements" in sys.argv:
         paper_elements()
     else:
         main("--quick" in sys.argv)
