@@ -28,6 +28,7 @@ from pathlib import Path
 import numpy as np
 
 import mechanism
+from mechanism._metrics import friction_sign_flips
 
 S6_X = 0.169737332842786
 S6_W = 1.8932e-4
@@ -109,6 +110,18 @@ def paper_case(label, method, revolutions, *, max_step=None):
     )
 
 
+def _write_rows(path: Path, rows: list[dict]) -> None:
+    """Write ``rows`` as CSV; the columns are the union of the rows' keys, in order."""
+    keys: list[str] = []
+    for row in rows:
+        keys += [k for k in row if k not in keys]
+    path.parent.mkdir(parents=True, exist_ok=True)
+    with path.open("w", newline="") as fh:
+        writer = csv.DictWriter(fh, fieldnames=keys)
+        writer.writeheader()
+        writer.writerows(rows)
+
+
 def main(quick: bool) -> None:
     ga = "generalized-alpha-fixed"
     rows = []
@@ -128,14 +141,7 @@ def main(quick: bool) -> None:
         rows.append(s6_case("generalized-alpha fixed", ga, t_end=1.0, max_step=1e-4))
         rows.append(paper_case("generalized-alpha fixed", ga, 0.1))
         rows.append(paper_case("dopri5", "dopri5", 0.005))
-    keys: list[str] = []
-    for row in rows:
-        keys += [k for k in row if k not in keys]
-    OUT.parent.mkdir(parents=True, exist_ok=True)
-    with OUT.open("w", newline="") as fh:
-        writer = csv.DictWriter(fh, fieldnames=keys)
-        writer.writeheader()
-        writer.writerows(rows)
+    _write_rows(OUT, rows)
     for row in rows:
         print(row)
 
@@ -175,24 +181,8 @@ def paper_elements(elements=(4, 8, 12, 16, 20, 24), revolutions=3.0) -> list[dic
         row["penetration_max_m"] = f"{float(late.penetration.max()):.3e}"
         rows.append(row)
         print(row, flush=True)
-    with ELEMENTS_OUT.open("w", newline="") as fh:
-        writer = csv.DictWriter(fh, fieldnames=list(rows[0]))
-        writer.writeheader()
-        writer.writerows(rows)
+    _write_rows(ELEMENTS_OUT, rows)
     return rows
-
-
-def friction_sign_flips(ds) -> tuple[int, int]:
-    """(sign changes of the friction force between consecutive samples, longest run of
-    consecutive changes), ignoring forces below 5 % of the peak."""
-    fr = ds.friction_force.values.ravel()
-    sign = np.sign(fr) * (np.abs(fr) > 0.05 * np.abs(fr).max())
-    flips = sign[1:] * sign[:-1] < 0
-    longest = run = 0
-    for flip in flips:
-        run = run + 1 if flip else 0
-        longest = max(longest, run)
-    return int(flips.sum()), longest
 
 
 def rho_inf_study(values=(0.9, 0.8, 0.7, 0.6, 0.5, 0.3, 0.0)) -> list[dict]:
@@ -228,10 +218,7 @@ def rho_inf_study(values=(0.9, 0.8, 0.7, 0.6, 0.5, 0.3, 0.0)) -> list[dict]:
         row["paper_strain_rod3_ue"] = round(float(ds["strain_rod3"]), 3)
         rows.append(row)
         print(row, flush=True)
-    with RHO_OUT.open("w", newline="") as fh:
-        writer = csv.DictWriter(fh, fieldnames=list(rows[0]))
-        writer.writeheader()
-        writer.writerows(rows)
+    _write_rows(RHO_OUT, rows)
     return rows
 
 

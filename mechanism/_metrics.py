@@ -11,7 +11,7 @@ import math
 import numpy as np
 import xarray as xr
 
-__all__ = ["METRICS", "ROD_STRAIN", "response_metrics", "window_start"]
+__all__ = ["METRICS", "ROD_STRAIN", "friction_sign_flips", "response_metrics", "window_start"]
 
 _TWO_PI = 2.0 * math.pi
 
@@ -96,3 +96,19 @@ def response_metrics(traj: xr.Dataset, start: int = 0) -> dict[str, xr.DataArray
             },
         )
     return out
+
+
+def friction_sign_flips(traj: xr.Dataset) -> tuple[int, int]:
+    """Friction chatter of a trajectory: (number of sign changes of ``friction_force``
+    between consecutive samples, longest run of consecutive changes), ignoring forces
+    below 5 % of the peak. With the fixed-step generalized-α (a sample per step) a long
+    run is the period-2 alternation of an unresolved stiff friction ramp (docs/ancf.md §8).
+    """
+    fr = np.asarray(traj["friction_force"].values, dtype=float).ravel()
+    sign = np.sign(fr) * (np.abs(fr) > 0.05 * np.abs(fr).max())
+    flips = sign[1:] * sign[:-1] < 0
+    longest = run = 0
+    for flip in flips:
+        run = run + 1 if flip else 0
+        longest = max(longest, run)
+    return int(flips.sum()), longest

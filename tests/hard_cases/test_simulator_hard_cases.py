@@ -16,6 +16,7 @@ import numpy as np
 import pytest
 
 import mechanism
+from mechanism._metrics import friction_sign_flips
 from mechanism.contact import contact_stiffness
 from mechanism.scene import (
     Material,
@@ -379,19 +380,6 @@ def test_paper_scene_with_24_ancf_elements_per_rod() -> None:
     assert float(ds.contact_force.max()) == pytest.approx(float(ref.contact_force.max()), rel=0.01)
 
 
-def _friction_sign_flips(ds) -> tuple[int, int]:
-    """(sign changes of the friction force between consecutive samples, longest run of
-    consecutive changes), ignoring forces below 5 % of the peak."""
-    fr = ds.friction_force.values.ravel()
-    sign = np.sign(fr) * (np.abs(fr) > 0.05 * np.abs(fr).max())
-    flips = sign[1:] * sign[:-1] < 0
-    longest = run = 0
-    for flip in flips:
-        run = run + 1 if flip else 0
-        longest = max(longest, run)
-    return int(flips.sum()), longest
-
-
 def test_friction_on_the_ancf_journal_does_not_chatter() -> None:
     """The friction ramp acts on the journal's light slope coordinate as a ≈ 1e8 s⁻¹
     damper, a mode the fixed step cannot resolve; generalized-α maps it to an alternation
@@ -404,8 +392,8 @@ def test_friction_on_the_ancf_journal_does_not_chatter() -> None:
     assert scene.solver.rho_inf == 0.5
     damped = mechanism.simulate(scene, revolutions=0.2)
     ringing = mechanism.simulate(scene.replace({"solver.rho_inf": 0.8}), revolutions=0.2)
-    flips, longest = _friction_sign_flips(damped)
-    flips_08, longest_08 = _friction_sign_flips(ringing)
+    flips, longest = friction_sign_flips(damped)
+    flips_08, longest_08 = friction_sign_flips(ringing)
     assert flips <= 120 and longest <= 10
     assert flips_08 >= 2 * flips and longest_08 > longest
     peak = float(damped.contact_force.max())
