@@ -98,6 +98,7 @@ def _write_figures(ds: Any, verdicts: dict[str, Any], directory: Path) -> list[P
     import matplotlib.pyplot as plt
 
     from . import plot
+    from ._paths import unique_filename
     from ._portraits import phase_portrait
 
     directory.mkdir(parents=True, exist_ok=True)
@@ -138,7 +139,7 @@ def _write_figures(ds: Any, verdicts: dict[str, Any], directory: Path) -> list[P
             try:
                 draw(ax)
                 fig.suptitle(f"{name}: {verdict.label}", fontsize=10)
-                path = directory / f"{name}_{kind}.png"
+                path = directory / f"{unique_filename(name)}_{kind}.png"
                 fig.savefig(path, dpi=110)
                 written.append(path)
             finally:
