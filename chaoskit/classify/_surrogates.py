@@ -9,6 +9,7 @@ import numpy as np
 import xarray as xr
 from scipy.spatial import cKDTree
 
+from .._progress import stage
 from .._validate import as_series, check_int, check_probability, extreme_peak_exponent
 from ._rng import as_generator
 
@@ -312,6 +313,7 @@ def surrogate_test(
     >>> res.rejected, res.p_value
     (True, 0.05)
     """
+    stage("surrogates")
     x = as_series(x, name="x", min_length=64)
     embedding_dim = check_int(embedding_dim, name="embedding_dim", minimum=1)
     lag = check_int(lag, name="lag", minimum=1)
