@@ -9,11 +9,13 @@ from __future__ import annotations
 from . import systems
 from ._contract import sampling_interval, validate_trajectory
 from ._io import load_trajectory, save_trajectory
+from ._samples import sample_path
 from ._version import __version__
 
 _foundation = [
     "__version__",
     "load_trajectory",
+    "sample_path",
     "sampling_interval",
     "save_trajectory",
     "systems",

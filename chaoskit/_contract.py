@@ -168,7 +168,12 @@ def validate_trajectory(
     if missing:
         if not fill_attrs:
             raise ValueError(f"the dataset lacks the global attribute(s) {missing}.")
-        stamp(ds, title=str(ds.attrs.get("title", "imported trajectory")))
+        # fill the missing ones only: a foreign ``source`` or ``title`` says where data came from
+        ds.attrs.setdefault("Conventions", CONVENTIONS)
+        ds.attrs.setdefault("title", "imported trajectory")
+        ds.attrs.setdefault("source", f"chaoskit {__version__}")
+        ds.attrs.setdefault("created", _now())
+        ds.attrs.setdefault("history", "")
     return ds
 
 

@@ -17,6 +17,7 @@ from __future__ import annotations
 import json
 import os
 import uuid
+import zipfile
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
@@ -64,35 +65,78 @@ def _apply_payload(ds: xr.Dataset, payload: dict[str, Any]) -> xr.Dataset:
     return ds
 
 
+def _integer_steps(values: Any, *, name: str, what: str) -> np.ndarray:
+    steps = pd.to_numeric(pd.Series(values), errors="coerce").to_numpy(dtype=np.float64)
+    if np.isnan(steps).any() or np.any(steps != np.round(steps)):
+        raise ValueError(f"step column {name!r} in {what} must hold integers (iteration numbers).")
+    return steps.astype(np.int64)
+
+
 def _from_table(
-    frame: pd.DataFrame, *, time: str | None, dt: float | None, what: str
+    frame: pd.DataFrame,
+    *,
+    time: str | None,
+    dt: float | None,
+    step: str | None,
+    what: str,
 ) -> xr.Dataset:
     """Build a Dataset from a table with one column per variable."""
     frame = frame.copy()
     frame.columns = [str(c).strip() for c in frame.columns]
-    tname: str | None
-    if time is not None:
-        if time not in frame.columns:
-            raise ValueError(
-                f"time column {time!r} not found in {what}; columns are {list(frame.columns)}."
-            )
-        tname = time
-    else:
-        tname = next((c for c in _TIME_NAMES if c in frame.columns), None)
-    if tname is not None:
-        if dt is not None:
-            raise ValueError("pass either time= (a column) or dt= (uniform sampling), not both.")
-        t = pd.to_numeric(frame[tname], errors="coerce").to_numpy(dtype=np.float64)
-        if np.isnan(t).any():
-            raise ValueError(f"time column {tname!r} in {what} has non-numeric or missing values.")
-        frame = frame.drop(columns=[tname])
-    elif dt is not None:
-        t = float(dt) * np.arange(len(frame), dtype=np.float64)
-    else:
+    duplicated = sorted({c for c in frame.columns if list(frame.columns).count(c) > 1})
+    if duplicated:
+        raise ValueError(f"{what} has duplicate column names {duplicated}; rename them.")
+    if len(frame) == 0:
+        raise ValueError(f"{what} has a header but no data rows.")
+    given = [k for k, v in (("time", time), ("dt", dt), ("step", step)) if v is not None]
+    if len(given) > 1:
         raise ValueError(
-            f"no time column in {what} (looked for {list(_TIME_NAMES)}); pass time='column' "
-            "or dt=<sampling interval in s>."
+            f"pass one of time= (a column), dt= (uniform sampling) or step= (a map), not "
+            f"{' and '.join(given)}."
         )
+    if step is None and time is None and dt is None and "step" in frame.columns:
+        if not any(c in frame.columns for c in _TIME_NAMES):
+            step = "step"  # a map, e.g. as save_trajectory writes it
+    index: tuple[str, np.ndarray]
+    if step is not None:
+        if step in frame.columns:
+            index = ("step", _integer_steps(frame[step], name=step, what=what))
+            frame = frame.drop(columns=[step])
+        elif step == "step":
+            index = ("step", np.arange(len(frame), dtype=np.int64))
+        else:
+            raise ValueError(
+                f"step column {step!r} not found in {what}; columns are {list(frame.columns)} "
+                "(step='step' numbers the rows 0, 1, ...)."
+            )
+    else:
+        tname: str | None
+        if time is not None:
+            if time not in frame.columns:
+                raise ValueError(
+                    f"time column {time!r} not found in {what}; columns are {list(frame.columns)}."
+                )
+            tname = time
+        elif dt is None:
+            tname = next((c for c in _TIME_NAMES if c in frame.columns), None)
+        else:
+            tname = None
+        if tname is not None:
+            t = pd.to_numeric(frame[tname], errors="coerce").to_numpy(dtype=np.float64)
+            if np.isnan(t).any():
+                raise ValueError(
+                    f"time column {tname!r} in {what} has non-numeric or missing values."
+                )
+            frame = frame.drop(columns=[tname])
+        elif dt is not None:
+            t = float(dt) * np.arange(len(frame), dtype=np.float64)
+        else:
+            raise ValueError(
+                f"no time column in {what} (looked for {list(_TIME_NAMES)}); pass time='column', "
+                "dt=<sampling interval in s>, or step='column' for a map (step='step' numbers "
+                "the rows)."
+            )
+        index = ("time", t)
     for col in frame.columns:
         if not pd.api.types.is_numeric_dtype(frame[col]) or pd.api.types.is_bool_dtype(frame[col]):
             if not pd.api.types.is_bool_dtype(frame[col]):
@@ -100,50 +144,137 @@ def _from_table(
                     f"column {col!r} in {what} is not numeric (dtype {frame[col].dtype}); "
                     "pass variables=[...] with the numeric columns only."
                 )
-    data_vars = {col: ("time", frame[col].to_numpy()) for col in frame.columns}
-    return xr.Dataset(data_vars, coords={"time": ("time", t)})
+    if not len(frame.columns):
+        raise ValueError(f"{what} has no data column besides its {index[0]} column.")
+    data_vars = {col: (index[0], frame[col].to_numpy()) for col in frame.columns}
+    return xr.Dataset(data_vars, coords={index[0]: (index[0], index[1])})
 
 
-def _read_csv(path: Path, *, time: str | None, dt: float | None) -> xr.Dataset:
+_DELIMITERS = (",", "\t", ";", "|")
+
+
+def _delimiter(lines: list[str], *, what: str) -> str:
+    """The column delimiter of a header and its first data lines; "," for one column.
+
+    A delimiter counts if every line has the same, non-zero number of it; failing all,
+    whitespace if every line splits into the same number (> 1) of fields.
+    """
+    for sep in _DELIMITERS:
+        counts = {line.count(sep) for line in lines}
+        if len(counts) == 1 and counts.pop() > 0:
+            return sep
+    fields = {len(line.split()) for line in lines}
+    if len(fields) == 1 and fields.pop() > 1:
+        return r"\s+"
+    if all(len(line.split()) <= 1 and not any(d in line for d in _DELIMITERS) for line in lines):
+        return ","  # one column
+    raise ValueError(
+        f"cannot tell the column delimiter of {what}: its first lines do not all hold the "
+        "same number of ',', tab, ';', '|' or blanks; write one column per variable, "
+        "comma-separated, with one header line."
+    )
+
+
+def _read_csv(path: Path, *, time: str | None, dt: float | None, step: str | None) -> xr.Dataset:
     payload = None
     skip = 0
-    with path.open("r", encoding="utf-8") as fh:
-        for line in fh:
-            if not line.startswith("#"):
-                break
-            skip += 1
-            if line.startswith(_ATTRS_LINE):
-                payload = json.loads(line[len(_ATTRS_LINE) :])
-    sep = "\t" if path.suffix.lower() == ".tsv" else None
-    frame = pd.read_csv(path, skiprows=skip, sep=sep, engine="python")
-    ds = _from_table(frame, time=time, dt=dt, what=str(path))
+    head: list[str] = []
+    try:
+        with path.open("r", encoding="utf-8-sig") as fh:  # -sig: drop a byte-order mark
+            for line in fh:
+                if not head and line.startswith("#"):
+                    skip += 1
+                    if line.startswith(_ATTRS_LINE):
+                        payload = json.loads(line[len(_ATTRS_LINE) :])
+                    continue
+                if line.strip():
+                    head.append(line.rstrip("\r\n"))
+                if len(head) > 5:
+                    break
+    except UnicodeDecodeError as exc:
+        raise ValueError(f"{path} is not a UTF-8 text file ({exc.reason}).") from None
+    except json.JSONDecodeError:
+        raise ValueError(f"{path} has a damaged {_ATTRS_LINE.strip()} line.") from None
+    if not head:
+        raise ValueError(f"{path} is empty: no header line and no data.")
+    if len(head) == 1:
+        raise ValueError(f"{path} has a header but no data rows.")
+    sep = "\t" if path.suffix.lower() == ".tsv" else _delimiter(head, what=str(path))
+    header = [c.strip() for c in (head[0].split() if sep == r"\s+" else head[0].split(sep))]
+    duplicated = sorted({c for c in header if header.count(c) > 1})
+    if duplicated:
+        raise ValueError(f"{path} has duplicate column names {duplicated}; rename them.")
+    try:
+        frame = pd.read_csv(
+            path, skiprows=skip, sep=sep, encoding="utf-8-sig", engine="python", comment=None
+        )
+    except (pd.errors.ParserError, pd.errors.EmptyDataError) as exc:
+        first = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
+        raise ValueError(f"cannot read {path} as a table: {first}") from None
+    ds = _from_table(frame, time=time, dt=dt, step=step, what=str(path))
     return _apply_payload(ds, payload) if payload else ds
 
 
-def _read_npz(path: Path, *, time: str | None, dt: float | None) -> xr.Dataset:
-    with np.load(path, allow_pickle=False) as z:
-        arrays = {k: z[k] for k in z.files}
+def _read_npz(path: Path, *, time: str | None, dt: float | None, step: str | None) -> xr.Dataset:
+    try:
+        with np.load(path, allow_pickle=False) as z:
+            arrays = {k: z[k] for k in z.files}
+    except (OSError, ValueError, zipfile.BadZipFile, EOFError) as exc:
+        raise ValueError(f"{path} is not a readable npz file ({_one_line(exc)}).") from None
     payload = None
     if _NPZ_ATTRS in arrays:
         payload = json.loads(str(arrays.pop(_NPZ_ATTRS)))
-    step = arrays.pop("step", None) if time is None and dt is None else None
     bad = [k for k, v in arrays.items() if v.ndim != 1]
     if bad:
         raise ValueError(f"npz entries must be 1-D series; {bad} are not.")
     lengths = {k: len(v) for k, v in arrays.items()}
     if len(set(lengths.values())) > 1:
         raise ValueError(f"npz entries have different lengths: {lengths}.")
-    if step is not None and step.dtype.kind in "iu":
-        ds = xr.Dataset({k: ("step", v) for k, v in arrays.items()}, coords={"step": step})
-    else:
-        if step is not None:
-            arrays["step"] = step
-        ds = _from_table(pd.DataFrame(arrays), time=time, dt=dt, what=str(path))
+    if not arrays:
+        raise ValueError(f"{path} holds no arrays.")
+    ds = _from_table(pd.DataFrame(arrays), time=time, dt=dt, step=step, what=str(path))
     return _apply_payload(ds, payload) if payload else ds
 
 
+def _one_line(exc: BaseException) -> str:
+    text = str(exc).strip()
+    return text.splitlines()[0] if text else type(exc).__name__
+
+
+def _read_netcdf(path: Path) -> xr.Dataset:
+    try:
+        with xr.open_dataset(path, engine="h5netcdf") as opened:
+            return opened.load()
+    except (OSError, ValueError, KeyError, TypeError) as exc:
+        raise ValueError(
+            f"{path} is not a readable netCDF-4 file ({_one_line(exc)}); is it truncated, or "
+            "another format with a .nc suffix?"
+        ) from None
+
+
+def _index_labelled(ds: xr.Dataset, *, dt: float | None, step: str | None) -> xr.Dataset:
+    """Give a labelled Dataset without ``time``/``step`` the index that dt= or step= asks for."""
+    if "time" in ds.coords or "step" in ds.coords or not ds.dims:
+        return ds
+    dim = next(iter(ds.dims))
+    if dt is not None:
+        return ds.rename({dim: "time"}).assign_coords(
+            time=float(dt) * np.arange(ds.sizes[dim], dtype=np.float64)
+        )
+    if step is not None:
+        if step != "step" and step not in ds.variables:
+            raise ValueError(f"step variable {step!r} not found; available: {list(ds.variables)}.")
+        if step == "step" or step not in ds.variables:
+            steps = np.arange(ds.sizes[dim], dtype=np.int64)
+        else:
+            steps = _integer_steps(ds[step].values, name=step, what="the dataset")
+            ds = ds.drop_vars(step)
+        return ds.rename({dim: "step"}).assign_coords(step=steps)
+    return ds
+
+
 def _from_array(
-    arr: np.ndarray, *, dt: float | None, variables: Sequence[str] | None
+    arr: np.ndarray, *, dt: float | None, step: str | None, variables: Sequence[str] | None
 ) -> xr.Dataset:
     if arr.ndim == 1:
         arr = arr[:, None]
@@ -151,8 +282,11 @@ def _from_array(
         raise ValueError(
             f"a numpy array must be 1-D or 2-D (samples × variables); got {arr.shape}."
         )
-    if dt is None:
-        raise ValueError("a numpy array carries no time: pass dt=<sampling interval in s>.")
+    if dt is None and step is None:
+        raise ValueError(
+            "a numpy array carries no time: pass dt=<sampling interval in s> for a flow, or "
+            "step='step' for a map (samples numbered 0, 1, ...)."
+        )
     names = (
         list(variables)
         if variables is not None
@@ -161,7 +295,7 @@ def _from_array(
     if len(names) != arr.shape[1]:
         raise ValueError(f"variables names {len(names)} columns but the array has {arr.shape[1]}.")
     frame = pd.DataFrame(arr, columns=names)
-    return _from_table(frame, time=None, dt=dt, what="the array")
+    return _from_table(frame, time=None, dt=dt, step=step, what="the array")
 
 
 def load_trajectory(
@@ -169,6 +303,7 @@ def load_trajectory(
     *,
     time: str | None = None,
     dt: float | None = None,
+    step: str | None = None,
     variables: Sequence[str] | None = None,
     require_uniform: bool = False,
 ) -> xr.Dataset:
@@ -185,6 +320,12 @@ def load_trajectory(
         found.
     dt
         Sampling interval in seconds, for sources without a time column.
+    step
+        For a map: the name of the integer iteration column of a table, which becomes the
+        ``step`` coordinate. ``step="step"`` on a source without such a column (a numpy array,
+        a table of map values) numbers the samples 0, 1, ... A table with a ``step`` column and
+        no time column is read as a map without asking. Give at most one of ``time``,
+        ``dt`` and ``step``.
     variables
         Names of the variables to keep (for a numpy array: the column names).
     require_uniform
@@ -196,29 +337,43 @@ def load_trajectory(
         A Dataset following the data contract (``docs/data-model.md``); missing ``units``
         are filled with ``"unknown"`` and missing ``long_name`` with the variable name.
 
+    Raises
+    ------
+    FileNotFoundError
+        If the path does not exist.
+    ValueError
+        With a one-line message for every problem with the content: a folder instead of a
+        file, an unknown suffix, a truncated or foreign file, an undetectable CSV delimiter,
+        duplicate column names, no data rows, a missing time column, non-numeric values.
+
     Examples
     --------
     >>> import numpy as np, chaoskit
     >>> ds = chaoskit.load_trajectory(np.sin(np.arange(100) * 0.1), dt=0.1)
     >>> float(ds.time[1])
     0.1
+    >>> chaoskit.load_trajectory(chaoskit.systems.logistic(50), step="step").sizes["step"]
+    50
     """
     if dt is not None:
         if not np.isfinite(dt) or dt <= 0:
             raise ValueError(f"dt must be a finite positive number of seconds; got {dt!r}.")
+    if step is not None and (not isinstance(step, str) or not step.strip()):
+        raise ValueError(f"step must name a column (or be 'step'); got {step!r}.")
     origin: str
     if isinstance(source, (str, os.PathLike)):
         path = Path(source)
         fmt = _format_of(path)
         if not path.exists():
             raise FileNotFoundError(f"no such trajectory file: {path}")
+        if path.is_dir():
+            raise ValueError(f"{path} is a folder; pass a trajectory file.")
         if fmt == "netcdf":
-            with xr.open_dataset(path, engine="h5netcdf") as opened:
-                ds = opened.load()
+            ds = _read_netcdf(path)
         elif fmt == "csv":
-            ds = _read_csv(path, time=time, dt=dt)
+            ds = _read_csv(path, time=time, dt=dt, step=step)
         else:
-            ds = _read_npz(path, time=time, dt=dt)
+            ds = _read_npz(path, time=time, dt=dt, step=step)
         origin = f"loaded from {path.name}"
     elif isinstance(source, xr.Dataset):
         ds, origin = source.copy(), "taken from an xarray.Dataset"
@@ -226,29 +381,27 @@ def load_trajectory(
         name = source.name or "x"
         ds, origin = source.to_dataset(name=str(name)), "taken from an xarray.DataArray"
     elif isinstance(source, pd.DataFrame):
-        ds = _from_table(source, time=time, dt=dt, what="the DataFrame")
+        ds = _from_table(source, time=time, dt=dt, step=step, what="the DataFrame")
         origin = "taken from a pandas.DataFrame"
     elif isinstance(source, pd.Series):
         frame = source.to_frame(name=str(source.name or "x"))
-        ds = _from_table(frame, time=None, dt=dt, what="the Series")
+        ds = _from_table(frame, time=None, dt=dt, step=step, what="the Series")
         origin = "taken from a pandas.Series"
     elif isinstance(source, (np.ndarray, list, tuple)):
         arr = np.asarray(source)
         if arr.dtype.kind not in "fiub":
             raise ValueError(f"the array is not numeric (dtype {arr.dtype}).")
-        ds = _from_array(arr, dt=dt, variables=variables)
+        ds = _from_array(arr, dt=dt, step=step, variables=variables)
         origin, variables = "taken from a numpy array", None
     else:
         raise TypeError(
             f"cannot load a trajectory from {type(source).__name__}; pass a file path, "
             "DataFrame, xarray object or numpy array."
         )
-    if isinstance(source, (xr.Dataset, xr.DataArray)) and "time" not in ds.coords:
-        if dt is not None and "step" not in ds.coords:
-            dim = next(iter(ds.dims))
-            ds = ds.rename({dim: "time"}).assign_coords(
-                time=float(dt) * np.arange(ds.sizes[dim], dtype=np.float64)
-            )
+    if isinstance(source, (xr.Dataset, xr.DataArray)) or (
+        isinstance(source, (str, os.PathLike)) and _format_of(Path(source)) == "netcdf"
+    ):
+        ds = _index_labelled(ds, dt=dt, step=step)
     if variables is not None:
         missing = [v for v in variables if v not in ds.data_vars]
         if missing:
@@ -293,7 +446,10 @@ def save_trajectory(ds: xr.Dataset, path: str | os.PathLike[str]) -> Path:
     """Write a trajectory atomically (temporary file in the same folder, then rename).
 
     The format follows the suffix: netCDF-4 through h5netcdf (``.nc``), CSV with the
-    attributes in a JSON comment line (``.csv``; 1-D variables only) or ``.npz``.
+    attributes in a JSON comment line (``.csv``; 1-D variables only) or ``.npz``. Whatever
+    :func:`load_trajectory` accepts, this writes: missing ``units``, ``long_name`` and
+    global attributes (``Conventions``, ``title``, ``source``, ``history``, ``created``) are
+    filled as on loading, and present ones are kept as they are.
 
     Returns
     -------
@@ -302,7 +458,11 @@ def save_trajectory(ds: xr.Dataset, path: str | os.PathLike[str]) -> Path:
     """
     path = Path(path)
     fmt = _format_of(path)
-    ds = validate_trajectory(ds.copy())
+    if path.is_dir():
+        raise ValueError(f"{path} is a folder; pass a file name to write.")
+    # as load_trajectory does: fill missing units, long names and provenance attributes,
+    # keep the ones that are there (a foreign ``source`` stays)
+    ds = validate_trajectory(ds.copy(), fill_attrs=True)
     _check_attr_values(ds)
     if fmt == "netcdf":
         _atomic_write(path, lambda p: ds.to_netcdf(p, engine="h5netcdf", invalid_netcdf=False))

@@ -11,12 +11,21 @@ from typing import Any
 
 import numpy as np
 
+#: Largest and smallest peak magnitude ``max |x|`` a series may have. Beyond these, sums,
+#: differences and squares of samples leave the float64 range (overflow near 1.8e308,
+#: subnormal loss of precision below 2.2e-308) before the estimators can standardise it.
+MAX_AMPLITUDE = 1e300
+MIN_AMPLITUDE = 1e-300
+
 __all__ = [
+    "MAX_AMPLITUDE",
+    "MIN_AMPLITUDE",
     "as_series",
     "check_choice",
     "check_int",
     "check_positive",
     "check_probability",
+    "extreme_peak_exponent",
 ]
 
 
@@ -29,7 +38,8 @@ def as_series(x: Any, *, name: str = "x", min_length: int = 2) -> np.ndarray:
     ------
     ValueError
         If ``x`` is not 1-D, not numeric, shorter than ``min_length``, contains NaN or inf,
-        or is constant.
+        is constant, or its peak magnitude lies outside [``MIN_AMPLITUDE``,
+        ``MAX_AMPLITUDE``].
     """
     values = getattr(x, "values", x)  # pandas Series, xarray DataArray
     arr = np.asarray(values)
@@ -57,12 +67,36 @@ def as_series(x: Any, *, name: str = "x", min_length: int = 2) -> np.ndarray:
             f"{name} contains {(~finite).sum()} non-finite value(s) (first: {kind} at index "
             f"{bad}); remove or interpolate them first."
         )
-    if np.ptp(arr) == 0.0:
+    hi, lo = float(arr.max()), float(arr.min())
+    if hi == lo:  # not np.ptp: hi - lo overflows for samples near the float64 limit
         raise ValueError(
             f"{name} is constant (every sample equals {arr[0]!r}); delay, dimension and "
             "Lyapunov estimates are undefined for a constant series."
         )
+    peak = max(hi, -lo)
+    if not MIN_AMPLITUDE <= peak <= MAX_AMPLITUDE:
+        raise ValueError(
+            f"{name} has peak magnitude {peak:.3g}, outside the accepted range "
+            f"[{MIN_AMPLITUDE:g}, {MAX_AMPLITUDE:g}] where differences and squares of samples "
+            "stay finite; rescale it first (e.g. x / np.max(np.abs(x))): the estimators are "
+            "scale-invariant."
+        )
     return arr
+
+
+def extreme_peak_exponent(x: np.ndarray) -> int:
+    """0 if ``max |x|`` is ordinary, else the ``e`` that brings the peak of ``np.ldexp(x, -e)``
+    into [0.5, 1).
+
+    Ordinary means within [1e-100, 1e100]: there sums of squares of samples neither overflow
+    nor underflow. Scaling by a power of two is exact in floating point, so the scaled series
+    carries the same information, and ordinary data are left untouched (bit-identical
+    results).
+    """
+    peak = float(np.max(np.abs(x))) if x.size else 0.0
+    if peak == 0.0 or not np.isfinite(peak) or 1e-100 <= peak <= 1e100:
+        return 0
+    return int(np.frexp(peak)[1])
 
 
 def check_int(value: Any, *, name: str, minimum: int, maximum: int | None = None) -> int:

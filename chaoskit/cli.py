@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
@@ -16,7 +18,18 @@ app = typer.Typer(
     add_completion=False,
 )
 
-DEFAULT_SAMPLE = Path("data") / "lorenz.nc"
+DEFAULT_SAMPLE = "lorenz.nc"  # chaoskit.sample_path finds it wherever chaoskit is installed
+
+
+@contextmanager
+def _user_errors() -> Iterator[None]:
+    """Everyday mistakes (bad input, missing or unreadable files) end in one line and exit 2."""
+    try:
+        yield
+    except (ValueError, OSError) as exc:
+        text = str(exc).strip() or type(exc).__name__
+        typer.echo(f"error: {text.splitlines()[0]}", err=True)
+        raise typer.Exit(code=2) from None
 
 
 def _version_callback(value: bool) -> None:
@@ -98,6 +111,7 @@ def _write_figures(ds: Any, verdicts: dict[str, Any], directory: Path) -> list[P
     import matplotlib.pyplot as plt
 
     from . import plot
+    from ._paths import unique_filename
     from ._portraits import phase_portrait
 
     directory.mkdir(parents=True, exist_ok=True)
@@ -138,7 +152,7 @@ def _write_figures(ds: Any, verdicts: dict[str, Any], directory: Path) -> list[P
             try:
                 draw(ax)
                 fig.suptitle(f"{name}: {verdict.label}", fontsize=10)
-                path = directory / f"{name}_{kind}.png"
+                path = directory / f"{unique_filename(name)}_{kind}.png"
                 fig.savefig(path, dpi=110)
                 written.append(path)
             finally:
@@ -155,12 +169,15 @@ def _run_analysis(
     phase_variable: str | None,
     seed: int,
     progress: bool,
+    time: str | None = None,
+    dt: float | None = None,
+    step: str | None = None,
 ) -> None:
     from ._io import load_trajectory
     from .classify import classify_variables, verdict_table
 
-    try:
-        ds = load_trajectory(path)
+    with _user_errors():
+        ds = load_trajectory(path, time=time, dt=dt, step=step)
         verdicts = classify_variables(
             ds,
             variables=variables or None,
@@ -170,9 +187,6 @@ def _run_analysis(
             progress=progress,
         )
         table = verdict_table(verdicts)
-    except (ValueError, FileNotFoundError) as exc:
-        typer.echo(f"error: {exc}", err=True)
-        raise typer.Exit(code=2) from exc
     index = "time" if "time" in ds.coords else "step"
     typer.echo(f"{path}: {ds.attrs.get('title', '')}")
     typer.echo(f"  {ds.sizes[index]} samples along {index!r}")
@@ -182,8 +196,15 @@ def _run_analysis(
     for name, verdict in verdicts.items():
         typer.echo(f"{name}: {verdict.reason}")
     if figures is not None:
-        written = _write_figures(ds, verdicts, figures)
+        with _user_errors():
+            written = _write_figures(ds, verdicts, figures)
         typer.echo(f"\n{len(written)} figure(s) written to {figures}")
+    failed = [name for name, v in verdicts.items() if "classify" in v.errors]
+    if failed and len(failed) == len(verdicts):
+        typer.echo(
+            f"error: the analysis failed for every variable ({', '.join(failed)}).", err=True
+        )
+        raise typer.Exit(code=1)
 
 
 @app.command()
@@ -202,8 +223,23 @@ def analyze(
         None, "--phase-variable", help="Drive angle variable, rad (stroboscopic section)."
     ),
     seed: int = typer.Option(0, "--seed", help="Seed of the 0-1 test and the surrogates."),
+    time: str | None = typer.Option(
+        None, "--time", help="Name of the time column, s (default: time, t, ... if present)."
+    ),
+    dt: float | None = typer.Option(
+        None, "--dt", help="Sampling interval, s, for data without a time column."
+    ),
+    step: str | None = typer.Option(
+        None,
+        "--step",
+        help="Map data: the integer iteration column ('--step step' numbers the rows).",
+    ),
 ) -> None:
-    """Classify each variable of a trajectory and print the evidence table."""
+    """Classify each variable of a trajectory and print the evidence table.
+
+    Exit status: 0 on success, 2 for bad input (nothing analysed), 1 when the analysis failed
+    for every variable.
+    """
     _run_analysis(
         path,
         list(var) if var else None,
@@ -212,14 +248,24 @@ def analyze(
         phase_variable=phase_variable,
         seed=seed,
         progress=True,
+        time=time,
+        dt=dt,
+        step=step,
     )
 
 
 @app.command()
 def demo(
-    path: Path = typer.Argument(DEFAULT_SAMPLE, help="Trajectory file (netCDF, CSV or npz)."),
+    path: Path | None = typer.Argument(
+        None, help="Trajectory file (default: the Lorenz sample shipped with chaoskit)."
+    ),
 ) -> None:
-    """Analyse a sample trajectory from data/ and print the result."""
+    """Analyse a sample trajectory (by default the Lorenz system) and print the result."""
+    if path is None:
+        from ._samples import sample_path
+
+        with _user_errors():
+            path = sample_path(DEFAULT_SAMPLE)
     _run_analysis(
         path, None, figures=None, drive_period=None, phase_variable=None, seed=0, progress=False
     )
@@ -297,7 +343,7 @@ def report(
 
     from .report import report as build_report
 
-    try:
+    with _user_errors():
         reference = _read_reference(chaos_reference) if chaos_reference is not None else None
         rep = build_report(
             [str(p) for p in paths],
@@ -316,11 +362,12 @@ def report(
             progress=True,
         )
         written = rep.write(output, markdown_figures="embed" if embed_figures else "files")
-    except (ValueError, FileNotFoundError) as exc:
-        typer.echo(f"error: {exc}", err=True)
-        raise typer.Exit(code=2) from exc
     overview = rep.table("verdict per variable").display()
     typer.echo(overview.droplevel(1, axis=1).to_string())
     typer.echo("")
     typer.echo(f"report: {written['html']}")
     typer.echo(f"markdown: {written['markdown']} ({len(written['figures'])} figure file(s))")
+
+
+if __name__ == "__main__":
+    app()

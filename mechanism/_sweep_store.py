@@ -16,7 +16,6 @@ from __future__ import annotations
 import hashlib
 import json
 import math
-import re
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
@@ -25,6 +24,7 @@ import numpy as np
 import xarray as xr
 
 from chaoskit._io import _atomic_write
+from chaoskit._paths import safe_filename
 
 __all__ = [
     "MANIFEST_FORMAT",
@@ -42,7 +42,6 @@ MANIFEST = "sweep.json"
 POINTS = "points"
 SUMMARY = "summary.nc"
 
-_UNSAFE = re.compile(r"[^A-Za-z0-9._+-]+")
 _READABLE_MAX = 80
 
 
@@ -87,7 +86,7 @@ def point_id(params: Mapping[str, Any]) -> str:
     keys = list(params)
     short = _short_names(keys)
     readable = "_".join(f"{s}-{_format_value(params[k])}" for s, k in zip(short, keys, strict=True))
-    readable = _UNSAFE.sub("~", readable)[:_READABLE_MAX]
+    readable = safe_filename(readable, replacement="~", max_length=_READABLE_MAX)
     canonical = json.dumps([[k, params[k]] for k in keys], separators=(",", ":"))
     digest = hashlib.sha1(canonical.encode("utf-8")).hexdigest()[:10]
     return f"{readable}_{digest}"

@@ -6,6 +6,7 @@
 
 from __future__ import annotations
 
+import contextlib
 from collections.abc import Mapping, Sequence
 from typing import Any
 
@@ -14,6 +15,7 @@ import xarray as xr
 
 from .._contract import stamp
 from .._io import load_trajectory
+from .._progress import finish_item, stage_bar
 from ._rng import as_generator
 from ._verdict import LABELS, Verdict, VerdictRule, classify
 
@@ -112,38 +114,55 @@ def classify_variables(
     if missing:
         raise ValueError(f"variables {missing} not found; available: {list(ds.data_vars)}.")
     streams = as_generator(rng).spawn(len(variables))
-    pairs: Any = zip(variables, streams, strict=True)
-    if progress:
-        from tqdm.auto import tqdm
-
-        pairs = tqdm(list(pairs), desc="analyze", unit="variable")
-    verdicts: dict[str, Verdict] = {}
-    for name, stream in pairs:
-        keep = [name] if phase_variable is None else [name, phase_variable]
-        try:
-            verdicts[name] = classify(
-                ds[keep],
-                variable=name,
-                drive_period=drive_period,
-                phase_variable=phase_variable,
-                n_surrogates=n_surrogates,
-                rule=rule,
-                rng=stream,
+    with contextlib.ExitStack() as stack:
+        bar = stack.enter_context(stage_bar(len(variables), desc="analyze")) if progress else None
+        verdicts: dict[str, Verdict] = {}
+        for i, (name, stream) in enumerate(zip(variables, streams, strict=True)):
+            if bar is not None:
+                finish_item(bar, i, f"analyze {name} ({i + 1}/{len(variables)})")
+            verdicts[name] = _classify_one(
+                ds, name, stream, index, drive_period, phase_variable, n_surrogates, rule
             )
-        except ValueError as exc:
-            verdicts[name] = Verdict(
-                label="undetermined",
-                period=None,
-                confidence=float("nan"),
-                reason=f"analysis failed: {exc}",
-                votes={},
-                errors={"classify": str(exc)},
-                variable=name,
-                kind="map" if index == "step" else "flow",
-                dt=1.0,
-                n_samples=int(ds.sizes[index]),
-            )
+        if bar is not None:
+            finish_item(bar, len(variables), "analyze")
     return verdicts
+
+
+def _classify_one(
+    ds: xr.Dataset,
+    name: str,
+    stream: Any,
+    index: str,
+    drive_period: float | None,
+    phase_variable: str | None,
+    n_surrogates: int,
+    rule: VerdictRule | None,
+) -> Verdict:
+    """:func:`classify` of one variable, a ``ValueError`` turned into an undetermined verdict."""
+    keep = [name] if phase_variable is None else [name, phase_variable]
+    try:
+        return classify(
+            ds[keep],
+            variable=name,
+            drive_period=drive_period,
+            phase_variable=phase_variable,
+            n_surrogates=n_surrogates,
+            rule=rule,
+            rng=stream,
+        )
+    except ValueError as exc:
+        return Verdict(
+            label="undetermined",
+            period=None,
+            confidence=float("nan"),
+            reason=f"analysis failed: {exc}",
+            votes={},
+            errors={"classify": str(exc)},
+            variable=name,
+            kind="map" if index == "step" else "flow",
+            dt=1.0,
+            n_samples=int(ds.sizes[index]),
+        )
 
 
 def analyze(
@@ -178,7 +197,8 @@ def analyze(
     rng
         Seed or Generator; each variable gets an independent stream spawned from it.
     progress
-        Show a tqdm bar over the variables.
+        Show a progress bar (after the first two seconds) naming the variable and the
+        estimator running.
 
     Returns
     -------

@@ -9,7 +9,8 @@ import numpy as np
 import xarray as xr
 from scipy.spatial import cKDTree
 
-from .._validate import as_series, check_int, check_probability
+from .._progress import stage
+from .._validate import as_series, check_int, check_probability, extreme_peak_exponent
 from ._rng import as_generator
 
 __all__ = [
@@ -312,6 +313,7 @@ def surrogate_test(
     >>> res.rejected, res.p_value
     (True, 0.05)
     """
+    stage("surrogates")
     x = as_series(x, name="x", min_length=64)
     embedding_dim = check_int(embedding_dim, name="embedding_dim", minimum=1)
     lag = check_int(lag, name="lag", minimum=1)
@@ -325,6 +327,9 @@ def surrogate_test(
     if not 0.0 <= min_effect < 1.0:
         raise ValueError(f"min_effect must be in [0, 1); got {min_effect!r}.")
     n_neighbors = check_int(n_neighbors, name="n_neighbors", minimum=1)
+    # the statistic is an error in the units of x: compute it on x * 2**-e (exact), scale back
+    exponent = extreme_peak_exponent(x)
+    x = np.ldexp(x, -exponent)
     x = x[match_ends(x)]
     options = {
         "embedding_dim": embedding_dim,
@@ -340,8 +345,8 @@ def surrogate_test(
     median = float(np.median(stats))
     effect = 1.0 - stat / median if median > 0 else 0.0
     return SurrogateResult(
-        statistic=stat,
-        surrogate_statistics=stats,
+        statistic=float(np.ldexp(stat, exponent)),
+        surrogate_statistics=np.ldexp(stats, exponent),
         p_value=float(p_value),
         effect=float(effect),
         rejected=bool(p_value <= alpha and effect >= min_effect),

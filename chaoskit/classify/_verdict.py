@@ -6,7 +6,7 @@ The evidence is computed by independent estimators; :func:`combine` applies the 
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any, Literal
 
 import numpy as np
@@ -16,7 +16,13 @@ from scipy.signal import find_peaks, savgol_filter
 from .._contract import sampling_interval, stamp
 from .._io import load_trajectory
 from .._portraits import savgol_derivative
-from .._validate import as_series, check_int, check_positive, check_probability
+from .._validate import (
+    as_series,
+    check_int,
+    check_positive,
+    check_probability,
+    extreme_peak_exponent,
+)
 from ..embedding import estimate_delay, estimate_embedding_dim
 from ..lyapunov import lyapunov_rosenstein, lyapunov_wolf
 from ..sections import poincare_section, stroboscopic_map
@@ -271,6 +277,19 @@ def _read_input(
         return _Input(x, np.arange(x.size, dtype=np.float64), 1.0, "map", label, None)
     step = check_positive(dt, name="dt")
     return _Input(x, np.arange(x.size) * step, step, "flow", label, None)
+
+
+def _scaled_to_unit_peak(inp: _Input) -> tuple[_Input, int]:
+    """``inp`` with x scaled by an exact power of two if its peak is extreme, and the exponent.
+
+    Every piece of evidence is scale-invariant, but near the float64 limits the variance
+    over- or underflows (a series of amplitude 1e-300 would look constant).
+    """
+    x = inp.x
+    if x.dtype.kind != "f" or x.ndim != 1 or not np.all(np.isfinite(x)):
+        return inp, 0  # as_series reports it
+    e = extreme_peak_exponent(x)
+    return (inp, 0) if e == 0 else (replace(inp, x=np.ldexp(x, -e)), e)
 
 
 def _is_equilibrium(x: np.ndarray, rtol: float) -> bool:
@@ -638,6 +657,7 @@ def classify(
         if drive_period is not None:
             drive_period = check_positive(drive_period, name="drive_period")
         inp = _Input(inp.x, inp.t, inp.dt, "forced", inp.variable, inp.angle)
+    inp, exponent = _scaled_to_unit_peak(inp)
     base: dict[str, Any] = {"variable": inp.variable, "kind": inp.kind, "dt": inp.dt, "rule": rule}
     if _is_equilibrium(inp.x, rule.equilibrium_rtol):
         return Verdict(
@@ -724,7 +744,7 @@ def classify(
         label=label,
         period=period,
         confidence=confidence,
-        reason=reason,
+        reason=reason if exponent == 0 else f"{reason} (analysed as x * 2**{-exponent})",
         votes=votes,
         errors=errors,
         n_samples=int(x.size),

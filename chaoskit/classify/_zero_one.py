@@ -8,6 +8,7 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
+from .._progress import stage
 from .._validate import as_series, check_int
 from . import _kernels
 from ._rng import as_generator
@@ -118,6 +119,7 @@ def zero_one_test(
     >>> zero_one_test(systems.logistic(2000, r=3.5), rng=0).k < 0.1
     True
     """
+    stage("zero-one")
     phi = as_series(x, name="x", min_length=100)
     n = phi.size
     n_c = check_int(n_c, name="n_c", minimum=1)

@@ -8,6 +8,7 @@ from typing import Any, Literal
 import numpy as np
 import xarray as xr
 
+from .._progress import stage
 from .._validate import as_series, check_choice, check_int
 from . import _kernels as _k
 from ._embed import standardize
@@ -288,6 +289,7 @@ def estimate_delay(
     >>> estimate_delay(systems.lorenz(10_000, dt=0.01)[:, 0]).lag
     17
     """
+    stage("delay")
     check_choice(method, name="method", choices=_METHODS)
     arr = as_series(x, min_length=_MIN_SAMPLES)
     max_lag = _default_max_lag(arr.size) if max_lag is None else _check_max_lag(max_lag, arr.size)

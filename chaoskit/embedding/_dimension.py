@@ -10,6 +10,7 @@ import xarray as xr
 
 from .._neighbors import build_tree, check_theiler_window, default_theiler_window
 from .._neighbors import nearest_neighbors as _nn
+from .._progress import stage
 from .._validate import as_series, check_choice, check_int, check_positive
 from . import _kernels as _k
 from ._embed import embed, standardize
@@ -351,6 +352,7 @@ def estimate_embedding_dim(
     >>> estimate_embedding_dim(systems.logistic(5000), lag=1, max_dim=3).embedding_dim
     1
     """
+    stage("dimension")
     check_choice(method, name="method", choices=("fnn", "cao"))
     func = false_nearest_neighbors if method == "fnn" else cao
     return func(x, lag=lag, max_dim=max_dim, **options)

@@ -8,14 +8,27 @@ from numba import njit
 
 @njit(cache=True)
 def bin_indices(x: np.ndarray, bins: int) -> np.ndarray:
-    """Equal-width bin index in ``[0, bins)`` of every sample (range = data range)."""
-    lo = x.min()
-    hi = x.max()
-    scale = bins / (hi - lo)
-    out = np.empty(x.size, dtype=np.int64)
+    """Equal-width bin index in ``[0, bins)`` of every sample (range = data range).
+
+    Safe for every finite x: differences are taken of halves (``hi - lo`` overflows near the
+    float64 limit; halving is exact, so normal-range codes are unchanged), and the float
+    position is clipped before the integer conversion (a NaN or huge float converted to an
+    integer would index outside the histogram).
+    """
+    lo = 0.5 * x.min()
+    hi = 0.5 * x.max()
+    out = np.zeros(x.size, dtype=np.int64)
+    if not hi > lo:  # constant, or a span of a few subnormals that halving rounds away
+        return out
+    scale = 0.5 * bins / (hi - lo)
     for i in range(x.size):
-        b = int((x[i] - lo) * scale)
-        out[i] = b if b < bins else bins - 1
+        f = (0.5 * x[i] - lo) * scale * 2.0
+        if f >= bins:
+            out[i] = bins - 1
+        elif f >= 0.0:
+            out[i] = int(f)
+        else:  # NaN (an infinite scale at a subnormal range) or rounding below zero
+            out[i] = 0
     return out
 
 

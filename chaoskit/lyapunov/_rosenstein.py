@@ -7,6 +7,7 @@ from typing import Any, Literal
 import numpy as np
 
 from .._neighbors import build_tree, nearest_neighbors
+from .._progress import stage
 from .._validate import check_choice, check_int
 from . import _kernels as _k
 from ._common import batch_means_ci, prepare, references
@@ -289,6 +290,7 @@ def lyapunov_rosenstein(
     >>> bool(abs(res.mle - 0.419) < 0.02)
     True
     """
+    stage("rosenstein")
     max_points = check_int(max_points, name="max_points", minimum=10)
     check_choice(distance, name="distance", choices=("auto", "euclidean", "transverse"))
     check_choice(neighbor, name="neighbor", choices=("auto", "sample", "orbit", "mean"))

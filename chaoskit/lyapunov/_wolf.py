@@ -7,6 +7,7 @@ from typing import Any, Literal
 import numpy as np
 
 from .._neighbors import nearest_neighbors
+from .._progress import stage
 from .._validate import check_choice, check_int, check_positive
 from . import _kernels as _k
 from ._common import batch_means_ci, prepare, references
@@ -178,6 +179,7 @@ def lyapunov_wolf(
     >>> bool(abs(res.mle - 0.6931) < 0.02)
     True
     """
+    stage("wolf")
     check_choice(replace, name="replace", choices=("out_of_band", "always"))
     if evolve is not None:
         evolve = check_int(evolve, name="evolve", minimum=1)

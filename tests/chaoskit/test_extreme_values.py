@@ -1,0 +1,142 @@
+"""Extreme but finite values: every estimator gives a result or a clear ValueError.
+
+Near the float64 limits, differences and squares of samples over- or underflow; before the
+fix a series of amplitude 1e308 gave NaN histogram codes that indexed outside their arrays.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+from hypothesis.extra.numpy import arrays
+from numpy.testing import assert_array_equal
+
+from chaoskit import (
+    analyze,
+    classify,
+    classify_variables,
+    iaaft_surrogates,
+    load_trajectory,
+    mutual_information,
+    surrogate_test,
+    systems,
+    zero_one_test,
+)
+from chaoskit.embedding import _kernels
+
+T = np.arange(2000) * 0.01
+QUASI = np.sin(T) + 0.5 * np.sin(2.3 * T)
+UNIT = QUASI / np.max(np.abs(QUASI)) * 0.75  # peak 0.75: in [0.5, 1)
+HENON = systems.henon(1200)[:, 0]
+_REF_MI = mutual_information(UNIT, max_lag=60).curve
+_REF_LABEL = classify(UNIT, dt=0.01, rng=0).label
+
+SLOW_OK = settings(max_examples=10, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+
+
+def test_the_reported_1e308_series_is_classified_like_the_unit_one() -> None:
+    x = (np.sin(T) + 0.5 * np.sin(2.3 * T)) * 1e308
+    verdicts = classify_variables(load_trajectory(x, dt=0.01), rng=0)
+    assert verdicts["x"].label == _REF_LABEL
+    assert "2**-1024" in verdicts["x"].reason  # the exact rescaling is stated
+
+
+@settings(max_examples=40, deadline=None)
+@given(exponent=st.integers(min_value=-1070, max_value=1023))
+def test_mutual_information_is_exact_or_refused_over_the_whole_float64_range(
+    exponent: int,
+) -> None:
+    """x · 2**k is the same information; accepted amplitudes give the identical curve."""
+    x = np.ldexp(UNIT, exponent)
+    peak = float(np.max(np.abs(x)))
+    if peak == 0.0:
+        return  # underflowed completely: constant, refused elsewhere
+    try:
+        curve = mutual_information(x, max_lag=60).curve
+    except ValueError as err:
+        assert "peak magnitude" in str(err) or "constant" in str(err)
+        assert not 1e-300 <= peak <= 1e300
+    else:
+        assert 1e-300 <= peak <= 1e300
+        assert_array_equal(curve, _REF_MI)
+
+
+def test_histogram_codes_stay_in_range_for_every_finite_span() -> None:
+    for x in (
+        np.array([-1.7e308, 1.7e308, 0.0, 1e308]),
+        np.array([1e-300, np.nextafter(1e-300, 1.0), 1e-300]),  # subnormal span: inf scale
+        np.array([5e-324, 0.0, 1e-323]),
+        np.array([5e-324, 0.0]),  # halving rounds the span away
+    ):
+        codes = _kernels.bin_indices(x, 16)
+        assert codes.min() >= 0 and codes.max() < 16
+
+
+@SLOW_OK
+@given(exponent=st.sampled_from([-1074 + 60, -1000, -700, -330, 330, 700, 1000, 1023]))
+def test_classify_is_scale_invariant_up_to_the_float64_limit(exponent: int) -> None:
+    x = np.ldexp(UNIT, exponent)
+    assert classify(x, dt=0.01, rng=0).label == _REF_LABEL
+
+
+@pytest.mark.parametrize("scale", [1.7e308, 1e-310])
+def test_estimators_refuse_amplitudes_beyond_the_accepted_range(scale: float) -> None:
+    x = HENON / np.max(np.abs(HENON)) * scale
+    with pytest.raises(ValueError, match=r"peak magnitude .* outside the accepted range"):
+        zero_one_test(x, rng=0)
+    with pytest.raises(ValueError, match="peak magnitude"):
+        iaaft_surrogates(x, n_surrogates=1, rng=0)
+
+
+@pytest.mark.parametrize("exponent", [990, -990])
+def test_surrogate_test_at_extreme_amplitudes_matches_unit_scale(exponent: int) -> None:
+    kwargs = {"embedding_dim": 2, "lag": 1, "n_surrogates": 9, "rng": 0}
+    ref = surrogate_test(HENON, **kwargs)
+    res = surrogate_test(np.ldexp(HENON, exponent), **kwargs)  # peaks 1.3e±298
+    assert res.p_value == ref.p_value
+    assert res.rejected == ref.rejected
+    assert np.isclose(res.effect, ref.effect, rtol=1e-12)
+
+
+def _series(draw: st.DrawFn) -> np.ndarray:
+    n = draw(st.integers(min_value=0, max_value=500))
+    x = draw(
+        arrays(
+            np.float64,
+            n,
+            elements=st.floats(-1.0, 1.0, allow_nan=False, allow_infinity=False, width=64),
+        )
+    )
+    scale = 10.0 ** draw(st.floats(min_value=-300.0, max_value=300.0))
+    x = x * scale
+    if n > 10 and draw(st.booleans()):  # a constant stretch
+        a = draw(st.integers(0, n - 2))
+        b = draw(st.integers(a + 1, n))
+        x[a:b] = x[a]
+    return x
+
+
+@st.composite
+def finite_series(draw: st.DrawFn) -> np.ndarray:
+    return _series(draw)
+
+
+@settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(x=finite_series())
+def test_fuzz_load_analyze_classify_never_crash(x: np.ndarray) -> None:
+    """Random finite arrays: a result or a clear one-line ValueError, never another error."""
+    try:
+        ds = load_trajectory(x, dt=0.01)
+    except ValueError as err:
+        assert str(err) and "\n" not in str(err)
+        return
+    table = analyze(ds, rng=0, n_surrogates=3)
+    assert table.sizes["variable"] == 1
+    try:
+        verdict = classify(x, dt=0.01, rng=0, n_surrogates=3)
+    except ValueError as err:
+        assert str(err) and "\n" not in str(err)
+    else:
+        assert verdict.label == str(table["label"].item())
