@@ -28,7 +28,7 @@ from pathlib import Path
 import numpy as np
 
 import mechanism
-from mechanism._metrics import friction_sign_flips
+from mechanism.core.record._metrics import friction_sign_flips
 
 S6_X = 0.169737332842786
 S6_W = 1.8932e-4

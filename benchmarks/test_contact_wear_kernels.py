@@ -13,9 +13,9 @@ import numpy as np
 import pytest
 from numba import njit
 
-from mechanism.contact import _kernels as ck
-from mechanism.wear import WornProfile, archard_wear
-from mechanism.wear import _kernels as wk
+from mechanism.core.contact import _kernels as ck
+from mechanism.core.wear import WornProfile, archard_wear
+from mechanism.core.wear import _kernels as wk
 
 RB, C0, L = 0.015, 2e-4, 0.011
 E_STAR = 113.736e9

@@ -32,10 +32,10 @@ import numpy as np
 import xarray as xr
 
 import mechanism
-from mechanism.contact import _kernels as ck
-from mechanism.contact import contact_parameters
-from mechanism.scene import ClearanceRevolute, Scene
-from mechanism.wear import WornProfile
+from mechanism.core.contact import _kernels as ck
+from mechanism.core.contact import contact_parameters
+from mechanism.core.scene import ClearanceRevolute, Scene
+from mechanism.core.wear import WornProfile
 
 REVOLUTIONS = 8.0
 #: The measurements used rigid rods 3 and 4; the built-in paper scene is flexible by default.

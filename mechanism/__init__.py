@@ -11,8 +11,8 @@ from chaoskit._version import __version__
 _foundation = ["__version__"]
 
 # --- scenes (issue 5, scene loading): add imports and names below this line only ---
-from . import scene  # noqa: E402
-from .scene import (  # noqa: E402
+from .core import scene  # noqa: E402
+from .core.scene import (  # noqa: E402
     Scene,
     SceneError,
     list_scenes,
@@ -32,15 +32,17 @@ _scenes: list[str] = [
 ]
 
 # --- simulation (issue 5, core): add imports and names below this line only ---
-from . import integrate  # noqa: E402
-from ._simulate import SimulationError, simulate  # noqa: E402
+from .core import (  # noqa: E402
+    SimulationError,
+    integrate,
+    simulate,
+)
 
 _simulation: list[str] = ["SimulationError", "integrate", "simulate"]
 
 # --- contact and wear (issues 5 and 7): add imports and names below this line only ---
-from ._wear import Comparison, WearPrediction, compare, predict_wear  # noqa: E402
-from .contact import contact_stiffness, hertz_stiffness  # noqa: E402
-from .wear import WornProfile, archard_wear  # noqa: E402
+from .core import WornProfile, archard_wear, contact_stiffness, hertz_stiffness  # noqa: E402  # noqa: E402
+from .studies import Comparison, WearPrediction, compare, predict_wear  # noqa: E402
 
 _contact_wear: list[str] = [
     "Comparison",
@@ -54,8 +56,7 @@ _contact_wear: list[str] = [
 ]
 
 # --- flexibility (issue 6): add imports and names below this line only ---
-from ._convergence import ElementConvergence, element_convergence  # noqa: E402
-from .bodies._ancf import (  # noqa: E402
+from .core import (  # noqa: E402
     AncfMesh,
     BeamModes,
     BeamStaticSolution,
@@ -63,6 +64,7 @@ from .bodies._ancf import (  # noqa: E402
     euler_bernoulli_frequencies,
     solve_beam_static,
 )
+from .studies import ElementConvergence, element_convergence  # noqa: E402
 
 _flexibility: list[str] = [
     "AncfMesh",
@@ -76,7 +78,7 @@ _flexibility: list[str] = [
 ]
 
 # --- sweeps (issue 8): add imports and names below this line only ---
-from ._sweep import (  # noqa: E402
+from .studies import (  # noqa: E402
     Analysis,
     GridTransform,
     SweepStoreMismatch,
@@ -101,7 +103,7 @@ _sweeps: list[str] = [
 ]
 
 # --- paper study (issue 8): add imports and names below this line only ---
-from ._paper import PaperStudy, StudySettings, paper_tables, run_paper_study  # noqa: E402
+from .studies import PaperStudy, StudySettings, paper_tables, run_paper_study  # noqa: E402
 
 _paper_study: list[str] = ["PaperStudy", "StudySettings", "paper_tables", "run_paper_study"]
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import typer
 
 from chaoskit._version import __version__
-from mechanism._sweep_store import write_netcdf
+from mechanism.studies._sweep_store import write_netcdf
 
 app = typer.Typer(
     name="mechanism",
@@ -36,7 +36,7 @@ from typing import TYPE_CHECKING, Any  # noqa: E402
 if TYPE_CHECKING:
     from collections.abc import Sequence
 
-    from mechanism.scene import Scene
+    from mechanism.core.scene import Scene
 
 SET_HELP = (
     "Change a scene key, e.g. --set joints.C.clearance=2e-4 --set effects.wear=true; "
@@ -80,7 +80,7 @@ def parse_set_options(options: Sequence[str] | None) -> dict[str, Any]:
 def load_scene_option(scene: str, set_options: Sequence[str] | None = None) -> Scene:
     """Load ``scene`` (built-in name or TOML path) and apply ``--set`` options; exit with
     status 2 and the scene error on stderr when it is invalid. For all scene commands."""
-    from mechanism.scene import SceneError, load_scene
+    from mechanism.core.scene import SceneError, load_scene
 
     changes = parse_set_options(set_options)
     try:
@@ -94,7 +94,7 @@ def load_scene_option(scene: str, set_options: Sequence[str] | None = None) -> S
 @app.command("scenes")
 def scenes_command() -> None:
     """List the built-in scenes with their descriptions."""
-    from mechanism.scene import list_scenes
+    from mechanism.core.scene import list_scenes
 
     table = list_scenes()
     width = max(map(len, table), default=0)

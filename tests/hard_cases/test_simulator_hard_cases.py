@@ -16,9 +16,9 @@ import numpy as np
 import pytest
 
 import mechanism
-from mechanism._metrics import friction_sign_flips
-from mechanism.contact import contact_stiffness
-from mechanism.scene import (
+from mechanism.core.contact import contact_stiffness
+from mechanism.core.record._metrics import friction_sign_flips
+from mechanism.core.scene import (
     Material,
     Scene,
 )
@@ -434,7 +434,7 @@ def test_flexible_journal_entering_a_worn_profile_is_not_refined_forever() -> No
     """On a worn profile the penetration can jump when the contact angle crosses between
     regions; the entry-depth retry must accept such a jump instead of halving the step
     towards zero (it reached 190 000 rejected steps in 0.02 s before the guard)."""
-    from mechanism.integrate import GeneralizedAlpha
+    from mechanism.core.integrate import GeneralizedAlpha
 
     pred = mechanism.predict_wear(
         rigid_paper(), updates=2, cycles_per_update=1000.0,

@@ -13,7 +13,7 @@ from collections.abc import Mapping
 import numpy as np
 
 import mechanism
-from mechanism.scene import (
+from mechanism.core.scene import (
     AngleProfileDrive,
     ClearanceRevolute,
     ConstantSpeedDrive,

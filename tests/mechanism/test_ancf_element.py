@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from numpy.testing import assert_allclose
 
-from mechanism.bodies import _ancf_kernels as kernels
+from mechanism.core.bodies import _ancf_kernels as kernels
 from tests.mechanism.ancf_meshes import LAWS, central_difference
 from tests.mechanism.ancf_meshes import ancf_mesh as _mesh
 from tests.mechanism.ancf_meshes import deformed as _deformed
@@ -282,7 +282,7 @@ def test_wrong_vector_length_is_reported() -> None:
 
 # --- helpers for the multibody core -----------------------------------------------------------
 def _scene_beam(**kw):
-    from mechanism.scene import AncfBeam
+    from mechanism.core.scene import AncfBeam
 
     base = dict(
         length=0.584,
@@ -299,7 +299,7 @@ def _scene_beam(**kw):
 
 
 def test_beam_tables_add_elastic_and_damping_forces_of_several_beams() -> None:
-    from mechanism.bodies._ancf import AncfLayout
+    from mechanism.core.bodies._ancf import AncfLayout
 
     layouts = [
         AncfLayout(name="rod3", beam=_scene_beam(damping=1e-5)),
@@ -332,9 +332,9 @@ def test_beam_tables_add_elastic_and_damping_forces_of_several_beams() -> None:
 
 
 def test_layout_points_and_rigid_state_match_the_rigid_bar() -> None:
-    from mechanism.bodies import rigid_bar_from_beam
-    from mechanism.bodies._ancf import AncfLayout
-    from mechanism.joints._kernels import ANGLE_SLOPE, POINT_LINEAR
+    from mechanism.core.bodies import rigid_bar_from_beam
+    from mechanism.core.bodies._ancf import AncfLayout
+    from mechanism.core.joints._kernels import ANGLE_SLOPE, POINT_LINEAR
 
     def point_position(q, pt_i, pt_f, k):
         # the documented POINT_LINEAR rule: r = Σ w_j (q[d_j], q[d_j + 1]) over d_j ≥ 0

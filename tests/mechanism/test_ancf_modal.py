@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 from numpy.testing import assert_allclose
 
-from mechanism.bodies._ancf import AncfMesh, beam_modes, euler_bernoulli_frequencies
+from mechanism.core.bodies._ancf import AncfMesh, beam_modes, euler_bernoulli_frequencies
 
 BENDING = np.array([20.8045, 130.3798, 365.0673])  # Hz
 AXIAL = 643.94  # Hz

@@ -9,10 +9,10 @@ import pytest
 from numpy.testing import assert_allclose
 from scipy.integrate import quad
 
-from mechanism.contact import effective_modulus, effective_radius
-from mechanism.scene import Material
-from mechanism.wear import WornProfile, archard_wear, hertz_half_width
-from mechanism.wear import _kernels as wk
+from mechanism.core.contact import effective_modulus, effective_radius
+from mechanism.core.scene import Material
+from mechanism.core.wear import WornProfile, archard_wear, hertz_half_width
+from mechanism.core.wear import _kernels as wk
 
 pytestmark = pytest.mark.filterwarnings("error")
 

@@ -11,11 +11,11 @@ import pytest
 from numpy.testing import assert_allclose
 
 import mechanism
-from mechanism import _assemble
-from mechanism._assemble import assemble, initial_state
-from mechanism.bodies import rigid_bar_from_beam
-from mechanism.joints import _kernels as jk
-from mechanism.scene import AncfBeam, RevoluteJoint
+from mechanism.core.bodies import rigid_bar_from_beam
+from mechanism.core.joints import _kernels as jk
+from mechanism.core.model import _assemble
+from mechanism.core.model._assemble import assemble, initial_state
+from mechanism.core.scene import AncfBeam, RevoluteJoint
 from tests.mechanism.scenes import rigid_paper, rotating_guide
 
 
@@ -159,6 +159,6 @@ def test_unassemblable_guesses_raise() -> None:
 
 
 def test_docstring_examples_run() -> None:
-    for module in (_assemble, mechanism.bodies._rigid):
+    for module in (_assemble, mechanism.core.bodies._rigid):
         failures, _ = doctest.testmod(module, raise_on_error=False)
         assert failures == 0, module.__name__

@@ -13,7 +13,7 @@ import pytest
 from numpy.testing import assert_allclose
 from scipy.integrate import solve_ivp
 
-from mechanism.contact import (
+from mechanism.core.contact import (
     LOW_RESTITUTION_LIMIT,
     check_contact_law,
     contact_parameters,
@@ -24,8 +24,8 @@ from mechanism.contact import (
     hertz_stiffness,
     law_code,
 )
-from mechanism.contact import _kernels as k
-from mechanism.scene import ClearanceRevolute, ContactLaw, FrictionLaw, Material
+from mechanism.core.contact import _kernels as k
+from mechanism.core.scene import ClearanceRevolute, ContactLaw, FrictionLaw, Material
 
 pytestmark = pytest.mark.filterwarnings("error")
 

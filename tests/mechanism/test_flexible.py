@@ -8,11 +8,11 @@ import numpy as np
 import pytest
 
 import mechanism
-from mechanism import _kernels as k
-from mechanism._assemble import assemble, initial_state
-from mechanism.bodies._ancf_kernels import beams_force_add
-from mechanism.integrate import GeneralizedAlpha
-from mechanism.scene import (
+from mechanism.core.bodies._ancf_kernels import beams_force_add
+from mechanism.core.integrate import GeneralizedAlpha
+from mechanism.core.model import _kernels as k
+from mechanism.core.model._assemble import assemble, initial_state
+from mechanism.core.scene import (
     AncfBeam,
     FixedJoint,
     RevoluteJoint,
@@ -101,7 +101,7 @@ def _pendulum(flexibility: bool, clamp: bool = False) -> Scene:
         start=(0.0, 0.0),
         end=(0.5, 0.0),
     )
-    from mechanism.scene import Effects, SolverSettings
+    from mechanism.core.scene import Effects, SolverSettings
 
     joint = FixedJoint if clamp else RevoluteJoint
     return Scene(
@@ -206,14 +206,14 @@ def test_element_convergence_rejects_bad_input() -> None:
 def test_generalized_alpha_step_validation() -> None:
     with pytest.raises(ValueError, match="step"):
         GeneralizedAlpha(step=-1.0)
-    assert mechanism.integrate.resolve_method("generalized-alpha-fixed").step == "max_step"
+    assert mechanism.core.integrate.resolve_method("generalized-alpha-fixed").step == "max_step"
 
 
 def test_hybrid_jacobian_matches_finite_differences() -> None:
     # interior ANCF columns of ∂q̈/∂q from the analytic element Jacobian (−P M⁻¹ K) agree
     # with forward differences of the full right-hand side
-    from mechanism.integrate import _kernels as ik
-    from mechanism.integrate._methods import _jacobian_columns
+    from mechanism.core.integrate import _kernels as ik
+    from mechanism.core.integrate._methods import _jacobian_columns
 
     model = assemble(
         _paper_flexible().replace({"bodies.rod3.elements": 4, "bodies.rod4.elements": 4})

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from numpy.testing import assert_allclose
 
-from mechanism.contact import _kernels as k
+from mechanism.core.contact import _kernels as k
 
 pytestmark = pytest.mark.filterwarnings("error")
 

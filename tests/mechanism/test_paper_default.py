@@ -10,9 +10,9 @@ import numpy as np
 import pytest
 
 import mechanism
-from mechanism._assemble import assemble
-from mechanism.integrate import METHODS, Dopri5, GeneralizedAlpha, resolve_method
-from mechanism.scene import AncfBeam, SolverSettings
+from mechanism.core.integrate import METHODS, Dopri5, GeneralizedAlpha, resolve_method
+from mechanism.core.model._assemble import assemble
+from mechanism.core.scene import AncfBeam, SolverSettings
 from tests.mechanism.scenes import rigid_paper
 
 RIGID_DOF = 5 * 3  # crank, plate, rod 3, rod 4, slider as rigid bodies (x, y, θ)

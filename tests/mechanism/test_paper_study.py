@@ -21,7 +21,7 @@ import pytest
 import xarray as xr
 
 import mechanism
-from mechanism._paper import COLUMNS, StudySettings, paper_wear_zones
+from mechanism.studies._paper import COLUMNS, StudySettings, paper_wear_zones
 
 # CI clones the repository with shared/ beside it; developers have it at ../shared too.
 SEED_CANDIDATES = [

@@ -14,7 +14,7 @@ from hypothesis import strategies as st
 
 import mechanism
 import mechanism.cli
-from mechanism.scene import (
+from mechanism.core.scene import (
     AncfBeam,
     AngleProfileDrive,
     ClearanceRevolute,

@@ -8,7 +8,7 @@ from typer.testing import CliRunner
 
 import mechanism
 from mechanism.cli import app, load_scene_option, parse_set_options
-from mechanism.scene import scene_from_json, scene_from_toml
+from mechanism.core.scene import scene_from_json, scene_from_toml
 
 runner = CliRunner()
 

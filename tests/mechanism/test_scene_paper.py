@@ -7,7 +7,7 @@ import math
 import pytest
 
 import mechanism
-from mechanism.scene import AncfBeam, ClearanceRevolute, ConstantSpeedDrive, RigidBody, Scene
+from mechanism.core.scene import AncfBeam, ClearanceRevolute, ConstantSpeedDrive, RigidBody, Scene
 
 MM = 1e-3
 

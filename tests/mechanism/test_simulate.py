@@ -13,9 +13,9 @@ from typer.testing import CliRunner
 
 import chaoskit
 import mechanism
-import mechanism._simulate
+import mechanism.core._simulate
 from mechanism.cli import app
-from mechanism.integrate import Dopri5, GeneralizedAlpha, ScipyIVP, resolve_method
+from mechanism.core.integrate import Dopri5, GeneralizedAlpha, ScipyIVP, resolve_method
 from tests.mechanism.scenes import rigid_paper, rotating_guide, s3
 
 CLEARANCE_VARS = (
@@ -237,9 +237,9 @@ def test_cli_reports_bad_values(tmp_path) -> None:
 
 
 def test_docstring_examples_run() -> None:
-    failures, _ = doctest.testmod(mechanism._simulate, raise_on_error=False)
+    failures, _ = doctest.testmod(mechanism.core._simulate, raise_on_error=False)
     assert failures == 0
-    failures, _ = doctest.testmod(mechanism.integrate._methods, raise_on_error=False)
+    failures, _ = doctest.testmod(mechanism.core.integrate._methods, raise_on_error=False)
     assert failures == 0
 
 

@@ -18,9 +18,9 @@ from numpy.testing import assert_allclose
 from scipy.integrate import solve_ivp
 
 import mechanism
-from mechanism.contact import _kernels as k
-from mechanism.contact import approach_speed_code, contact_parameters, law_code
-from mechanism.scene import (
+from mechanism.core.contact import _kernels as k
+from mechanism.core.contact import approach_speed_code, contact_parameters, law_code
+from mechanism.core.scene import (
     ClearanceRevolute,
     ContactLaw,
     Material,
@@ -209,7 +209,7 @@ def test_worn_paper_scene_spike_is_a_damping_artefact_and_the_rule_removes_it() 
     """2000 cycles of paper wear (grown with the latched rule, as in docs/wear.md §5): the
     latched law's largest force is > 10× the elastic one; the bounded rule keeps every
     sample within (1 + 2χ̂) K_n δⁿ."""
-    from mechanism.wear import WornProfile
+    from mechanism.core.wear import WornProfile
 
     pred = mechanism.predict_wear(
         _with_rule(rigid_paper(), "latched"),

@@ -15,8 +15,8 @@ import xarray as xr
 
 import chaoskit
 import mechanism
-from mechanism import _sweep
-from mechanism._sweep_store import point_id
+from mechanism.studies import _sweep
+from mechanism.studies._sweep_store import point_id
 from tests.mechanism import sweep_standins as standins
 
 RUN_ATTRS = ("created", "history", "store")  # differ between runs by design

@@ -11,10 +11,10 @@ import pytest
 import xarray as xr
 
 import mechanism
-from mechanism import _kernels as k
-from mechanism._assemble import assemble, initial_state
-from mechanism._wear import run_wear
-from mechanism.wear import WornProfile
+from mechanism.core.model import _kernels as k
+from mechanism.core.model._assemble import assemble, initial_state
+from mechanism.core.wear import WornProfile
+from mechanism.studies._wear_prediction import run_wear
 from tests.mechanism.scenes import rigid_paper
 
 JOINT = "C"
@@ -99,7 +99,7 @@ def test_worn_kernel_stiffness_matches_the_profile_class(paper):
     km = model.kernel
     joint = scene.joints[JOINT]
     profile = WornProfile.from_joint(joint)
-    p = mechanism.contact.contact_parameters(joint)
+    p = mechanism.core.contact.contact_parameters(joint)
     for phi_b, phi_j in [(0.3, 1.0), (2.0, 3.6), (2.2, 3.66), (1.8, 5.0), (4.9, 3.7)]:
         c, kn = k.worn_contact(
             km.cw_i, km.cw_f, km.cw_h, km.cw_k, 0, joint.bearing_radius,
@@ -344,7 +344,7 @@ def test_run_wear_window_only_counts_its_samples(worn_run):
 def test_docstring_examples_run() -> None:
     import doctest
 
-    from mechanism import _wear
+    from mechanism.studies import _wear_prediction as _wear
 
     result = doctest.testmod(_wear, globs={**vars(_wear)}, optionflags=doctest.ELLIPSIS)
     assert result.failed == 0 and result.attempted > 0

@@ -9,10 +9,10 @@ import pytest
 import xarray as xr
 from numpy.testing import assert_allclose
 
-from mechanism.contact import effective_modulus, hertz_stiffness
-from mechanism.scene import ClearanceRevolute, Material, WearSettings
-from mechanism.wear import WornProfile
-from mechanism.wear import _kernels as wk
+from mechanism.core.contact import effective_modulus, hertz_stiffness
+from mechanism.core.scene import ClearanceRevolute, Material, WearSettings
+from mechanism.core.wear import WornProfile
+from mechanism.core.wear import _kernels as wk
 
 pytestmark = pytest.mark.filterwarnings("error")
 

@@ -1,0 +1,1042 @@
+"""Compiled time loops: Dormand–Prince 5(4) with dense output and generalized-α.
+
+Both loops run entirely inside numba; the Python layer (``_methods.py``) calls them in
+chunks only to drive an optional progress bar, and the trajectory does not depend on the
+chunking. Outputs are written on the caller's uniform grid ``t_out`` into a ``Recording``
+(one right-hand-side evaluation per output sample gives q̈, λ and the contact quantities).
+
+``state`` (float64[4]) carries [t, h, facold, last step rejected] between chunks,
+``cursor`` (int64[1]) the next output index, ``counters`` the statistics of
+``mechanism.core.model._kernels`` (steps, rejected, f evaluations, contact events, contact-law
+evaluations, Jacobians, Newton iterations).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from mechanism.core.bodies._ancf_kernels import BEAM_F_DAMPING, beams_jacobian_add
+from mechanism.core.contact._kernels import FRICTION_NONE
+from mechanism.core.joints._kernels import update_points
+from mechanism.core.model._kernels import (
+    CF_V0,
+    CF_V1,
+    CJ_DELTA,
+    CJ_VT,
+    CNT_COLUMNS,
+    CNT_JAC,
+    CNT_NEWTON,
+    CNT_REJECTED,
+    CNT_STEPS,
+    STATUS_OK,
+    _clearance_forces,
+    accelerations,
+    derived_outputs,
+    entry_depth_ratio,
+    project,
+    rhs,
+    update_latch,
+)
+
+STATUS_RUNNING = 1
+STATUS_STEP_TOO_SMALL = -1
+STATUS_SINGULAR = -2
+STATUS_NONFINITE = -3
+STATUS_MAX_STEPS = -4
+STATUS_NEWTON = -5
+
+# Dormand–Prince 5(4) tableau (Dormand & Prince 1980; Hairer, Nørsett & Wanner, II.5)
+C2 = 1.0 / 5.0
+C3 = 3.0 / 10.0
+C4 = 4.0 / 5.0
+C5 = 8.0 / 9.0
+A21 = 1.0 / 5.0
+A31 = 3.0 / 40.0
+A32 = 9.0 / 40.0
+A41 = 44.0 / 45.0
+A42 = -56.0 / 15.0
+A43 = 32.0 / 9.0
+A51 = 19372.0 / 6561.0
+A52 = -25360.0 / 2187.0
+A53 = 64448.0 / 6561.0
+A54 = -212.0 / 729.0
+A61 = 9017.0 / 3168.0
+A62 = -355.0 / 33.0
+A63 = 46732.0 / 5247.0
+A64 = 49.0 / 176.0
+A65 = -5103.0 / 18656.0
+A71 = 35.0 / 384.0
+A73 = 500.0 / 1113.0
+A74 = 125.0 / 192.0
+A75 = -2187.0 / 6784.0
+A76 = 11.0 / 84.0
+E1 = 71.0 / 57600.0
+E3 = -71.0 / 16695.0
+E4 = 71.0 / 1920.0
+E5 = -17253.0 / 339200.0
+E6 = 22.0 / 525.0
+E7 = -1.0 / 40.0
+# continuous extension of order 4 (Hairer's DOPRI5 dense output)
+D1 = -12715105075.0 / 11282082432.0
+D3 = 87487479700.0 / 32700410799.0
+D4 = -10690763975.0 / 1880347072.0
+D5 = 701980252875.0 / 199316789632.0
+D6 = -1453857185.0 / 822651844.0
+D7 = 69997945.0 / 29380423.0
+
+_EPS = 2.220446049250313e-16
+REFRESH_AFTER = 10
+
+
+@njit(cache=True)
+def record_sample(model, ws, rec, i, t, y, vimp, scratch, counters):
+    """Write output sample ``i`` of state ``y`` at time ``t``: one right-hand-side
+    evaluation gives q̈, λ and the contact quantities, from which the derived outputs
+    (crank angle, slider kinematics, energy, constraint residual, joint reactions) follow."""
+    n = model.n_dof
+    status = rhs(model, ws, t, y, vimp, scratch, counters)
+    rec.t[i] = t
+    for k in range(n):
+        rec.q[i, k] = y[k]
+        rec.v[i, k] = y[n + k]
+        rec.a[i, k] = scratch[n + k]
+    for k in range(model.n_rows):
+        rec.lam[i, k] = ws.lam[k]
+    for j in range(ws.cj.shape[0]):
+        for c in range(ws.cj.shape[1]):
+            rec.cj[i, j, c] = ws.cj[j, c]
+    derived_outputs(model, ws, y[:n], y[n:], scratch[n:], rec.out[i], rec.jf[i])
+    return status
+
+
+@njit(cache=True)
+def record_batch(model, ws, rec, i0, times, states, vimp, counters):
+    """Record ``times[k]`` / ``states[:, k]`` as output samples i0, i0 + 1, ..."""
+    scratch = np.empty(states.shape[0])
+    y = np.empty(states.shape[0])
+    for k in range(times.shape[0]):
+        for r in range(states.shape[0]):
+            y[r] = states[r, k]
+        status = record_sample(model, ws, rec, i0 + k, times[k], y, vimp, scratch, counters)
+        if status != STATUS_OK:
+            return status
+    return STATUS_OK
+
+
+@njit(cache=True)
+def _wrms(err, y0, y1, rtol, atol):
+    s = 0.0
+    n = err.shape[0]
+    for i in range(n):
+        sk = atol + rtol * max(abs(y0[i]), abs(y1[i]))
+        e = err[i] / sk
+        s += e * e
+    return math.sqrt(s / n)
+
+
+@njit(cache=True)
+def _initial_step(model, ws, t, y, f0, vimp, counters, rtol, atol, max_step):
+    """Starting step size in the manner of Hairer's HINIT (order 5)."""
+    n2 = y.shape[0]
+    dnf = 0.0
+    dny = 0.0
+    for i in range(n2):
+        sk = atol + rtol * abs(y[i])
+        dnf += (f0[i] / sk) ** 2
+        dny += (y[i] / sk) ** 2
+    dnf /= n2
+    dny /= n2
+    if dnf <= 1e-10 or dny <= 1e-10:
+        h = 1e-6
+    else:
+        h = 0.01 * math.sqrt(dny / dnf)
+    h = min(h, max_step)
+    y1 = np.empty(n2)
+    f1 = np.empty(n2)
+    for i in range(n2):
+        y1[i] = y[i] + h * f0[i]
+    rhs(model, ws, t + h, y1, vimp, f1, counters)
+    der2 = 0.0
+    for i in range(n2):
+        sk = atol + rtol * abs(y[i])
+        der2 += ((f1[i] - f0[i]) / sk) ** 2
+    der2 = math.sqrt(der2 / n2) / h
+    der12 = max(abs(der2), math.sqrt(dnf))
+    if der12 <= 1e-15:
+        h1 = max(1e-6, h * 1e-3)
+    else:
+        h1 = (0.01 / der12) ** 0.2
+    return min(100.0 * h, h1, max_step)
+
+
+@njit(cache=True)
+def dopri5_start(model, ws, t, y, k1, vimp, state, counters, rtol, atol, max_step):
+    """Evaluate k1 = f(t, y) and the starting step; returns a status."""
+    status = rhs(model, ws, t, y, vimp, k1, counters)
+    if status != STATUS_OK:
+        return -status
+    state[0] = t
+    if state[1] <= 0.0:
+        state[1] = _initial_step(model, ws, t, y, k1, vimp, counters, rtol, atol, max_step)
+    state[2] = 1e-4
+    state[3] = 0.0
+    return STATUS_RUNNING
+
+
+@njit(cache=True, nogil=True)
+def dopri5_advance(
+    model,
+    ws,
+    rec,
+    t_out,
+    cursor,
+    y,
+    k1,
+    state,
+    vimp,
+    contact,
+    counters,
+    t_stop,
+    t_end,
+    rtol,
+    atol,
+    max_step,
+    projection,
+    max_steps,
+):
+    """Advance the Dormand–Prince 5(4) integration until ``t ≥ t_stop`` (or ``t_end``).
+
+    Step-size control as in Hairer's DOPRI5 (PI controller, β = 0.04, safety 0.9, growth
+    limited to [0.2, 10]); error norm ‖e/(atol + rtol·max(|y|, |y_new|))‖_rms. Returns
+    ``STATUS_RUNNING`` (1) when ``t_stop`` is reached before ``t_end``, 0 at ``t_end``, or a
+    negative failure status.
+    """
+    n2 = y.shape[0]
+    k2 = np.empty(n2)
+    k3 = np.empty(n2)
+    k4 = np.empty(n2)
+    k5 = np.empty(n2)
+    k6 = np.empty(n2)
+    k7 = np.empty(n2)
+    ytmp = np.empty(n2)
+    ynew = np.empty(n2)
+    err = np.empty(n2)
+    r2 = np.empty(n2)
+    r3 = np.empty(n2)
+    r4 = np.empty(n2)
+    r5 = np.empty(n2)
+    yout = np.empty(n2)
+    scratch = np.empty(n2)
+    out_counters = np.zeros(counters.shape[0], dtype=np.int64)
+    n_out = t_out.shape[0]
+    beta = 0.04
+    expo1 = 0.2 - beta * 0.75
+    t = state[0]
+    h = state[1]
+    facold = state[2]
+    last_rejected = state[3] > 0.0
+    status = STATUS_RUNNING
+    while True:
+        if t >= t_end:
+            status = STATUS_OK
+            break
+        if t >= t_stop:
+            break
+        if counters[CNT_STEPS] + counters[CNT_REJECTED] >= max_steps:
+            status = STATUS_MAX_STEPS
+            break
+        h = min(h, max_step)
+        if t + 1.01 * h >= t_end:
+            h = t_end - t
+        if h < 10.0 * _EPS * max(abs(t), 1e-300) or h <= 0.0:
+            status = STATUS_STEP_TOO_SMALL
+            break
+        st = STATUS_OK
+        for i in range(n2):
+            ytmp[i] = y[i] + h * A21 * k1[i]
+        st |= rhs(model, ws, t + C2 * h, ytmp, vimp, k2, counters)
+        for i in range(n2):
+            ytmp[i] = y[i] + h * (A31 * k1[i] + A32 * k2[i])
+        st |= rhs(model, ws, t + C3 * h, ytmp, vimp, k3, counters)
+        for i in range(n2):
+            ytmp[i] = y[i] + h * (A41 * k1[i] + A42 * k2[i] + A43 * k3[i])
+        st |= rhs(model, ws, t + C4 * h, ytmp, vimp, k4, counters)
+        for i in range(n2):
+            ytmp[i] = y[i] + h * (A51 * k1[i] + A52 * k2[i] + A53 * k3[i] + A54 * k4[i])
+        st |= rhs(model, ws, t + C5 * h, ytmp, vimp, k5, counters)
+        for i in range(n2):
+            ytmp[i] = y[i] + h * (
+                A61 * k1[i] + A62 * k2[i] + A63 * k3[i] + A64 * k4[i] + A65 * k5[i]
+            )
+        st |= rhs(model, ws, t + h, ytmp, vimp, k6, counters)
+        for i in range(n2):
+            ynew[i] = y[i] + h * (
+                A71 * k1[i] + A73 * k3[i] + A74 * k4[i] + A75 * k5[i] + A76 * k6[i]
+            )
+        st |= rhs(model, ws, t + h, ynew, vimp, k7, counters)
+        if st & 2:
+            status = STATUS_SINGULAR
+            break
+        for i in range(n2):
+            err[i] = h * (
+                E1 * k1[i] + E3 * k3[i] + E4 * k4[i] + E5 * k5[i] + E6 * k6[i] + E7 * k7[i]
+            )
+        e = _wrms(err, y, ynew, rtol, atol)
+        if not math.isfinite(e):
+            counters[CNT_REJECTED] += 1
+            h *= 0.1
+            last_rejected = True
+            continue
+        fac11 = e**expo1
+        if e <= 1.0:
+            # dense-output coefficients before y is overwritten
+            for i in range(n2):
+                d = ynew[i] - y[i]
+                b = h * k1[i] - d
+                r2[i] = d
+                r3[i] = b
+                r4[i] = d - h * k7[i] - b
+                r5[i] = h * (
+                    D1 * k1[i] + D3 * k3[i] + D4 * k4[i] + D5 * k5[i] + D6 * k6[i] + D7 * k7[i]
+                )
+            told = t
+            t = t + h
+            if t_end - t < 4.0 * _EPS * max(abs(t_end), 1.0):
+                t = t_end
+            while cursor[0] < n_out and t_out[cursor[0]] <= t:
+                th = (t_out[cursor[0]] - told) / h
+                th1 = 1.0 - th
+                for i in range(n2):
+                    yout[i] = y[i] + th * (r2[i] + th1 * (r3[i] + th * (r4[i] + th1 * r5[i])))
+                record_sample(
+                    model, ws, rec, cursor[0], t_out[cursor[0]], yout, vimp, scratch, out_counters
+                )
+                cursor[0] += 1
+            for i in range(n2):
+                y[i] = ynew[i]
+                k1[i] = k7[i]
+            counters[CNT_STEPS] += 1
+            update_latch(model, ws, y, vimp, contact, counters)
+            if projection:
+                if not project(model, ws, t, y, 1e-12, 5):
+                    status = STATUS_SINGULAR
+                    break
+                rhs(model, ws, t, y, vimp, k1, counters)
+            fac = fac11 / facold**beta
+            fac = max(0.1, min(5.0, fac / 0.9))
+            hnew = h / fac
+            facold = max(e, 1e-4)
+            if last_rejected:
+                hnew = min(hnew, h)
+            last_rejected = False
+            h = hnew
+        else:
+            counters[CNT_REJECTED] += 1
+            h = h / min(5.0, fac11 / 0.9)
+            last_rejected = True
+    state[0] = t
+    state[1] = h
+    state[2] = facold
+    state[3] = 1.0 if last_rejected else 0.0
+    return status
+
+
+# --------------------------------------------------------------------------- generalized-α
+
+
+@njit(cache=True, error_model="numpy")
+def _lu_factor(a, piv):
+    """In-place LU factorisation with partial pivoting; False if singular.
+
+    On return ``a`` holds the factors *transposed* (row j of ``a`` is column j of L below
+    the diagonal and of U above it), the layout :func:`_lu_solve` reads along rows.
+    """
+    n = a.shape[0]
+    row = np.empty(n)
+    for k in range(n):
+        p = k
+        big = abs(a[k, k])
+        for i in range(k + 1, n):
+            if abs(a[i, k]) > big:
+                big = abs(a[i, k])
+                p = i
+        if not big > 0.0:
+            return False
+        piv[k] = p
+        if p != k:
+            for j in range(n):
+                tmp = a[k, j]
+                a[k, j] = a[p, j]
+                a[p, j] = tmp
+        inv = 1.0 / a[k, k]
+        # the pivot row in a separate buffer: the update loop then reads and writes
+        # different arrays, which the compiler vectorises
+        m = n - k - 1
+        for j in range(m):
+            row[j] = a[k, k + 1 + j]
+        for i in range(k + 1, n):
+            a[i, k] *= inv
+            f = a[i, k]
+            if f != 0.0:
+                ai = a[i, k + 1 :]
+                for j in range(m):
+                    ai[j] -= f * row[j]
+    for i in range(n):
+        for j in range(i + 1, n):
+            tmp = a[i, j]
+            a[i, j] = a[j, i]
+            a[j, i] = tmp
+    return True
+
+
+@njit(cache=True, error_model="numpy")
+def _lu_solve(lt, piv, b):
+    """Solve A x = b in place from :func:`_lu_factor`'s transposed factors, column by
+    column (contiguous rows of ``lt``)."""
+    n = lt.shape[0]
+    for k in range(n):
+        p = piv[k]
+        if p != k:
+            tmp = b[k]
+            b[k] = b[p]
+            b[p] = tmp
+    for j in range(n):
+        bj = b[j]
+        if bj != 0.0:
+            col = lt[j]
+            for i in range(j + 1, n):
+                b[i] -= col[i] * bj
+    for j in range(n - 1, -1, -1):
+        col = lt[j]
+        bj = b[j] / col[j]
+        b[j] = bj
+        if bj != 0.0:
+            for i in range(j):
+                b[i] -= col[i] * bj
+
+
+@njit(cache=True)
+def _fd_jacobian(model, ws, t, q, v, vimp, kq, cv, counters):
+    """Forward-difference ∂q̈/∂q and ∂q̈/∂q̇ (2n + 1 evaluations).
+
+    The base value is evaluated here: the integrator's q̈ is a Newton iterate, accurate only
+    to the tolerance, and its error divided by the tiny increments would swamp the
+    Jacobian.
+    """
+    n = q.shape[0]
+    qp = q.copy()
+    vp = v.copy()
+    f0 = np.empty(n)
+    f1 = np.empty(n)
+    accelerations(model, ws, t, q, v, vimp, f0, counters)
+    for j in range(n):
+        eps = 1.4901161193847656e-08 * max(abs(q[j]), 1e-2)
+        qp[j] = q[j] + eps
+        accelerations(model, ws, t, qp, v, vimp, f1, counters)
+        qp[j] = q[j]
+        for i in range(n):
+            kq[i, j] = (f1[i] - f0[i]) / eps
+    for j in range(n):
+        eps = 1.4901161193847656e-08 * max(abs(v[j]), 1e-1)
+        vp[j] = v[j] + eps
+        accelerations(model, ws, t, q, vp, vimp, f1, counters)
+        vp[j] = v[j]
+        for i in range(n):
+            cv[i, j] = (f1[i] - f0[i]) / eps
+    counters[CNT_JAC] += 1
+
+
+@njit(cache=True, error_model="numpy")
+def _project(model, ws, x, out, y, u):
+    """out = P M⁻¹ x, P = I − W S⁻¹Φq (the constrained response to a generalized force).
+
+    Reads W = M⁻¹Φqᵀ, Φq and the Cholesky factor of S = Φq M⁻¹Φqᵀ (lower triangle) left in
+    ``ws`` by the last :func:`accelerations` call; ``y`` (n) and ``u`` (m) are scratch.
+    """
+    n = out.shape[0]
+    m = model.n_rows
+    for i in range(n):
+        acc = 0.0
+        for l in range(model.blk_lo[i], model.blk_hi[i]):
+            acc += model.minv[i, l] * x[l]
+        y[i] = acc
+    for k in range(m):
+        acc = 0.0
+        for i in range(n):
+            acc += ws.phiq[k, i] * y[i]
+        u[k] = acc
+    for i in range(m):
+        acc = u[i]
+        for k in range(i):
+            acc -= ws.s[i, k] * u[k]
+        u[i] = acc / ws.s[i, i]
+    for i in range(m - 1, -1, -1):
+        acc = u[i]
+        for k in range(i + 1, m):
+            acc -= ws.s[k, i] * u[k]
+        u[i] = acc / ws.s[i, i]
+    for i in range(n):
+        acc = y[i]
+        for k in range(m):
+            acc -= ws.w[i, k] * u[k]
+        out[i] = acc
+
+
+@njit(cache=True, error_model="numpy")
+def _projected_columns(model, ws, kbuf, cols, out):
+    """out[:, j] = −P M⁻¹ kbuf[:, j] for j in ``cols`` (see :func:`_project`), all columns
+    at once with matrix products on the mass blocks (BLAS)."""
+    n = out.shape[0]
+    m = model.n_rows
+    nk = cols.shape[0]
+    x = np.empty((n, nk))
+    for i in range(n):
+        for c in range(nk):
+            x[i, c] = -kbuf[i, cols[c]]
+    y = np.empty((n, nk))
+    i = 0
+    while i < n:
+        lo = model.blk_lo[i]
+        hi = model.blk_hi[i]
+        y[lo:hi, :] = np.dot(
+            np.ascontiguousarray(model.minv[lo:hi, lo:hi]), np.ascontiguousarray(x[lo:hi, :])
+        )
+        i = hi
+    if m == 0:
+        for i in range(n):
+            for c in range(nk):
+                out[i, cols[c]] = y[i, c]
+        return
+    u = np.dot(np.ascontiguousarray(ws.phiq[:m, :n]), y)
+    for c in range(nk):
+        for r in range(m):
+            acc = u[r, c]
+            for k in range(r):
+                acc -= ws.s[r, k] * u[k, c]
+            u[r, c] = acc / ws.s[r, r]
+        for r in range(m - 1, -1, -1):
+            acc = u[r, c]
+            for k in range(r + 1, m):
+                acc -= ws.s[k, r] * u[k, c]
+            u[r, c] = acc / ws.s[r, r]
+    z = np.dot(np.ascontiguousarray(ws.w[:n, :m]), u)
+    for i in range(n):
+        for c in range(nk):
+            out[i, cols[c]] = y[i, c] - z[i, c]
+
+
+@njit(cache=True, error_model="numpy")
+def _contact_force(model, q, v, vimp, pci, pcf, gen, cj, scratch_counters):
+    """Generalized forces of the clearance joints alone at (q, q̇) into ``gen``."""
+    gen[:] = 0.0
+    update_points(q, v, model.pt_i, model.pt_f, pci, pcf)
+    _clearance_forces(model, pci, pcf, vimp, gen, cj, scratch_counters)
+
+
+@njit(cache=True, error_model="numpy")
+def _contact_derivatives(model, ws, q, v, vimp, cc, dq, dv, gt):
+    """Derivatives of the clearance-joint forces with respect to the coordinates ``cc``
+    they read (bearing and journal points): ``dq[a, c] = ∂Q_cc[a]/∂q_cc[c]``,
+    ``dv[a, c] = ∂Q_cc[a]/∂q̇_cc[c]`` and ``gt[j, c] = ∂v_t/∂q̇_cc[c]`` of joint j, by
+    forward differences of the contact law alone (2·len(cc) + 1 contact evaluations; the
+    generalized contact force is nonzero only on ``cc``). Returns whether any clearance
+    joint is in contact at (q, q̇); zeros when none is.
+    """
+    n = q.shape[0]
+    nc = cc.shape[0]
+    n_cj = ws.cj.shape[0]
+    pci = ws.pci.copy()
+    pcf = ws.pcf.copy()
+    cj0 = ws.cj.copy()
+    cj = ws.cj.copy()
+    cnt = np.zeros(CNT_COLUMNS, dtype=np.int64)
+    g0 = np.empty(n)
+    g1 = np.empty(n)
+    _contact_force(model, q, v, vimp, pci, pcf, g0, cj0, cnt)
+    touching = False
+    for j in range(n_cj):
+        if cj0[j, CJ_DELTA] > 0.0:
+            touching = True
+    if not touching:
+        dq[:, :] = 0.0
+        dv[:, :] = 0.0
+        return False
+    qp = q.copy()
+    vp = v.copy()
+    for c in range(nc):
+        j = cc[c]
+        eps = 1.4901161193847656e-08 * max(abs(q[j]), 1e-2)
+        qp[j] = q[j] + eps
+        _contact_force(model, qp, v, vimp, pci, pcf, g1, cj, cnt)
+        qp[j] = q[j]
+        for a in range(nc):
+            dq[a, c] = (g1[cc[a]] - g0[cc[a]]) / eps
+        eps = 1.4901161193847656e-08 * max(abs(v[j]), 1e-1)
+        vp[j] = v[j] + eps
+        _contact_force(model, q, vp, vimp, pci, pcf, g1, cj, cnt)
+        vp[j] = v[j]
+        for a in range(nc):
+            dv[a, c] = (g1[cc[a]] - g0[cc[a]]) / eps
+        for jj in range(n_cj):
+            gt[jj, c] = (cj[jj, CJ_VT] - cj0[jj, CJ_VT]) / eps
+    return True
+
+
+@njit(cache=True, error_model="numpy")
+def _response_basis(model, ws, cc, basis):
+    """``basis[a] = P M⁻¹ e_cc[a]``: the constrained acceleration response to a unit
+    generalized force on coordinate cc[a] (factors of the last :func:`accelerations`)."""
+    n = basis.shape[1]
+    e = np.zeros(n)
+    y = np.empty(n)
+    u = np.empty(model.n_rows)
+    for a in range(cc.shape[0]):
+        e[cc[a]] = 1.0
+        _project(model, ws, e, basis[a], y, u)
+        e[cc[a]] = 0.0
+
+
+@njit(cache=True, error_model="numpy")
+def _contact_newton_solve(jm, piv, cc, zb, delta, sm, spiv, w, dx):
+    """Solve (J₀ + Y Δ Eᵀ) dx = r in place (``dx`` holds r) by Sherman–Morrison–Woodbury:
+    J₀ = LU(``jm``, ``piv``), ``zb`` = rows of J₀⁻¹Y, Δ (``delta``, nc × nc) the change of
+    the contact-force derivatives and E the selection of the columns ``cc``. Returns False
+    if the small capacitance matrix is singular."""
+    n = dx.shape[0]
+    nc = cc.shape[0]
+    _lu_solve(jm, piv, dx)
+    # (I + Eᵀ Z Δ) w = Eᵀ y, Z = J₀⁻¹Y; then dx = y − Z Δ w
+    for a in range(nc):
+        for b in range(nc):
+            acc = 0.0
+            for c in range(nc):
+                acc += zb[c, cc[a]] * delta[c, b]
+            sm[a, b] = acc
+        sm[a, a] += 1.0
+        w[a] = dx[cc[a]]
+    if not _lu_factor(sm, spiv):
+        return False
+    _lu_solve(sm, spiv, w)
+    for c in range(nc):
+        acc = 0.0
+        for b in range(nc):
+            acc += delta[c, b] * w[b]
+        for i in range(n):
+            dx[i] -= zb[c, i] * acc
+    return True
+
+
+@njit(cache=True, error_model="numpy")
+def _hybrid_jacobian(
+    model, ws, t, q, v, vimp, kq, cv, fd_cols, an_cols, counters, velocity_columns=True
+):
+    """∂q̈/∂q and ∂q̈/∂q̇: forward differences for the columns ``fd_cols`` and, for the
+    interior ANCF coordinates ``an_cols`` (no joint or contact point reads them, so they
+    enter q̈ only through Q = −F_e − F_d), the exact −P M⁻¹ ∂F/∂q from the analytic
+    element Jacobian (docs/ancf.md §8): 2·len(fd_cols) + 1 evaluations instead of 2n + 1.
+    With ``velocity_columns`` False the differenced columns of ∂q̈/∂q̇ are left as they
+    are (len(fd_cols) + 1 evaluations).
+    """
+    n = q.shape[0]
+    f0 = np.empty(n)
+    f1 = np.empty(n)
+    accelerations(model, ws, t, q, v, vimp, f0, counters)
+    if an_cols.shape[0] > 0:
+        kbuf = np.zeros((n, n))
+        beams_jacobian_add(model.beam_i, model.beam_f, q, 1.0, 0.0, kbuf)
+        _projected_columns(model, ws, kbuf, an_cols, kq)
+        damped = False
+        for b in range(model.beam_f.shape[0]):
+            if model.beam_f[b, BEAM_F_DAMPING] > 0.0:
+                damped = True
+        if damped:
+            kbuf[:, :] = 0.0
+            beams_jacobian_add(model.beam_i, model.beam_f, q, 0.0, 1.0, kbuf)
+            _projected_columns(model, ws, kbuf, an_cols, cv)
+        else:
+            # undamped beams: interior velocities do not enter q̈ at all
+            for i in range(n):
+                for c in range(an_cols.shape[0]):
+                    cv[i, an_cols[c]] = 0.0
+    qp = q.copy()
+    vp = v.copy()
+    for c in range(fd_cols.shape[0]):
+        j = fd_cols[c]
+        eps = 1.4901161193847656e-08 * max(abs(q[j]), 1e-2)
+        qp[j] = q[j] + eps
+        accelerations(model, ws, t, qp, v, vimp, f1, counters)
+        qp[j] = q[j]
+        for i in range(n):
+            kq[i, j] = (f1[i] - f0[i]) / eps
+    if not velocity_columns:
+        counters[CNT_JAC] += 1
+        return
+    for c in range(fd_cols.shape[0]):
+        j = fd_cols[c]
+        eps = 1.4901161193847656e-08 * max(abs(v[j]), 1e-1)
+        vp[j] = v[j] + eps
+        accelerations(model, ws, t, q, vp, vimp, f1, counters)
+        vp[j] = v[j]
+        for i in range(n):
+            cv[i, j] = (f1[i] - f0[i]) / eps
+    counters[CNT_JAC] += 1
+
+
+@njit(cache=True, error_model="numpy", nogil=True)
+def genalpha_advance(
+    model,
+    ws,
+    rec,
+    t_out,
+    cursor,
+    y,
+    acc,
+    apse,
+    kq,
+    cv,
+    state,
+    vimp,
+    contact,
+    counters,
+    t_stop,
+    t_end,
+    rtol,
+    atol,
+    max_step,
+    rho_inf,
+    max_newton,
+    entry_depth,
+    projection,
+    max_steps,
+    fixed_step,
+    fd_cols,
+    an_cols,
+    cc,
+):
+    """Advance a variable-step generalized-α integration (Chung & Hulbert 1993) of
+    q̈ = a(t, q, q̇) until ``t ≥ t_stop`` (or ``t_end``).
+
+    Parameters αm = (2ρ∞ − 1)/(ρ∞ + 1), αf = ρ∞/(ρ∞ + 1), γ = ½ + αf − αm,
+    β = ¼(γ + ½)² (Arnold & Brüls 2007 form with pseudo-accelerations ``apse``). Each step
+    solves R(x) = x − a(t + h, q(x), q̇(x)) for x = q̈ₙ₊₁ by modified Newton on
+    J = I − c_q ∂a/∂q − c_v ∂a/∂q̇ (:func:`_hybrid_jacobian`; refreshed when Newton stalls,
+    when the Newton iterations beyond two per step since the last refresh exceed
+    ``REFRESH_AFTER``, and — in models
+    without contact columns — when a clearance joint changes between contact and
+    separation; convergence from the observed contraction rate, at least two
+    iterations). The step is rejected when Newton fails,
+    when the local error estimate e_q = h²|β − 1/6| Δq̈, e_v = h(|γ − ½| + 1/12) Δq̈
+    exceeds the tolerance, or when a
+    separated clearance joint would enter contact deeper than ``entry_depth`` × clearance
+    (so that every impact starts with a short step and a well-defined approach speed; the
+    retry interpolates the entry time, and steps below 1e-6 × ``max_step`` are accepted).
+
+    With ``fixed_step`` > 0 the error test is skipped and every step after an accepted
+    one is ``fixed_step`` (pass ``max_step`` ≤ ``fixed_step``): the fixed-step scheme of
+    structural dynamics, whose numerical damping (ρ∞ < 1) removes unresolved stiff modes
+    that would otherwise hold an error-controlled step at their period (ANCF axial
+    modes, docs/ancf.md §8).
+
+    Clearance-joint forces are stiff and only piecewise smooth (contact onset, the
+    stick–slip ramp of regularised friction acting on a light journal), so a Jacobian
+    taken at the start of the step can be useless at its end. The columns ``cc`` that
+    those forces read (the bearing and journal coordinates) are therefore re-linearised
+    at every Newton iterate that touches (:func:`_contact_derivatives`, a few contact-law
+    evaluations) and the change, mapped by the constrained response P M⁻¹ frozen at the
+    Jacobian's state, enters the factorised matrix as a rank-len(cc) Sherman–Morrison–
+    Woodbury correction (:func:`_contact_newton_solve`): a semi-smooth Newton iteration at
+    O(n·len(cc)) extra work per iterate.
+
+    ``state`` = [t, h, Jacobian valid, Newton iterations beyond two per step since the
+    last refresh]. Returns 1 (``t_stop`` reached), 0 (done) or
+    a negative failure status.
+    """
+    n = model.n_dof
+    n2 = 2 * n
+    q = y[:n]
+    v = y[n:]
+    am = (2.0 * rho_inf - 1.0) / (rho_inf + 1.0)
+    af = rho_inf / (rho_inf + 1.0)
+    gm = 0.5 + af - am
+    bt = 0.25 * (gm + 0.5) ** 2
+    x = np.empty(n)
+    f = np.empty(n)
+    dx = np.empty(n)
+    anew = np.empty(n)
+    qn = np.empty(n)
+    vn = np.empty(n)
+    jm = np.empty((n, n))
+    piv = np.empty(n, dtype=np.int64)
+    yout = np.empty(n2)
+    scratch = np.empty(n2)
+    out_counters = np.zeros(counters.shape[0], dtype=np.int64)
+    was = np.zeros(contact.shape[0], dtype=contact.dtype)
+    nc = cc.shape[0]
+    dq0 = np.zeros((nc, nc))
+    dv0 = np.zeros((nc, nc))
+    dqi = np.zeros((nc, nc))
+    dvi = np.zeros((nc, nc))
+    delta = np.zeros((nc, nc))
+    basis = np.zeros((nc, n))
+    zb = np.zeros((nc, n))
+    sm = np.zeros((nc, nc))
+    spiv = np.empty(nc, dtype=np.int64)
+    wv = np.empty(nc)
+    gt = np.zeros((contact.shape[0], nc))
+    base_contact = False
+    n_out = t_out.shape[0]
+    t = state[0]
+    h = state[1]
+    jac_valid = state[2] > 0.0
+    h_lu = -1.0
+    fresh = False
+    excess = int(state[3])
+    stale = False
+    singular_iterate = False
+    status = STATUS_RUNNING
+    while True:
+        if t >= t_end:
+            status = STATUS_OK
+            break
+        if t >= t_stop:
+            break
+        if counters[CNT_STEPS] + counters[CNT_REJECTED] >= max_steps:
+            status = STATUS_MAX_STEPS
+            break
+        h = min(h, max_step)
+        if t + 1.01 * h >= t_end:
+            h = t_end - t
+        if h < 10.0 * _EPS * max(abs(t), 1e-300) or h <= 0.0:
+            status = STATUS_SINGULAR if singular_iterate else STATUS_STEP_TOO_SMALL
+            break
+        if not jac_valid:
+            _hybrid_jacobian(
+                model, ws, t, q, v, vimp, kq, cv, fd_cols, an_cols, counters, not stale
+            )
+            if nc > 0:
+                accelerations(model, ws, t, q, v, vimp, f, counters)
+                base_contact = _contact_derivatives(model, ws, q, v, vimp, cc, dq0, dv0, gt)
+                _response_basis(model, ws, cc, basis)
+            jac_valid = True
+            # only a complete refresh makes a Newton failure a reason to shorten the step
+            fresh = not stale
+            stale = False
+            excess = 0
+            h_lu = -1.0
+        cq = h * h * bt * (1.0 - af) / (1.0 - am)
+        cvv = h * gm * (1.0 - af) / (1.0 - am)
+        if h != h_lu:
+            for i in range(n):
+                for j in range(n):
+                    jm[i, j] = -cq * kq[i, j] - cvv * cv[i, j]
+                jm[i, i] += 1.0
+            if not _lu_factor(jm, piv):
+                status = STATUS_SINGULAR
+                break
+            for c in range(nc):
+                for i in range(n):
+                    zb[c, i] = basis[c, i]
+                _lu_solve(jm, piv, zb[c])
+            h_lu = h
+        for i in range(n):
+            x[i] = acc[i]
+        converged = False
+        iters = 0
+        prev = np.inf
+        st = STATUS_OK
+        for it in range(max_newton):
+            for i in range(n):
+                anew[i] = ((1.0 - af) * x[i] + af * acc[i] - am * apse[i]) / (1.0 - am)
+                qn[i] = q[i] + h * v[i] + h * h * ((0.5 - bt) * apse[i] + bt * anew[i])
+                vn[i] = v[i] + h * ((1.0 - gm) * apse[i] + gm * anew[i])
+            st = accelerations(model, ws, t + h, qn, vn, vimp, f, counters)
+            counters[CNT_NEWTON] += 1
+            if st != STATUS_OK:
+                break
+            for i in range(n):
+                dx[i] = f[i] - x[i]
+            touching = False
+            if nc > 0:
+                touching = _contact_derivatives(model, ws, qn, vn, vimp, cc, dqi, dvi, gt)
+            if touching or base_contact:
+                for a in range(nc):
+                    for b in range(nc):
+                        delta[a, b] = -cq * (dqi[a, b] - dq0[a, b]) - cvv * (dvi[a, b] - dv0[a, b])
+                if not _contact_newton_solve(jm, piv, cc, zb, delta, sm, spiv, wv, dx):
+                    break
+            else:
+                _lu_solve(jm, piv, dx)
+            scale = 1.0
+            if touching:
+                # Regularised friction is flat while sliding and in its dead zone and steep
+                # in the narrow ramp between: a full update from a flat piece overshoots (to
+                # the opposite sliding direction, or out of the dead zone) and Newton
+                # oscillates. Such an update is shortened to land in the middle of the ramp,
+                # whose own tangent the contact derivatives capture; convergence is still
+                # judged on the full update.
+                for j in range(contact.shape[0]):
+                    v0 = model.cj_f[j, CF_V0]
+                    v1 = model.cj_f[j, CF_V1]
+                    vt = ws.cj[j, CJ_VT]
+                    if ws.cj[j, CJ_DELTA] <= 0.0 or model.cj_i[j, 3] == FRICTION_NONE:
+                        continue
+                    dvt = 0.0
+                    for c in range(nc):
+                        dvt += gt[j, c] * cvv * dx[cc[c]]
+                    vnew = vt + dvt
+                    target = np.nan
+                    leaves = vt * vnew < 0.0 or abs(vnew) < v0  # into or across the dead zone
+                    if abs(vt) > v1 and leaves:
+                        target = 0.5 * (v0 + v1) * (1.0 if vt > 0.0 else -1.0)
+                    elif abs(vt) >= v0 and leaves:
+                        target = 0.5 * v0 * (1.0 if vt > 0.0 else -1.0)
+                    elif abs(vt) < v0 and abs(vnew) > v1:
+                        target = 0.5 * (v0 + v1) * (1.0 if vnew > 0.0 else -1.0)
+                    if math.isfinite(target) and dvt != 0.0:
+                        r = (target - vt) / dvt
+                        if 0.0 < r < scale:
+                            scale = r
+            # the size of the full Newton update measures convergence, damped or not
+            sq = 0.0
+            for i in range(n):
+                sk_q = atol + rtol * abs(q[i])
+                sk_v = atol + rtol * abs(v[i])
+                sq += (cq * dx[i] / sk_q) ** 2 + (cvv * dx[i] / sk_v) ** 2
+            conv = math.sqrt(sq / n2)
+            iters = it + 1
+            for i in range(n):
+                x[i] += scale * dx[i]
+            if not math.isfinite(conv):
+                break
+            # Convergence from the observed contraction rate θ (Hairer & Wanner IV.8): a
+            # stale Jacobian can make the first update small while the residual is not,
+            # so at least two iterations are always taken.
+            if scale < 1.0:
+                # a shortened update says nothing about the contraction: start afresh
+                prev = np.inf
+                continue
+            if it >= 1:
+                if conv <= 1e-12 * (1.0 + prev) or prev <= 0.0:
+                    converged = True
+                    break
+                theta = conv / prev
+                if theta >= 0.9:
+                    break
+                if theta / (1.0 - theta) * conv < 0.03:
+                    converged = True
+                    break
+            prev = conv
+        # A Newton iterate may leave the admissible configurations (a wild first update
+        # on a stiff contact): that is a failed iteration, handled like any other — the
+        # step is retried smaller, and only a step that shrinks to nothing reports it.
+        singular_iterate = st == STATUS_SINGULAR
+        if not converged:
+            if not fresh:
+                jac_valid = False
+                continue
+            counters[CNT_REJECTED] += 1
+            h *= 0.25
+            continue
+        for i in range(n):
+            anew[i] = ((1.0 - af) * x[i] + af * acc[i] - am * apse[i]) / (1.0 - am)
+            qn[i] = q[i] + h * v[i] + h * h * ((0.5 - bt) * apse[i] + bt * anew[i])
+            vn[i] = v[i] + h * ((1.0 - gm) * apse[i] + gm * anew[i])
+        # local error estimate from the change of acceleration over the step
+        ce_q = h * h * abs(bt - 1.0 / 6.0)
+        ce_v = h * (abs(gm - 0.5) + 1.0 / 12.0)
+        sq = 0.0
+        for i in range(n):
+            da = x[i] - acc[i]
+            sk_q = atol + rtol * max(abs(q[i]), abs(qn[i]))
+            sk_v = atol + rtol * max(abs(v[i]), abs(vn[i]))
+            sq += (ce_q * da / sk_q) ** 2 + (ce_v * da / sk_v) ** 2
+        e = math.sqrt(sq / n2)
+        for i in range(n):
+            yout[i] = qn[i]
+            yout[n + i] = vn[i]
+        if entry_depth > 0.0:
+            r_end = entry_depth_ratio(model, ws, yout, contact)
+            # A penetration that does not vanish with the step is a jump of the surface
+            # (a worn profile between regions), not an impact to resolve: below
+            # 1e-6 × max_step the entry is accepted rather than retried forever.
+            if r_end > entry_depth and h > 1e-6 * max_step:
+                # Retry with the step at which the penetration, interpolated linearly from
+                # the start of the step, is half the allowed entry depth: one retry lands
+                # inside the contact, where a fixed fraction of the step could approach a
+                # slowly closing gap (a worn flank) in ever shorter steps.
+                r_start = entry_depth_ratio(model, ws, y, contact)
+                frac = 0.3
+                if r_start < 0.5 * entry_depth:
+                    frac = (0.5 * entry_depth - r_start) / (r_end - r_start)
+                counters[CNT_REJECTED] += 1
+                h *= min(0.9, max(0.01, frac))
+                continue
+        if fixed_step <= 0.0 and not e <= 1.0:
+            counters[CNT_REJECTED] += 1
+            h *= max(0.2, 0.9 * e ** (-1.0 / 3.0)) if math.isfinite(e) else 0.2
+            continue
+        # A stale Jacobian shows as Newton iterations beyond the two every step takes
+        # (the rods turn, and their axial stiffness turns with them): refresh it once
+        # those extra iterations since the last refresh exceed REFRESH_AFTER, which
+        # amortises a refresh over the steps it speeds up (docs/ancf.md §8).
+        if iters > 2:
+            excess += iters - 2
+        if excess > REFRESH_AFTER and not fresh:
+            jac_valid = False
+            # Staleness is the rotation of the stiffness, i.e. of ∂q̈/∂q; the differenced
+            # ∂q̈/∂q̇ columns (constraint stabilisation, ∝ h·2α in J) barely change and are
+            # kept, which halves the refresh. Clearance joints' velocity derivatives
+            # enter the contact correction against the Jacobian's state: refreshed whole.
+            stale = nc == 0
+        fresh = False
+        told = t
+        t = t + h
+        if t_end - t < 4.0 * _EPS * max(abs(t_end), 1.0):
+            t = t_end
+        while cursor[0] < n_out and t_out[cursor[0]] <= t:
+            th = (t_out[cursor[0]] - told) / h
+            h00 = (1.0 + 2.0 * th) * (1.0 - th) ** 2
+            h10 = th * (1.0 - th) ** 2
+            h01 = th * th * (3.0 - 2.0 * th)
+            h11 = th * th * (th - 1.0)
+            for i in range(n):
+                yout[i] = h00 * q[i] + h10 * h * v[i] + h01 * qn[i] + h11 * h * vn[i]
+                yout[n + i] = h00 * v[i] + h10 * h * acc[i] + h01 * vn[i] + h11 * h * x[i]
+            record_sample(
+                model, ws, rec, cursor[0], t_out[cursor[0]], yout, vimp, scratch, out_counters
+            )
+            cursor[0] += 1
+        for i in range(n):
+            q[i] = qn[i]
+            v[i] = vn[i]
+            apse[i] = anew[i]
+            acc[i] = x[i]
+        counters[CNT_STEPS] += 1
+        changed = False
+        for j in range(contact.shape[0]):
+            was[j] = contact[j]
+        update_latch(model, ws, y, vimp, contact, counters)
+        for j in range(contact.shape[0]):
+            if was[j] != contact[j]:
+                changed = True
+        if changed and nc == 0:
+            # contact stiffness appears or vanishes: the Jacobian is no longer useful
+            jac_valid = False
+        if projection:
+            if not project(model, ws, t, y, 1e-12, 5):
+                status = STATUS_SINGULAR
+                break
+            accelerations(model, ws, t, q, v, vimp, acc, counters)
+        if fixed_step > 0.0:
+            h = fixed_step
+        else:
+            grow = 2.0 if e < 1e-10 else min(2.0, max(0.2, 0.9 * e ** (-1.0 / 3.0)))
+            h *= grow
+    state[0] = t
+    state[1] = h
+    state[2] = 1.0 if jac_valid else 0.0
+    state[3] = float(excess)
+    return status

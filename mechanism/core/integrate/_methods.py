@@ -1,0 +1,648 @@
+"""Integrators as strategy objects.
+
+Each integrator takes an assembled :class:`~mechanism.core.model._assemble.Model`, a consistent
+initial state and a uniform output grid, and returns an :class:`Integration`: the raw
+output arrays (``Recording``) and :class:`SolverStats`.
+
+* :class:`Dopri5` — Dormand–Prince 5(4) with dense output, the whole time loop compiled
+  (the MATLAB ``ode45`` scheme; default).
+* :class:`ScipyIVP` — scipy's ``RK45``, ``DOP853``, ``Radau``, ``BDF``, ``LSODA`` stepping
+  the compiled right-hand side from Python (one Python callback per evaluation: slower;
+  a cross-check).
+* :class:`GeneralizedAlpha` — implicit generalized-α (Chung & Hulbert 1993) with Newton
+  iterations on a hybrid (finite-difference + analytic ANCF) Jacobian whose clearance-contact
+  columns are re-linearised at every iterate (semi-smooth Newton), and step rejection on
+  deep contact entry, for stiff contact and (issue 6) stiff axial modes.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any, Literal, NamedTuple
+
+import numpy as np
+
+from mechanism.core.joints._kernels import ANGLE_RIGID, ANGLE_SLOPE, POINT_LINEAR, POINT_RIGID
+from mechanism.core.model import _kernels as k
+
+from . import _kernels as ik
+
+if TYPE_CHECKING:
+    from mechanism.core.model._assemble import Model
+
+__all__ = [
+    "METHODS",
+    "Dopri5",
+    "GeneralizedAlpha",
+    "Integration",
+    "Integrator",
+    "Recording",
+    "ScipyIVP",
+    "SolverStats",
+    "resolve_method",
+]
+
+ScipyMethodName = Literal["RK45", "DOP853", "Radau", "BDF", "LSODA"]
+
+_MESSAGES = {
+    ik.STATUS_RUNNING: "running",
+    0: "The solver reached the end of the interval.",
+    ik.STATUS_STEP_TOO_SMALL: "The step size became too small (stiffness or a discontinuity).",
+    ik.STATUS_SINGULAR: "The constraint Jacobian became singular (a locked or redundant "
+    "configuration).",
+    ik.STATUS_NONFINITE: "The solution became non-finite.",
+    ik.STATUS_MAX_STEPS: "The maximum number of steps was reached.",
+    ik.STATUS_NEWTON: "Newton iterations did not converge.",
+}
+
+
+class Recording(NamedTuple):
+    """Raw output arrays on the output grid (filled by the compiled loops)."""
+
+    t: np.ndarray  # (N,)
+    q: np.ndarray  # (N, n) positions
+    v: np.ndarray  # (N, n) velocities
+    a: np.ndarray  # (N, n) accelerations
+    lam: np.ndarray  # (N, m) Lagrange multipliers
+    cj: np.ndarray  # (N, n_cj, CJ_COLUMNS) clearance-joint kinematics and forces
+    out: np.ndarray  # (N, OUT_COLUMNS) crank angle, slider s/ṡ/s̈, energy, max|Φ|
+    jf: np.ndarray  # (N, n_ideal_joints, 2) reaction force on each ideal joint's bodies[1]
+
+    @classmethod
+    def empty(cls, model: Model, n_out: int) -> Recording:
+        n = model.n_dof
+        return cls(
+            t=np.zeros(n_out),
+            q=np.zeros((n_out, n)),
+            v=np.zeros((n_out, n)),
+            a=np.zeros((n_out, n)),
+            lam=np.zeros((n_out, model.n_rows)),
+            cj=np.zeros((n_out, model.kernel.cj_i.shape[0], k.CJ_COLUMNS)),
+            out=np.zeros((n_out, k.OUT_COLUMNS)),
+            jf=np.zeros((n_out, model.kernel.jt_i.shape[0], 2)),
+        )
+
+    def head(self, count: int) -> Recording:
+        """The first ``count`` samples."""
+        return Recording(*(a[:count] for a in self))
+
+
+@dataclass(frozen=True, kw_only=True)
+class SolverStats:
+    """What an integration cost and whether it succeeded.
+
+    Attributes
+    ----------
+    method : str
+        Integrator name.
+    status : int
+        0 success; negative: failure (see ``message``).
+    message : str
+    steps, rejected_steps, function_evaluations, jacobian_evaluations, newton_iterations
+        Solver work (right-hand-side evaluations made only to record outputs are not
+        counted).
+    contact_events : int
+        Transitions separated → contact of any clearance joint among accepted states.
+    contact_evaluations : int
+        Calls of the contact law made by the solver.
+    wall_time : float
+        Seconds spent in the integrator.
+    """
+
+    method: str
+    status: int
+    message: str
+    steps: int = 0
+    rejected_steps: int = 0
+    function_evaluations: int = 0
+    jacobian_evaluations: int = 0
+    newton_iterations: int = 0
+    contact_events: int = 0
+    contact_evaluations: int = 0
+    wall_time: float = 0.0
+
+    @property
+    def success(self) -> bool:
+        return self.status == 0
+
+    def as_attrs(self, prefix: str = "solver_") -> dict[str, Any]:
+        """Flat attributes for a Dataset (``solver_steps``, ...)."""
+        return {
+            f"{prefix}method": self.method,
+            f"{prefix}status": int(self.status),
+            f"{prefix}message": self.message,
+            f"{prefix}steps": int(self.steps),
+            f"{prefix}rejected_steps": int(self.rejected_steps),
+            f"{prefix}function_evaluations": int(self.function_evaluations),
+            f"{prefix}jacobian_evaluations": int(self.jacobian_evaluations),
+            f"{prefix}newton_iterations": int(self.newton_iterations),
+            f"{prefix}contact_events": int(self.contact_events),
+            f"{prefix}contact_evaluations": int(self.contact_evaluations),
+            f"{prefix}wall_time": float(self.wall_time),
+        }
+
+
+@dataclass(frozen=True, kw_only=True)
+class Integration:
+    """Result of an integrator run: the recorded samples (possibly fewer than requested
+    when the run failed) and the statistics."""
+
+    recording: Recording
+    stats: SolverStats
+    final_state: np.ndarray
+
+
+def _stats(
+    method: str, status: int, counters: np.ndarray, wall: float, msg: str = ""
+) -> SolverStats:
+    return SolverStats(
+        method=method,
+        status=int(status),
+        message=msg or _MESSAGES.get(int(status), f"status {status}"),
+        steps=int(counters[k.CNT_STEPS]),
+        rejected_steps=int(counters[k.CNT_REJECTED]),
+        function_evaluations=int(counters[k.CNT_FEV]),
+        jacobian_evaluations=int(counters[k.CNT_JAC]),
+        newton_iterations=int(counters[k.CNT_NEWTON]),
+        contact_events=int(counters[k.CNT_CONTACT_EVENTS]),
+        contact_evaluations=int(counters[k.CNT_CONTACT_EVALS]),
+        wall_time=wall,
+    )
+
+
+class _Progress:
+    """Optional tqdm bar over the simulated time, in percent (library calls are silent)."""
+
+    def __init__(self, enabled: bool, t0: float, t_end: float, label: str):
+        self.bar = None
+        self.t0 = t0
+        self.span = max(t_end - t0, 1e-300)
+        self.done = 0
+        if enabled:
+            from tqdm.auto import tqdm
+
+            self.bar = tqdm(total=100, desc=label, unit="%")
+
+    def update(self, t: float) -> None:
+        if self.bar is not None:
+            pct = min(100, round(100.0 * (t - self.t0) / self.span))
+            if pct > self.done:
+                self.bar.update(pct - self.done)
+                self.done = pct
+
+    def close(self) -> None:
+        if self.bar is not None:
+            self.bar.close()
+
+
+def _chunks(t0: float, t_end: float, progress: bool) -> list[float]:
+    """Chunk boundaries for progress updates (a single chunk without progress)."""
+    if not progress:
+        return [t_end]
+    return [t0 + (t_end - t0) * (i + 1) / 100.0 for i in range(100)]
+
+
+def _initial_latch(model: Model, y0: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    n_cj = model.kernel.cj_i.shape[0]
+    # a journal that starts in contact keeps the floor as its impact velocity
+    vimp = model.kernel.cj_f[:, k.CF_FLOOR].copy()
+    contact = np.zeros(n_cj, dtype=np.int64)
+    counters = np.zeros(k.CNT_COLUMNS, dtype=np.int64)
+    k.update_latch(model.kernel, model.workspace(), y0, vimp, contact, counters)
+    # an initial state in contact counts as no event
+    return vimp, contact
+
+
+class Integrator:
+    """Base of the integrator strategies (see the subclasses)."""
+
+    name: str = "integrator"
+
+    def integrate(
+        self,
+        model: Model,
+        y0: np.ndarray,
+        t_out: np.ndarray,
+        *,
+        rtol: float,
+        atol: float,
+        max_step: float,
+        projection: bool = False,
+        progress: bool = False,
+        label: str = "simulate",
+    ) -> Integration:
+        raise NotImplementedError
+
+
+@dataclass(frozen=True, kw_only=True)
+class Dopri5(Integrator):
+    """Compiled adaptive Dormand–Prince 5(4) with 4th-order dense output.
+
+    Parameters
+    ----------
+    max_steps : int
+        Upper bound on attempted steps (accepted + rejected).
+
+    Notes
+    -----
+    Hairer's DOPRI5 step control (PI, β = 0.04) and continuous extension; the impact
+    velocity latch is updated between accepted steps. Reference: J. R. Dormand,
+    P. J. Prince, J. Comput. Appl. Math. 6 (1980) 19–26; E. Hairer, S. P. Nørsett,
+    G. Wanner, *Solving Ordinary Differential Equations I*, §II.5–6.
+    """
+
+    max_steps: int = 200_000_000
+    name: str = field(default="dopri5", init=False)
+
+    def integrate(
+        self,
+        model: Model,
+        y0: np.ndarray,
+        t_out: np.ndarray,
+        *,
+        rtol: float,
+        atol: float,
+        max_step: float,
+        projection: bool = False,
+        progress: bool = False,
+        label: str = "simulate",
+    ) -> Integration:
+        km = model.kernel
+        ws = model.workspace()
+        rec = Recording.empty(model, t_out.size)
+        y = np.ascontiguousarray(y0, dtype=np.float64).copy()
+        k1 = np.zeros_like(y)
+        state = np.zeros(4)
+        counters = np.zeros(k.CNT_COLUMNS, dtype=np.int64)
+        cursor = np.zeros(1, dtype=np.int64)
+        vimp, contact = _initial_latch(model, y)
+        t0 = float(t_out[0])
+        t_end = float(t_out[-1])
+        start = time.perf_counter()
+        status = ik.dopri5_start(km, ws, t0, y, k1, vimp, state, counters, rtol, atol, max_step)
+        if status == ik.STATUS_RUNNING:
+            ik.record_sample(km, ws, rec, 0, t0, y, vimp, np.empty_like(y), counters.copy())
+            cursor[0] = 1
+            bar = _Progress(progress, t0, t_end, label)
+            try:
+                for t_stop in _chunks(t0, t_end, progress):
+                    status = ik.dopri5_advance(
+                        km, ws, rec, t_out, cursor, y, k1, state, vimp, contact, counters,
+                        t_stop, t_end, rtol, atol, max_step, projection, self.max_steps,
+                    )  # fmt: skip
+                    bar.update(state[0])
+                    if status != ik.STATUS_RUNNING:
+                        break
+            finally:
+                bar.close()
+        wall = time.perf_counter() - start
+        if status == ik.STATUS_RUNNING:
+            status = 0
+        return Integration(
+            recording=rec.head(int(cursor[0])) if status != 0 else rec,
+            stats=_stats(self.name, status, counters, wall),
+            final_state=y,
+        )
+
+
+def _jacobian_columns(model: Model) -> tuple[np.ndarray, np.ndarray]:
+    """(finite-difference columns, analytic columns) of the generalized-α Jacobian.
+
+    A node of an ANCF beam that no point of the point table reads (no joint, contact or
+    output touches it) enters q̈ only through its elastic and damping forces, whose
+    Jacobian the element provides; every other coordinate is differenced.
+    """
+    km = model.kernel
+    n = model.n_dof
+    node_start = np.full(n, -1, dtype=np.int64)  # first coordinate of the node of a beam DOF
+    for o, ne in km.beam_i[:, :2]:
+        idx = np.arange(o, o + 4 * (ne + 1))
+        node_start[idx] = o + 4 * ((idx - o) // 4)
+    analytic = node_start >= 0
+    for row in km.pt_i:
+        for d in (row[1], row[3], *row[4:8]):
+            if d >= 0 and node_start[d] >= 0:
+                analytic[node_start[d] : node_start[d] + 4] = False
+    cols = np.arange(n, dtype=np.int64)
+    return np.ascontiguousarray(cols[~analytic]), np.ascontiguousarray(cols[analytic])
+
+
+def _contact_columns(model: Model) -> np.ndarray:
+    """The coordinates the clearance joints' bearing and journal points read (position,
+    and the angle that sets the friction moment and the worn-profile region)."""
+    km = model.kernel
+    cols: set[int] = set()
+    for point in km.cj_i[:, :2].ravel():
+        kind, base, angle_kind, slope, *ds = (int(x) for x in km.pt_i[point])
+        if kind == POINT_RIGID:
+            cols.update((base, base + 1, base + 2))
+        elif kind == POINT_LINEAR:
+            for d in ds:
+                if d >= 0:
+                    cols.update((d, d + 1))
+        if angle_kind == ANGLE_RIGID:
+            cols.add(base + 2)
+        elif angle_kind == ANGLE_SLOPE:
+            cols.update((slope, slope + 1))
+    return np.array(sorted(cols), dtype=np.int64)
+
+
+@dataclass(frozen=True, kw_only=True)
+class GeneralizedAlpha(Integrator):
+    """Implicit generalized-α integrator for stiff contact (Chung & Hulbert 1993).
+
+    Parameters
+    ----------
+    rho_inf : float
+        Spectral radius at infinite frequency, in [0, 1]: 1 keeps all energy
+        (trapezoidal), smaller values damp the unresolved high-frequency content.
+    max_newton : int
+        Newton iterations per step before the Jacobian is refreshed or the step is
+        reduced.
+    contact_entry_depth : float
+        A step from a separated state is rejected when it ends deeper than this fraction
+        of the radial clearance and retried with the step at which the penetration,
+        interpolated from the start of the step, is half of it, so every impact starts
+        with a short step; a step below 1e-6 × the maximum step is accepted (a worn
+        profile can make the penetration jump). 0 disables the check.
+    max_steps : int
+        Upper bound on attempted steps.
+    step : float or "max_step", optional
+        Fixed step (s), or ``"max_step"`` for the run's maximum step (``solver.max_step``,
+        else the output step of a scene with clearance joints): no local error control
+        or the output spacing when that is unbounded (the tolerances still set the
+        Newton convergence test); a step whose Newton
+        iteration fails, or that enters contact too deep, is retried with a fraction of
+        it. For flexible (ANCF) bodies, whose stiff axial modes an error-controlled step
+        would have to resolve (docs/ancf.md §8). Default: adaptive. The method name
+        ``"generalized-alpha-fixed"`` is ``GeneralizedAlpha(step="max_step")``.
+
+    Notes
+    -----
+    Second order; the local error estimate compares the acceleration change over the
+    step (e_q = h²|β − 1/6| Δq̈, e_v = h(|γ − ½| + 1/12) Δq̈). J. Chung, G. M. Hulbert,
+    J. Appl. Mech. 60 (1993) 371–375; M. Arnold, O. Brüls, Multibody Syst. Dyn. 18 (2007)
+    185–202.
+    """
+
+    rho_inf: float = 0.8
+    max_newton: int = 8
+    contact_entry_depth: float = 0.01
+    max_steps: int = 200_000_000
+    step: float | Literal["max_step"] | None = None
+    name: str = field(default="generalized-alpha", init=False)
+
+    def __post_init__(self) -> None:
+        if not 0.0 <= float(self.rho_inf) <= 1.0:
+            raise ValueError(f"rho_inf must be in [0, 1]; got {self.rho_inf!r}.")
+        if int(self.max_newton) < 1:
+            raise ValueError(f"max_newton must be ≥ 1; got {self.max_newton!r}.")
+        if not float(self.contact_entry_depth) >= 0.0:
+            raise ValueError(f"contact_entry_depth must be ≥ 0; got {self.contact_entry_depth!r}.")
+        if self.step is not None and self.step != "max_step":
+            if not (isinstance(self.step, int | float) and math.isfinite(self.step)):
+                raise ValueError(
+                    f"step must be a number > 0 (s), 'max_step' or None; got {self.step!r}."
+                )
+            if not self.step > 0.0:
+                raise ValueError(f"step must be > 0 (s); got {self.step!r}.")
+
+    def integrate(
+        self,
+        model: Model,
+        y0: np.ndarray,
+        t_out: np.ndarray,
+        *,
+        rtol: float,
+        atol: float,
+        max_step: float,
+        projection: bool = False,
+        progress: bool = False,
+        label: str = "simulate",
+    ) -> Integration:
+        km = model.kernel
+        n = model.n_dof
+        ws = model.workspace()
+        rec = Recording.empty(model, t_out.size)
+        y = np.ascontiguousarray(y0, dtype=np.float64).copy()
+        counters = np.zeros(k.CNT_COLUMNS, dtype=np.int64)
+        cursor = np.zeros(1, dtype=np.int64)
+        vimp, contact = _initial_latch(model, y)
+        t0 = float(t_out[0])
+        t_end = float(t_out[-1])
+        start = time.perf_counter()
+        acc = np.zeros(n)
+        status = k.accelerations(km, ws, t0, y[:n], y[n:], vimp, acc, counters)
+        if status != 0:
+            status = -int(status)
+        else:
+            status = ik.STATUS_RUNNING
+            apse = acc.copy()
+            kq = np.zeros((n, n))
+            cv = np.zeros((n, n))
+            fd_cols, an_cols = _jacobian_columns(model)
+            contact_cols = _contact_columns(model)
+            if self.step == "max_step":
+                # an unbounded run (e.g. the ideal companion) steps at the output spacing
+                fixed = float(max_step)
+                if not math.isfinite(fixed):
+                    fixed = float(t_out[1] - t_out[0]) if t_out.size > 1 else t_end - t0
+            else:
+                fixed = 0.0 if self.step is None else float(self.step)
+            if fixed > 0.0:
+                max_step = min(max_step, fixed)
+                h0 = max_step
+            else:
+                h0 = min(max_step, 1e-3 * (t_end - t0), 1e-4)
+            state = np.array([t0, h0, 0.0, 0.0])
+            ik.record_sample(km, ws, rec, 0, t0, y, vimp, np.empty_like(y), counters.copy())
+            cursor[0] = 1
+            bar = _Progress(progress, t0, t_end, label)
+            try:
+                for t_stop in _chunks(t0, t_end, progress):
+                    status = ik.genalpha_advance(
+                        km, ws, rec, t_out, cursor, y, acc, apse, kq, cv, state, vimp,
+                        contact, counters, t_stop, t_end, rtol, atol, max_step,
+                        float(self.rho_inf), int(self.max_newton),
+                        float(self.contact_entry_depth), projection, self.max_steps,
+                        fixed, fd_cols, an_cols, contact_cols,
+                    )  # fmt: skip
+                    bar.update(state[0])
+                    if status != ik.STATUS_RUNNING:
+                        break
+            finally:
+                bar.close()
+        wall = time.perf_counter() - start
+        if status == ik.STATUS_RUNNING:
+            status = 0
+        return Integration(
+            recording=rec.head(int(cursor[0])) if status != 0 else rec,
+            stats=_stats(self.name, status, counters, wall),
+            final_state=y,
+        )
+
+
+@dataclass(frozen=True, kw_only=True)
+class ScipyIVP(Integrator):
+    """A :mod:`scipy.integrate` ``OdeSolver`` stepping the compiled right-hand side.
+
+    Parameters
+    ----------
+    method : {"RK45", "DOP853", "Radau", "BDF", "LSODA"}
+        The scipy solver class. The impact-velocity latch is updated between accepted
+        steps; outputs come from the solver's dense output. Each right-hand-side call
+        crosses from Python into numba, so this path is a cross-check, not the fast path.
+    """
+
+    method: ScipyMethodName = "RK45"
+    name: str = field(default="", init=False)
+
+    def __post_init__(self) -> None:
+        if self.method not in ("RK45", "DOP853", "Radau", "BDF", "LSODA"):
+            raise ValueError(
+                f"method must be one of 'RK45', 'DOP853', 'Radau', 'BDF', 'LSODA'; "
+                f"got {self.method!r}."
+            )
+        object.__setattr__(self, "name", self.method)
+
+    def integrate(
+        self,
+        model: Model,
+        y0: np.ndarray,
+        t_out: np.ndarray,
+        *,
+        rtol: float,
+        atol: float,
+        max_step: float,
+        projection: bool = False,
+        progress: bool = False,
+        label: str = "simulate",
+    ) -> Integration:
+        import scipy.integrate as si
+
+        km = model.kernel
+        ws = model.workspace()
+        rec = Recording.empty(model, t_out.size)
+        counters = np.zeros(k.CNT_COLUMNS, dtype=np.int64)
+        y = np.ascontiguousarray(y0, dtype=np.float64).copy()
+        vimp, contact = _initial_latch(model, y)
+        status_box = [0]
+
+        def fun(t: float, yy: np.ndarray) -> np.ndarray:
+            out = np.empty_like(yy)
+            st = k.rhs(km, ws, t, np.ascontiguousarray(yy, dtype=np.float64), vimp, out, counters)
+            if st != 0:
+                status_box[0] = -int(st)
+            return out
+
+        t0 = float(t_out[0])
+        t_end = float(t_out[-1])
+        solver_cls = getattr(si, self.method)
+        options: dict[str, Any] = {"rtol": rtol, "atol": atol}
+        if math.isfinite(max_step):
+            options["max_step"] = max_step
+        start = time.perf_counter()
+        solver = solver_cls(fun, t0, y, t_end, **options)
+        ik.record_sample(km, ws, rec, 0, t0, y, vimp, np.empty_like(y), counters.copy())
+        cursor = 1
+        bar = _Progress(progress, t0, t_end, label)
+        status = 0
+        message = ""
+        out_counters = np.zeros_like(counters)
+        try:
+            while solver.status == "running":
+                msg = solver.step()
+                if solver.status == "failed":
+                    status = ik.STATUS_STEP_TOO_SMALL
+                    message = str(msg)
+                    break
+                if status_box[0] != 0:
+                    status = ik.STATUS_SINGULAR
+                    break
+                counters[k.CNT_STEPS] += 1
+                stop = int(np.searchsorted(t_out, solver.t, side="right"))
+                if stop > cursor:
+                    dense = solver.dense_output()
+                    times = np.ascontiguousarray(t_out[cursor:stop])
+                    states = np.ascontiguousarray(np.atleast_2d(dense(times)).reshape(y.size, -1))
+                    ik.record_batch(km, ws, rec, cursor, times, states, vimp, out_counters)
+                    cursor = stop
+                yy = np.ascontiguousarray(solver.y, dtype=np.float64)
+                k.update_latch(km, ws, yy, vimp, contact, counters)
+                bar.update(solver.t)
+        finally:
+            bar.close()
+        wall = time.perf_counter() - start
+        counters[k.CNT_JAC] += int(getattr(solver, "njev", 0))
+        return Integration(
+            recording=rec.head(cursor) if status != 0 else rec,
+            stats=_stats(self.name, status, counters, wall, message),
+            final_state=np.asarray(solver.y, dtype=np.float64),
+        )
+
+
+METHODS: tuple[str, ...] = (
+    "auto",
+    "dopri5",
+    "RK45",
+    "DOP853",
+    "Radau",
+    "BDF",
+    "LSODA",
+    "generalized-alpha",
+    "generalized-alpha-fixed",
+)
+
+
+def resolve_method(method: str | Integrator, model: Model | None = None) -> Integrator:
+    """Turn a method name (see :data:`METHODS`) or an :class:`Integrator` into a strategy.
+
+    ``"auto"`` picks by the assembled ``model``: the fixed-step generalized-α
+    (``GeneralizedAlpha(step="max_step")``, as ``"generalized-alpha-fixed"``) when it has
+    ANCF beam coordinates, whose axial modes (kHz to 0.1 MHz) hold every error-controlled
+    method at their period (docs/ancf.md §8), and :class:`Dopri5` (the MATLAB ``ode45``
+    scheme of the paper) for a rigid model.
+
+    Parameters
+    ----------
+    method : str or Integrator
+        A name of :data:`METHODS` or an integrator object (returned unchanged).
+    model : mechanism.core.model._assemble.Model, optional
+        The assembled mechanism; required by ``"auto"``. Its ``solver.rho_inf`` sets the
+        numerical damping of the generalized-α methods (0.8 without a model).
+
+    Examples
+    --------
+    >>> resolve_method("Radau").name
+    'Radau'
+    >>> resolve_method(GeneralizedAlpha(rho_inf=0.5)).name
+    'generalized-alpha'
+    >>> import mechanism
+    >>> from mechanism.core.model._assemble import assemble
+    >>> rigid = assemble(mechanism.load_scene("slider-crank"))
+    >>> resolve_method("auto", rigid).name
+    'dopri5'
+    >>> flexible = assemble(mechanism.load_scene("flexible-slider-crank"))
+    >>> resolve_method("auto", flexible).step
+    'max_step'
+    """
+    if isinstance(method, Integrator):
+        return method
+    # the scene's numerical damping for the generalized-α methods (default 0.8)
+    rho_inf = 0.8 if model is None else float(model.scene.solver.rho_inf)
+    if method == "auto":
+        if model is None:
+            raise ValueError("method 'auto' needs the assembled model to choose an integrator.")
+        has_beams = model.kernel.beam_i.shape[0] > 0
+        return GeneralizedAlpha(rho_inf=rho_inf, step="max_step") if has_beams else Dopri5()
+    if method == "dopri5":
+        return Dopri5()
+    if method == "generalized-alpha":
+        return GeneralizedAlpha(rho_inf=rho_inf)
+    if method == "generalized-alpha-fixed":
+        return GeneralizedAlpha(rho_inf=rho_inf, step="max_step")
+    if method in ("RK45", "DOP853", "Radau", "BDF", "LSODA"):
+        return ScipyIVP(method=method)  # type: ignore[arg-type]
+    raise ValueError(f"method must be one of {list(METHODS)} or an Integrator; got {method!r}.")

@@ -1,0 +1,625 @@
+"""System-level compiled kernels: constraints, forces and the equations of motion.
+
+The model tables come from :func:`mechanism.core.model._assemble.assemble` as a ``KernelModel``
+named tuple (contiguous int64/float64 arrays and scalars); scratch arrays come in a
+``Workspace`` named tuple allocated once per run, so nothing here allocates.
+
+Equations of motion (paper-model §2.8), with the constant mass matrix M::
+
+    [ M   Φqᵀ ] [ q̈ ]   [ Q                  ]
+    [ Φq  0   ] [ λ  ] = [ γ − 2αΦ̇ − β²Φ ]
+
+solved by the Schur complement with the constant M⁻¹ (assembled once)::
+
+    a₀ = M⁻¹Q,  W = M⁻¹Φqᵀ,  (Φq W) λ = Φq a₀ − (γ − 2αΦ̇ − β²Φ),  q̈ = a₀ − W λ.
+
+Φq is sparse (a row touches the coordinates of at most two points), so W and Φq W are
+built from each row's nonzero columns.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from mechanism.core.bodies._ancf_kernels import beams_force_add, beams_strain_energy
+from mechanism.core.contact._kernels import (
+    FRICTION_NONE,
+    contact_potential,
+    friction_force,
+    normal_force,
+)
+from mechanism.core.joints._kernels import (
+    PC_ANG,
+    PC_RATE,
+    PC_VX,
+    PC_VY,
+    PC_X,
+    PC_Y,
+    angle_acceleration,
+    clearance_force_add,
+    clearance_kinematics,
+    constraint_rows,
+    point_acceleration,
+    update_points,
+)
+from mechanism.core.wear._kernels import local_clearance, local_stiffness_tabulated, region_value
+
+# columns of the per-clearance-joint table ``ws.cj`` filled by every force evaluation
+CJ_EX = 0
+CJ_EY = 1
+CJ_DELTA = 2
+CJ_DELTA_DOT = 3
+CJ_VT = 4
+CJ_FN = 5
+CJ_FT = 6
+CJ_PHI_B = 7
+CJ_PHI_J = 8
+CJ_K = 9  # contact stiffness used (the local K_n on a worn profile)
+CJ_COLUMNS = 10
+
+# columns of the clearance parameter table ``model.cj_f``
+CF_RB = 0
+CF_RJ = 1
+CF_C = 2
+CF_K = 3
+CF_EXP = 4
+CF_CE = 5
+CF_MU = 6
+CF_V0 = 7
+CF_V1 = 8
+CF_FLOOR = 9
+CF_COLUMNS = 10
+
+# counters (int64 array shared by the kernels and the integrators)
+CNT_STEPS = 0
+CNT_REJECTED = 1
+CNT_FEV = 2
+CNT_CONTACT_EVENTS = 3
+CNT_CONTACT_EVALS = 4
+CNT_JAC = 5
+CNT_NEWTON = 6
+CNT_WORN_EVALS = 7  # contact evaluations that read a worn profile (0 for unworn scenes)
+CNT_COLUMNS = 8
+
+# worn-profile table ``model.cw_i`` (n_cj, CW_COLUMNS) of every clearance joint: depths and
+# tabulated curvatures of both surfaces are slices of the flat ``cw_h`` / ``cw_k``
+CW_WORN = 0  # 1 when a profile is non-empty (else the unworn path runs)
+CW_B_OFF = 1
+CW_B_N = 2
+CW_J_OFF = 3
+CW_J_N = 4
+CW_FORM = 5  # stiffness form code for the local stiffness, −1: K is a given number
+CW_COLUMNS = 6
+# ``model.cw_f`` (n_cj, 2) = [E*, radius ratio limit]
+
+STATUS_OK = 0
+STATUS_SINGULAR = 2
+STATUS_NONFINITE = 3
+
+# columns of the derived output table written with every output sample
+OUT_CRANK = 0
+OUT_S = 1
+OUT_SD = 2
+OUT_SDD = 3
+OUT_ENERGY = 4
+OUT_VIOLATION = 5
+OUT_COLUMNS = 6
+
+# ideal-joint reaction table ``model.jt_i`` = [kind, first row, guide point]
+JOINT_PIN = 0
+JOINT_PRISMATIC = 1
+
+
+@njit(cache=True)
+def evaluate_constraints(model, ws, t, q, v):
+    """Update the point cache and fill ``ws.phi``, ``ws.phiq``, ``ws.phit``, ``ws.gam``."""
+    update_points(q, v, model.pt_i, model.pt_f, ws.pci, ws.pcf)
+    ws.phiq[:, :] = 0.0
+    constraint_rows(
+        t,
+        model.con_i,
+        model.con_f,
+        model.drive_i,
+        model.drive_f,
+        model.spline_x,
+        model.spline_c,
+        ws.pci,
+        ws.pcf,
+        ws.phi,
+        ws.phiq,
+        ws.phit,
+        ws.gam,
+    )
+
+
+@njit(cache=True)
+def worn_contact(cw_i, cw_f, cw_h, cw_k, j, r_bearing, r_journal, clearance, stiffness,
+                 phi_b, phi_j):  # fmt: skip
+    """Local clearance c(φ_b, φ_j) (m) and stiffness K_n of clearance joint ``j``.
+
+    Unworn joints return (c₀, K). A worn one reads the local clearance
+    c₀ + h_b(φ_b) + h_j(φ_j) and K_n = (4/3)E*√R*_n from the curvatures tabulated once per
+    profile (paper-model §2.7); the damping of the force laws scales with K, so it follows.
+    """
+    if cw_i[j, CW_WORN] == 0:
+        return clearance, stiffness
+    bo = cw_i[j, CW_B_OFF]
+    bn = cw_i[j, CW_B_N]
+    jo = cw_i[j, CW_J_OFF]
+    jn = cw_i[j, CW_J_N]
+    c = local_clearance(clearance, cw_h[bo : bo + bn], cw_h[jo : jo + jn], phi_b, phi_j)
+    if cw_i[j, CW_FORM] < 0:
+        return c, stiffness
+    kn = local_stiffness_tabulated(
+        cw_f[j, 0], cw_i[j, CW_FORM], r_bearing, r_journal, cw_k[bo : bo + bn],
+        cw_k[jo : jo + jn], phi_b, phi_j, cw_f[j, 1],
+    )  # fmt: skip
+    return c, kn
+
+
+@njit(cache=True)
+def worn_clearance_rate(cw_i, cw_s, j, pcf, bearing, journal, ex, ey, phi_b, phi_j):
+    """dc/dt = h_b'(φ_b) φ̇_b + h_j'(φ_j) φ̇_j (m/s) of a worn joint (0 when unworn).
+
+    The local clearance changes while the contact direction moves over a worn flank, so the
+    penetration rate is δ̇ = d|e|/dt − dc/dt; h' is the slope of the smoothed profile
+    (tabulated in ``cw_s``) and φ̇ = (e × ė)/|e|² minus each part's rotation rate.
+    """
+    if cw_i[j, CW_WORN] == 0:
+        return 0.0
+    e2 = ex * ex + ey * ey
+    if not e2 > 0.0:
+        return 0.0
+    dvx = pcf[journal, PC_VX] - pcf[bearing, PC_VX]
+    dvy = pcf[journal, PC_VY] - pcf[bearing, PC_VY]
+    rate = (ex * dvy - ey * dvx) / e2
+    bo = cw_i[j, CW_B_OFF]
+    bn = cw_i[j, CW_B_N]
+    jo = cw_i[j, CW_J_OFF]
+    jn = cw_i[j, CW_J_N]
+    out = 0.0
+    if bn > 0:
+        out += region_value(cw_s[bo : bo + bn], phi_b) * (rate - pcf[bearing, PC_RATE])
+    if jn > 0:
+        out += region_value(cw_s[jo : jo + jn], phi_j) * (rate - pcf[journal, PC_RATE])
+    return out
+
+
+@njit(cache=True)
+def _clearance_forces(model, pci, pcf, vimp, gen, cj, counters):
+    cj_i = model.cj_i
+    cj_f = model.cj_f
+    cw_i = model.cw_i
+    for j in range(cj_i.shape[0]):
+        b = cj_i[j, 0]
+        jn = cj_i[j, 1]
+        rb = cj_f[j, CF_RB]
+        rj = cj_f[j, CF_RJ]
+        c0 = cj_f[j, CF_C]
+        ex, ey, nx, ny, delta, ddot, vt, phib, phij = clearance_kinematics(pcf, b, jn, rb, rj, c0)
+        kn = cj_f[j, CF_K]
+        if cw_i[j, CW_WORN] != 0:
+            counters[CNT_WORN_EVALS] += 1
+            c, kn = worn_contact(
+                cw_i, model.cw_f, model.cw_h, model.cw_k, j, rb, rj, c0, kn, phib, phij
+            )
+            delta += c0 - c
+            ddot -= worn_clearance_rate(cw_i, model.cw_s, j, pcf, b, jn, ex, ey, phib, phij)
+        fn = 0.0
+        ft = 0.0
+        if delta > 0.0:
+            counters[CNT_CONTACT_EVALS] += 1
+            fn = normal_force(cj_i[j, 2], kn, cj_f[j, CF_EXP], cj_f[j, CF_CE], delta, ddot, vimp[j])
+            if cj_i[j, 3] != FRICTION_NONE:
+                ft = friction_force(
+                    cj_i[j, 3], cj_f[j, CF_MU], cj_f[j, CF_V0], cj_f[j, CF_V1], fn, vt
+                )
+            clearance_force_add(gen, pci, pcf, b, jn, rb, rj, nx, ny, fn, ft)
+        cj[j, CJ_EX] = ex
+        cj[j, CJ_EY] = ey
+        cj[j, CJ_DELTA] = delta
+        cj[j, CJ_DELTA_DOT] = ddot
+        cj[j, CJ_VT] = vt
+        cj[j, CJ_FN] = fn
+        cj[j, CJ_FT] = ft
+        cj[j, CJ_PHI_B] = phib
+        cj[j, CJ_PHI_J] = phij
+        cj[j, CJ_K] = kn
+
+
+@njit(cache=True)
+def _cholesky_solve(s, b, m):
+    """Solve S x = b in place (S symmetric positive definite, overwritten by its factor).
+
+    Returns False if S is not numerically positive definite (redundant or singular
+    constraints).
+    """
+    for j in range(m):
+        d = s[j, j]
+        for k in range(j):
+            d -= s[j, k] * s[j, k]
+        if not d > 1e-300:
+            return False
+        d = math.sqrt(d)
+        s[j, j] = d
+        for i in range(j + 1, m):
+            x = s[i, j]
+            for k in range(j):
+                x -= s[i, k] * s[j, k]
+            s[i, j] = x / d
+    for i in range(m):
+        x = b[i]
+        for k in range(i):
+            x -= s[i, k] * b[k]
+        b[i] = x / s[i, i]
+    for i in range(m - 1, -1, -1):
+        x = b[i]
+        for k in range(i + 1, m):
+            x -= s[k, i] * b[k]
+        b[i] = x / s[i, i]
+    return True
+
+
+@njit(cache=True)
+def _schur_arrays(phiq, minv, blk_lo, blk_hi, nzn, nzj, w, s):
+    m, n = phiq.shape
+    for k in range(m):
+        cnt = 0
+        for j in range(n):
+            if phiq[k, j] != 0.0:
+                nzj[k, cnt] = j
+                cnt += 1
+        nzn[k] = cnt
+    w[:, :] = 0.0
+    for k in range(m):
+        for e in range(nzn[k]):
+            j = nzj[k, e]
+            pj = phiq[k, j]
+            for i in range(blk_lo[j], blk_hi[j]):
+                w[i, k] += minv[i, j] * pj
+    for k in range(m):
+        for ll in range(k + 1):
+            acc = 0.0
+            for e in range(nzn[k]):
+                j = nzj[k, e]
+                acc += phiq[k, j] * w[j, ll]
+            s[k, ll] = acc
+            s[ll, k] = acc
+
+
+@njit(cache=True)
+def _schur(model, ws):
+    """W = M⁻¹Φqᵀ and S = Φq W from the current Φq, using each row's nonzero columns."""
+    _schur_arrays(ws.phiq, model.minv, model.blk_lo, model.blk_hi, ws.nz_n, ws.nz_j, ws.w, ws.s)
+
+
+@njit(cache=True)
+def accelerations(model, ws, t, q, v, vimp, acc, counters):
+    """Solve the equations of motion for q̈ (into ``acc``) and λ (into ``ws.lam``).
+
+    Returns a status code (0 success, 2 singular constraint Jacobian, 3 non-finite).
+    """
+    counters[CNT_FEV] += 1
+    # array-level calls: passing the model/workspace tuples costs more than the arithmetic
+    pci = ws.pci
+    pcf = ws.pcf
+    phi = ws.phi
+    phiq = ws.phiq
+    phit = ws.phit
+    gam = ws.gam
+    gen = ws.gen
+    update_points(q, v, model.pt_i, model.pt_f, pci, pcf)
+    phiq[:, :] = 0.0
+    constraint_rows(
+        t, model.con_i, model.con_f, model.drive_i, model.drive_f, model.spline_x,
+        model.spline_c, pci, pcf, phi, phiq, phit, gam,
+    )  # fmt: skip
+    # Q = gravity − elastic/damping forces of the ANCF beams + contact/friction
+    gen[:] = model.gravity_force
+    if model.beam_i.shape[0] > 0:
+        beams_force_add(model.beam_i, model.beam_f, q, v, -1.0, gen)
+    if model.cj_i.shape[0] > 0:
+        _clearance_forces(model, pci, pcf, vimp, gen, ws.cj, counters)
+    return _solve(
+        model.minv, model.blk_lo, model.blk_hi, model.alpha, model.beta, phi, phiq, phit, gam,
+        gen, v, ws.a0, ws.w, ws.s, ws.lam, ws.nz_n, ws.nz_j, acc,
+    )  # fmt: skip
+
+
+@njit(cache=True)
+def _solve(minv, blk_lo, blk_hi, alpha, beta, phi, phiq, phit, gam, gen, v, a0, w, s, lam,
+           nzn, nzj, acc):  # fmt: skip
+    n = a0.shape[0]
+    m = phi.shape[0]
+    for i in range(n):
+        x = 0.0
+        for j in range(blk_lo[i], blk_hi[i]):
+            x += minv[i, j] * gen[j]
+        a0[i] = x
+    if m == 0:
+        for i in range(n):
+            acc[i] = a0[i]
+        return STATUS_OK
+    _schur_arrays(phiq, minv, blk_lo, blk_hi, nzn, nzj, w, s)
+    two_alpha = 2.0 * alpha
+    beta2 = beta * beta
+    for k in range(m):
+        pv = phit[k]
+        pa = 0.0
+        for e in range(nzn[k]):
+            j = nzj[k, e]
+            pj = phiq[k, j]
+            pv += pj * v[j]
+            pa += pj * a0[j]
+        lam[k] = pa - (gam[k] - two_alpha * pv - beta2 * phi[k])
+    if not _cholesky_solve(s, lam, m):
+        return STATUS_SINGULAR
+    ok = True
+    for i in range(n):
+        x = a0[i]
+        for k in range(m):
+            x -= w[i, k] * lam[k]
+        acc[i] = x
+        if not math.isfinite(x):
+            ok = False
+    return STATUS_OK if ok else STATUS_NONFINITE
+
+
+@njit(cache=True)
+def rhs(model, ws, t, y, vimp, dydt, counters):
+    """First-order form y = [q; q̇], ẏ = [q̇; q̈]. Returns the status of :func:`accelerations`."""
+    n = model.n_dof
+    for i in range(n):
+        dydt[i] = y[n + i]
+    return accelerations(model, ws, t, y[:n], y[n:], vimp, dydt[n:], counters)
+
+
+@njit(cache=True)
+def _clearance_state(model, ws, y, j):
+    """(δ, δ̇, K) of clearance joint ``j`` at state ``y`` (point cache must be current);
+    δ and K from the local clearance and stiffness on a worn profile."""
+    rb = model.cj_f[j, CF_RB]
+    rj = model.cj_f[j, CF_RJ]
+    c0 = model.cj_f[j, CF_C]
+    res = clearance_kinematics(ws.pcf, model.cj_i[j, 0], model.cj_i[j, 1], rb, rj, c0)
+    c, kn = worn_contact(
+        model.cw_i, model.cw_f, model.cw_h, model.cw_k, j, rb, rj, c0, model.cj_f[j, CF_K],
+        res[7], res[8],
+    )  # fmt: skip
+    rate = worn_clearance_rate(
+        model.cw_i, model.cw_s, j, ws.pcf, model.cj_i[j, 0], model.cj_i[j, 1], res[0], res[1],
+        res[7], res[8],
+    )  # fmt: skip
+    return res[4] + c0 - c, res[5] - rate, kn
+
+
+@njit(cache=True)
+def update_latch(model, ws, y, vimp, contact, counters):
+    """Discrete contact state after an accepted step (the impact-velocity latch).
+
+    While a joint is separated (δ ≤ 0) its impact velocity tracks the approach speed δ̇
+    of the latest accepted state, floored at ``impact_velocity_floor``; when an accepted
+    state penetrates, the value is frozen until separation and a contact event is
+    counted. Separated states feel no contact force, so updating the latch never changes
+    the right-hand side at the current state.
+    """
+    if model.cj_i.shape[0] == 0:
+        return
+    n = model.n_dof
+    update_points(y[:n], y[n:], model.pt_i, model.pt_f, ws.pci, ws.pcf)
+    for j in range(model.cj_i.shape[0]):
+        delta, ddot, _ = _clearance_state(model, ws, y, j)
+        if delta > 0.0:
+            if contact[j] == 0:
+                contact[j] = 1
+                counters[CNT_CONTACT_EVENTS] += 1
+        else:
+            contact[j] = 0
+            floor = model.cj_f[j, CF_FLOOR]
+            vimp[j] = ddot if ddot > floor else floor
+
+
+@njit(cache=True)
+def entry_depth_ratio(model, ws, y, contact):
+    """Largest δ/c at state ``y`` over the clearance joints that were separated
+    (``contact`` = 0) at the last accepted state, or −inf; the implicit integrator rejects
+    steps that enter contact too deep."""
+    worst = -np.inf
+    if model.cj_i.shape[0] == 0:
+        return worst
+    n = model.n_dof
+    update_points(y[:n], y[n:], model.pt_i, model.pt_f, ws.pci, ws.pcf)
+    for j in range(model.cj_i.shape[0]):
+        if contact[j] != 0:
+            continue
+        delta, _, _ = _clearance_state(model, ws, y, j)
+        r = delta / model.cj_f[j, CF_C]
+        if r > worst:
+            worst = r
+    return worst
+
+
+@njit(cache=True)
+def project(model, ws, t, y, tol, max_iter):
+    """Project positions onto Φ(q, t) = 0 and velocities onto Φq q̇ + Φt = 0.
+
+    Minimum-mass-norm corrections Δq = −M⁻¹Φqᵀ(ΦqM⁻¹Φqᵀ)⁻¹Φ (Newton) and the same for
+    q̇; returns False when the constraint matrix is singular.
+    """
+    n = model.n_dof
+    m = model.n_rows
+    if m == 0:
+        return True
+    q = y[:n]
+    v = y[n:]
+    for _ in range(max_iter):
+        evaluate_constraints(model, ws, t, q, v)
+        err = 0.0
+        for k in range(m):
+            err = max(err, abs(ws.phi[k]))
+        if err < tol:
+            break
+        _schur(model, ws)
+        for k in range(m):
+            ws.lam[k] = ws.phi[k]
+        if not _cholesky_solve(ws.s, ws.lam, m):
+            return False
+        for i in range(n):
+            s = 0.0
+            for k in range(m):
+                s += ws.w[i, k] * ws.lam[k]
+            q[i] -= s
+    evaluate_constraints(model, ws, t, q, v)
+    _schur(model, ws)
+    for k in range(m):
+        s = ws.phit[k]
+        for j in range(n):
+            s += ws.phiq[k, j] * v[j]
+        ws.lam[k] = s
+    if not _cholesky_solve(ws.s, ws.lam, m):
+        return False
+    for i in range(n):
+        s = 0.0
+        for k in range(m):
+            s += ws.w[i, k] * ws.lam[k]
+        v[i] -= s
+    return True
+
+
+@njit(cache=True)
+def mechanical_energy(model, ws, y):
+    """Kinetic + gravity + contact potential + beam strain energy (J) of state ``y``.
+
+    T = ½ q̇ᵀMq̇, V_g = −Q_gᵀq (Q_g constant), V_c = Σ K δ^(n+1)/(n+1), and for flexible
+    bodies U = Σ ∫ ½EA ε² + ½EI κ² dx by the quadrature of their elastic forces
+    (:func:`~mechanism.core.bodies._ancf_kernels.beams_strain_energy`).
+    """
+    n = model.n_dof
+    q = y[:n]
+    v = y[n:]
+    kin = 0.0
+    for i in range(n):
+        s = 0.0
+        for j in range(model.blk_lo[i], model.blk_hi[i]):
+            s += model.mass[i, j] * v[j]
+        kin += 0.5 * v[i] * s
+    pot = 0.0
+    for i in range(n):
+        pot -= model.gravity_force[i] * q[i]
+    if model.cj_i.shape[0] > 0:
+        update_points(q, v, model.pt_i, model.pt_f, ws.pci, ws.pcf)
+        for j in range(model.cj_i.shape[0]):
+            delta, _, kn = _clearance_state(model, ws, y, j)
+            pot += contact_potential(kn, model.cj_f[j, CF_EXP], delta)
+    if model.beam_i.shape[0] > 0:
+        pot += beams_strain_energy(model.beam_i, model.beam_f, q)
+    return kin + pot
+
+
+# --------------------------------------------------------------------------- output series
+
+
+@njit(cache=True)
+def energy_series(model, ws, q, v, out):
+    """:func:`mechanical_energy` for every sample (J)."""
+    n = model.n_dof
+    y = np.empty(2 * n)
+    for i in range(q.shape[0]):
+        for j in range(n):
+            y[j] = q[i, j]
+            y[n + j] = v[i, j]
+        out[i] = mechanical_energy(model, ws, y)
+
+
+@njit(cache=True)
+def violation_series(model, ws, t, q, v, out):
+    """max_k |Φ_k(q, t)| for every sample (m for point rows, rad for angle rows)."""
+    for i in range(q.shape[0]):
+        evaluate_constraints(model, ws, t[i], q[i], v[i])
+        worst = 0.0
+        for k in range(model.n_rows):
+            worst = max(worst, abs(ws.phi[k]))
+        out[i] = worst
+
+
+@njit(cache=True)
+def derived_outputs(model, ws, q, v, a, out, jf):
+    """Output quantities of the state whose right-hand side was just evaluated.
+
+    Reads the point cache, λ, Φ and the clearance table left in ``ws`` by
+    :func:`accelerations` at (q, q̇) with accelerations ``a``, and writes ``out``
+    (crank angle, slider s, ṡ, s̈, mechanical energy, max|Φ|) and ``jf`` (reaction force
+    on ``bodies[1]`` of every ideal joint, N).
+    """
+    pci = ws.pci
+    pcf = ws.pcf
+    pa = model.out_i[0]
+    pb = model.out_i[1]
+    out[OUT_CRANK] = pcf[pb, PC_ANG] - pcf[pa, PC_ANG] if pa >= 0 else 0.0
+    ga = model.out_i[2]
+    gb = model.out_i[3]
+    if ga >= 0:
+        th = pcf[ga, PC_ANG]
+        w = pcf[ga, PC_RATE]
+        al = angle_acceleration(a, pci, pcf, ga)
+        c = math.cos(th)
+        sn = math.sin(th)
+        ux = model.out_f[0]
+        uy = model.out_f[1]
+        gx = c * ux - sn * uy
+        gy = sn * ux + c * uy
+        kx = -gy
+        ky = gx
+        aax, aay = point_acceleration(a, pci, pcf, ga)
+        abx, aby = point_acceleration(a, pci, pcf, gb)
+        dx = pcf[gb, PC_X] - pcf[ga, PC_X]
+        dy = pcf[gb, PC_Y] - pcf[ga, PC_Y]
+        ddx = pcf[gb, PC_VX] - pcf[ga, PC_VX]
+        ddy = pcf[gb, PC_VY] - pcf[ga, PC_VY]
+        # s = u·d, u = A(θ_a) ū: ṡ = u̇·d + u·ḋ, s̈ = ü·d + 2u̇·ḋ + u·d̈
+        out[OUT_S] = gx * dx + gy * dy
+        out[OUT_SD] = w * (kx * dx + ky * dy) + gx * ddx + gy * ddy
+        out[OUT_SDD] = (
+            al * (kx * dx + ky * dy)
+            - w * w * (gx * dx + gy * dy)
+            + 2.0 * w * (kx * ddx + ky * ddy)
+            + gx * (abx - aax)
+            + gy * (aby - aay)
+        )
+    else:
+        out[OUT_S] = 0.0
+        out[OUT_SD] = 0.0
+        out[OUT_SDD] = 0.0
+    n = model.n_dof
+    energy = 0.0
+    for i in range(n):
+        x = 0.0
+        for j in range(model.blk_lo[i], model.blk_hi[i]):
+            x += model.mass[i, j] * v[j]
+        energy += 0.5 * v[i] * x - model.gravity_force[i] * q[i]
+    for j in range(model.cj_i.shape[0]):
+        energy += contact_potential(ws.cj[j, CJ_K], model.cj_f[j, CF_EXP], ws.cj[j, CJ_DELTA])
+    if model.beam_i.shape[0] > 0:
+        energy += beams_strain_energy(model.beam_i, model.beam_f, q)
+    out[OUT_ENERGY] = energy
+    worst = 0.0
+    for k in range(model.n_rows):
+        worst = max(worst, abs(ws.phi[k]))
+    out[OUT_VIOLATION] = worst
+    for j in range(model.jt_i.shape[0]):
+        r = model.jt_i[j, 1]
+        if model.jt_i[j, 0] == JOINT_PIN:
+            jf[j, 0] = ws.lam[r]
+            jf[j, 1] = ws.lam[r + 1]
+        else:
+            # Φ = n·(r_b − r_a): the force on b is −n λ
+            th = pcf[model.jt_i[j, 2], PC_ANG]
+            c = math.cos(th)
+            sn = math.sin(th)
+            nx = c * model.jt_f[j, 0] - sn * model.jt_f[j, 1]
+            ny = sn * model.jt_f[j, 0] + c * model.jt_f[j, 1]
+            jf[j, 0] = -nx * ws.lam[r + 1]
+            jf[j, 1] = -ny * ws.lam[r + 1]

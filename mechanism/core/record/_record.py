@@ -1,0 +1,262 @@
+"""Raw integrator arrays → a trajectory :class:`xarray.Dataset` (the package's one
+labelled-data boundary).
+
+The Dataset follows the data contract (``docs/data-model.md``): a float64 ``time``
+coordinate in seconds, every variable with ``units`` and ``long_name``, the global
+attributes of :func:`chaoskit._contract.stamp`, the resolved scene as JSON in ``scene`` and
+the solver statistics as ``solver_*`` attributes (``ideal_solver_*`` for the ideal
+mechanism run alongside). Variables are listed in ``docs/simulator.md``.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+import xarray as xr
+
+from chaoskit._contract import stamp
+from chaoskit._version import __version__
+from mechanism.core.integrate import Integration, Recording
+from mechanism.core.model import _kernels as k
+from mechanism.core.model._assemble import Model, scene_to_json
+
+__all__ = ["to_dataset"]
+
+_AXES = ("x", "y", "theta")
+
+
+def _var(dims: tuple[str, ...], data: np.ndarray, units: str, long_name: str) -> xr.Variable:
+    return xr.Variable(dims, data, attrs={"units": units, "long_name": long_name})
+
+
+def _body_block(model: Model, values: np.ndarray) -> np.ndarray:
+    """(N, n_rigid, 3) slice of a (N, n) coordinate array for the rigid bodies."""
+    offsets = dict(zip(model.body_names, model.body_offsets, strict=True))
+    idx = np.array([[offsets[b] + j for j in range(3)] for b in model.rigid_bodies], dtype=int)
+    return values[:, idx] if idx.size else np.zeros((values.shape[0], 0, 3))
+
+
+def _common(model: Model, rec: Recording, suffix: str, label: str) -> dict[str, xr.Variable]:
+    out: dict[str, xr.Variable] = {}
+    if model.rigid_bodies:
+        out[f"position{suffix}"] = _var(
+            ("time", "body", "axis"),
+            _body_block(model, rec.q),
+            "m (x, y), rad (theta)",
+            f"centre-of-mass position and angle of each rigid body{label}",
+        )
+        out[f"velocity{suffix}"] = _var(
+            ("time", "body", "axis"),
+            _body_block(model, rec.v),
+            "m s-1 (x, y), rad s-1 (theta)",
+            f"centre-of-mass velocity and angular velocity of each rigid body{label}",
+        )
+    if model.slider is not None:
+        out[f"slider_position{suffix}"] = _var(
+            ("time",), rec.out[:, k.OUT_S], "m", f"slider position along its guide{label}"
+        )
+        out[f"slider_velocity{suffix}"] = _var(
+            ("time",), rec.out[:, k.OUT_SD], "m s-1", f"slider velocity along its guide{label}"
+        )
+        out[f"slider_acceleration{suffix}"] = _var(
+            ("time",),
+            rec.out[:, k.OUT_SDD],
+            "m s-2",
+            f"slider acceleration along its guide{label}",
+        )
+    if model.drive_row is not None:
+        out[f"driving_torque{suffix}"] = _var(
+            ("time",),
+            -rec.lam[:, model.drive_row],
+            "N m",
+            f"driving torque of the drive joint (T = -lambda_drive){label}",
+        )
+    return out
+
+
+def _beam_outputs(model: Model, rec: Recording) -> tuple[dict[str, xr.Variable], dict[str, Any]]:
+    """Axial strain along every ANCF beam, its signed extreme and the mid-span deflection.
+
+    Stations are the nodes and element mid-points (the accurate points of the
+    gradient-deficient element's axial strain, docs/ancf.md §6.7) as fractions s/L of
+    each rod's length; rods with different element counts share the stations of the
+    finest mesh.
+    """
+    names = tuple(model.beams)
+    offsets = dict(zip(model.body_names, model.body_offsets, strict=True))
+    n_el = max(lay.mesh.n_elements for lay in model.beams.values())
+    fraction = np.linspace(0.0, 1.0, 2 * n_el + 1)
+    strain = np.empty((rec.q.shape[0], len(names), fraction.size))
+    deflection = np.empty((rec.q.shape[0], len(names)))
+    arc = np.empty((len(names), fraction.size))
+    out: dict[str, xr.Variable] = {}
+    for b, name in enumerate(names):
+        mesh = model.beams[name].mesh
+        arc[b] = fraction * mesh.length
+        strain[:, b] = mesh.axial_strain_history(rec.q, arc[b], offset=offsets[name])
+        deflection[:, b] = mesh.midspan_deflection_history(rec.q, offset=offsets[name])
+        flat = strain[:, b].reshape(-1)
+        extreme = float(flat[np.argmax(np.abs(flat))]) if flat.size else float("nan")
+        out[f"strain_{name}"] = _var(
+            (),
+            np.array(1e6 * extreme),
+            "1e-6",
+            f"signed extreme axial strain of {name} over time and stations "
+            "(micro-strain, positive = tension)",
+        )
+    out["strain"] = _var(
+        ("time", "rod", "station"),
+        strain,
+        "1",
+        "axial strain along each flexible rod (|r,x| - 1 or the Green strain)",
+    )
+    out["midspan_deflection"] = _var(
+        ("time", "rod"),
+        deflection,
+        "m",
+        "distance of the rod's mid-point from the chord of its end nodes, positive to the left",
+    )
+    coords = {
+        "rod": ("rod", np.array(names, dtype=object)),
+        "station": (
+            "station",
+            fraction,
+            {"units": "1", "long_name": "arc length along the rod over its length (s/L)"},
+        ),
+        "arc_length": (
+            ("rod", "station"),
+            arc,
+            {"units": "m", "long_name": "unstressed arc length along the rod"},
+        ),
+    }
+    return out, coords
+
+
+def to_dataset(
+    model: Model,
+    run: Integration,
+    ideal_model: Model,
+    ideal_run: Integration,
+    *,
+    attrs: dict[str, Any] | None = None,
+) -> xr.Dataset:
+    """Build the trajectory Dataset of a simulation and its ideal-mechanism companion.
+
+    Both recordings must share the output grid (the shorter one sets the length).
+    """
+    rec = run.recording
+    irec = ideal_run.recording
+    n = min(rec.t.size, irec.t.size)
+    rec = rec.head(n)
+    irec = irec.head(n)
+    data: dict[str, xr.Variable] = {}
+    if model.crank_points is not None:
+        data["crank_angle"] = _var(
+            ("time",),
+            rec.out[:, k.OUT_CRANK],
+            "rad",
+            "crank angle (relative angle of the crank joint, unwrapped)",
+        )
+    data.update(_common(model, rec, "", ""))
+    data.update(_common(ideal_model, irec, "_ideal", " (ideal mechanism)"))
+    if "slider_position" in data and "slider_position_ideal" in data:
+        data["displacement_error"] = _var(
+            ("time",),
+            data["slider_position"].values - data["slider_position_ideal"].values,
+            "m",
+            "slider position minus that of the ideal mechanism",
+        )
+        data["speed_error"] = _var(
+            ("time",),
+            data["slider_velocity"].values - data["slider_velocity_ideal"].values,
+            "m s-1",
+            "slider velocity minus that of the ideal mechanism",
+        )
+    if model.ideal_joints:
+        fx = rec.jf[:, :, 0]
+        fy = rec.jf[:, :, 1]
+        dims = ("time", "ideal_joint")
+        data["joint_force"] = _var(
+            dims, np.hypot(fx, fy), "N", "magnitude of the reaction force of each ideal joint"
+        )
+        data["joint_force_x"] = _var(
+            dims, fx, "N", "reaction force on the joint's second body, x component"
+        )
+        data["joint_force_y"] = _var(
+            dims, fy, "N", "reaction force on the joint's second body, y component"
+        )
+    if model.clearance_joints:
+        cj = rec.cj
+        dims = ("time", "joint")
+        delta = cj[:, :, k.CJ_DELTA]
+        data["eccentricity_x"] = _var(
+            dims, cj[:, :, k.CJ_EX], "m", "journal centre minus bearing centre, x"
+        )
+        data["eccentricity_y"] = _var(
+            dims, cj[:, :, k.CJ_EY], "m", "journal centre minus bearing centre, y"
+        )
+        data["penetration"] = _var(
+            dims, np.maximum(delta, 0.0), "m", "penetration depth max(|e| - c, 0)"
+        )
+        data["contact_force"] = _var(dims, cj[:, :, k.CJ_FN], "N", "normal contact force")
+        data["friction_force"] = _var(
+            dims, cj[:, :, k.CJ_FT], "N", "friction force on the journal along the tangent"
+        )
+        data["contact_angle"] = _var(
+            dims, cj[:, :, k.CJ_PHI_B], "rad", "direction of the eccentricity in the bearing frame"
+        )
+        data["contact_angle_journal"] = _var(
+            dims, cj[:, :, k.CJ_PHI_J], "rad", "direction of the eccentricity in the journal frame"
+        )
+        data["penetration_velocity"] = _var(
+            dims, cj[:, :, k.CJ_DELTA_DOT], "m s-1", "rate of |e| - c (positive approaching)"
+        )
+        data["sliding_velocity"] = _var(
+            dims, cj[:, :, k.CJ_VT], "m s-1", "tangential velocity of the journal contact point"
+        )
+        data["in_contact"] = _var(
+            dims, (delta > 0.0).astype(np.int8), "1", "journal touches the bearing (1) or not (0)"
+        )
+    if model.beams:
+        strain_vars, strain_coords = _beam_outputs(model, rec)
+        data.update(strain_vars)
+    data["mechanical_energy"] = _var(
+        ("time",),
+        rec.out[:, k.OUT_ENERGY],
+        "J",
+        "kinetic + gravity + contact potential + beam strain energy",
+    )
+    data["constraint_violation"] = _var(
+        ("time",),
+        rec.out[:, k.OUT_VIOLATION],
+        "m",
+        "largest constraint residual |Phi| (angle rows in rad)",
+    )
+    coords: dict[str, Any] = {
+        "time": ("time", rec.t.astype(np.float64), {"units": "s", "long_name": "time"}),
+        "axis": ("axis", np.array(_AXES, dtype=object)),
+    }
+    coords["body"] = ("body", np.array(model.rigid_bodies, dtype=object))
+    if model.clearance_joints:
+        coords["joint"] = ("joint", np.array(model.clearance_joints, dtype=object))
+    if model.ideal_joints:
+        coords["ideal_joint"] = (
+            "ideal_joint",
+            np.array([j.name for j in model.ideal_joints], dtype=object),
+        )
+    if model.beams:
+        coords.update(strain_coords)
+    ds = xr.Dataset(data, coords=coords)
+    ds.attrs["scene"] = scene_to_json(model.scene)
+    ds.attrs["scene_name"] = model.scene.name
+    ds.attrs.update(run.stats.as_attrs("solver_"))
+    ds.attrs.update(ideal_run.stats.as_attrs("ideal_solver_"))
+    if attrs:
+        ds.attrs.update(attrs)
+    return stamp(
+        ds,
+        title=f"mechanism simulation of scene {model.scene.name!r}",
+        source=f"mechanism (chaoskit {__version__})",
+        history=f"mechanism.simulate({model.scene.name!r}, method={run.stats.method!r})",
+    )

@@ -1,0 +1,507 @@
+"""The scene data model: frozen dataclasses that a TOML scene is validated into.
+
+This module is the contract between scene loading (``_load.py``) and assembly
+(``mechanism/core/model/_assemble.py``). All quantities are SI (m, kg, s, rad, N, Pa); rpm appears
+only in :class:`ConstantSpeedDrive` as the user-facing ``speed_rpm``.
+
+The TOML keys are exactly the dataclass field names, so a TOML file, the JSON form
+(:meth:`Scene.to_json`) and the dotted keys of :meth:`Scene.replace` use the same names
+(full reference: ``docs/scenes.md``)::
+
+    name = "..."                     # Scene.name
+    description = "..."
+    gravity = [gx, gy]               # m s-2
+    [effects]                        # clearance, friction, gravity, flexibility, wear
+    [ground_points]                  # NAME = [x, y] on the frame ("ground"), m
+    [bodies.NAME]                    # type = "rigid" (default) or "ancf_beam", ...
+    [joints.NAME]                    # type = "revolute" | "prismatic" | "fixed"
+                                     #      | "clearance_revolute"
+    [joints.NAME.contact]            # clearance joints: normal force law
+    [joints.NAME.friction]           #                   tangential force law
+    [joints.NAME.wear]               #                   Archard wear settings
+    [drive]                          # type = "constant_speed" (default) or "angle_profile"
+    [solver]                         # method, rtol, atol, max_step, output_step, baumgarte_*
+    [outputs]                        # slider_joint, crank_joint
+
+e.g. ``joints.C.clearance``, ``joints.C.contact.law``, ``drive.speed_rpm``,
+``effects.clearance``. Field annotations carry the accepted range (``annotated_types``
+bounds, enforced by pydantic when a scene is loaded) and the unit (:class:`Unit`, used in
+error messages and the documentation). Constructing the dataclasses directly in Python
+does not validate; pass the result through :func:`mechanism.core.scene.validate_scene` to check it.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Annotated, Any, Literal
+
+from annotated_types import Ge, Gt, Le, Lt, MinLen
+from pydantic import (
+    AfterValidator,
+    ConfigDict,
+    Discriminator,
+    PlainValidator,
+    Strict,
+    Tag,
+    with_config,
+)
+
+if TYPE_CHECKING:
+    from collections.abc import Mapping
+    from pathlib import Path
+
+__all__ = [
+    "GROUND",
+    "AncfBeam",
+    "AngleProfileDrive",
+    "ClearanceRevolute",
+    "ConstantSpeedDrive",
+    "ContactLaw",
+    "Effects",
+    "FixedJoint",
+    "FrictionLaw",
+    "Material",
+    "Outputs",
+    "PrismaticJoint",
+    "RevoluteJoint",
+    "RigidBody",
+    "Scene",
+    "SolverSettings",
+    "WearSettings",
+]
+
+GROUND = "ground"
+
+
+@dataclass(frozen=True)
+class Unit:
+    """Annotation marker: the SI unit of a field ("1" = dimensionless, "" = mixed)."""
+
+    symbol: str
+
+
+# Strict scalars: a TOML string "0.5" or a boolean is not silently taken for a number.
+Real = Annotated[float, Strict()]
+Count = Annotated[int, Strict()]
+Flag = Annotated[bool, Strict()]
+Name = Annotated[str, Strict(), MinLen(1)]
+Vec2 = tuple[Real, Real]
+
+# Unknown keys are errors; TOML accepts inf/nan literals, a scene never does.
+_CONFIG = ConfigDict(extra="forbid", allow_inf_nan=False)
+
+
+def _nonzero(value: float) -> float:
+    if value == 0.0:
+        raise ValueError("must be nonzero (rpm; negative turns clockwise)")
+    return value
+
+
+STIFFNESS_FORMS = ("conformal", "sum-of-radii")
+
+
+def _stiffness(value: Any) -> str | float:
+    if isinstance(value, str) and value in STIFFNESS_FORMS:
+        return value
+    if (
+        isinstance(value, int | float)
+        and not isinstance(value, bool)
+        and math.isfinite(value)
+        and value > 0
+    ):
+        return float(value)
+    raise ValueError("must be 'conformal', 'sum-of-radii' or a number > 0 (N m^-n)")
+
+
+@with_config(_CONFIG)
+@dataclass(frozen=True, kw_only=True)
+class Effects:
+    """Which physical effects the simulation evaluates; an effect that is off costs nothing.
+
+    ``clearance=False`` turns every clearance joint into an ideal revolute joint.
+    ``flexibility=False`` turns every ANCF beam into an equivalent rigid body.
+    """
+
+    clearance: Flag = True
+    friction: Flag = True
+    gravity: Flag = True
+    flexibility: Flag = False
+    wear: Flag = False
+
+
+@with_config(_CONFIG)
+@dataclass(frozen=True, kw_only=True)
+class Material:
+    """Elastic constants of one part of a clearance joint."""
+
+    youngs_modulus: Annotated[Real, Gt(0), Unit("Pa")]
+    poisson_ratio: Annotated[Real, Ge(0), Lt(0.5), Unit("1")]
+
+
+@with_config(_CONFIG)
+@dataclass(frozen=True, kw_only=True)
+class RigidBody:
+    """A rigid body with its reference point at the centre of mass.
+
+    ``points`` are named points in body coordinates (m, relative to the centre of mass);
+    ``position`` and ``angle`` are the initial guess of the pose, refined by assembly.
+    """
+
+    type: Literal["rigid"] = "rigid"
+    mass: Annotated[Real, Gt(0), Unit("kg")]
+    inertia: Annotated[Real, Gt(0), Unit("kg m2")]  # about the centre of mass
+    position: Annotated[Vec2, Unit("m")] = (0.0, 0.0)
+    angle: Annotated[Real, Unit("rad")] = 0.0
+    points: Annotated[dict[str, Vec2], Unit("m")] = field(default_factory=dict)
+
+    @property
+    def point_names(self) -> tuple[str, ...]:
+        """Names a joint may refer to on this body."""
+        return tuple(self.points)
+
+
+@with_config(_CONFIG)
+@dataclass(frozen=True, kw_only=True)
+class AncfBeam:
+    """A 2-D gradient-deficient ANCF beam (issue 6) between two named end points.
+
+    The beam is straight and unstressed at t = 0 from ``start`` to ``end`` (global, m);
+    its points are ``"start"`` (node 1) and ``"end"`` (last node). ``length`` is the
+    unstressed length; ``|end − start|`` must agree with it to 0.1 % (assembly places the
+    nodes exactly). With ``effects.flexibility = False`` it is replaced by a rigid bar of
+    mass :attr:`total_mass` and centroidal inertia :attr:`centroidal_inertia`
+    (m L²/12 unless ``rigid_inertia`` overrides it).
+    """
+
+    type: Literal["ancf_beam"] = "ancf_beam"
+    length: Annotated[Real, Gt(0), Unit("m")]
+    elements: Annotated[Count, Ge(1), Unit("1")] = 16
+    area: Annotated[Real, Gt(0), Unit("m2")]
+    second_moment: Annotated[Real, Gt(0), Unit("m4")]
+    youngs_modulus: Annotated[Real, Gt(0), Unit("Pa")]
+    density: Annotated[Real, Gt(0), Unit("kg m-3")]
+    damping: Annotated[Real, Ge(0), Unit("s")] = 0.0  # stiffness-proportional
+    start: Annotated[Vec2, Unit("m")]  # initial global position of node 1
+    end: Annotated[Vec2, Unit("m")]  # initial global position of the last node
+    mass: Annotated[Real, Gt(0), Unit("kg")] | None = None  # default density*area*length
+    rigid_inertia: Annotated[Real, Gt(0), Unit("kg m2")] | None = None  # about the centroid
+    # formulation (docs/ancf.md §1): Biot strain + material curvature pass S4/S5; the
+    # paper's literal form is axial_strain = "green", curvature = "linear"
+    axial_strain: Literal["biot", "green"] = "biot"
+    curvature: Literal["material", "geometric", "linear"] = "material"
+    # elastic initial velocities (m/s) on sin(k pi s/L), k = 1, 2, ..., along the left
+    # normal of the chord, added to the rigid motion (Simeon's slider-crank, S6)
+    initial_sine_velocities: Annotated[tuple[Real, ...], Unit("m s-1")] = ()
+
+    @property
+    def point_names(self) -> tuple[str, ...]:
+        """Names a joint may refer to on this body."""
+        return ("start", "end")
+
+    @property
+    def total_mass(self) -> float:
+        """Mass in kg: ``mass`` if given, else ``density * area * length``."""
+        return self.mass if self.mass is not None else self.density * self.area * self.length
+
+    @property
+    def centroidal_inertia(self) -> float:
+        """Inertia of the rigid fallback about its centroid in kg m²: m L²/12 or the override."""
+        if self.rigid_inertia is not None:
+            return self.rigid_inertia
+        return self.total_mass * self.length**2 / 12.0
+
+
+@with_config(_CONFIG)
+@dataclass(frozen=True, kw_only=True)
+class RevoluteJoint:
+    """Ideal pin between ``points[0]`` of ``bodies[0]`` and ``points[1]`` of ``bodies[1]``."""
+
+    type: Literal["revolute"] = "revolute"
+    bodies: tuple[Name, Name]
+    points: tuple[Name, Name]
+
+
+@with_config(_CONFIG)
+@dataclass(frozen=True, kw_only=True)
+class PrismaticJoint:
+    """Ideal slide: ``bodies[1]``'s point moves along ``axis`` (unit, in ``bodies[0]``'s frame)
+    through ``bodies[0]``'s point, with no relative rotation."""
+
+    type: Literal["prismatic"] = "prismatic"
+    bodies: tuple[Name, Name]
+    points: tuple[Name, Name]
+    axis: Annotated[Vec2, Unit("1")] = (1.0, 0.0)
+
+
+@with_config(_CONFIG)
+@dataclass(frozen=True, kw_only=True)
+class FixedJoint:
+    """Welds two bodies at their current relative pose (3 constraints)."""
+
+    type: Literal["fixed"] = "fixed"
+    bodies: tuple[Name, Name]
+    points: tuple[Name, Name]
+
+
+@with_config(_CONFIG)
+@dataclass(frozen=True, kw_only=True)
+class ContactLaw:
+    """Normal contact force law of a clearance joint.
+
+    ``law``: ``"lankarani-nikravesh"`` (F = Kδⁿ[1 + 3(1−cₑ²)δ̇/(4δ̇⁻)]), ``"hertz"`` (no
+    damping), ``"flores"`` (Flores et al. 2011, D = 8(1−cₑ)/(5cₑ)·Kδⁿ/δ̇⁻), ``"hu-guo"``.
+    ``stiffness``: ``"conformal"`` (R* = R_b R_j/(R_b − R_j)), ``"sum-of-radii"``
+    (R* = R_b R_j/(R_b + R_j), the form the paper's tables imply) or a number in N m^-n.
+    ``impact_velocity_floor`` (m/s) bounds |δ̇⁻| from below for impacts at near-zero speed.
+    ``approach_speed``: the δ̇⁻ that divides the damping term. ``"latched"`` (default, until
+    the sample data are regenerated) is the textbook form, the approach speed latched at
+    contact entry. ``"bounded"`` (recommended after wear) uses
+    max(latched, δ̇/2) while compressing: a contact entered at a grazing speed and then
+    driven in fast (sustained sliding on a worn surface) is damped like an impact at its
+    current rate, so the force stays below (1 + 2χ̂)Kδⁿ instead of a multiple of the
+    elastic force; a free impact never has δ̇ above its approach speed, so its restitution
+    is unchanged (``docs/contact-and-wear.md`` §2).
+    """
+
+    law: Literal["lankarani-nikravesh", "hertz", "flores", "hu-guo"] = "lankarani-nikravesh"
+    stiffness: Annotated[
+        Literal["conformal", "sum-of-radii"] | float, PlainValidator(_stiffness), Unit("N m^-n")
+    ] = "conformal"
+    exponent: Annotated[Real, Ge(1), Le(3), Unit("1")] = 1.5
+    impact_velocity_floor: Annotated[Real, Gt(0), Unit("m s-1")] = 1e-3
+    approach_speed: Literal["latched", "bounded"] = "latched"
+
+
+@with_config(_CONFIG)
+@dataclass(frozen=True, kw_only=True)
+class FrictionLaw:
+    """Tangential force law: ``"none"``, ``"coulomb"`` (regularised, tanh over ``v0``) or
+    ``"ambrosio"`` (c_d ramps 0 → 1 between ``v0`` and ``v1``; needs ``v1 > v0``)."""
+
+    law: Literal["none", "coulomb", "ambrosio"] = "ambrosio"
+    coefficient: Annotated[Real, Ge(0), Unit("1")] = 0.1
+    v0: Annotated[Real, Gt(0), Unit("m s-1")] = 1e-4
+    v1: Annotated[Real, Gt(0), Unit("m s-1")] = 2e-4
+
+
+@with_config(_CONFIG)
+@dataclass(frozen=True, kw_only=True)
+class WearSettings:
+    """Archard wear of a clearance joint (issue 7).
+
+    A non-empty profile always shapes the contact (local clearance and stiffness); wear is
+    accumulated during a simulation only when ``effects.wear`` is on.
+
+    A profile is empty (unworn) or holds one depth per region, region n covering the
+    angles [n, n + 1)·2π/``regions`` of that part's own frame.
+    """
+
+    coefficient: Annotated[Real, Ge(0), Unit("m2 N-1")] = 1.827e-13  # Archard k, V = k F s
+    regions: Annotated[Count, Ge(3), Unit("1")] = 360
+    surfaces: Literal["bearing", "both"] = "both"
+    spread_over_contact_width: Flag = True
+    smoothing_regions: Annotated[Count, Ge(1), Unit("1")] = 5
+    bearing_profile: Annotated[tuple[Annotated[Real, Ge(0)], ...], Unit("m")] = ()
+    journal_profile: Annotated[tuple[Annotated[Real, Ge(0)], ...], Unit("m")] = ()
+    # bound of the worn local R* relative to the unworn one (flat or bulging worn patches)
+    radius_ratio_limit: Annotated[Real, Ge(1), Unit("1")] = 10.0
+
+
+@with_config(_CONFIG)
+@dataclass(frozen=True, kw_only=True)
+class ClearanceRevolute:
+    """Revolute joint with radial clearance: a journal (pin) inside a bearing (hole).
+
+    No kinematic constraint; the journal and bearing interact through contact and friction
+    forces. ``journal_radius = bearing_radius − clearance``.
+    """
+
+    type: Literal["clearance_revolute"] = "clearance_revolute"
+    bearing: tuple[Name, Name]  # (body, point)
+    journal: tuple[Name, Name]  # (body, point)
+    bearing_radius: Annotated[Real, Gt(0), Unit("m")]
+    clearance: Annotated[Real, Gt(0), Unit("m")]  # radial clearance, < bearing_radius
+    length: Annotated[Real, Gt(0), Unit("m")]  # axial contact length
+    bearing_material: Material
+    journal_material: Material
+    restitution: Annotated[Real, Gt(0), Le(1), Unit("1")] = 0.9
+    contact: ContactLaw = field(default_factory=ContactLaw)
+    friction: FrictionLaw = field(default_factory=FrictionLaw)
+    wear: WearSettings = field(default_factory=WearSettings)
+    # journal centre − bearing centre at t = 0, global frame; |.| <= clearance
+    initial_eccentricity: Annotated[Vec2, Unit("m")] = (0.0, 0.0)
+
+    @property
+    def journal_radius(self) -> float:
+        return self.bearing_radius - self.clearance
+
+
+@with_config(_CONFIG)
+@dataclass(frozen=True, kw_only=True)
+class ConstantSpeedDrive:
+    """Relative angle of a revolute ``joint`` (bodies[1] w.r.t. bodies[0]) driven at a
+    constant speed: θ_rel − θ₀ − ωt = 0."""
+
+    type: Literal["constant_speed"] = "constant_speed"
+    joint: Name
+    speed_rpm: Annotated[Real, AfterValidator(_nonzero), Unit("rpm")]
+    initial_angle: Annotated[Real, Unit("rad")] = 0.0
+
+    @property
+    def speed(self) -> float:
+        """Angular speed in rad/s."""
+        return self.speed_rpm * 2.0 * math.pi / 60.0
+
+    @property
+    def period(self) -> float:
+        """Duration of one revolution in s."""
+        return 2.0 * math.pi / abs(self.speed)
+
+
+@with_config(_CONFIG)
+@dataclass(frozen=True, kw_only=True)
+class AngleProfileDrive:
+    """Relative angle of ``joint`` prescribed by a periodic cubic spline through
+    (``time``, ``angle``) samples; ``period`` is the drive period used for outputs."""
+
+    type: Literal["angle_profile"] = "angle_profile"
+    joint: Name
+    time: Annotated[tuple[Real, ...], Unit("s")]  # strictly increasing, span <= period
+    angle: Annotated[tuple[Real, ...], Unit("rad")]  # one per time sample
+    period: Annotated[Real, Gt(0), Unit("s")]
+
+
+@with_config(_CONFIG)
+@dataclass(frozen=True, kw_only=True)
+class SolverSettings:
+    """Integrator settings; ``method`` names are those ``mechanism.simulate`` accepts
+    (``mechanism.core.integrate.METHODS``: ``"dopri5"``, the scipy ``solve_ivp`` methods, the
+    implicit ``"generalized-alpha"`` and ``"generalized-alpha-fixed"``).
+
+    The default ``"auto"`` is resolved once the scene is assembled: the fixed-step
+    generalized-α (step ``max_step``, else the output step) when the model has ANCF beams
+    (``effects.flexibility`` on), else ``"dopri5"`` (docs/ancf.md §8). Switching
+    flexibility off therefore gives the rigid model at rigid-model cost. ``rho_inf`` is
+    the spectral radius at infinite frequency of the generalized-α methods (their
+    numerical damping; ignored by the others).
+    """
+
+    method: Name = "auto"
+    rtol: Annotated[Real, Gt(0), Lt(1), Unit("1")] = 1e-5
+    atol: Annotated[Real, Gt(0), Unit("")] = 1e-5
+    max_step: Annotated[Real, Gt(0), Unit("s")] | None = None  # default output_step
+    output_step: Annotated[Real, Gt(0), Unit("s")] | None = None  # default period / 10000
+    baumgarte_alpha: Annotated[Real, Ge(0), Unit("s-1")] = 50.0
+    baumgarte_beta: Annotated[Real, Ge(0), Unit("s-1")] = 50.0
+    projection: Flag = False
+    rho_inf: Annotated[Real, Ge(0), Le(1), Unit("1")] = 0.8
+
+
+@with_config(_CONFIG)
+@dataclass(frozen=True, kw_only=True)
+class Outputs:
+    """Which joints define the slider and crank outputs (``slider_position``, ...)."""
+
+    slider_joint: Name | None = None  # a prismatic joint; its bodies[1] is the slider
+    crank_joint: Name | None = None  # a revolute joint; default: the drive joint
+
+
+def _body_tag(value: Any) -> str | None:
+    return _tag(value, "rigid")
+
+
+def _joint_tag(value: Any) -> str | None:
+    return _tag(value, None)
+
+
+def _drive_tag(value: Any) -> str | None:
+    return _tag(value, "constant_speed")
+
+
+def _tag(value: Any, default: str | None) -> str | None:
+    if isinstance(value, dict):
+        tag = value.get("type", default)
+        return tag if tag is None or isinstance(tag, str) else repr(tag)
+    return getattr(value, "type", None)
+
+
+Body = Annotated[
+    Annotated[RigidBody, Tag("rigid")] | Annotated[AncfBeam, Tag("ancf_beam")],
+    Discriminator(_body_tag),
+]
+Joint = Annotated[
+    Annotated[RevoluteJoint, Tag("revolute")]
+    | Annotated[PrismaticJoint, Tag("prismatic")]
+    | Annotated[FixedJoint, Tag("fixed")]
+    | Annotated[ClearanceRevolute, Tag("clearance_revolute")],
+    Discriminator(_joint_tag),
+]
+Drive = Annotated[
+    Annotated[ConstantSpeedDrive, Tag("constant_speed")]
+    | Annotated[AngleProfileDrive, Tag("angle_profile")],
+    Discriminator(_drive_tag),
+]
+
+
+@with_config(_CONFIG)
+@dataclass(frozen=True, kw_only=True)
+class Scene:
+    """A planar mechanism as data: bodies, joints, drive, effects and solver settings.
+
+    Load one with :func:`mechanism.load_scene` (built-in name or TOML path), change it with
+    :meth:`replace`, store it with :func:`mechanism.save_scene` or :meth:`to_json`.
+
+    Examples
+    --------
+    >>> import mechanism
+    >>> scene = mechanism.load_scene("slider-crank")
+    >>> faster = scene.replace({"drive.speed_rpm": 6000.0})
+    >>> faster.drive.speed_rpm, scene.drive.speed_rpm
+    (6000.0, 5000.0)
+    """
+
+    name: Name
+    description: Annotated[str, Strict()] = ""
+    effects: Effects = field(default_factory=Effects)
+    gravity: Annotated[Vec2, Unit("m s-2")] = (0.0, -9.81)
+    ground_points: Annotated[dict[str, Vec2], Unit("m")] = field(default_factory=dict)
+    bodies: dict[str, Body] = field(default_factory=dict)
+    joints: dict[str, Joint] = field(default_factory=dict)
+    drive: Drive | None = None
+    solver: SolverSettings = field(default_factory=SolverSettings)
+    outputs: Outputs = field(default_factory=Outputs)
+
+    def replace(self, changes: Mapping[str, Any]) -> Scene:
+        """A new validated scene with dotted keys replaced, e.g. ``{"joints.C.clearance": 2e-4}``.
+
+        A table value (a dict) replaces the whole table. Unknown keys raise
+        :class:`~mechanism.core.scene.SceneError` listing the valid keys at that level.
+        """
+        from ._load import replace_scene
+
+        return replace_scene(self, changes)
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain nested dicts and lists (unset optional fields as ``None``)."""
+        from ._load import scene_to_dict
+
+        return scene_to_dict(self)
+
+    def to_json(self) -> str:
+        """The resolved scene as JSON text (read back with ``scene_from_json``)."""
+        from ._load import scene_to_json
+
+        return scene_to_json(self)
+
+    def to_toml(self) -> str:
+        """The resolved scene as TOML text (what ``save_scene`` writes)."""
+        from ._load import scene_to_toml
+
+        return scene_to_toml(self)
+
+    def save(self, path: str | Path) -> None:
+        """Write the scene as TOML to ``path`` (same as ``mechanism.save_scene``)."""
+        from ._load import save_scene
+
+        save_scene(self, path)

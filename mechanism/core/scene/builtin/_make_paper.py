@@ -1,0 +1,306 @@
+"""Generate the built-in paper scenes (paper.toml, paper-gc.toml, paper-clearance-b.toml).
+
+The TOML files are the source of truth; this script only records how their coordinates
+were computed: the positions of the six-bar of Jia et al. (Lubricants 2025, 13(3), 130)
+at crank angle 0 from the link lengths, as in ``paper-model.md`` §1.6 (geometry G-a, and
+the alternative G-c). Run it from the repository root after changing a length::
+
+    python mechanism/core/scene/builtin/_make_paper.py
+
+Conventions (paper-model §1.6): O = (0, 0), C = (Hx, Hy); the rocker end B above the O–C
+line; D to the right of A→B (the far side of the crank pin); slider E on the vertical
+guide x = Hx, below D. Every rigid body starts at angle 0, so its body-frame point
+coordinates are the global offsets from its centre of mass at crank angle 0.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+
+# Paper table [S] (mm → m) and reconstruction defaults [I]/[A] of paper-model.md.
+L1 = 0.075  # crank O–A
+L21, L22, L23 = 0.55514, 0.985, 0.47366  # plate sides as printed
+L3 = 0.584  # rod 3 (rocker) C–B
+L4 = 0.450  # rod 4 (connecting rod) D–E
+HX, HY = 0.350, 0.060  # frame: rocker pivot C relative to O
+M1, M2, M3, M4, M5 = 0.738, 21.483, 4.708, 3.663, 0.922  # kg
+J1_ABOUT_O = 1.977e-3  # kg m2, printed 1.977e-9 "kg m3" (A5)
+J2 = 1.349  # kg m2 about the plate centroid (A5)
+J5 = 1.059e-3  # kg m2 (unused: the slider does not rotate)
+
+# §1.6 table (mm) for a sanity check of the construction, rounded to 0.01 mm
+TABLE = {
+    "G-a": {"B": (38.41, 553.93), "D": (362.99, -376.05), "E": (350.00, -825.87)},
+    "G-c": {"B": (38.41, 553.93), "D": (274.44, 964.60), "E": (350.00, 520.99)},
+}
+
+
+def _circles(p0, r0, p1, r1):
+    """Both intersections of the circles (p0, r0) and (p1, r1)."""
+    dx, dy = p1[0] - p0[0], p1[1] - p0[1]
+    d = math.hypot(dx, dy)
+    a = (r0 * r0 - r1 * r1 + d * d) / (2 * d)
+    h = math.sqrt(r0 * r0 - a * a)
+    mx, my = p0[0] + a * dx / d, p0[1] + a * dy / d
+    return (mx - h * dy / d, my + h * dx / d), (mx + h * dy / d, my - h * dx / d)
+
+
+def _cross(o, p, q):
+    return (p[0] - o[0]) * (q[1] - o[1]) - (p[1] - o[1]) * (q[0] - o[0])
+
+
+def geometry(variant: str) -> dict[str, tuple[float, float]]:
+    """Joint positions (m) at crank angle 0 for geometry "G-a" or "G-c"."""
+    ab, bd, ad = (L21, L22, L23) if variant == "G-a" else (L21, L23, L22)
+    o, a, c = (0.0, 0.0), (L1, 0.0), (HX, HY)
+    b = next(p for p in _circles(a, ab, c, L3) if _cross(o, c, p) > 0)
+    d = next(p for p in _circles(a, ad, b, bd) if _cross(a, b, p) < 0)
+    e = (HX, d[1] - math.sqrt(L4 * L4 - (HX - d[0]) ** 2))
+    points = {"O": o, "A": a, "B": b, "C": c, "D": d, "E": e}
+    for name, (x, y) in TABLE[variant].items():
+        px, py = points[name]
+        assert abs(px * 1e3 - x) < 0.006 and abs(py * 1e3 - y) < 0.006, (variant, name)
+    return points
+
+
+def _v(p) -> str:
+    return f"[{p[0]!r}, {p[1]!r}]"
+
+
+def _sub(p, q):
+    return (p[0] - q[0], p[1] - q[1])
+
+
+def scene_toml(*, name: str, variant: str, clearance_at: str, description: str) -> str:
+    pts = geometry(variant)
+    o, a, b, c, d, e = (pts[k] for k in "OABCDE")
+    crank_cm = (L1 / 2, 0.0)
+    j1 = round(J1_ABOUT_O - M1 * (L1 / 2) ** 2, 15)  # drop float noise: 9.391875e-4
+    plate_cm = ((a[0] + b[0] + d[0]) / 3, (a[1] + b[1] + d[1]) / 3)
+    guide = (HX, 0.0)
+
+    clearance_joint = f"""[joints.{clearance_at}]
+type = "clearance_revolute"
+{
+        'bearing = ["ground", "C"]      # the bearing is fixed in the frame (A2)'
+        if clearance_at == "C"
+        else 'bearing = ["plate", "B"]       # the bearing is in the plate (A2 alternative)'
+    }
+{
+        'journal = ["rod3", "start"]    # pin at the frame end of rod 3 (node 1)'
+        if clearance_at == "C"
+        else 'journal = ["rod3", "end"]      # pin at the plate end of rod 3 (last node)'
+    }
+bearing_radius = 0.015          # R1 = 15 mm [S]
+clearance = 0.0002              # c = 0.2 mm, the paper's default is not printed (A3)
+length = 0.011                  # axial contact length L = 11 mm [S]
+restitution = 0.9               # c_e [S]
+initial_eccentricity = [0.0, 0.0]  # journal concentric at t = 0 (§2.9)
+bearing_material = {{ youngs_modulus = 207.0e9, poisson_ratio = 0.3 }}  # E, nu [S]
+journal_material = {{ youngs_modulus = 207.0e9, poisson_ratio = 0.3 }}
+
+[joints.{clearance_at}.contact]
+law = "lankarani-nikravesh"     # [L]
+stiffness = "sum-of-radii"      # K = 1.31e10 N/m^1.5 reproduces the tables (A6)
+exponent = 1.5
+
+[joints.{clearance_at}.friction]
+law = "ambrosio"                # modified Coulomb, dynamic correction c_d [L]
+coefficient = 0.15              # c_f [S]
+v0 = 1.0e-4                     # (A10)
+v1 = 2.0e-4                     # (A10)
+
+[joints.{clearance_at}.wear]
+coefficient = 1.827e-13         # Archard k, m2/N (A11) [S]
+regions = 360                   # 1 degree per region (A9)
+surfaces = "both"               # bearing and journal wear (A9)
+spread_over_contact_width = true
+smoothing_regions = 5           # moving average before the curvature (§2.7)
+"""
+    ideal_joint = (
+        '[joints.C]\ntype = "revolute"\nbodies = ["ground", "rod3"]\npoints = ["C", "start"]\n'
+        if clearance_at == "B"
+        else '[joints.B]\ntype = "revolute"\nbodies = ["plate", "rod3"]\npoints = ["B", "end"]\n'
+    )
+    joints_bc = (
+        (ideal_joint, clearance_joint) if clearance_at == "C" else (clearance_joint, ideal_joint)
+    )
+    return f"""# Built-in scene "{name}": the six-bar press mechanism of Jia, Meng, Jiang, Kang,
+# "Wear Prediction and Chaos Identification of Rigid Flexible Coupling Multi-Link
+# Mechanisms with Clearance", Lubricants 2025, 13(3), 130, as reconstructed in
+# paper-model.md: geometry {variant} (§1.6), clearance at {clearance_at}.
+# Tags: [S] stated in the paper, [I] inferred, [A] assumed, (A#) paper-model §5 entry.
+# Coordinates are those of §1.6 at crank angle 0, computed by _make_paper.py; assembly
+# refines them. This file is the source of truth; docs/scenes.md explains every choice.
+
+name = "{name}"
+description = "{description}"
+gravity = [0.0, -9.81]          # along -y (A18)
+
+[effects]
+clearance = true
+friction = true
+gravity = true
+flexibility = true              # rods 3 and 4 flexible [S], 16 ANCF elements each [I];
+                                # false: rigid bars at rigid-model cost (docs/ancf.md §10)
+wear = false
+
+[ground_points]
+# O: crank pivot; C: rocker pivot at (Hx, Hy) [S] (§1.2); guide: a point of the vertical
+# slider guide x = Hx (A1)
+O = {_v(o)}
+C = {_v(c)}
+guide = {_v(guide)}
+
+[bodies.crank]                  # crank 1, L1 = 75 mm [S]
+type = "rigid"
+# CoM at mid-length [A]; inertia = 1.977e-3 kg m2 about O minus m (L1/2)^2 (A5)
+mass = {M1!r}
+inertia = {j1!r}
+position = {_v(crank_cm)}
+angle = 0.0
+points = {{ O = {_v(_sub(o, crank_cm))}, A = {_v(_sub(a, crank_cm))} }}
+
+[bodies.plate]                  # triangle plate 2 [S]
+# CoM at the centroid of A, B, D [A]; printed inertia 1348.94e-9 "kg m3" read as
+# 1.349 kg m2 about the centroid (A5)
+type = "rigid"
+mass = {M2!r}
+inertia = {J2!r}
+position = {_v(plate_cm)}
+angle = 0.0
+
+[bodies.plate.points]
+A = {_v(_sub(a, plate_cm))}
+B = {_v(_sub(b, plate_cm))}
+D = {_v(_sub(d, plate_cm))}
+
+[bodies.rod3]                   # rod 3, the rocker C-B, flexible in the paper [S/I]
+type = "ancf_beam"
+length = {L3!r}
+elements = 16                   # [I] (convergence table)
+area = 1.0e-3                   # 0.05 x 0.02 m [S]
+second_moment = 3.33e-8         # [S]
+youngs_modulus = 207.0e9        # as the joint steel [A]
+density = 7800.0                # printed 780 (A4); switch: docs/scenes.md
+mass = {M3!r}                   # [S]; the rigid fallback uses m L^2/12 about the centre
+# node 1 at C, last node at B
+start = {_v(c)}
+end = {_v(b)}
+
+[bodies.rod4]                   # rod 4, the connecting rod D-E, flexible in the paper [S/I]
+type = "ancf_beam"
+length = {L4!r}
+elements = 16
+area = 1.0e-3
+second_moment = 3.33e-8
+youngs_modulus = 207.0e9
+density = 7800.0
+mass = {M4!r}
+# node 1 at D, last node at E
+start = {_v(d)}
+end = {_v(e)}
+
+[bodies.slider]                 # slider 5 [S]
+type = "rigid"
+mass = {M5!r}
+inertia = {J5!r}                # printed 1.059e-9 "kg m3", read as kg m2 (A5); no rotation
+position = {_v(e)}
+angle = 0.0
+points = {{ E = [0.0, 0.0] }}
+
+[joints.O]
+type = "revolute"
+bodies = ["ground", "crank"]
+points = ["O", "O"]
+
+[joints.A]
+type = "revolute"
+bodies = ["crank", "plate"]
+points = ["A", "A"]
+
+{joints_bc[0]}
+{joints_bc[1]}
+[joints.D]
+type = "revolute"
+bodies = ["plate", "rod4"]
+points = ["D", "start"]
+
+[joints.E]
+type = "revolute"
+bodies = ["rod4", "slider"]
+points = ["end", "E"]
+
+[joints.P]                      # ideal prismatic guide, vertical through C (A1)
+type = "prismatic"
+bodies = ["ground", "slider"]
+points = ["guide", "E"]
+axis = [0.0, 1.0]
+
+[drive]                         # crank at constant speed, counter-clockwise from 0 (§1.5)
+type = "constant_speed"
+joint = "O"
+speed_rpm = 150.0               # [S]; 30 and 90 rpm in the speed study
+initial_angle = 0.0
+
+# output_step unset: (2 pi/omega)/10000 [S], follows drive.speed_rpm; max_step unset:
+# the output step (§2.9). method "auto": with flexible rods the fixed-step generalized-
+# alpha at max_step (the axial modes stall error-controlled methods, docs/ancf.md §8) [A];
+# with rigid rods Dormand-Prince "dopri5", as the paper's MATLAB ode45 (§2.9) [S]
+[solver]
+method = "auto"
+rtol = 1.0e-5                   # [S] (A17)
+atol = 1.0e-5
+baumgarte_alpha = 50.0          # [S]
+baumgarte_beta = 50.0           # [S]
+projection = false
+rho_inf = 0.5                   # [A] generalized-alpha damping: at 0.8 the friction ramp on
+                                # the ANCF journal chatters (374 sign flips per revolution,
+                                # 93 at 0.5), docs/ancf.md §8; rigid rods: unused
+
+[outputs]
+slider_joint = "P"
+crank_joint = "O"
+"""
+
+
+SCENES = {
+    "paper": dict(
+        variant="G-a",
+        clearance_at="C",
+        description=(
+            "Jia et al. 2025 six-bar press (paper-model G-a), dry clearance at C, "
+            "rods 3 and 4 as 16-element ANCF beams (rigid bars with effects.flexibility "
+            "= false), 150 rpm"
+        ),
+    ),
+    "paper-gc": dict(
+        variant="G-c",
+        clearance_at="C",
+        description=(
+            "The paper six-bar with the alternative plate reading G-c "
+            "(AD = 985, BD = 473.66 mm), clearance at C"
+        ),
+    ),
+    "paper-clearance-b": dict(
+        variant="G-a",
+        clearance_at="B",
+        description=(
+            "The paper six-bar (G-a) with the clearance at B (bearing in the plate) instead of C"
+        ),
+    ),
+}
+
+
+def main() -> None:
+    for name, kwargs in SCENES.items():
+        path = HERE / f"{name}.toml"
+        path.write_text(scene_toml(name=name, **kwargs), encoding="utf-8")
+        print(f"wrote {path}")
+
+
+if __name__ == "__main__":
+    main()

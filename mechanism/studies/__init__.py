@@ -1,0 +1,42 @@
+"""Studies built on the simulator core: sweeps and their store, wear prediction, element
+convergence and the paper study. Everything here uses :mod:`mechanism.core`'s public names.
+"""
+
+from __future__ import annotations
+
+from ._convergence import ElementConvergence, element_convergence
+from ._paper import PaperStudy, StudySettings, paper_tables, run_paper_study
+from ._sweep import (
+    Analysis,
+    GridTransform,
+    SweepStoreMismatch,
+    chaos_map,
+    grid_transforms,
+    load_sweep,
+    register_grid_transform,
+    stroboscopic_points,
+    sweep,
+)
+from ._wear_prediction import Comparison, WearPrediction, compare, predict_wear
+
+__all__ = [
+    "Analysis",
+    "Comparison",
+    "ElementConvergence",
+    "GridTransform",
+    "PaperStudy",
+    "StudySettings",
+    "SweepStoreMismatch",
+    "WearPrediction",
+    "chaos_map",
+    "compare",
+    "element_convergence",
+    "grid_transforms",
+    "load_sweep",
+    "paper_tables",
+    "predict_wear",
+    "register_grid_transform",
+    "run_paper_study",
+    "stroboscopic_points",
+    "sweep",
+]
