@@ -479,6 +479,16 @@ def _atomic_write(path: Path, writer: Any, *, nbytes: int | None = None) -> None
         raise
 
 
+def _local_scheduler() -> contextlib.AbstractContextManager[Any]:
+    """Inside a dask worker, xarray would guard an in-memory write with a distributed lock
+    named after the buffer, which the scheduler does not know; compute locally instead."""
+    try:
+        import dask
+    except ImportError:  # pragma: no cover - dask is a dependency
+        return contextlib.nullcontext()
+    return dask.config.set(scheduler="synchronous")
+
+
 def write_netcdf(ds: xr.Dataset, path: str | os.PathLike[str]) -> Path:
     """Write any Dataset as netCDF-4 (h5netcdf) atomically, after checking the free space.
 
@@ -487,7 +497,8 @@ def write_netcdf(ds: xr.Dataset, path: str | os.PathLike[str]) -> Path:
     """
     path = Path(path)
     if ds.nbytes <= IN_MEMORY_LIMIT:
-        data = bytes(ds.to_netcdf(engine="h5netcdf", invalid_netcdf=False))
+        with _local_scheduler():
+            data = bytes(ds.to_netcdf(engine="h5netcdf", invalid_netcdf=False))
         _atomic_write(path, lambda p: p.write_bytes(data), nbytes=len(data))
     else:
         _atomic_write(

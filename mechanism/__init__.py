@@ -79,6 +79,7 @@ _flexibility: list[str] = [
 from ._sweep import (  # noqa: E402
     Analysis,
     GridTransform,
+    SweepStoreBusy,
     SweepStoreMismatch,
     chaos_map,
     grid_transforms,
@@ -91,6 +92,7 @@ from ._sweep import (  # noqa: E402
 _sweeps: list[str] = [
     "Analysis",
     "GridTransform",
+    "SweepStoreBusy",
     "SweepStoreMismatch",
     "chaos_map",
     "grid_transforms",
