@@ -10,6 +10,7 @@ from . import systems
 from ._contract import sampling_interval, validate_trajectory
 from ._io import load_trajectory, save_trajectory
 from ._samples import sample_path
+from ._selection import select_series
 from ._version import __version__
 
 _foundation = [
@@ -18,6 +19,7 @@ _foundation = [
     "sample_path",
     "sampling_interval",
     "save_trajectory",
+    "select_series",
     "systems",
     "validate_trajectory",
 ]

@@ -14,8 +14,11 @@ npz (``.npz``)
 
 from __future__ import annotations
 
+import contextlib
+import errno
 import json
 import os
+import shutil
 import uuid
 import zipfile
 from collections.abc import Sequence
@@ -431,15 +434,79 @@ def _check_attr_values(ds: xr.Dataset) -> None:
                 )
 
 
-def _atomic_write(path: Path, writer: Any) -> None:
+#: Files up to this size are serialised in memory and written with plain file I/O: HDF5
+#: never touches a disk that may fill up (after ENOSPC, h5netcdf's flush can crash Python).
+IN_MEMORY_LIMIT = 512 * 2**20
+#: Free space required beyond the estimated size of a file (fraction, then bytes).
+SPACE_MARGIN = (0.05, 2**20)
+
+
+def check_free_space(folder: Path, nbytes: int) -> None:
+    """Raise ``OSError(ENOSPC)`` with a one-line message if ``folder`` lacks ``nbytes`` free.
+
+    The check keeps a margin (5 % and 1 MiB) for metadata and for the temporary file of an
+    atomic write, which exists beside the old file until the rename.
+    """
+    folder = Path(folder)
+    while not folder.exists() and folder != folder.parent:
+        folder = folder.parent
+    free = shutil.disk_usage(folder).free
+    need = int(nbytes * (1.0 + SPACE_MARGIN[0])) + SPACE_MARGIN[1]
+    if need > free:
+        raise OSError(
+            errno.ENOSPC,
+            f"not enough free space in {folder} to write {nbytes / 1e6:.1f} MB "
+            f"({free / 1e6:.1f} MB free)",
+        )
+
+
+def _atomic_write(path: Path, writer: Any, *, nbytes: int | None = None) -> None:
+    """Write through ``writer(tmp)`` to a temporary file beside ``path``, then rename.
+
+    With ``nbytes`` (the expected size), the free space is checked first. On any error the
+    temporary file is removed and an old ``path`` stays as it was.
+    """
     path.parent.mkdir(parents=True, exist_ok=True)
+    if nbytes is not None:
+        check_free_space(path.parent, nbytes)
     tmp = path.parent / f".{path.name}.{uuid.uuid4().hex[:12]}.tmp"
     try:
         writer(Path(tmp))
         os.replace(tmp, path)
     except BaseException:
-        Path(tmp).unlink(missing_ok=True)
+        with contextlib.suppress(OSError):
+            Path(tmp).unlink(missing_ok=True)
         raise
+
+
+def _local_scheduler() -> contextlib.AbstractContextManager[Any]:
+    """Inside a dask worker, xarray would guard an in-memory write with a distributed lock
+    named after the buffer, which the scheduler does not know; compute locally instead."""
+    try:
+        import dask
+    except ImportError:  # pragma: no cover - dask is a dependency
+        return contextlib.nullcontext()
+    return dask.config.set(scheduler="synchronous")
+
+
+def write_netcdf(ds: xr.Dataset, path: str | os.PathLike[str]) -> Path:
+    """Write any Dataset as netCDF-4 (h5netcdf) atomically, after checking the free space.
+
+    Up to :data:`IN_MEMORY_LIMIT` bytes the file is built in memory and written with plain
+    file I/O, so a full disk raises ``OSError(ENOSPC)`` instead of failing inside HDF5.
+    """
+    path = Path(path)
+    if ds.nbytes <= IN_MEMORY_LIMIT:
+        with _local_scheduler():
+            data = bytes(ds.to_netcdf(engine="h5netcdf", invalid_netcdf=False))
+        _atomic_write(path, lambda p: p.write_bytes(data), nbytes=len(data))
+    else:
+        _atomic_write(
+            path,
+            lambda p: ds.to_netcdf(p, engine="h5netcdf", invalid_netcdf=False),
+            nbytes=int(ds.nbytes),
+        )
+    return path
 
 
 def save_trajectory(ds: xr.Dataset, path: str | os.PathLike[str]) -> Path:
@@ -465,8 +532,7 @@ def save_trajectory(ds: xr.Dataset, path: str | os.PathLike[str]) -> Path:
     ds = validate_trajectory(ds.copy(), fill_attrs=True)
     _check_attr_values(ds)
     if fmt == "netcdf":
-        _atomic_write(path, lambda p: ds.to_netcdf(p, engine="h5netcdf", invalid_netcdf=False))
-        return path
+        return write_netcdf(ds, path)
     index = "time" if "time" in ds.coords else "step"
     multi = [k for k, v in ds.data_vars.items() if v.dims != (index,)]
     if multi:
@@ -483,7 +549,7 @@ def save_trajectory(ds: xr.Dataset, path: str | os.PathLike[str]) -> Path:
                 fh.write(_ATTRS_LINE + payload + "\n")
                 frame.to_csv(fh, index=False, float_format="%.17g")
 
-        _atomic_write(path, write_csv)
+        _atomic_write(path, write_csv, nbytes=int(ds.nbytes) * 3)  # ~25 characters a value
     else:
         arrays = {str(k): np.asarray(v.values) for k, v in ds.variables.items()}
         arrays[_NPZ_ATTRS] = np.asarray(payload)
@@ -492,7 +558,7 @@ def save_trajectory(ds: xr.Dataset, path: str | os.PathLike[str]) -> Path:
             with p.open("wb") as fh:
                 np.savez(fh, **arrays)  # type: ignore[arg-type]
 
-        _atomic_write(path, write_npz)
+        _atomic_write(path, write_npz, nbytes=int(ds.nbytes))
     return path
 
 

@@ -113,6 +113,7 @@ def _write_figures(ds: Any, verdicts: dict[str, Any], directory: Path) -> list[P
     from . import plot
     from ._paths import unique_filename
     from ._portraits import phase_portrait
+    from ._selection import select_series, variable_spec
 
     directory.mkdir(parents=True, exist_ok=True)
     written: list[Path] = []
@@ -122,7 +123,8 @@ def _write_figures(ds: Any, verdicts: dict[str, Any], directory: Path) -> list[P
         figures: list[tuple[str, Any]] = []
         if "time" in ds.coords:
             try:
-                portrait = phase_portrait(ds[[name]], variable=name)
+                series = select_series(ds, variable_spec(ds, name)).to_dataset(name=name)
+                portrait = phase_portrait(series, variable=name)
                 figures.append(
                     ("phase_portrait", lambda ax, p=portrait: plot.phase_portrait(p, ax=ax))
                 )
@@ -211,7 +213,10 @@ def _run_analysis(
 def analyze(
     path: Path = typer.Argument(..., help="Trajectory file (netCDF, CSV or npz)."),
     var: list[str] = typer.Option(
-        None, "--var", help="Variable to analyse (repeat for several; default: all)."
+        None,
+        "--var",
+        help="Variable to analyse: NAME or NAME[DIM=VALUE] (repeat; default: all). A variable "
+        "with extra dimensions is analysed once per label, e.g. eccentricity_x[joint=C].",
     ),
     figures: Path | None = typer.Option(
         None, "--figures", help="Folder for the figures (PNG), one set per variable."

@@ -81,6 +81,7 @@ _flexibility: list[str] = [
 from .studies import (  # noqa: E402
     Analysis,
     GridTransform,
+    SweepStoreBusy,
     SweepStoreMismatch,
     chaos_map,
     grid_transforms,
@@ -93,6 +94,7 @@ from .studies import (  # noqa: E402
 _sweeps: list[str] = [
     "Analysis",
     "GridTransform",
+    "SweepStoreBusy",
     "SweepStoreMismatch",
     "chaos_map",
     "grid_transforms",

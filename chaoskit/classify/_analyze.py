@@ -16,6 +16,7 @@ import xarray as xr
 from .._contract import stamp
 from .._io import load_trajectory
 from .._progress import finish_item, stage_bar
+from .._selection import expand_variables, select_series, variable_spec
 from ._rng import as_generator
 from ._verdict import LABELS, Verdict, VerdictRule, classify
 
@@ -95,24 +96,21 @@ def classify_variables(
 
     A variable whose analysis raises a ``ValueError`` gets an ``"undetermined"`` verdict whose
     reason and ``errors`` hold the message; the others are still analysed. Parameters as in
-    :func:`analyze`.
+    :func:`analyze`; the verdicts are keyed by selection (``"eccentricity_x[joint=C]"`` for
+    one joint of a multi-dimensional variable).
     """
     ds = load_trajectory(data)
     index = "time" if "time" in ds.coords else "step"
-    if variables is None:
-        variables = [
-            str(k) for k, v in ds.data_vars.items() if v.dims == (index,) and k != phase_variable
-        ]
-    elif isinstance(variables, str):
-        variables = [variables]
-    variables = list(variables)
-    if not variables:
+    phase = None if phase_variable is None else variable_spec(ds, phase_variable)
+    exclude = [] if phase is None else [phase.name]
+    specs = expand_variables(ds, variables, exclude=exclude)
+    if not specs:
         raise ValueError("no variable to analyse.")
-    missing = [v for v in variables if v not in ds.data_vars]
-    if phase_variable is not None and phase_variable not in ds.data_vars:
-        missing.append(phase_variable)
-    if missing:
-        raise ValueError(f"variables {missing} not found; available: {list(ds.data_vars)}.")
+    columns = {spec.alias: select_series(ds, spec) for spec in specs}
+    if phase is not None and phase_variable is not None:
+        columns[phase_variable] = select_series(ds, phase).rename(phase_variable)
+    ds = xr.Dataset(columns, attrs=ds.attrs)
+    variables = list(dict.fromkeys(spec.alias for spec in specs))
     streams = as_generator(rng).spawn(len(variables))
     with contextlib.ExitStack() as stack:
         bar = stack.enter_context(stage_bar(len(variables), desc="analyze")) if progress else None
@@ -190,8 +188,10 @@ def analyze(
     data
         A trajectory (anything :func:`chaoskit.load_trajectory` accepts).
     variables
-        Names to analyse (default: every 1-D variable along ``time``/``step``, except
-        ``phase_variable``).
+        Variables to analyse, each ``NAME`` or ``NAME[DIM=VALUE,...]`` (default: every
+        variable along ``time``/``step`` except ``phase_variable``). A variable with extra
+        dimensions (e.g. ``eccentricity_x`` per ``joint``) is analysed once per label of
+        each dimension not selected, as ``eccentricity_x[joint=B]``, ... .
     drive_period, phase_variable, n_surrogates, rule
         Passed to :func:`chaoskit.classify`.
     rng

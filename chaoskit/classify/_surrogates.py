@@ -331,6 +331,11 @@ def surrogate_test(
     exponent = extreme_peak_exponent(x)
     x = np.ldexp(x, -exponent)
     x = x[match_ends(x)]
+    if x.max() == x.min():  # e.g. a lone spike trimmed away with the ends
+        raise ValueError(
+            "x is constant over the end-matched window of the surrogate test; there is "
+            "nothing to predict."
+        )
     options = {
         "embedding_dim": embedding_dim,
         "lag": lag,

@@ -16,7 +16,6 @@ import json
 import math
 import os
 import platform
-import re
 import shlex
 import sys
 from collections.abc import Callable, Mapping, Sequence
@@ -31,6 +30,7 @@ import xarray as xr
 
 from .._io import _atomic_write, load_trajectory
 from .._portraits import DERIVATIVE_NAMES, phase_portrait
+from .._selection import VariableSpec, parse_variable, select_series
 from .._version import __version__
 from ..classify import classify_variables, verdict_table
 from ..classify._rng import as_generator
@@ -77,157 +77,6 @@ CHAOS_COLUMNS = (
 )
 _VOTES = ("section", "rosenstein", "wolf", "zero_one", "surrogates")
 _PACKAGES = ("numpy", "scipy", "numba", "xarray", "pandas", "matplotlib", "jinja2", "h5netcdf")
-
-
-# ----------------------------------------------------------------- variable selection
-
-
-@dataclass(frozen=True, kw_only=True)
-class VariableSpec:
-    """A variable of a trajectory, with selections along its extra dimensions.
-
-    ``alias`` names the series in the report; ``name`` is the variable in the trajectory;
-    ``selectors`` pick one element along each extra dimension (e.g. ``{"joint": "C"}``).
-    """
-
-    alias: str
-    name: str
-    selectors: Mapping[str, str] = field(default_factory=dict)
-
-    @property
-    def spec(self) -> str:
-        """The spec string without alias, e.g. ``eccentricity_x[joint=C]``."""
-        if not self.selectors:
-            return self.name
-        inner = ",".join(f"{k}={v}" for k, v in self.selectors.items())
-        return f"{self.name}[{inner}]"
-
-
-_SPEC = re.compile(
-    r"^\s*(?:(?P<alias>[^=\[\]]+?)\s*=\s*)?(?P<name>[^=\[\]]+?)\s*(?:\[(?P<sel>[^\[\]]*)\])?\s*$"
-)
-
-
-def parse_variable(spec: str, *, alias: str | None = None) -> VariableSpec:
-    """Parse ``"[ALIAS=]NAME[DIM=VALUE,...]"``, e.g. ``"X=eccentricity_x[joint=C]"``.
-
-    Examples
-    --------
-    >>> parse_variable("X=eccentricity_x[joint=C]")
-    VariableSpec(alias='X', name='eccentricity_x', selectors={'joint': 'C'})
-    """
-    if not isinstance(spec, str):
-        raise ValueError(f"a variable spec must be a string; got {type(spec).__name__}.")
-    match = _SPEC.match(spec)
-    if match is None:
-        raise ValueError(
-            f"cannot read the variable spec {spec!r}; write NAME, NAME[DIM=VALUE,...] or "
-            "ALIAS=NAME[DIM=VALUE,...] (e.g. 'X=eccentricity_x[joint=C]')."
-        )
-    selectors: dict[str, str] = {}
-    if match["sel"] is not None:
-        for part in match["sel"].split(","):
-            if not part.strip():
-                continue
-            key, eq, value = part.partition("=")
-            if not eq or not key.strip() or not value.strip():
-                raise ValueError(
-                    f"selection {part.strip()!r} in {spec!r} must read DIM=VALUE (e.g. joint=C)."
-                )
-            selectors[key.strip()] = value.strip()
-    name = match["name"].strip()
-    given = alias if alias is not None else match["alias"]
-    if given is None:
-        given = (
-            spec.strip()
-            if not selectors
-            else VariableSpec(name=name, alias="", selectors=selectors).spec
-        )
-    return VariableSpec(alias=str(given).strip(), name=name, selectors=selectors)
-
-
-def _coord_value(coord: xr.DataArray, value: Any, *, dim: str, variable: str) -> Any:
-    values = coord.values
-    if isinstance(value, str) and values.dtype.kind in "fiu":
-        try:
-            value = float(value)
-        except ValueError:
-            raise ValueError(
-                f"{dim}={value!r} for {variable!r}: {dim} is numeric; choose one of "
-                f"{values.tolist()}."
-            ) from None
-    if values.dtype.kind in "fiu":
-        hits = np.flatnonzero(
-            np.isclose(values.astype(np.float64), float(value), rtol=1e-9, atol=0.0)
-        )
-    else:
-        hits = np.flatnonzero(np.array([str(v) == str(value) for v in values]))
-    if hits.size != 1:
-        raise ValueError(
-            f"{dim}={value!r} not found for {variable!r}; {dim} has {values.tolist()}."
-        )
-    return int(hits[0])
-
-
-def select_series(
-    ds: xr.Dataset,
-    spec: VariableSpec | str,
-    *,
-    sel: Mapping[str, Any] | None = None,
-) -> xr.DataArray:
-    """One 1-D series along ``time``/``step`` picked from a possibly multi-dimensional variable.
-
-    The spec's own selectors are applied first, then ``sel`` along the dimensions the
-    variable has (the spec wins where both name a dimension); remaining extra dimensions of
-    length 1 are squeezed. Attributes are kept; ``long_name`` says what was selected.
-
-    Raises
-    ------
-    ValueError
-        If the variable is missing, a selected value does not exist, or extra dimensions
-        longer than 1 remain (the message lists them and their values).
-    """
-    spec = parse_variable(spec) if isinstance(spec, str) else spec
-    index = "time" if "time" in ds.coords else "step"
-    if spec.name not in ds.data_vars:
-        raise ValueError(f"variable {spec.name!r} not found; available: {list(ds.data_vars)}.")
-    var = ds[spec.name]
-    if index not in var.dims:
-        raise ValueError(f"variable {spec.name!r} has no {index!r} dimension (dims {var.dims}).")
-    unknown = [d for d in spec.selectors if d not in var.dims]
-    if unknown:
-        raise ValueError(
-            f"{spec.spec!r}: {spec.name!r} has no dimension {unknown}; its dims are {var.dims}."
-        )
-    chosen = {**{k: v for k, v in (sel or {}).items() if k in var.dims}, **spec.selectors}
-    if index in chosen:
-        raise ValueError(f"cannot select along the index dimension {index!r}.")
-    picks: dict[str, int] = {}
-    for dim, value in chosen.items():
-        coord = var[dim] if dim in var.coords else xr.DataArray(np.arange(var.sizes[dim]))
-        picks[dim] = _coord_value(coord, value, dim=dim, variable=spec.name)
-    out = var.isel(picks)
-    extra = [d for d in out.dims if d != index]
-    if any(out.sizes[d] > 1 for d in extra):
-        listed = {
-            d: (out[d].values.tolist() if d in out.coords else f"{out.sizes[d]} entries")
-            for d in extra
-        }
-        raise ValueError(
-            f"variable {spec.name!r} has extra dimensions {listed}; pick one element, e.g. "
-            f"'{spec.name}[{extra[0]}=...]' or sel={{'{extra[0]}': ...}}."
-        )
-    out = out.squeeze([d for d in extra], drop=True) if extra else out
-    out = out.drop_vars([c for c in out.coords if c != index])
-    attrs = dict(var.attrs)
-    if chosen or extra:
-        parts = []
-        for d in [*chosen, *(str(e) for e in extra)]:
-            at = picks.get(d, 0)
-            parts.append(f"{d} {var[d].values[at] if d in var.coords else at}")
-        attrs["long_name"] = f"{attrs.get('long_name', spec.name)} ({', '.join(parts)})"
-    out.attrs = attrs
-    return out.rename(spec.alias)
 
 
 # ----------------------------------------------------------------- sweeps

@@ -48,11 +48,12 @@ from mechanism.core.record._metrics import (
 )
 
 from . import _sweep_store as _store
-from ._sweep_store import SweepStoreMismatch
+from ._sweep_store import SweepStoreBusy, SweepStoreMismatch
 
 __all__ = [
     "Analysis",
     "GridTransform",
+    "SweepStoreBusy",
     "SweepStoreMismatch",
     "chaos_map",
     "grid_transforms",
@@ -697,7 +698,7 @@ def _is_done(store: Path, pid: str) -> bool:
         return False
     assert summary is not None
     rel = str(np.asarray(summary["trajectory_file"].values).item())
-    return bool(rel) and (store / rel).exists()
+    return bool(rel) and _store.readable_trajectory(store / rel)  # present is not enough
 
 
 def sweep(
@@ -731,7 +732,12 @@ def sweep(
     raises or whose simulation does not succeed gets ``status`` "failed" or "diverged" and a
     ``message``; the sweep goes on. Re-running into the same ``store`` skips the points
     already "ok" and retries the others; a store made for another scene, grid, revolutions
-    or analysis raises :class:`SweepStoreMismatch`.
+    or analysis raises :class:`SweepStoreMismatch`, and a store another sweep is running into
+    raises :class:`SweepStoreBusy` (the store is locked while a sweep runs; temporary files
+    that an interrupted run left are removed, and a done point whose trajectory file no
+    longer reads is run again). A point whose files cannot be written (e.g. a full disk)
+    fails with the reason; when not even its summary can be written, the sweep stops with
+    that ``OSError``.
 
     Parameters
     ----------
@@ -823,8 +829,39 @@ def sweep(
         "simulator": _callable_name(simulator),
     }
     (store_path / _store.POINTS).mkdir(parents=True, exist_ok=True)
-    _store.check_or_write_manifest(store_path, manifest)
+    with _store.locked(store_path):
+        _store.check_or_write_manifest(store_path, manifest)
+        _store.remove_stale_temporaries(store_path)
+        return _run_locked(
+            store_path,
+            manifest=manifest,
+            scene=scene,
+            scene_json=scene_json,
+            plain_grid=plain_grid,
+            analysis=analysis,
+            revolutions=revolutions,
+            simulator=simulator,
+            client=client,
+            n_workers=n_workers,
+            progress=progress,
+        )
 
+
+def _run_locked(
+    store_path: Path,
+    *,
+    manifest: dict[str, Any],
+    scene: Any,
+    scene_json: str,
+    plain_grid: dict[str, tuple[Any, ...]],
+    analysis: Analysis,
+    revolutions: float,
+    simulator: Callable[..., xr.Dataset],
+    client: Any,
+    n_workers: int | None,
+    progress: bool,
+) -> xr.Dataset:
+    """The sweep proper, under the store's lock: run the points not done, then gather."""
     points = _grid_points(plain_grid)
     ids = [_store.point_id(p) for p in points]
     used = tuple(_GRID_TRANSFORMS[k] for k in plain_grid if k in _GRID_TRANSFORMS)

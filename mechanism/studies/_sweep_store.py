@@ -6,6 +6,7 @@ A store is a folder::
     STORE/points/<id>.nc          trajectory of one grid point (chaoskit.save_trajectory)
     STORE/points/<id>.summary.nc  its summary: status, message, metrics, analysis fields
     STORE/summary.nc              the gathered Dataset (rewritten by every run)
+    STORE/.lock                   held by the running sweep (two sweeps never share a store)
 
 Every file is written under a temporary name in its folder and then renamed, so a worker
 that dies mid-write never leaves a half-written file for a resumed run to trust.
@@ -13,25 +14,38 @@ that dies mid-write never leaves a half-written file for a resumed run to trust.
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import json
 import math
-from collections.abc import Mapping, Sequence
+import os
+import socket
+import uuid
+from collections.abc import Iterator, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 import xarray as xr
 
-from chaoskit._io import _atomic_write
+try:
+    import fcntl
+except ImportError:  # Windows: no advisory locks; the exclusive manifest still guards
+    fcntl = None  # type: ignore[assignment]
+
+from chaoskit._io import write_netcdf as _write_netcdf
 from chaoskit._paths import safe_filename
 
 __all__ = [
     "MANIFEST_FORMAT",
+    "SweepStoreBusy",
     "SweepStoreMismatch",
     "check_or_write_manifest",
+    "locked",
     "point_id",
     "read_summary",
+    "readable_trajectory",
+    "remove_stale_temporaries",
     "summary_path",
     "trajectory_path",
     "write_summary",
@@ -41,12 +55,17 @@ MANIFEST_FORMAT = "mechanism.sweep/1"
 MANIFEST = "sweep.json"
 POINTS = "points"
 SUMMARY = "summary.nc"
+LOCK = ".lock"
 
 _READABLE_MAX = 80
 
 
 class SweepStoreMismatch(ValueError):
     """The store holds a sweep with another scene, grid or settings than the one requested."""
+
+
+class SweepStoreBusy(ValueError):
+    """Another sweep is running into the same store."""
 
 
 def _format_value(value: Any) -> str:
@@ -128,8 +147,38 @@ def _first_difference(stored: Any, requested: Any, where: str = "") -> str | Non
     return None if same else f"{where}: stored {stored!r}, requested {requested!r}"
 
 
+def _create_exclusively(path: Path, text: str) -> bool:
+    """Create ``path`` holding ``text`` unless it exists; True if this call created it.
+
+    The text is written to a temporary file first and hard-linked to ``path``: the link
+    fails if ``path`` exists and, when it succeeds, ``path`` is complete from its first
+    instant, so a concurrent reader never sees half a manifest. On a filesystem without
+    hard links, ``O_CREAT | O_EXCL`` decides instead.
+    """
+    tmp = path.parent / f".{path.name}.{uuid.uuid4().hex[:12]}.tmp"
+    tmp.write_text(text, encoding="utf-8")
+    try:
+        os.link(tmp, path)
+        return True
+    except FileExistsError:
+        return False
+    except OSError:
+        try:
+            fd = os.open(path, os.O_CREAT | os.O_EXCL | os.O_WRONLY, 0o644)
+        except FileExistsError:
+            return False
+        with os.fdopen(fd, "w", encoding="utf-8") as fh:
+            fh.write(text)
+        return True
+    finally:
+        tmp.unlink(missing_ok=True)
+
+
 def check_or_write_manifest(store: Path, manifest: Mapping[str, Any]) -> bool:
-    """Write ``STORE/sweep.json`` or check that the one there describes the same sweep.
+    """Create ``STORE/sweep.json`` or check that the one there describes the same sweep.
+
+    The manifest is created exclusively: of two sweeps that start into one new store at the
+    same instant, one writes it and the other compares against it.
 
     Returns True when the store already held this sweep (a resume).
 
@@ -140,32 +189,90 @@ def check_or_write_manifest(store: Path, manifest: Mapping[str, Any]) -> bool:
     """
     path = store / MANIFEST
     wanted = json.loads(json.dumps(dict(manifest)))  # the form it takes on disk
-    if path.exists():
+    if _create_exclusively(path, json.dumps(wanted, indent=2) + "\n"):
+        return False
+    try:
+        stored = json.loads(path.read_text(encoding="utf-8"))
+    except (json.JSONDecodeError, UnicodeDecodeError) as exc:
+        raise SweepStoreMismatch(
+            f"{path} is not a readable sweep manifest ({exc}); use another store."
+        ) from None
+    if not isinstance(stored, dict) or stored.get("format") != MANIFEST_FORMAT:
+        raise SweepStoreMismatch(f"{path} is not a {MANIFEST_FORMAT} manifest; use another store.")
+    diff = _first_difference(stored, wanted)
+    if diff:
+        raise SweepStoreMismatch(
+            f"the store {store} holds a different sweep ({diff}); results would mix. "
+            "Use another store, or delete this one to start over."
+        )
+    return True
+
+
+@contextlib.contextmanager
+def locked(store: Path) -> Iterator[None]:
+    """Hold an exclusive lock on the store (``STORE/.lock``) for the duration of a sweep.
+
+    Raises
+    ------
+    SweepStoreBusy
+        If another sweep (in this or another process) holds it.
+    """
+    store.mkdir(parents=True, exist_ok=True)
+    path = store / LOCK
+    with path.open("a+", encoding="utf-8") as fh:
+        if fcntl is not None:
+            try:
+                fcntl.flock(fh.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)
+            except BlockingIOError:
+                fh.seek(0)
+                holder = fh.read().strip() or "another process"
+                raise SweepStoreBusy(
+                    f"the store {store} is in use by another sweep ({holder}); wait for it to "
+                    "finish or use another store."
+                ) from None
+        fh.seek(0)
+        fh.truncate()
+        fh.write(f"process {os.getpid()} on {socket.gethostname()}\n")
+        fh.flush()
         try:
-            stored = json.loads(path.read_text(encoding="utf-8"))
-        except json.JSONDecodeError as exc:
-            raise SweepStoreMismatch(
-                f"{path} is not a readable sweep manifest ({exc}); use another store."
-            ) from None
-        if not isinstance(stored, dict) or stored.get("format") != MANIFEST_FORMAT:
-            raise SweepStoreMismatch(
-                f"{path} is not a {MANIFEST_FORMAT} manifest; use another store."
-            )
-        diff = _first_difference(stored, wanted)
-        if diff:
-            raise SweepStoreMismatch(
-                f"the store {store} holds a different sweep ({diff}); results would mix. "
-                "Use another store, or delete this one to start over."
-            )
-        return True
-    text = json.dumps(wanted, indent=2) + "\n"
-    _atomic_write(path, lambda p: p.write_text(text, encoding="utf-8"))
-    return False
+            yield
+        finally:
+            if fcntl is not None:
+                fcntl.flock(fh.fileno(), fcntl.LOCK_UN)
+
+
+def remove_stale_temporaries(store: Path) -> int:
+    """Delete temporary files that interrupted writes left in the store; returns how many.
+
+    Call it under :func:`locked`: then no writer of this store is running.
+    """
+    removed = 0
+    for folder in (store, store / POINTS):
+        if folder.is_dir():
+            for tmp in folder.glob(".*.tmp"):
+                with contextlib.suppress(FileNotFoundError):
+                    tmp.unlink()
+                    removed += 1
+    return removed
+
+
+def readable_trajectory(path: Path) -> bool:
+    """True if ``path`` opens as netCDF-4 and its index coordinate reads (not merely exists)."""
+    if not path.is_file():
+        return False
+    try:
+        with xr.open_dataset(path, engine="h5netcdf") as ds:
+            index = "time" if "time" in ds.coords else "step"
+            np.asarray(ds[index].values)
+    except (OSError, ValueError, KeyError, RuntimeError):
+        return False
+    return True
 
 
 def write_netcdf(ds: xr.Dataset, path: str | Path) -> None:
-    """Write any Dataset atomically as netCDF-4 through h5netcdf (temporary file, rename)."""
-    _atomic_write(Path(path), lambda p: ds.to_netcdf(p, engine="h5netcdf"))
+    """Write any Dataset atomically as netCDF-4 through h5netcdf (temporary file, rename),
+    after checking the free space; a full disk raises ``OSError(ENOSPC)``."""
+    _write_netcdf(ds, Path(path))
 
 
 def write_summary(ds: xr.Dataset, path: Path) -> None:

@@ -73,13 +73,30 @@ def test_results_stack_over_a_parameter_grid() -> None:
     assert float(grid["period"].sel(a=1.0, variable="x")) == 4.0
 
 
-def test_failure_is_recorded_and_the_rest_analysed() -> None:
-    ds = _henon_dataset(400)
-    ds["image"] = (("step", "pixel"), np.ones((400, 2)), {"units": "1", "long_name": "2-D"})
-    table = analyze(ds, variables=["image", "x"], rng=0)
+def test_failure_is_recorded_and_the_rest_analysed(monkeypatch: pytest.MonkeyPatch) -> None:
+    from chaoskit.classify import _analyze
+
+    def classify(data, *, variable, **kwargs):
+        if variable == "y":
+            raise ValueError("y cannot be analysed")
+        return chaoskit.classify(data, variable=variable, **kwargs)
+
+    monkeypatch.setattr(_analyze, "classify", classify)
+    table = analyze(_henon_dataset(400), variables=["y", "x"], rng=0)
     assert [str(v) for v in table["label"].values] == ["undetermined", "chaotic"]
-    assert np.isnan(float(table["mle_wolf"].sel(variable="image")))
-    assert "image: analysis failed" in table.attrs["reasons"]
+    assert np.isnan(float(table["mle_wolf"].sel(variable="y")))
+    assert "y: analysis failed: y cannot be analysed" in table.attrs["reasons"]
+
+
+def test_multi_dimensional_variables_are_analysed_per_label() -> None:
+    ds = _henon_dataset(400)
+    image = np.stack([ds["x"].values, np.ones(400)], axis=1)
+    ds["image"] = (("step", "pixel"), image, {"units": "1", "long_name": "2-D"})
+    table = analyze(ds, variables=["image", "x"], rng=0)
+    assert [str(v) for v in table["variable"].values] == ["image[pixel=0]", "image[pixel=1]", "x"]
+    assert [str(v) for v in table["label"].values] == ["chaotic", "equilibrium", "chaotic"]
+    one = analyze(ds, variables=["image[pixel=0]"], rng=0)
+    assert float(one["mle_wolf"].item()) == float(table["mle_wolf"].sel(variable="x"))
 
 
 def test_netcdf_round_trip(tmp_path) -> None:

@@ -10,7 +10,9 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
+import xarray as xr
 from typer.testing import CliRunner
 
 import chaoskit
@@ -161,3 +163,43 @@ def test_the_wheel_ships_every_sample(tmp_path: Path) -> None:
     sizes = {i.filename: i.file_size for i in zipfile.ZipFile(wheel).infolist()}
     for name in SAMPLES:
         assert sizes[f"chaoskit/data/{name}"] == (REPO / "data" / name).stat().st_size
+
+
+def _journal_file(tmp_path: Path) -> Path:
+    """A driven 'press': eccentricity per joint (B periodic, C quasi-periodic) and the crank."""
+
+    t = np.arange(4000) * 0.005
+    e_b = np.cos(2 * np.pi * t)
+    e_c = np.cos(2 * np.pi * t) + 0.5 * np.cos(2 * np.pi * np.sqrt(2) * t)
+    ds = xr.Dataset(
+        {
+            "eccentricity_x": (("time", "joint"), np.stack([e_b, e_c], axis=1)),
+            "crank_angle": ("time", 2 * np.pi * t),
+        },
+        coords={"time": t, "joint": ["B", "C"]},
+    )
+    return chaoskit.save_trajectory(ds, tmp_path / "press.nc")
+
+
+def test_analyze_expands_or_selects_multi_dimensional_variables(tmp_path: Path) -> None:
+    path = str(_journal_file(tmp_path))
+    figures = tmp_path / "figs"
+    out = runner.invoke(app, ["analyze", path, "--phase-variable", "crank_angle",
+                              "--figures", str(figures)])  # fmt: skip
+    assert out.exit_code == 0, out.output
+    rows = [line.split()[0] for line in out.output.splitlines() if line.startswith("ecc")]
+    assert rows[:2] == ["eccentricity_x[joint=B]", "eccentricity_x[joint=C]"]
+    assert "crank_angle " not in out.output  # the drive angle is the phase, not a series
+    assert all(p.parent == figures for p in tmp_path.rglob("*.png"))
+    assert any("joint_C" in p.name for p in figures.glob("*.png"))
+    out = runner.invoke(app, ["analyze", path, "--var", "eccentricity_x[joint=C]",
+                              "--phase-variable", "crank_angle"])  # fmt: skip
+    assert out.exit_code == 0, out.output
+    rows = [line.split()[0] for line in out.output.splitlines() if line.startswith("ecc")]
+    assert rows[0] == "eccentricity_x[joint=C]"
+    assert "joint=B" not in out.output
+    out = runner.invoke(app, ["analyze", path, "--var", "eccentricity_x[joint=Z]"])
+    assert out.exit_code == 2 and "joint='Z' not found" in out.stderr
+    out = runner.invoke(app, ["report", path, "--var", "eccentricity_x",
+                              "-o", str(tmp_path / "r.html")])  # fmt: skip
+    assert out.exit_code == 2 and "eccentricity_x[joint=...]" in out.stderr
