@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Any
 
@@ -15,10 +16,34 @@ from ._rng import as_generator
 
 __all__ = [
     "SurrogateResult",
+    "check_surrogates",
     "iaaft_surrogates",
+    "min_surrogates",
     "prediction_error",
     "surrogate_test",
 ]
+
+
+def min_surrogates(alpha: float) -> int:
+    """Fewest surrogates with which a one-sided rank test can reach ``alpha``.
+
+    The smallest p-value is :math:`1 / (n + 1)`, so :math:`n \\ge 1/\\alpha - 1`
+    (19 for :math:`\\alpha = 0.05`, 99 for 0.01).
+    """
+    return max(1, math.ceil(1.0 / alpha - 1.0 - 1e-9))
+
+
+def check_surrogates(n_surrogates: int, alpha: float) -> int:
+    """``n_surrogates`` if the rank test can reach ``alpha`` with it, else a ValueError."""
+    n_surrogates = check_int(n_surrogates, name="n_surrogates", minimum=1)
+    need = min_surrogates(alpha)
+    if n_surrogates < need:
+        raise ValueError(
+            f"n_surrogates = {n_surrogates} cannot reach alpha = {alpha:g} (the smallest "
+            f"p-value is 1/(n_surrogates + 1) = {1 / (n_surrogates + 1):.3g}); "
+            f"use n_surrogates >= {need}."
+        )
+    return n_surrogates
 
 
 def iaaft_surrogates(
@@ -283,7 +308,8 @@ def surrogate_test(
     theiler_window
         Temporal exclusion for neighbours, samples (default ``embedding_dim * lag``).
     n_surrogates
-        Number of IAAFT surrogates.
+        Number of IAAFT surrogates: at least :math:`1/\\alpha - 1` (19 for
+        :math:`\\alpha = 0.05`), or the test could never reject (a ValueError says so).
     alpha
         Significance level.
     min_effect
@@ -321,8 +347,8 @@ def surrogate_test(
     if theiler_window is None:
         theiler_window = embedding_dim * lag
     theiler_window = check_int(theiler_window, name="theiler_window", minimum=0)
-    n_surrogates = check_int(n_surrogates, name="n_surrogates", minimum=1)
     alpha = check_probability(alpha, name="alpha")
+    n_surrogates = check_surrogates(n_surrogates, alpha)
     min_effect = float(min_effect)
     if not 0.0 <= min_effect < 1.0:
         raise ValueError(f"min_effect must be in [0, 1); got {min_effect!r}.")

@@ -27,8 +27,9 @@ from ..embedding import estimate_delay, estimate_embedding_dim
 from ..lyapunov import lyapunov_rosenstein, lyapunov_wolf
 from ..sections import poincare_section, stroboscopic_map
 from ._clusters import SectionStructure, section_structure
+from ._lines import LineSpectrum, line_spectrum
 from ._rng import as_generator
-from ._surrogates import SurrogateResult, surrogate_test
+from ._surrogates import SurrogateResult, check_surrogates, surrogate_test
 from ._zero_one import ZeroOneResult, zero_one_test
 
 __all__ = ["LABELS", "Verdict", "VerdictRule", "classify"]
@@ -81,6 +82,13 @@ class VerdictRule:
     equilibrium_rtol
         The series is an equilibrium when its standard deviation is at most this fraction
         of its mean magnitude (or exactly zero).
+    min_cycles
+        Characteristic times (section points, drive periods, oscillations; samples for
+        maps) a series must span before its section, its spectrum or a surrogate test that
+        does not reject can rule out a regular motion.
+    max_residual
+        Largest fraction of the variance the white residual of a line spectrum (or of
+        folding at the period) may carry: 0.5 accepts a regular signal down to 3 dB SNR.
     """
 
     min_growth: float = 0.1
@@ -93,6 +101,8 @@ class VerdictRule:
     zero_one_regular: float = 0.2
     zero_one_chaotic: float = 0.8
     equilibrium_rtol: float = 1e-9
+    min_cycles: int = 20
+    max_residual: float = 0.5
 
     def __post_init__(self) -> None:
         check_positive(self.min_growth, name="min_growth")
@@ -106,6 +116,8 @@ class VerdictRule:
         if not 0.0 <= self.zero_one_regular < self.zero_one_chaotic <= 1.0:
             raise ValueError("need 0 <= zero_one_regular < zero_one_chaotic <= 1.")
         check_positive(self.equilibrium_rtol, name="equilibrium_rtol", allow_zero=True)
+        check_int(self.min_cycles, name="min_cycles", minimum=3)
+        check_probability(self.max_residual, name="max_residual")
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -124,9 +136,13 @@ class Verdict:
         (1.0 for an exact equilibrium; NaN when undetermined). See ``votes``.
     reason
         The rule that fired, in words.
+    needs
+        When undetermined: what would decide, in the data's units (e.g. ``"≥ 20 drive
+        periods; the series has 5"``). Empty for a decided label.
     votes
-        For each piece of evidence (``section``, ``rosenstein``, ``wolf``, ``zero_one``,
-        ``surrogates``): ``"supports"``, ``"opposes"``, ``"neutral"`` or ``"missing"``.
+        For each piece of evidence (``lines``, ``section``, ``rosenstein``, ``wolf``,
+        ``zero_one``, ``surrogates``): ``"supports"``, ``"opposes"``, ``"neutral"`` (present
+        but unable to decide) or ``"missing"``.
     errors
         Evidence that could not be computed, with the estimator's message.
     variable, kind, dt, n_samples
@@ -136,16 +152,20 @@ class Verdict:
         Delay (samples) and embedding dimension used throughout.
     characteristic_time
         :math:`T` of the growth test (s, or iterations for maps).
+    n_cycles
+        Characteristic times the series spans (:math:`N\\,\\Delta t / T`).
     noise_level
         Estimated measurement-noise standard deviation over the signal's (flows; NaN for
         maps).
     rosenstein_positive, wolf_positive
         Whether each MLE is clearly positive (None if missing).
-    delay, dimension, rosenstein, wolf, structure, section, zero_one, surrogates
+    delay, dimension, rosenstein, wolf, structure, section, zero_one, surrogates, lines
         The evidence itself: :class:`~chaoskit.DelayResult`,
         :class:`~chaoskit.DimensionResult`, two :class:`~chaoskit.LyapunovResult`, the
         :class:`SectionStructure` of the section points in ``section`` (a Dataset along
-        ``crossing``), :class:`ZeroOneResult` and :class:`SurrogateResult`.
+        ``crossing``), :class:`ZeroOneResult`, :class:`SurrogateResult` and the
+        recurrence / line-spectrum analysis (``lines.kind``: ``"periodic"``,
+        ``"quasi-periodic"``, ``"broadband"`` or ``"unresolved"``).
     rule
         The :class:`VerdictRule` applied.
     """
@@ -160,9 +180,11 @@ class Verdict:
     kind: Kind
     dt: float
     n_samples: int
+    needs: tuple[str, ...] = ()
     lag: int | None = None
     embedding_dim: int | None = None
     characteristic_time: float = float("nan")
+    n_cycles: float = float("nan")
     noise_level: float = float("nan")
     rosenstein_positive: bool | None = None
     wolf_positive: bool | None = None
@@ -175,6 +197,7 @@ class Verdict:
     section: xr.Dataset | None = field(default=None, repr=False)
     zero_one: ZeroOneResult | None = field(default=None, repr=False)
     surrogates: SurrogateResult | None = field(default=None, repr=False)
+    lines: LineSpectrum | None = field(default=None, repr=False)
     rule: VerdictRule = field(default_factory=VerdictRule, repr=False)
 
     def summary(self) -> dict[str, Any]:
@@ -214,6 +237,9 @@ class Verdict:
             "surrogate_effect": nan if self.surrogates is None else self.surrogates.effect,
             "section_points": nan if st is None else float(st.n_points),
             "section_structure": "none" if st is None else st.kind,
+            "spectrum": "none" if self.lines is None else self.lines.kind,
+            "needs": "; ".join(self.needs),
+            "n_cycles": float(self.n_cycles),
             "characteristic_time": float(self.characteristic_time),
             "noise_level": float(self.noise_level),
             "dt": float(self.dt),
@@ -434,15 +460,28 @@ def _votes(
     label: str,
     *,
     structure: SectionStructure | None,
+    lines: str | None,
     positives: dict[str, bool | None],
     k: float | None,
     rejected: bool | None,
+    long_enough: bool,
+    n_bases: int,
     rule: VerdictRule,
 ) -> dict[str, Vote]:
     regular = label in ("periodic", "quasi-periodic")
     votes: dict[str, Vote] = {}
+    if lines is None:
+        votes["lines"] = "missing"
+    elif lines == "unresolved" or (lines == "broadband" and not long_enough):
+        votes["lines"] = "neutral"  # could not have decided
+    elif regular:
+        votes["lines"] = "supports" if lines == label else "opposes"
+    else:
+        votes["lines"] = "supports" if lines == "broadband" else "opposes"
     if structure is None or structure.kind == "too-few-points":
         votes["section"] = "missing" if structure is None else "neutral"
+    elif label == "quasi-periodic" and n_bases >= 3 and structure.kind == "scattered":
+        votes["section"] = "neutral"  # a three-torus's section fills a surface, not a curve
     else:
         wanted = {"periodic": "clusters", "quasi-periodic": "closed-curve"}.get(label, "scattered")
         votes["section"] = "supports" if structure.kind == wanted else "opposes"
@@ -463,8 +502,9 @@ def _votes(
         votes["zero_one"] = "neutral"
     if rejected is None:
         votes["surrogates"] = "missing"
-    elif regular:
-        votes["surrogates"] = "neutral"  # a periodic signal is its own linear surrogate
+    elif regular or (not rejected and not long_enough):
+        # a periodic signal is its own linear surrogate; too short a series cannot reject
+        votes["surrogates"] = "neutral"
     else:
         votes["surrogates"] = "supports" if rejected == (label == "chaotic") else "opposes"
     return votes
@@ -478,49 +518,101 @@ def combine(
     zero_one_k: float | None,
     surrogates_rejected: bool | None,
     rule: VerdictRule,
-) -> tuple[Label, int | None, float, str, dict[str, Vote]]:
-    """Apply the rule of :func:`classify` to the evidence; returns label, period, confidence,
-    reason and votes."""
+    lines: str | None = "broadband",
+    lines_period: int | None = None,
+    lines_bases: int = 0,
+    n_cycles: float = float("inf"),
+    cycle_unit: str = "characteristic times",
+) -> tuple[Label, int | None, float, str, dict[str, Vote], tuple[str, ...]]:
+    """Apply the rule of :func:`classify` to the evidence.
+
+    ``lines`` is the kind of the recurrence / line-spectrum analysis (None if it failed),
+    ``lines_period`` its period, ``lines_bases`` its number of base frequencies,
+    ``n_cycles`` the characteristic times the series spans
+    (``cycle_unit`` names them). Returns label, period, confidence, reason, votes and needs.
+    """
     both_positive = rosenstein_positive is True and wolf_positive is True
+    long_enough = n_cycles >= rule.min_cycles
+    section = "none" if structure is None else structure.kind
     period: int | None = None
     label: Label
-    if structure is not None and structure.kind == "clusters":
+    needs: list[str] = []
+    if lines == "periodic":
+        label, period = "periodic", lines_period
+        reason = "the series repeats: what is left after its period is white noise or nothing"
+    elif section == "clusters":
+        assert structure is not None
         label, period = "periodic", structure.n_clusters
         reason = f"the section is {period} tight cluster(s) visited in a fixed cyclic order"
-    elif structure is not None and structure.kind == "closed-curve":
-        if both_positive:
-            label = "undetermined"
-            reason = "the section fills a closed curve but both exponents are clearly positive"
-        else:
-            label = "quasi-periodic"
-            reason = "the section fills a closed curve and not both exponents are clearly positive"
-    elif surrogates_rejected is False:
+    elif lines == "quasi-periodic":
+        label = "quasi-periodic"
+        reason = (
+            "the spectrum is lines at integer combinations of two or three incommensurate "
+            "frequencies, and what is left is white noise or nothing"
+        )
+    elif section == "closed-curve" and not both_positive:
+        label = "quasi-periodic"
+        reason = "the section fills a closed curve and not both exponents are clearly positive"
+    elif lines == "broadband" and long_enough and surrogates_rejected is False:
         label = "noise-like"
-        reason = "the surrogate test cannot reject linear Gaussian noise"
-    elif surrogates_rejected is True and both_positive:
+        reason = "the spectrum is not lines; the surrogate test cannot reject linear noise"
+    elif (
+        both_positive
+        and surrogates_rejected is True
+        and lines in ("broadband", "unresolved")
+        and section not in ("clusters", "closed-curve")
+        and (section == "scattered" or (lines == "broadband" and long_enough))
+    ):
         label = "chaotic"
         reason = (
             "both exponents are clearly positive, the data are more predictable than their "
-            "IAAFT surrogates, and the section is neither a few clusters nor a closed curve"
+            "IAAFT surrogates, and neither the spectrum nor the section is regular"
         )
     else:
         label = "undetermined"
-        missing = [
-            name
-            for name, ok in (
-                ("Rosenstein exponent clearly positive", rosenstein_positive),
-                ("Wolf exponent clearly positive", wolf_positive),
-                ("surrogate test rejects", surrogates_rejected),
+        if not long_enough:
+            needs.append(f"≥ {rule.min_cycles} {cycle_unit}; the series has {n_cycles:.0f}")
+        elif section == "too-few-points":
+            assert structure is not None
+            needs.append(
+                f"≥ {rule.min_cycles} section points; the section has {structure.n_points}"
             )
-            if ok is not True
-        ]
-        reason = "not periodic, quasi-periodic or noise-like, and not: " + "; ".join(missing)
+        if lines is None:
+            needs.append("a recurrence / line-spectrum analysis (it failed; see errors)")
+        if section == "closed-curve":
+            needs.append(
+                "a longer series to tell a torus from a thin chaotic band (the section is "
+                "a closed curve but both exponents are clearly positive)"
+            )
+        elif surrogates_rejected is not False or not long_enough:
+            for name, pos in (("Rosenstein", rosenstein_positive), ("Wolf", wolf_positive)):
+                if pos is False:
+                    needs.append(
+                        f"a clearly positive {name} exponent (λ₁T ≥ {rule.min_growth:g}, "
+                        "95 % interval above 0), or a line spectrum or section that shows "
+                        "the motion regular"
+                    )
+                elif pos is None:
+                    needs.append(f"a {name} exponent (the estimator failed; see errors)")
+            if surrogates_rejected is None:
+                needs.append("a surrogate test (it failed; see errors)")
+        if lines == "unresolved" and not needs:
+            needs.append(
+                "a longer or cleaner series: spectral lines explain all but 0.1 % of the "
+                "variance, yet the rest is not white"
+            )
+        if not needs:
+            needs.append("a longer series")
+        reason = "the evidence cannot decide: needs " + "; ".join(needs)
     votes = _votes(
         label,
         structure=structure,
+        lines=lines,
         positives={"rosenstein": rosenstein_positive, "wolf": wolf_positive},
         k=zero_one_k,
         rejected=surrogates_rejected,
+        long_enough=long_enough,
+        n_bases=lines_bases,
         rule=rule,
     )
     if label == "undetermined":
@@ -528,7 +620,32 @@ def combine(
     else:
         counted = [v for v in votes.values() if v in ("supports", "opposes")]
         confidence = sum(v == "supports" for v in counted) / len(counted) if counted else 0.0
-    return label, period, confidence, reason, votes
+    return label, period, confidence, reason, votes, tuple(needs)
+
+
+def _cycles(inp: _Input, n: int, time_scale: float) -> tuple[float, str]:
+    """Characteristic times the series spans, and their name in the user's terms."""
+    if inp.kind == "map":
+        return float(n), "samples"
+    unit = "drive periods" if inp.kind == "forced" else "oscillations (maxima)"
+    if not np.isfinite(time_scale) or time_scale <= 0:
+        return 0.0, unit
+    return n * inp.dt / time_scale, unit
+
+
+def _line_period(lines: LineSpectrum, inp: _Input, time_scale: float) -> int | None:
+    """The period k of a periodic line analysis in the verdict's terms: samples for maps
+    and for series that repeat after k samples; drive periods for forced flows; maxima per
+    period for autonomous flows."""
+    if lines.kind != "periodic":
+        return None
+    if lines.period_samples is not None:
+        return int(lines.period_samples)
+    if inp.kind == "map":
+        return max(1, round(lines.fundamental_period))
+    if inp.kind == "forced":
+        return max(1, round(lines.fundamental_period / time_scale))
+    return lines.maxima_per_period
 
 
 # ---------------------------------------------------------------- classify
@@ -576,29 +693,56 @@ def classify(
        samples);
     5. a surrogate test (:func:`surrogate_test`): is :math:`x` more predictable than
        ``n_surrogates`` IAAFT surrogates sharing its spectrum and value distribution?
+       ``n_surrogates`` must reach ``rule.alpha`` (:math:`n \ge 1/\alpha - 1`, 19 for
+       0.05), else a ValueError: a test that can never reject is never read as noise;
+    6. recurrence and line spectrum (``Verdict.lines``): the series folded at a lag of
+       :math:`k \le` ``rule.max_period`` samples, then refined spectral lines extracted
+       until the residual is white noise (Laskar's frequency analysis, Ljung–Box test).
+       The outcome is *periodic* (harmonics of one fundamental; for a forced series a
+       subharmonic of the drive), *quasi-periodic* (integer combinations of two or three
+       incommensurate base frequencies), *broadband* or *unresolved* (lines explain all
+       but 0.1 % of the variance, the rest is not white).
+
+    A series spans :math:`N\,\Delta t / T` characteristic times (``Verdict.n_cycles``:
+    drive periods, oscillations, or samples of a map). Below ``rule.min_cycles`` (20) a
+    broadband spectrum, a scattered section or a surrogate test that does not reject
+    cannot rule out a regular motion: such evidence is *neutral*.
 
     **Rule.**
 
     * *equilibrium* if the series is constant (standard deviation at most
       ``rule.equilibrium_rtol`` of its mean magnitude); nothing else is computed;
-    * else *periodic* (period :math:`k`) if the section is :math:`k` tight clusters
-      visited in a fixed cyclic order;
-    * else *quasi-periodic* if the section fills a closed curve and not both exponents are
-      clearly positive (both positive: *undetermined*);
-    * else *noise-like* if the surrogate test cannot reject linear Gaussian noise;
-    * else *chaotic* if both exponents are clearly positive (and, by the steps above, the
-      surrogate test rejects and the section is neither clusters nor a closed curve);
-    * else *undetermined*.
+    * else *periodic* (period :math:`k`) if the series repeats — folding or the line
+      spectrum leaves white noise carrying at most ``rule.max_residual`` of the variance,
+      or nothing — or if the section is :math:`k` tight clusters visited in a fixed cyclic
+      order; :math:`k` counts samples for maps and for series that repeat after
+      :math:`k` samples, drive periods for forced flows, maxima per period for autonomous
+      flows;
+    * else *quasi-periodic* if the line spectrum is two or three incommensurate base
+      frequencies and their combinations (white residual), or if the section fills a
+      closed curve and not both exponents are clearly positive;
+    * else *noise-like* if the spectrum is broadband, the series spans at least
+      ``rule.min_cycles`` characteristic times and the surrogate test cannot reject linear
+      Gaussian noise;
+    * else *chaotic* if both exponents are clearly positive, the surrogate test rejects,
+      the spectrum is broadband or unresolved, and regular motion is ruled out by a
+      scattered section or by a broadband spectrum over at least ``rule.min_cycles``
+      characteristic times;
+    * else *undetermined*, and ``Verdict.needs`` says what would decide: more drive
+      periods or oscillations, more section points, a clearly positive exponent, an
+      estimator that failed.
 
     Evidence that cannot be computed (e.g. an estimator refusing an exactly periodic series)
-    counts as missing; *chaotic* needs all three of its pieces. The 0–1 test never decides:
-    it is consistent with chaos and with noise alike, and enters the confidence only.
+    counts as missing; *chaotic* needs all of its pieces. The 0–1 test never decides: it is
+    consistent with chaos and with noise alike, and enters the confidence only.
 
-    **Confidence** is the fraction of the available, non-neutral pieces of evidence
-    (section, each exponent, 0–1 test, surrogate test) that agree with the label
-    (``Verdict.votes``): e.g. for *periodic*, an exponent that is not clearly positive and
-    :math:`K \le 0.2` agree, a clearly positive exponent disagrees; the surrogate test is
-    neutral for regular labels, the exponents for *noise-like*.
+    **Confidence** is the fraction of the pieces of evidence that could have decided
+    (present and not neutral: line spectrum, section, each exponent, 0–1 test, surrogate
+    test) that agree with the label (``Verdict.votes``): e.g. for *periodic*, an exponent
+    that is not clearly positive and :math:`K \le 0.2` agree, a clearly positive exponent
+    disagrees; the surrogate test is neutral for regular labels, the exponents for
+    *noise-like*, a section with fewer than 20 points always, and a three-frequency
+    torus's scattered section for *quasi-periodic*.
 
     Parameters
     ----------
@@ -616,7 +760,8 @@ def classify(
     lag, embedding_dim
         Override the estimated delay (samples) and dimension.
     n_surrogates
-        IAAFT surrogates (19 gives a smallest p-value of 0.05).
+        IAAFT surrogates; at least :math:`1/\alpha - 1` for ``rule.alpha`` (19 gives a
+        smallest p-value of 0.05), else a ValueError.
     surrogate_max_samples
         The surrogate test uses at most this many samples (the last ones).
     rule
@@ -643,7 +788,7 @@ def classify(
     ('periodic', 4)
     """
     rule = VerdictRule() if rule is None else rule
-    n_surrogates = check_int(n_surrogates, name="n_surrogates", minimum=1)
+    n_surrogates = check_surrogates(n_surrogates, rule.alpha)
     surrogate_max_samples = check_int(
         surrogate_max_samples, name="surrogate_max_samples", minimum=MIN_SAMPLES
     )
@@ -732,13 +877,34 @@ def classify(
     except ValueError as exc:
         errors["surrogates"] = str(exc)
 
-    label, period, confidence, reason, votes = combine(
+    lines = None
+    try:
+        forced_period = None
+        if inp.kind == "forced":
+            forced_period = drive_period or time_scale
+        lines = line_spectrum(
+            x,
+            dt=inp.dt,
+            drive_period=forced_period,
+            max_period=rule.max_period,
+            max_residual=rule.max_residual,
+            fold=inp.kind != "forced",
+        )
+    except (ValueError, np.linalg.LinAlgError) as exc:
+        errors["lines"] = _describe(exc)
+    n_cycles, unit = _cycles(inp, x.size, time_scale)
+    label, period, confidence, reason, votes, needs = combine(
         structure=structure,
         rosenstein_positive=positives["rosenstein"],
         wolf_positive=positives["wolf"],
         zero_one_k=None if zero_one is None else zero_one.k,
         surrogates_rejected=None if surrogates is None else surrogates.rejected,
         rule=rule,
+        lines=None if lines is None else lines.kind,
+        lines_period=None if lines is None else _line_period(lines, inp, time_scale),
+        lines_bases=0 if lines is None else int(lines.base_frequencies.size),
+        n_cycles=n_cycles,
+        cycle_unit=unit,
     )
     return Verdict(
         label=label,
@@ -748,6 +914,9 @@ def classify(
         votes=votes,
         errors=errors,
         n_samples=int(x.size),
+        needs=needs,
+        n_cycles=float(n_cycles),
+        lines=lines,
         lag=int(lag),
         embedding_dim=int(embedding_dim),
         characteristic_time=float(time_scale),

@@ -232,7 +232,7 @@ class StudySettings:
             wear_settle_revolutions=1.0,
             elements=(4, 8, 16),
             convergence_revolutions=0.15,
-            n_surrogates=9,
+            n_surrogates=19,
             max_samples=8000,
         )
 

@@ -64,10 +64,14 @@ def test_verdict_on_known_systems(make, kwargs: dict, label: str, period: int | 
     assert verdict.lag >= 1 and verdict.embedding_dim >= 1
     assert verdict.structure is not None and verdict.section is not None
     assert verdict.zero_one is not None and verdict.surrogates is not None
-    assert set(verdict.votes) == {"section", "rosenstein", "wolf", "zero_one", "surrogates"}
+    assert set(verdict.votes) == {
+        "lines", "section", "rosenstein", "wolf", "zero_one", "surrogates"
+    }  # fmt: skip
+    assert verdict.needs == ()
     if label == "chaotic":
         assert verdict.rosenstein_positive and verdict.wolf_positive
         assert verdict.surrogates.rejected and verdict.structure.kind == "scattered"
+        assert verdict.lines.kind == "broadband"
         assert verdict.confidence == 1.0 or verdict.votes["zero_one"] == "neutral"
 
 
@@ -148,8 +152,9 @@ def test_rule_chaos_needs_every_piece() -> None:
     assert combine(**full, rule=RULE)[2] == 1.0
     for key, value in (("rosenstein_positive", False), ("wolf_positive", None),
                        ("surrogates_rejected", None)):  # fmt: skip
-        label, _, confidence, reason, _ = combine(**{**full, key: value}, rule=RULE)
-        assert label == "undetermined" and np.isnan(confidence) and "not:" in reason
+        label, _, confidence, reason, _, needs = combine(**{**full, key: value}, rule=RULE)
+        assert label == "undetermined" and np.isnan(confidence) and needs
+        assert reason.startswith("the evidence cannot decide: needs")
     assert combine(**{**full, "structure": _structure("clusters", 3)}, rule=RULE)[:2] == (
         "periodic",
         3,
@@ -160,17 +165,18 @@ def test_rule_chaos_needs_every_piece() -> None:
 
 
 def test_rule_confidence_counts_disagreement() -> None:
-    label, period, confidence, _, votes = combine(
+    label, period, confidence, _, votes, _ = combine(
         structure=_structure("clusters", 2), rosenstein_positive=False, wolf_positive=True,
         zero_one_k=0.5, surrogates_rejected=True, rule=RULE,
     )  # fmt: skip
     assert (label, period) == ("periodic", 2)
-    assert votes == {"section": "supports", "rosenstein": "supports", "wolf": "opposes",
-                     "zero_one": "neutral", "surrogates": "neutral"}  # fmt: skip
-    assert confidence == pytest.approx(2 / 3)
-    label, _, confidence, _, _ = combine(
+    assert votes == {"lines": "opposes", "section": "supports", "rosenstein": "supports",
+                     "wolf": "opposes", "zero_one": "neutral",
+                     "surrogates": "neutral"}  # fmt: skip
+    assert confidence == pytest.approx(2 / 4)
+    label, _, confidence, _, _, _ = combine(
         structure=_structure("closed-curve"), rosenstein_positive=False, wolf_positive=False,
-        zero_one_k=0.05, surrogates_rejected=True, rule=RULE,
+        zero_one_k=0.05, surrogates_rejected=True, rule=RULE, lines="quasi-periodic",
     )  # fmt: skip
     assert label == "quasi-periodic" and confidence == 1.0
 

@@ -1,0 +1,218 @@
+"""Each rule of the verdict that decides what evidence can decide: insufficient evidence is
+said (``Verdict.needs``), regular series are recognised first (recurrence, line spectra)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from chaoskit import VerdictRule, analyze, classify, load_trajectory, surrogate_test, systems
+from chaoskit.classify._lines import line_spectrum, ljung_box_p
+from chaoskit.classify._surrogates import min_surrogates
+from chaoskit.classify._verdict import combine
+from tests.chaoskit.test_classify import DRIVE, _structure, duffing_x
+
+RULE = VerdictRule()
+
+
+def three_torus(n: int = 4000, dt: float = 0.05) -> np.ndarray:
+    t = np.arange(n) * dt
+    return np.sin(t) + 0.6 * np.sin(np.sqrt(2) * t) + 0.3 * np.sin(np.sqrt(5) * t)
+
+
+# ----------------------------------------------------------------- surrogates and alpha
+
+
+@pytest.mark.parametrize(("alpha", "n"), [(0.05, 19), (0.01, 99), (0.1, 9), (0.2, 4)])
+def test_fewest_surrogates_reach_alpha(alpha: float, n: int) -> None:
+    assert min_surrogates(alpha) == n
+    assert 1.0 / (n + 1) <= alpha < 1.0 / n
+
+
+def test_too_few_surrogates_are_refused_not_read_as_noise() -> None:
+    x = systems.henon(600)[:, 0]
+    with pytest.raises(ValueError, match=r"n_surrogates = 9 cannot reach alpha = 0.05.*>= 19"):
+        classify(x, n_surrogates=9)
+    with pytest.raises(ValueError, match=r">= 99"):
+        classify(x, n_surrogates=19, rule=VerdictRule(alpha=0.01))
+    with pytest.raises(ValueError, match="n_surrogates"):
+        surrogate_test(x, embedding_dim=2, lag=1, n_surrogates=9)
+    # analyze records a failure as data: undetermined, with the reason
+    ds = load_trajectory(systems.henon(600), dt=1.0, variables=["x", "y"])
+    table = analyze(ds, variables=["x"], n_surrogates=9)
+    assert str(table.label.values[0]) == "undetermined"
+    assert ">= 19" in table.attrs["reasons"]
+
+
+# ----------------------------------------------------------------- needs
+
+
+def test_too_few_drive_periods_is_undetermined_with_what_would_decide() -> None:
+    # chaotic forced Duffing, but only 8 drive periods: no section, no surrogate verdict
+    v = classify(duffing_x(0.5, 8), drive_period=DRIVE, rng=0)
+    assert v.label == "undetermined" and np.isnan(v.confidence)
+    assert v.n_cycles == pytest.approx(8, abs=0.5)
+    assert v.needs[0] == "≥ 20 drive periods; the series has 8"
+    assert v.votes["section"] == "neutral" and v.votes["lines"] == "neutral"
+    assert v.summary()["needs"].startswith("≥ 20 drive periods")
+    # the same oscillator in its period-2 window is decided from its line spectrum alone
+    v = classify(duffing_x(0.28, 8), drive_period=DRIVE, rng=0)
+    assert (v.label, v.period, v.needs) == ("periodic", 2, ())
+
+
+def test_a_surrogate_test_on_too_short_a_series_cannot_call_noise() -> None:
+    args = {"structure": _structure("too-few-points"), "rosenstein_positive": False,
+            "wolf_positive": False, "zero_one_k": 1.0, "surrogates_rejected": False,
+            "rule": RULE, "lines": "broadband"}  # fmt: skip
+    label, _, _, _, votes, needs = combine(**args, n_cycles=6, cycle_unit="drive periods")
+    assert label == "undetermined"
+    assert votes["surrogates"] == "neutral" and votes["lines"] == "neutral"
+    assert needs[0] == "≥ 20 drive periods; the series has 6"
+    label, _, confidence, _, votes, needs = combine(**args, n_cycles=40)
+    assert label == "noise-like" and needs == ()
+    # only the surrogate test and the spectrum could decide; the 0-1 test agrees
+    assert votes["surrogates"] == "supports" and votes["lines"] == "supports"
+    assert confidence == 1.0
+
+
+def test_noise_needs_a_spectrum_that_is_not_lines() -> None:
+    args = {"structure": _structure("scattered"), "rosenstein_positive": False,
+            "wolf_positive": False, "zero_one_k": 0.5, "surrogates_rejected": False,
+            "rule": RULE}  # fmt: skip
+    assert combine(**args, lines="unresolved")[0] == "undetermined"
+    assert combine(**args, lines=None)[0] == "undetermined"
+    assert combine(**args, lines="broadband")[0] == "noise-like"
+
+
+def test_chaos_needs_regularity_ruled_out() -> None:
+    args = {"rosenstein_positive": True, "wolf_positive": True, "zero_one_k": 1.0,
+            "surrogates_rejected": True, "rule": RULE}  # fmt: skip
+    assert combine(structure=_structure("scattered"), lines="broadband", **args)[0] == "chaotic"
+    # a broadband spectrum over enough cycles rules regular motion out without a section
+    few = _structure("too-few-points")
+    assert combine(structure=few, lines="broadband", **args)[0] == "chaotic"
+    # ... over too few, it does not
+    label, *_, needs = combine(structure=few, lines="broadband", n_cycles=12, **args)
+    assert label == "undetermined" and needs == ("≥ 20 characteristic times; the series has 12",)
+    # an unresolved spectrum needs the section
+    label, *_, needs = combine(structure=few, lines="unresolved", **args)
+    assert label == "undetermined" and needs == ("≥ 20 section points; the section has 50",)
+    assert combine(structure=_structure("scattered"), lines="unresolved", **args)[0] == "chaotic"
+    assert combine(structure=_structure("scattered"), lines="periodic", **args)[0] == "periodic"
+
+
+def test_needs_name_the_estimates_that_fell_short() -> None:
+    label, *_, needs = combine(
+        structure=_structure("scattered"), rosenstein_positive=False, wolf_positive=None,
+        zero_one_k=1.0, surrogates_rejected=True, rule=RULE, lines="broadband",
+    )  # fmt: skip
+    assert label == "undetermined"
+    assert any("clearly positive Rosenstein exponent" in s for s in needs)
+    assert any("Wolf exponent (the estimator failed" in s for s in needs)
+
+
+# ----------------------------------------------------------------- regular first
+
+
+def test_period_three_logistic_as_map_and_as_sampled_signal() -> None:
+    x = systems.logistic(4000, r=3.83)
+    for kwargs in ({}, {"dt": 1.0}):
+        v = classify(x, rng=1, **kwargs)
+        assert (v.label, v.period) == ("periodic", 3), v.reason
+        assert v.lines.method == "recurrence" and v.lines.period_samples == 3
+        assert v.votes["lines"] == "supports" and v.needs == ()
+
+
+def test_recurrence_survives_measurement_noise() -> None:
+    g = np.random.default_rng(3)
+    x = systems.logistic(3000, r=3.5)
+    noisy = x + 0.01 * np.std(x) * g.standard_normal(x.size)  # 40 dB
+    res = line_spectrum(noisy)
+    assert (res.kind, res.period_samples) == ("periodic", 4)
+    assert res.residual_fraction == pytest.approx(1e-4, rel=0.2)  # the noise, nothing else
+    assert classify(noisy, rng=0).period == 4
+    chaotic = line_spectrum(systems.logistic(3000, r=3.9))
+    assert chaotic.kind == "broadband" and chaotic.residual_fraction > 0.5
+
+
+@pytest.mark.parametrize("snr_db", [40.0, 20.0, 10.0])
+def test_noisy_sine_is_a_line_and_white_noise(snr_db: float) -> None:
+    g = np.random.default_rng(int(snr_db))
+    x = np.sin(2 * np.pi * 0.2 * np.arange(3000) * 0.05)
+    noise_frac = 10 ** (-snr_db / 10)
+    noisy = x + np.sqrt(noise_frac) * np.std(x) * g.standard_normal(x.size)
+    res = line_spectrum(noisy, dt=0.05)
+    assert res.kind == "periodic" and res.maxima_per_period == 1
+    np.testing.assert_allclose(res.fundamental_period, 5.0, rtol=1e-3)
+    np.testing.assert_allclose(res.residual_fraction, noise_frac / (1 + noise_frac), rtol=0.15)
+    assert res.white_p >= 1e-3
+
+
+def test_relaxation_oscillation_many_harmonics() -> None:
+    x = systems.van_der_pol(4000, dt=0.05, mu=5.0)[:, 0]
+    res = line_spectrum(x, dt=0.05)
+    assert res.kind == "periodic" and res.maxima_per_period == 1
+    assert res.frequencies.size > 20  # the harmonics of a relaxation oscillation
+    # the limit-cycle period of van der Pol at mu = 5: 11.61 (Strogatz, Fig. 7.5.3 scale)
+    np.testing.assert_allclose(res.fundamental_period, 11.612, rtol=2e-3)
+
+
+def test_ljung_box_accepts_white_and_rejects_coloured_noise() -> None:
+    g = np.random.default_rng(0)
+    e = g.standard_normal(4000)
+    assert ljung_box_p(e) > 1e-3
+    ar = np.empty_like(e)
+    ar[0] = e[0]
+    for i in range(1, e.size):
+        ar[i] = 0.3 * ar[i - 1] + e[i]
+    assert ljung_box_p(ar) < 1e-10
+
+
+# ----------------------------------------------------------------- quasi-periodic
+
+
+def test_three_frequency_torus_is_quasi_periodic() -> None:
+    x = three_torus()
+    res = line_spectrum(x, dt=0.05)
+    assert res.kind == "quasi-periodic"
+    truth = np.array([1.0, np.sqrt(2), np.sqrt(5)]) / (2 * np.pi)
+    np.testing.assert_allclose(np.sort(res.base_frequencies), truth, rtol=1e-8)
+    np.testing.assert_allclose(np.sort(res.amplitudes), [0.3, 0.6, 1.0], rtol=1e-6)
+    v = classify(x, dt=0.05, rng=1)
+    assert v.label == "quasi-periodic", v.reason
+    assert v.votes["lines"] == "supports" and v.votes["section"] == "neutral"
+
+
+def test_two_torus_with_noise_and_combination_lines() -> None:
+    g = np.random.default_rng(5)
+    t = np.arange(4000) * 0.05
+    theta1, theta2 = 2 * np.pi * t, 2 * np.pi * (np.sqrt(5) - 1) / 2 * t
+    # a point on a torus in R^3 seen through x: lines at f1 and f1 ± f2
+    x = (2.0 + np.cos(theta2)) * np.cos(theta1)
+    res = line_spectrum(x, dt=0.05)
+    assert res.kind == "quasi-periodic" and res.frequencies.size == 3
+    noisy = x + 0.01 * np.std(x) * g.standard_normal(x.size)
+    assert line_spectrum(noisy, dt=0.05).kind == "quasi-periodic"
+    assert classify(noisy, dt=0.05, rng=0).label == "quasi-periodic"
+
+
+def test_commensurate_lines_are_periodic_not_quasi_periodic() -> None:
+    t = np.arange(4000) * 0.05
+    res = line_spectrum(np.sin(t) + 0.5 * np.sin(1.5 * t), dt=0.05)
+    assert res.kind == "periodic"
+    np.testing.assert_allclose(res.fundamental_period, 4 * np.pi, rtol=1e-6)
+
+
+@pytest.mark.parametrize(
+    ("make", "dt"),
+    [(lambda: systems.rossler(4000, dt=0.1)[:, 0], 0.1),
+     (lambda: systems.lorenz(4000, dt=0.01)[:, 0], 0.01)],
+    ids=["rossler", "lorenz"],
+)  # fmt: skip
+def test_chaotic_flows_are_not_lines(make, dt: float) -> None:
+    x = make()
+    res = line_spectrum(x, dt=dt)
+    assert res.kind == "broadband" and res.white_p < 1e-6
+    g = np.random.default_rng(1)
+    noisy = x + np.sqrt(0.1) * np.std(x) * g.standard_normal(x.size)  # 10 dB
+    assert line_spectrum(noisy, dt=dt).kind == "broadband"
