@@ -6,7 +6,7 @@ The public API is re-exported here; everything in ``_``-prefixed modules is priv
 
 from __future__ import annotations
 
-from . import systems
+from . import contract, systems
 from ._contract import sampling_interval, validate_trajectory
 from ._io import load_trajectory, save_trajectory
 from ._samples import sample_path
@@ -15,6 +15,7 @@ from ._version import __version__
 
 _foundation = [
     "__version__",
+    "contract",
     "load_trajectory",
     "sample_path",
     "sampling_interval",
@@ -98,8 +99,22 @@ _views: list[str] = [
 ]
 
 # --- report (issue 8): add imports and names below this line only ---
-from .report import Report, ReportFigure, ReportTable, SweepMap, report  # noqa: E402
+from .report import (  # noqa: E402
+    Report,
+    ReportFigure,
+    ReportSection,
+    ReportTable,
+    SweepMap,
+    report,
+)
 
-_report: list[str] = ["Report", "ReportFigure", "ReportTable", "SweepMap", "report"]
+_report: list[str] = [
+    "Report",
+    "ReportFigure",
+    "ReportSection",
+    "ReportTable",
+    "SweepMap",
+    "report",
+]
 
 __all__ = _foundation + _estimators + _views + _report

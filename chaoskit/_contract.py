@@ -29,6 +29,7 @@ __all__ = [
     "sampling_interval",
     "stamp",
     "validate_trajectory",
+    "variable",
 ]
 
 CONVENTIONS = "CF-1.10"
@@ -199,3 +200,14 @@ def sampling_interval(ds: xr.Dataset) -> float:
             "(e.g. ds.interp(time=np.arange(t0, t1, dt)))."
         )
     return dt
+
+
+def variable(dims: str | tuple[str, ...], data: Any, units: str, long_name: str) -> xr.Variable:
+    """An :class:`xarray.Variable` carrying the contract's ``units`` and ``long_name``.
+
+    Examples
+    --------
+    >>> variable("time", [0.0, 1.0], "s", "time").attrs
+    {'units': 's', 'long_name': 'time'}
+    """
+    return xr.Variable(dims, np.asarray(data), attrs={"units": units, "long_name": long_name})

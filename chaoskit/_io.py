@@ -29,7 +29,7 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
-from ._contract import append_history, stamp, validate_trajectory
+from ._contract import append_history, validate_trajectory
 
 __all__ = ["load_trajectory", "save_trajectory"]
 
@@ -568,20 +568,3 @@ def _json_default(obj: Any) -> Any:
     if isinstance(obj, np.ndarray):
         return obj.tolist()
     raise TypeError(f"cannot store {type(obj).__name__} as JSON")
-
-
-def new_trajectory(
-    data_vars: dict[str, tuple[Any, ...]],
-    *,
-    time: np.ndarray,
-    title: str,
-    source: str | None = None,
-    history: str | None = None,
-) -> xr.Dataset:
-    """Build a contract-conforming Dataset from ``{name: (dims, values, attrs)}``."""
-    ds = xr.Dataset(
-        {k: v for k, v in data_vars.items()},
-        coords={"time": ("time", np.asarray(time, dtype=np.float64))},
-    )
-    stamp(ds, title=title, source=source, history=history)
-    return validate_trajectory(ds)

@@ -2,14 +2,25 @@
 
 from __future__ import annotations
 
+import shlex
+import sys
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
+import pandas as pd
 import typer
 
+from . import plot
+from ._io import load_trajectory
+from ._paths import unique_filename
+from ._portraits import phase_portrait
+from ._samples import sample_path
+from ._selection import select_series, variable_spec
 from ._version import __version__
+from .classify import classify_variables, verdict_table
+from .report import report as build_report
 
 app = typer.Typer(
     name="chaoskit",
@@ -110,11 +121,6 @@ def _write_figures(ds: Any, verdicts: dict[str, Any], directory: Path) -> list[P
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from . import plot
-    from ._paths import unique_filename
-    from ._portraits import phase_portrait
-    from ._selection import select_series, variable_spec
-
     directory.mkdir(parents=True, exist_ok=True)
     written: list[Path] = []
     for name, verdict in verdicts.items():
@@ -175,9 +181,6 @@ def _run_analysis(
     dt: float | None = None,
     step: str | None = None,
 ) -> None:
-    from ._io import load_trajectory
-    from .classify import classify_variables, verdict_table
-
     with _user_errors():
         ds = load_trajectory(path, time=time, dt=dt, step=step)
         verdicts = classify_variables(
@@ -267,7 +270,6 @@ def demo(
 ) -> None:
     """Analyse a sample trajectory (by default the Lorenz system) and print the result."""
     if path is None:
-        from ._samples import sample_path
 
         with _user_errors():
             path = sample_path(DEFAULT_SAMPLE)
@@ -287,8 +289,6 @@ def _parse_selections(items: list[str]) -> dict[str, str]:
 
 
 def _read_reference(path: Path) -> Any:
-    import pandas as pd
-
     frame = pd.read_csv(path, comment="#")
     missing = [c for c in ("variable", "state") if c not in frame.columns]
     if missing:
@@ -334,7 +334,7 @@ def report(
         "of lag, embedding_dim, mle_wolf_bits, ...",
     ),
     reference_name: str = typer.Option(
-        "paper", "--reference-name", help="Header of the reference values."
+        "reference", "--reference-name", help="Header of the reference values (e.g. paper)."
     ),
     title: str = typer.Option("chaoskit report", "--title", help="Title of the report."),
     embed_figures: bool = typer.Option(
@@ -343,11 +343,6 @@ def report(
     seed: int = typer.Option(0, "--seed", help="Seed of the 0-1 test and the surrogates."),
 ) -> None:
     """Analyse trajectories and write an HTML report with its Markdown twin."""
-    import shlex
-    import sys
-
-    from .report import report as build_report
-
     with _user_errors():
         reference = _read_reference(chaos_reference) if chaos_reference is not None else None
         rep = build_report(

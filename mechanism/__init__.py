@@ -6,7 +6,7 @@ chaoskit data contract (``docs/data-model.md``).
 
 from __future__ import annotations
 
-from chaoskit._version import __version__
+from chaoskit.contract import __version__
 
 _foundation = ["__version__"]
 
@@ -42,7 +42,14 @@ _simulation: list[str] = ["SimulationError", "integrate", "simulate"]
 
 # --- contact and wear (issues 5 and 7): add imports and names below this line only ---
 from .core import WornProfile, archard_wear, contact_stiffness, hertz_stiffness  # noqa: E402  # noqa: E402
-from .studies import Comparison, WearPrediction, compare, predict_wear  # noqa: E402
+from .studies import (  # noqa: E402
+    Comparison,
+    WearPrediction,
+    compare,
+    plot_wear_profile,
+    predict_wear,
+    wear_profile_section,
+)
 
 _contact_wear: list[str] = [
     "Comparison",
@@ -52,7 +59,9 @@ _contact_wear: list[str] = [
     "compare",
     "contact_stiffness",
     "hertz_stiffness",
+    "plot_wear_profile",
     "predict_wear",
+    "wear_profile_section",
 ]
 
 # --- flexibility (issue 6): add imports and names below this line only ---

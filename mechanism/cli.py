@@ -2,9 +2,30 @@
 
 from __future__ import annotations
 
+import shlex
+import sys
+import tomllib
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
 import typer
 
-from chaoskit._version import __version__
+import chaoskit
+from chaoskit.contract import __version__
+from mechanism import (
+    Analysis,
+    Scene,
+    SceneError,
+    SimulationError,
+    element_convergence,
+    list_scenes,
+    load_scene,
+    predict_wear,
+    run_paper_study,
+    simulate,
+    sweep,
+)
 from mechanism.studies._sweep_store import write_netcdf
 
 app = typer.Typer(
@@ -31,12 +52,10 @@ def main(
 
 
 # --- scenes (issue 5, scene loading): commands below this line only ---
-from typing import TYPE_CHECKING, Any  # noqa: E402
+from typing import TYPE_CHECKING  # noqa: E402
 
 if TYPE_CHECKING:
     from collections.abc import Sequence
-
-    from mechanism.core.scene import Scene
 
 SET_HELP = (
     "Change a scene key, e.g. --set joints.C.clearance=2e-4 --set effects.wear=true; "
@@ -57,8 +76,6 @@ def parse_set_options(options: Sequence[str] | None) -> dict[str, Any]:
     >>> parse_set_options(["joints.C.clearance=2e-4", "solver.method=Radau", "effects.wear=true"])
     {'joints.C.clearance': 0.0002, 'solver.method': 'Radau', 'effects.wear': True}
     """
-    import tomllib
-
     changes: dict[str, Any] = {}
     for option in options or ():
         key, sep, text = option.partition("=")
@@ -80,8 +97,6 @@ def parse_set_options(options: Sequence[str] | None) -> dict[str, Any]:
 def load_scene_option(scene: str, set_options: Sequence[str] | None = None) -> Scene:
     """Load ``scene`` (built-in name or TOML path) and apply ``--set`` options; exit with
     status 2 and the scene error on stderr when it is invalid. For all scene commands."""
-    from mechanism.core.scene import SceneError, load_scene
-
     changes = parse_set_options(set_options)
     try:
         resolved = load_scene(scene)
@@ -94,8 +109,6 @@ def load_scene_option(scene: str, set_options: Sequence[str] | None = None) -> S
 @app.command("scenes")
 def scenes_command() -> None:
     """List the built-in scenes with their descriptions."""
-    from mechanism.core.scene import list_scenes
-
     table = list_scenes()
     width = max(map(len, table), default=0)
     for name, description in table.items():
@@ -140,9 +153,6 @@ def simulate_command(
     progress: bool = typer.Option(True, "--progress/--no-progress", help="Show a progress bar."),
 ) -> None:
     """Simulate a scene and write its trajectory (netCDF by default)."""
-    import chaoskit
-    from mechanism import SimulationError, simulate
-
     resolved = load_scene_option(scene, set_options)
     try:
         ds = simulate(
@@ -188,8 +198,6 @@ def wear_command(
     progress: bool = typer.Option(True, "--progress/--no-progress", help="Show a progress bar."),
 ) -> None:
     """Predict the worn profile (cycle extrapolation) and write it with the worn scene."""
-    from mechanism import SimulationError, predict_wear
-
     resolved = load_scene_option(scene, set_options)
     try:
         pred = predict_wear(
@@ -235,8 +243,6 @@ def convergence_command(
     progress: bool = typer.Option(False, "--progress/--no-progress", help="Show progress bars."),
 ) -> None:
     """Element-convergence table: extreme rod strains (µε) against elements per rod."""
-    from mechanism import SimulationError, element_convergence
-
     resolved = load_scene_option(scene, set_options)
     try:
         counts = [int(x) for x in elements.split(",") if x.strip()]
@@ -265,7 +271,6 @@ def convergence_command(
 
 
 # --- sweeps (issue 8): commands below this line only ---
-from pathlib import Path  # noqa: E402
 
 GRID_HELP = (
     "A swept key and its values, e.g. --grid joints.C.clearance=1e-4,2e-4 "
@@ -282,8 +287,6 @@ def parse_grid_options(options: Sequence[str]) -> dict[str, list[Any]]:
     >>> parse_grid_options(["joints.C.clearance=1e-4,2e-4", "drive.speed_rpm=30,90", "wear=before"])
     {'joints.C.clearance': [0.0001, 0.0002], 'drive.speed_rpm': [30, 90], 'wear': ['before']}
     """
-    import tomllib
-
     grid: dict[str, list[Any]] = {}
     for option in options:
         key, sep, text = option.partition("=")
@@ -334,8 +337,6 @@ def sweep_command(
     progress: bool = typer.Option(True, "--progress/--no-progress", help="Progress bar."),
 ) -> None:
     """Simulate and analyse a scene over a grid, one dask task per point (issue 8)."""
-    from mechanism import Analysis, sweep
-
     if scheduler is not None and workers is not None:
         raise typer.BadParameter("give --scheduler or --workers, not both", param_hint="--workers")
     parsed = parse_grid_options(grid)
@@ -390,11 +391,6 @@ def paper_command(
     progress: bool = typer.Option(True, "--progress/--no-progress", help="Progress bars."),
 ) -> None:
     """Reproduce the seed paper's study (all tables, the chaos table) and write the report."""
-    import shlex
-    import sys
-
-    from mechanism import run_paper_study
-
     if scheduler is not None and workers is not None:
         raise typer.BadParameter("give --scheduler or --workers, not both", param_hint="--workers")
     study = run_paper_study(

@@ -1,39 +1,362 @@
-"""Architecture rules: chaoskit never imports mechanism; the layout the issues promise exists."""
+"""Architecture rules, checked on the source tree with :mod:`ast` (nothing is imported).
+
+* ``chaoskit`` never imports ``mechanism``;
+* no import cycle among the modules of one package (module-level imports, ``TYPE_CHECKING``
+  blocks excluded, package ``__init__`` files included);
+* no import inside a function, except the lazy imports of heavy optional libraries listed in
+  ``LAZY_IMPORTS`` (an import moved into a function to dodge a cycle fails here);
+* no private module of another package (``mechanism`` importing ``chaoskit._x``);
+* ``mechanism.core`` never imports ``mechanism.studies`` (nor the ``mechanism`` package or its
+  CLI), and studies use only the core's public modules (no ``mechanism.core..._x``).
+
+The checks are plain functions run on the real tree and, in ``test_checks_catch_*``, on small
+synthetic trees that break each rule, so a check that stopped finding anything fails too.
+"""
 
 from __future__ import annotations
 
 import ast
 import subprocess
 import sys
+from dataclasses import dataclass
+from pathlib import Path
 
 import pytest
 
 from tests.conftest import REPO
 
+PACKAGES = ("chaoskit", "mechanism")
 
-def _imported_modules(path) -> set[str]:
-    tree = ast.parse(path.read_text(encoding="utf-8"))
-    names: set[str] = set()
-    for node in ast.walk(tree):
-        if isinstance(node, ast.Import):
-            names.update(a.name.split(".")[0] for a in node.names)
-        elif isinstance(node, ast.ImportFrom) and node.module and node.level == 0:
-            names.add(node.module.split(".")[0])
-    return names
+#: Third-party libraries a function may import lazily, and why.
+LAZY_IMPORTS = {
+    "matplotlib": "plotting is optional; numerics never import it (house style)",
+    "jinja2": "only report rendering needs the templates",
+    "distributed": "dask is the optional parallel backend of sweeps",
+    "tqdm": "progress bars are opt-in",
+    "scipy": "scipy.stats/integrate/interpolate load only on the paths that use them",
+}
 
 
-def test_chaoskit_sources_never_import_mechanism() -> None:
-    offenders = [
-        str(p.relative_to(REPO))
-        for p in (REPO / "chaoskit").rglob("*.py")
-        if "mechanism" in _imported_modules(p)
+@dataclass(frozen=True)
+class Import:
+    """One import statement, resolved to absolute module names."""
+
+    module: str  # the importing module
+    path: Path
+    line: int
+    targets: tuple[str, ...]  # absolute names, most specific first (see _targets)
+    local: bool  # inside a function body
+    type_only: bool  # inside ``if TYPE_CHECKING:``
+
+
+def module_name(root: Path, path: Path) -> str:
+    parts = list(path.relative_to(root).with_suffix("").parts)
+    if parts[-1] == "__init__":
+        parts.pop()
+    return ".".join(parts)
+
+
+def source_files(root: Path, packages: tuple[str, ...] = PACKAGES) -> dict[str, Path]:
+    return {
+        module_name(root, p): p
+        for pkg in packages
+        for p in sorted((root / pkg).rglob("*.py"))
+        if "__pycache__" not in p.parts
+    }
+
+
+def _is_type_checking(node: ast.If) -> bool:
+    test = node.test
+    return (isinstance(test, ast.Name) and test.id == "TYPE_CHECKING") or (
+        isinstance(test, ast.Attribute) and test.attr == "TYPE_CHECKING"
+    )
+
+
+def _walk(node: ast.AST, *, local: bool, type_only: bool):  # type: ignore[no-untyped-def]
+    for child in ast.iter_child_nodes(node):
+        if isinstance(child, (ast.Import, ast.ImportFrom)):
+            yield child, local, type_only
+        elif isinstance(child, (ast.FunctionDef, ast.AsyncFunctionDef, ast.Lambda)):
+            yield from _walk(child, local=True, type_only=type_only)
+        elif isinstance(child, ast.If) and _is_type_checking(child):
+            yield from _walk(child, local=local, type_only=True)
+        else:
+            yield from _walk(child, local=local, type_only=type_only)
+
+
+def _targets(node: ast.Import | ast.ImportFrom, module: str, is_pkg: bool, known: set[str]):  # type: ignore[no-untyped-def]
+    if isinstance(node, ast.Import):
+        return [a.name for a in node.names]
+    if node.level:
+        base = module.split(".") if is_pkg else module.split(".")[:-1]
+        base = base[: len(base) - (node.level - 1)]
+        stem = ".".join(base + ([node.module] if node.module else []))
+    else:
+        stem = node.module or ""
+    # ``from pkg import name`` imports the module pkg.name when there is one, else pkg itself
+    out = [f"{stem}.{a.name}" for a in node.names if f"{stem}.{a.name}" in known]
+    return out if len(out) == len(node.names) else [*out, stem]
+
+
+def imports(root: Path, packages: tuple[str, ...] = PACKAGES) -> list[Import]:
+    files = source_files(root, packages)
+    known = set(files)
+    out = []
+    for module, path in files.items():
+        tree = ast.parse(path.read_text(encoding="utf-8"), filename=str(path))
+        is_pkg = path.name == "__init__.py"
+        for node, local, type_only in _walk(tree, local=False, type_only=False):
+            targets = _targets(node, module, is_pkg, known)
+            out.append(Import(module, path, node.lineno, tuple(targets), local, type_only))
+    return out
+
+
+def _ancestors(module: str) -> set[str]:
+    parts = module.split(".")
+    return {".".join(parts[:k]) for k in range(1, len(parts))}
+
+
+def import_graph(found: list[Import], known: set[str]) -> dict[str, set[str]]:
+    """Module → first-party modules its module-level runtime imports execute.
+
+    Importing ``a.b.c`` runs the ``__init__`` of ``a.b`` too, unless that package is one of
+    the importer's own ancestors (already being initialised); the named module itself is
+    always an edge, so ``from chaoskit import analyze`` inside chaoskit is a cycle.
+    """
+    graph: dict[str, set[str]] = {m: set() for m in known}
+    for imp in found:
+        if imp.local or imp.type_only:
+            continue
+        own = _ancestors(imp.module)
+        for target in imp.targets:
+            if target in known and target != imp.module:
+                graph[imp.module].add(target)
+            for prefix in _ancestors(target):
+                if prefix in known and prefix not in own and prefix != imp.module:
+                    graph[imp.module].add(prefix)
+    return graph
+
+
+def cycles(graph: dict[str, set[str]]) -> list[list[str]]:
+    """The strongly connected components with more than one module (Tarjan), sorted."""
+    index: dict[str, int] = {}
+    low: dict[str, int] = {}
+    stack: list[str] = []
+    on_stack: set[str] = set()
+    found: list[list[str]] = []
+
+    def visit(v: str) -> None:
+        index[v] = low[v] = len(index)
+        stack.append(v)
+        on_stack.add(v)
+        for w in sorted(graph.get(v, ())):
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in on_stack:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            component = []
+            while True:
+                w = stack.pop()
+                on_stack.discard(w)
+                component.append(w)
+                if w == v:
+                    break
+            if len(component) > 1:
+                found.append(sorted(component))
+
+    sys.setrecursionlimit(max(sys.getrecursionlimit(), 10_000))
+    for v in sorted(graph):
+        if v not in index:
+            visit(v)
+    return sorted(found)
+
+
+def _first_party(name: str) -> bool:
+    return name.split(".")[0] in PACKAGES
+
+
+def _private(name: str) -> bool:
+    return any(part.startswith("_") and not part.startswith("__") for part in name.split("."))
+
+
+def _where(imp: Import, root: Path) -> str:
+    return f"{imp.path.relative_to(root)}:{imp.line}"
+
+
+def cycle_problems(root: Path) -> list[str]:
+    found = imports(root)
+    known = set(source_files(root))
+    return [
+        "import cycle: " + " <-> ".join(component)
+        for component in cycles(import_graph(found, known))
     ]
-    assert offenders == []
+
+
+def local_import_problems(root: Path) -> list[str]:
+    problems = []
+    for imp in imports(root):
+        if not imp.local:
+            continue
+        for target in imp.targets:
+            top = target.split(".")[0]
+            if top not in LAZY_IMPORTS:
+                problems.append(
+                    f"{_where(imp, root)}: {target!r} is imported inside a function; import it "
+                    "at module level (or add a heavy optional library to LAZY_IMPORTS)"
+                )
+    return problems
+
+
+def private_import_problems(root: Path) -> list[str]:
+    problems = []
+    for imp in imports(root):
+        own = imp.module.split(".")[0]
+        for target in imp.targets:
+            if _first_party(target) and target.split(".")[0] != own and _private(target):
+                problems.append(
+                    f"{_where(imp, root)}: {imp.module} imports the private {target!r} of "
+                    "another package; use its public API (e.g. chaoskit.contract)"
+                )
+    return problems
+
+
+def layer_problems(root: Path) -> list[str]:
+    problems = []
+    for imp in imports(root):
+        for target in imp.targets:
+            if imp.module.startswith("chaoskit") and target.split(".")[0] == "mechanism":
+                problems.append(f"{_where(imp, root)}: chaoskit imports {target!r}")
+            if imp.module.startswith("mechanism.core") and (
+                target in ("mechanism", "mechanism.cli") or target.startswith("mechanism.studies")
+            ):
+                problems.append(
+                    f"{_where(imp, root)}: the core module {imp.module} imports {target!r}; the "
+                    "core never imports upward (studies, the package, the CLI)"
+                )
+            if (
+                imp.module.startswith("mechanism.studies")
+                and target.startswith("mechanism.core")
+                and _private(target)
+            ):
+                problems.append(
+                    f"{_where(imp, root)}: the study {imp.module} imports the core's private "
+                    f"{target!r}; studies use mechanism.core's public names"
+                )
+    return problems
+
+
+# --------------------------------------------------------------------------- the real tree
+
+
+def test_no_import_cycles() -> None:
+    assert cycle_problems(REPO) == []
+
+
+def test_no_imports_inside_functions() -> None:
+    assert local_import_problems(REPO) == []
+
+
+def test_no_private_module_of_another_package() -> None:
+    assert private_import_problems(REPO) == []
+
+
+def test_layers_point_down() -> None:
+    assert layer_problems(REPO) == []
+
+
+def test_mechanism_is_core_and_studies() -> None:
+    top = {p.name for p in (REPO / "mechanism").iterdir() if not p.name.startswith("__")}
+    assert top == {"cli.py", "core", "studies"}
 
 
 def test_importing_chaoskit_does_not_load_mechanism() -> None:
     code = "import sys, chaoskit, chaoskit.cli; sys.exit('mechanism' in sys.modules)"
     assert subprocess.run([sys.executable, "-c", code], check=False).returncode == 0
+
+
+# --------------------------------------------------------------------------- the checks fail
+
+
+def _tree(tmp_path: Path, files: dict[str, str]) -> Path:
+    for name, text in files.items():
+        path = tmp_path / name
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(text, encoding="utf-8")
+    for pkg in PACKAGES:
+        (tmp_path / pkg).mkdir(exist_ok=True)
+        (tmp_path / pkg / "__init__.py").touch()
+    return tmp_path
+
+
+def test_checks_catch_a_cycle(tmp_path: Path) -> None:
+    root = _tree(
+        tmp_path,
+        {
+            "chaoskit/a.py": "from .b import f\n",
+            "chaoskit/b.py": "from typing import TYPE_CHECKING\nfrom . import c\n",
+            "chaoskit/c.py": "from chaoskit.a import g\n",
+            "chaoskit/d.py": "from typing import TYPE_CHECKING\nif TYPE_CHECKING:\n"
+            "    from .a import f\n",
+            "chaoskit/e.py": "from .d import f\n",
+        },
+    )
+    assert cycle_problems(root) == ["import cycle: chaoskit.a <-> chaoskit.b <-> chaoskit.c"]
+
+
+def test_checks_catch_a_cycle_through_a_package_init(tmp_path: Path) -> None:
+    root = _tree(
+        tmp_path,
+        {
+            "mechanism/core/__init__.py": "from .x import f\n",
+            "mechanism/core/x.py": "from mechanism import g\n",
+            "mechanism/__init__.py": "from .core import f\n",
+        },
+    )
+    assert cycle_problems(root) == [
+        "import cycle: mechanism <-> mechanism.core <-> mechanism.core.x"
+    ]
+
+
+def test_checks_catch_a_function_local_import(tmp_path: Path) -> None:
+    root = _tree(
+        tmp_path,
+        {
+            "chaoskit/a.py": "def f():\n    from .b import g\n    import matplotlib.pyplot\n",
+            "chaoskit/b.py": "class K:\n    def m(self):\n        import json\n",
+        },
+    )
+    problems = local_import_problems(root)
+    assert len(problems) == 2
+    assert problems[0].startswith("chaoskit/a.py:2: 'chaoskit.b'")
+    assert problems[1].startswith("chaoskit/b.py:3: 'json'")
+
+
+def test_checks_catch_private_and_upward_imports(tmp_path: Path) -> None:
+    root = _tree(
+        tmp_path,
+        {
+            "chaoskit/_x.py": "",
+            "chaoskit/m.py": "import mechanism\n",
+            "mechanism/core/__init__.py": "",
+            "mechanism/core/_k.py": "from mechanism.studies import s\n",
+            "mechanism/studies/__init__.py": "from mechanism.core._k import f\n",
+            "mechanism/studies/s.py": "from chaoskit._x import y\nfrom chaoskit import z\n",
+        },
+    )
+    assert [p.split(": ", 1)[0] for p in private_import_problems(root)] == [
+        "mechanism/studies/s.py:1"
+    ]
+    layers = layer_problems(root)
+    assert [p.split(": ", 1)[0] for p in layers] == [
+        "chaoskit/m.py:1",
+        "mechanism/core/_k.py:1",
+        "mechanism/studies/__init__.py:1",
+    ]
+
+
+# --------------------------------------------------------------------------- repository
 
 
 @pytest.mark.parametrize(

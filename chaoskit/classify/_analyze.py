@@ -10,7 +10,6 @@ import contextlib
 from collections.abc import Mapping, Sequence
 from typing import Any
 
-import numpy as np
 import xarray as xr
 
 from .._contract import stamp
@@ -18,38 +17,11 @@ from .._io import load_trajectory
 from .._progress import finish_item, stage_bar
 from .._selection import expand_variables, select_series, variable_spec
 from ._rng import as_generator
+from ._table import FIELDS as FIELDS
+from ._table import stack_verdicts
 from ._verdict import LABELS, Verdict, VerdictRule, classify
 
 __all__ = ["analyze", "classify_variables", "verdict_table"]
-
-#: Every field of an analyze row: (long_name, units). ``T`` stands for the time unit of the
-#: data (s for flows, iterations for maps); the actual unit is written into ``units``.
-FIELDS: dict[str, tuple[str, str]] = {
-    "label": ("verdict", ""),
-    "period": ("period k of a period-k orbit (section points per period)", "1"),
-    "confidence": ("fraction of the evidence agreeing with the verdict", "1"),
-    "lag": ("embedding delay", "samples"),
-    "lag_time": ("embedding delay", "T"),
-    "embedding_dim": ("embedding dimension", "1"),
-    "mle_rosenstein": ("largest Lyapunov exponent, Rosenstein", "T-1"),
-    "mle_rosenstein_low": ("lower end of the 95% interval, Rosenstein", "T-1"),
-    "mle_rosenstein_high": ("upper end of the 95% interval, Rosenstein", "T-1"),
-    "mle_rosenstein_bits": ("largest Lyapunov exponent, Rosenstein, bits per sample", "bit"),
-    "mle_wolf": ("largest Lyapunov exponent, Wolf", "T-1"),
-    "mle_wolf_low": ("lower end of the 95% interval, Wolf", "T-1"),
-    "mle_wolf_high": ("upper end of the 95% interval, Wolf", "T-1"),
-    "mle_wolf_bits": ("largest Lyapunov exponent, Wolf, bits per sample", "bit"),
-    "zero_one_k": ("0-1 test for chaos, median K", "1"),
-    "surrogate_p_value": ("surrogate test p-value (prediction error, IAAFT)", "1"),
-    "surrogate_effect": ("relative predictability gain over the median surrogate", "1"),
-    "section_points": ("points in the Poincare/stroboscopic set", "1"),
-    "section_structure": ("structure of the section set", ""),
-    "characteristic_time": ("characteristic time of the growth test", "T"),
-    "noise_level": ("estimated noise standard deviation over the signal's", "1"),
-    "dt": ("sampling interval", "T"),
-    "n_samples": ("series length", "samples"),
-}
-_STRINGS = ("label", "section_structure")
 
 
 def verdict_table(verdicts: Mapping[str, Verdict]) -> xr.Dataset:
@@ -58,27 +30,7 @@ def verdict_table(verdicts: Mapping[str, Verdict]) -> xr.Dataset:
     Exponents and times are in s and s⁻¹ when any verdict comes from a flow, per iteration
     when all come from maps.
     """
-    names = list(verdicts)
-    rows = [v.summary() for v in verdicts.values()]
-    time_unit = "1" if rows and all(v.kind == "map" for v in verdicts.values()) else "s"
-    data_vars = {}
-    for key, (long_name, units) in FIELDS.items():
-        values = [row[key] for row in rows]
-        if key in _STRINGS:
-            arr = np.array(values, dtype=object)
-            attrs = {"long_name": long_name}
-        else:
-            arr = np.array(values, dtype=np.float64)
-            unit = units.replace("T-1", "s-1" if time_unit == "s" else "1")
-            attrs = {"long_name": long_name, "units": unit.replace("T", time_unit)}
-        data_vars[key] = ("variable", arr, attrs)
-    ds = xr.Dataset(
-        data_vars,
-        coords={"variable": ("variable", np.array(names, dtype=object), {"long_name": "variable"})},
-    )
-    ds["label"].attrs["flag_meanings"] = " ".join(LABELS)
-    ds.attrs["reasons"] = " | ".join(f"{n}: {v.reason}" for n, v in verdicts.items())
-    return ds
+    return stack_verdicts(verdicts, LABELS)
 
 
 def classify_variables(

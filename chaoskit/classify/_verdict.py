@@ -30,6 +30,7 @@ from ._clusters import SectionStructure, section_structure
 from ._lines import LineSpectrum, line_spectrum
 from ._rng import as_generator
 from ._surrogates import SurrogateResult, check_surrogates, surrogate_test
+from ._table import stack_verdicts
 from ._zero_one import ZeroOneResult, zero_one_test
 
 __all__ = ["LABELS", "Verdict", "VerdictRule", "classify"]
@@ -248,9 +249,7 @@ class Verdict:
 
     def to_dataset(self) -> xr.Dataset:
         """The summary as a Dataset of scalars (see :func:`chaoskit.analyze` for units)."""
-        from ._analyze import verdict_table
-
-        return verdict_table({self.variable or "x": self})
+        return stack_verdicts({self.variable or "x": self}, LABELS)
 
 
 # ---------------------------------------------------------------- input handling

@@ -15,7 +15,7 @@ from ._figures import (
     phase_portrait,
     poincare,
 )
-from ._report_figures import chaos_map, wear_profile
+from ._report_figures import chaos_map
 
 __all__ = [
     "bifurcation",
@@ -25,5 +25,4 @@ __all__ = [
     "mutual_information",
     "phase_portrait",
     "poincare",
-    "wear_profile",
 ]

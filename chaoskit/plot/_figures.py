@@ -10,6 +10,8 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
+from .._portraits import phase_portrait as make_portrait
+
 __all__ = [
     "bifurcation",
     "divergence",
@@ -42,8 +44,6 @@ def phase_portrait(data: Any, *, variable: str | None = None, ax: Any = None, **
     with ``variable`` (the portrait is then computed). Extra keyword arguments go to
     ``Axes.plot``.
     """
-    from .._portraits import phase_portrait as make_portrait
-
     if not (isinstance(data, xr.Dataset) and "portrait_variable" in data.attrs):
         if variable is None:
             raise ValueError("give variable= to draw the phase portrait of a trajectory.")

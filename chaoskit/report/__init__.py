@@ -2,9 +2,11 @@
 
 :func:`report` analyses each trajectory (one state each, e.g. before and after wear),
 draws the figures with :mod:`chaoskit.plot` and assembles a frozen :class:`Report` of
-captioned tables (pandas DataFrames) and figures (PNG bytes), with whatever tables, wear
-profiles, sweep maps and bifurcation diagrams the caller adds; :meth:`Report.write` writes
-a self-contained HTML page and its Markdown twin. See ``docs/reports.md``.
+captioned tables (pandas DataFrames) and figures (PNG bytes), with whatever tables, sweep
+maps and bifurcation diagrams the caller adds. A :class:`Report` is a list of
+:class:`ReportSection` objects that any caller can assemble or extend
+(:meth:`Report.with_sections`); :meth:`Report.write` writes a self-contained HTML page and
+its Markdown twin. See ``docs/reports.md``.
 
 Note that the top-level name ``chaoskit.report`` is the function; import the classes from
 ``chaoskit`` directly.
@@ -13,10 +15,11 @@ Note that the top-level name ``chaoskit.report`` is the function; import the cla
 from __future__ import annotations
 
 from ._build import CHAOS_COLUMNS, Report, SweepMap, VariableSpec, parse_variable, report
-from ._items import ReportCode, ReportFigure, ReportSection, ReportTable, format_number
+from ._items import MISSING, ReportCode, ReportFigure, ReportSection, ReportTable, format_number
 
 __all__ = [
     "CHAOS_COLUMNS",
+    "MISSING",
     "Report",
     "ReportCode",
     "ReportFigure",

@@ -1,11 +1,11 @@
 """Collect analyses into a frozen :class:`Report`: tables as DataFrames, figures as PNG bytes.
 
-``report`` analyses every trajectory (one state each, e.g. "before wear" and "after
-wear") with :func:`chaoskit.classify_variables`, draws the figures with
-:mod:`chaoskit.plot` and adds whatever the caller passes in (response-metric tables with
-reference values, wear profiles, sweep maps, bifurcation diagrams, figures, parameters).
-Nothing here knows about the simulator: the tables and profiles come in as plain pandas and
-xarray objects.
+``report`` analyses every trajectory (one state of the system each) with
+:func:`chaoskit.classify_variables`, draws the figures with :mod:`chaoskit.plot` and adds
+whatever the caller passes in (tables with reference values, sweep maps, bifurcation
+diagrams, figures, parameters). A :class:`Report` is an ordered list of sections; a caller
+adds its own with :meth:`Report.with_sections`. Nothing here knows about the simulator or
+any particular study: tables come in as plain pandas and xarray objects.
 """
 
 from __future__ import annotations
@@ -28,6 +28,7 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
+from .. import plot
 from .._io import _atomic_write, load_trajectory
 from .._portraits import DERIVATIVE_NAMES, phase_portrait
 from .._selection import VariableSpec, parse_variable, select_series
@@ -36,6 +37,7 @@ from ..classify import classify_variables, verdict_table
 from ..classify._rng import as_generator
 from ..sections import poincare_section, stroboscopic_map
 from ._items import MISSING, ReportCode, ReportFigure, ReportSection, ReportTable, format_number
+from ._render import render_html, render_markdown
 
 __all__ = ["Report", "SweepMap", "VariableSpec", "parse_variable", "report", "select_series"]
 
@@ -50,7 +52,6 @@ SECTION_ORDER = (
     "Phase portraits",
     "Poincaré and stroboscopic maps",
     "Divergence curves",
-    "Wear profiles",
     "Sweeps",
 )
 PROVENANCE = "Parameters and provenance"
@@ -174,16 +175,22 @@ def _plain(value: Any) -> Any:
 
 @dataclass(frozen=True, kw_only=True, eq=False)
 class Report:
-    """A finished report: captioned tables (pandas) and figures (PNG) in sections.
+    """A report: ordered sections of captioned tables (pandas), figures (PNG) and text.
+
+    Any caller can assemble one from :class:`ReportSection` objects; tables and figures are
+    numbered in print order (and told their section) when the report is made, so sections
+    built separately combine into one consistent document. :func:`report` builds the
+    analysis sections; :meth:`with_sections` adds a caller's own.
 
     Attributes
     ----------
     title
         Heading of the page.
     sections
-        :class:`ReportSection` objects in print order; the last is the provenance.
+        :class:`ReportSection` objects in print order (:func:`report` puts the provenance
+        last).
     created
-        ISO 8601 UTC time of assembly.
+        ISO 8601 UTC time of assembly (default: now).
     analysis
         The scalar analysis rows (:func:`chaoskit.analyze` fields) over ``(state,
         variable)``, or None when no trajectory was analysed.
@@ -193,9 +200,59 @@ class Report:
 
     title: str
     sections: tuple[ReportSection, ...]
-    created: str
+    created: str = field(default_factory=lambda: _now())
     analysis: xr.Dataset | None = None
     verdicts: Mapping[str, Mapping[str, Any]] = field(default_factory=dict, repr=False)
+
+    def __post_init__(self) -> None:
+        numbered: list[ReportSection] = []
+        n_table = n_figure = 0
+        for section in self.sections:
+            if not isinstance(section, ReportSection):
+                raise ValueError(
+                    f"sections must hold ReportSection objects; got {type(section).__name__}."
+                )
+            items = []
+            for item in section.items:
+                if isinstance(item, ReportTable):
+                    n_table += 1
+                    item = dataclasses.replace(item, number=n_table, section=section.title)
+                elif isinstance(item, ReportFigure):
+                    n_figure += 1
+                    item = dataclasses.replace(item, number=n_figure, section=section.title)
+                items.append(item)
+            numbered.append(dataclasses.replace(section, items=tuple(items)))
+        object.__setattr__(self, "sections", tuple(numbered))
+
+    def with_sections(
+        self, *sections: ReportSection, before: str | None = None, after: str | None = None
+    ) -> Report:
+        """A copy with ``sections`` inserted before the section titled ``before`` or after
+        the one titled ``after``.
+
+        When neither names a section of this report, they go before the provenance section
+        of :func:`report`, or last if there is none. Tables and figures are renumbered.
+
+        Examples
+        --------
+        >>> import pandas as pd, chaoskit
+        >>> rep = chaoskit.Report(title="demo", sections=())
+        >>> notes = chaoskit.ReportSection(title="Notes", items=(), text="measured")
+        >>> table = chaoskit.ReportTable(caption="A table", data=pd.DataFrame({"x": [1.0]}))
+        >>> extra = chaoskit.ReportSection(title="Results", items=(table,))
+        >>> rep = rep.with_sections(notes).with_sections(extra, before="Notes")
+        >>> [s.title for s in rep.sections], rep.tables[0].number
+        (['Results', 'Notes'], 1)
+        """
+        titles = [s.title for s in self.sections]
+        if before in titles:
+            at = titles.index(before)
+        elif after in titles:
+            at = titles.index(after) + 1
+        else:
+            at = titles.index(PROVENANCE) if PROVENANCE in titles else len(titles)
+        merged = (*self.sections[:at], *sections, *self.sections[at:])
+        return dataclasses.replace(self, sections=merged)
 
     @property
     def tables(self) -> tuple[ReportTable, ...]:
@@ -216,16 +273,12 @@ class Report:
 
     def to_html(self) -> str:
         """The self-contained HTML page (figures embedded as base64 PNG)."""
-        from ._render import render_html
-
         return render_html(self)
 
     def to_markdown(
         self, *, figures: Literal["files", "embed"] = "files", figure_dir: str = "figures"
     ) -> str:
         """The Markdown twin: figures linked as ``figure_dir/<name>.png`` or embedded."""
-        from ._render import render_markdown
-
         return render_markdown(self, figures=figures, figure_dir=figure_dir)
 
     def figure_filename(self, figure: ReportFigure) -> str:
@@ -419,13 +472,11 @@ def _draw(
     name: str,
     section: str,
     panel: tuple[float, float] = (4.2, 3.4),
-    polar: bool = False,
 ) -> ReportFigure:
     from matplotlib.figure import Figure
 
     fig = Figure(figsize=(panel[0] * ncols, panel[1] * nrows), layout="constrained")
-    subplot_kw = {"projection": "polar"} if polar else None
-    axes = fig.subplots(nrows, ncols, squeeze=False, subplot_kw=subplot_kw)
+    axes = fig.subplots(nrows, ncols, squeeze=False)
     draw(axes)
     return ReportFigure.from_matplotlib(fig, caption=caption, name=name, section=section)
 
@@ -595,37 +646,6 @@ def _overview_frame(states: list[_State], specs: list[VariableSpec]) -> pd.DataF
     return pd.DataFrame(data, index=pd.Index([s.alias for s in specs], name="variable"))
 
 
-def _worn_arcs(angle: np.ndarray, depth: np.ndarray, fraction: float) -> list[tuple[float, float]]:
-    """Arcs (deg, counter-clockwise) where depth ≥ fraction × max, regions as equal bins."""
-    order = np.argsort(np.mod(angle, 2 * np.pi))
-    phi = np.mod(angle, 2 * np.pi)[order]
-    h = depth[order]
-    top = float(np.max(h)) if h.size else 0.0
-    if top <= 0 or h.size < 3:
-        return []
-    worn = h >= fraction * top
-    if worn.all():
-        return [(0.0, 360.0)]
-    half = np.pi / h.size
-    start = int(np.flatnonzero(~worn)[0])  # walk from an unworn region: arcs never split
-    arcs, run = [], None
-    for k in range(1, h.size + 1):
-        i = (start + k) % h.size
-        if worn[i] and run is None:
-            run = i
-        if run is not None and (not worn[i] or k == h.size):
-            last = (i - 1) % h.size if not worn[i] else i
-            a0 = np.rad2deg(phi[run] - half) % 360.0
-            a1 = np.rad2deg(phi[last] + half) % 360.0
-            arcs.append((float(a0), float(a1) if a1 > 0 else 360.0))
-            run = None
-    return arcs
-
-
-def _arc_text(arcs: list[tuple[float, float]]) -> str:
-    return ", ".join(f"[{a:.0f}°, {b:.0f}°]" for a, b in arcs) if arcs else MISSING
-
-
 # ----------------------------------------------------------------- provenance
 
 
@@ -669,12 +689,9 @@ def report(
     n_surrogates: int = 19,
     rng: Any = 0,
     chaos_reference: pd.DataFrame | None = None,
-    reference_name: str = "paper",
+    reference_name: str = "reference",
     chaos_notes: str = "",
     tables: Sequence[ReportTable] = (),
-    profiles: Any = None,
-    profile_sectors: Sequence[tuple[float, float]] | None = None,
-    profile_sector_label: str = "reference wear zones",
     sweep_maps: Sequence[SweepMap] = (),
     bifurcations: Any = None,
     figures: Sequence[ReportFigure] = (),
@@ -705,7 +722,7 @@ def report(
       with their fit ranges — one figure per variable, one panel per state.
 
     Then the caller's material: ``tables`` (e.g. response metrics with a paper's values,
-    ratios and differences), wear ``profiles`` (polar plots and a table of worn arcs),
+    ratios and differences),
     ``sweep_maps`` (MLE/verdict maps over two swept parameters, with a table),
     ``bifurcations`` (diagrams from :func:`chaoskit.bifurcation_diagram`), ``figures``;
     and at the end the parameters and provenance: date, command, package versions, every
@@ -754,11 +771,6 @@ def report(
     tables
         :class:`ReportTable` objects, placed in their ``section`` (default "Response
         metrics").
-    profiles
-        A wear profile or ``{label: profile}``; each a Dataset along ``angle`` (rad) or an
-        object with ``to_dataset()`` (see :func:`chaoskit.plot.wear_profile`).
-    profile_sectors, profile_sector_label
-        Angular intervals (deg) shaded on the polar plots and listed in the captions.
     sweep_maps
         :class:`SweepMap` objects (exponent and verdict over two swept parameters).
     bifurcations
@@ -865,8 +877,6 @@ def report(
             [verdict_table(st.verdicts) for st in states],
             dim=pd.Index([st.label for st in states], name="state"),
         )
-    if profiles is not None:
-        _profile_items(profiles, put, profile_sectors, profile_sector_label)
     for m in sweep_maps:
         _sweep_items(m, put)
     if bifurcations is not None:
@@ -894,22 +904,12 @@ def report(
     sections.pop(PROVENANCE, None)
     ordered = [(name, items) for name, items in sections.items() if items]
     ordered.append((PROVENANCE, prov))
-    numbered: list[ReportSection] = []
-    n_table = n_figure = 0
-    for name, items in ordered:
-        out_items = []
-        for item in items:
-            if isinstance(item, ReportTable):
-                n_table += 1
-                item = dataclasses.replace(item, number=n_table, section=name)
-            elif isinstance(item, ReportFigure):
-                n_figure += 1
-                item = dataclasses.replace(item, number=n_figure, section=name)
-            out_items.append(item)
-        numbered.append(ReportSection(title=name, items=tuple(out_items), text=texts.get(name, "")))
     rep = Report(
         title=title,
-        sections=tuple(numbered),
+        sections=tuple(
+            ReportSection(title=name, items=tuple(items), text=texts.get(name, ""))
+            for name, items in ordered
+        ),
         created=created,
         analysis=analysis,
         verdicts={st.label: dict(st.verdicts) for st in states},
@@ -1012,8 +1012,6 @@ def _analysis_items(
             section="Chaos identification",
         )
     )
-    from .. import plot
-
     n = len(states)
     ncols = min(n, 3)
     nrows = math.ceil(n / ncols)
@@ -1142,83 +1140,7 @@ def _analysis_items(
         )
 
 
-def _profile_items(
-    profiles: Any,
-    put: Callable[..., None],
-    sectors: Sequence[tuple[float, float]] | None,
-    sector_label: str,
-) -> None:
-    from .. import plot
-    from ..plot._report_figures import _MICRO, _profile_dataset, _profile_variables
-
-    if isinstance(profiles, Mapping):
-        items = [(str(k), v) for k, v in profiles.items()]
-    else:
-        items = [("wear profile", profiles)]
-    rows, keys = [], []
-    zones = _arc_text([(float(a), float(b)) for a, b in sectors]) if sectors else ""
-    all_lengths = True
-    for label, profile in items:
-        ds = _profile_dataset(profile)
-        names = _profile_variables(ds, None)
-
-        def draw(axes: Any, ds: xr.Dataset = ds) -> None:
-            plot.wear_profile(ds, sectors=sectors, sector_label=sector_label, ax=axes[0, 0])
-
-        described = ", ".join(str(ds[n].attrs.get("long_name", n)) for n in names)
-        put(
-            _draw(
-                draw,
-                nrows=1,
-                ncols=1,
-                panel=(5.0, 5.0),
-                polar=True,
-                section="Wear profiles",
-                name=f"wear-profile-{label}",
-                caption=f"Wear profile ({label}): {described} against the angle of the "
-                "surface, counter-clockwise from +x"
-                + (f"; shaded: {sector_label} {zones}." if zones else "."),
-            )
-        )
-        angle = np.asarray(ds["angle"].values, dtype=np.float64)
-        for n in names:
-            depth = np.asarray(ds[n].values, dtype=np.float64)
-            units = str(ds[n].attrs.get("units", ""))
-            scale = _MICRO.get(units, 1.0)
-            all_lengths = all_lengths and units in _MICRO
-            k = int(np.argmax(depth)) if depth.size else 0
-            rows.append(
-                {
-                    "max_depth": float(depth[k]) * scale if depth.size else float("nan"),
-                    "angle_of_max": float(np.rad2deg(angle[k]) % 360.0),
-                    "arcs": _arc_text(_worn_arcs(angle, depth, 0.1)),
-                }
-            )
-            keys.append((label, str(ds[n].attrs.get("long_name", n))))
-    unit = "µm" if all_lengths else "units of the data"
-    put(
-        ReportTable(
-            caption=(
-                f"Wear profiles: largest depth ({unit}), its angle (deg), and the arcs where "
-                "the depth is at least 10 % of the largest"
-                + (f"; {sector_label}: {zones}." if zones else ".")
-            ),
-            data=pd.DataFrame(
-                rows, index=pd.MultiIndex.from_tuples(keys, names=["profile", "surface"])
-            ).astype(object),
-            labels={
-                "max_depth": f"largest depth ({unit})",
-                "angle_of_max": "at angle (deg)",
-                "arcs": "worn arcs (≥ 10 % of largest)",
-            },
-            section="Wear profiles",
-        )
-    )
-
-
 def _sweep_items(m: SweepMap, put: Callable[..., None]) -> None:
-    from .. import plot
-
     if not isinstance(m, SweepMap):
         raise ValueError(f"sweep_maps must hold SweepMap objects; got {type(m).__name__}.")
     grid = m.to_map()
@@ -1260,8 +1182,6 @@ def _sweep_items(m: SweepMap, put: Callable[..., None]) -> None:
 
 
 def _bifurcation_items(diagrams: Any, put: Callable[..., None]) -> None:
-    from .. import plot
-
     if isinstance(diagrams, xr.Dataset):
         items: list[tuple[str | None, xr.Dataset]] = [(None, diagrams)]
     elif isinstance(diagrams, Mapping):

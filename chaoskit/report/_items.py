@@ -105,7 +105,7 @@ class ReportTable:
         :math:`100\\,(x_\\text{ours} - x_\\text{ref})/|x_\\text{ref}|` (for text: same or
         differs).
     reference_name
-        Header of the reference values, e.g. ``"paper"``.
+        Header of the reference values, e.g. ``"paper"`` or ``"reference"``.
     ratio
         ``(numerator_row, denominator_row)``: add a row with their ratio (for ours and the
         reference), e.g. ``("after wear", "before wear")``. Needs a single-level row index.
@@ -130,7 +130,7 @@ class ReportTable:
     caption: str
     data: pd.DataFrame
     reference: pd.DataFrame | None = None
-    reference_name: str = "paper"
+    reference_name: str = "reference"
     ratio: tuple[str, str] | None = None
     intervals: Mapping[str, tuple[str, str]] = field(default_factory=dict)
     labels: Mapping[str, str] = field(default_factory=dict)

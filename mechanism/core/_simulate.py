@@ -10,12 +10,13 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from chaoskit._validate import check_positive
+from chaoskit.contract import check_positive
 from mechanism.core.model._assemble import Model, assemble, initial_state
 from mechanism.core.record._record import to_dataset
 
 from .integrate import Integration, Integrator, resolve_method
 from .scene import AngleProfileDrive, ConstantSpeedDrive, Scene
+from .wear import add_run_wear
 
 __all__ = ["SimulationError", "drive_period", "output_grid", "simulate"]
 
@@ -248,9 +249,5 @@ def simulate(
         attrs["revolutions"] = float(t_out[-1] / period)
     ds = to_dataset(model, run, ideal_model, ideal_run, attrs=attrs)
     if scene.effects.wear and model.clearance_joints:
-        from mechanism.studies._wear_prediction import (
-            add_run_wear,  # issue 7: the run's Archard wear
-        )
-
         ds = add_run_wear(ds, scene)
     return ds

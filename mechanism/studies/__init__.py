@@ -1,5 +1,7 @@
 """Studies built on the simulator core: sweeps and their store, wear prediction, element
-convergence and the paper study. Everything here uses :mod:`mechanism.core`'s public names.
+convergence, wear-profile figures and report sections, and the paper study.
+
+Everything here uses :mod:`mechanism.core`'s public names.
 """
 
 from __future__ import annotations
@@ -12,6 +14,7 @@ from ._sweep import (
     SweepStoreBusy,
     SweepStoreMismatch,
     chaos_map,
+    dask_client,
     grid_transforms,
     load_sweep,
     register_grid_transform,
@@ -19,6 +22,7 @@ from ._sweep import (
     sweep,
 )
 from ._wear_prediction import Comparison, WearPrediction, compare, predict_wear
+from ._wear_report import plot_wear_profile, wear_profile_section
 
 __all__ = [
     "Analysis",
@@ -32,13 +36,16 @@ __all__ = [
     "WearPrediction",
     "chaos_map",
     "compare",
+    "dask_client",
     "element_convergence",
     "grid_transforms",
     "load_sweep",
     "paper_tables",
+    "plot_wear_profile",
     "predict_wear",
     "register_grid_transform",
     "run_paper_study",
     "stroboscopic_points",
     "sweep",
+    "wear_profile_section",
 ]

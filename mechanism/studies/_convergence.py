@@ -13,16 +13,15 @@ import math
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import numpy as np
+import xarray as xr
 
-from chaoskit._validate import check_int
+from chaoskit.contract import check_int
+from mechanism.core import Scene, simulate
 from mechanism.core.integrate import Integrator
-from mechanism.core.scene import AncfBeam, Scene
-
-if TYPE_CHECKING:
-    import xarray as xr
+from mechanism.core.scene import AncfBeam
 
 __all__ = ["ElementConvergence", "element_convergence"]
 
@@ -74,8 +73,6 @@ class ElementConvergence:
 
     def to_dataset(self) -> xr.Dataset:
         """The table as a Dataset (dims ``elements``, ``rod``, ``joint``)."""
-        import xarray as xr
-
         ds = xr.Dataset(
             {
                 "strain": (
@@ -171,8 +168,6 @@ def element_convergence(
     >>> table.strain.shape
     (2, 1)
     """
-    from mechanism.core._simulate import simulate
-
     if not isinstance(scene, Scene):
         raise TypeError(f"scene must be a mechanism Scene; got {type(scene).__name__}.")
     beams = [name for name, body in scene.bodies.items() if isinstance(body, AncfBeam)]

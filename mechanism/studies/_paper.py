@@ -22,6 +22,7 @@ silence. See ``docs/paper-study.md``.
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import hashlib
 import json
@@ -39,7 +40,14 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
-from ._sweep import Analysis, register_grid_transform, stroboscopic_points, sweep
+import chaoskit
+from mechanism.core import WornProfile, load_scene
+from mechanism.core.scene import ClearanceRevolute
+
+from ._convergence import element_convergence
+from ._sweep import Analysis, dask_client, register_grid_transform, stroboscopic_points, sweep
+from ._wear_prediction import compare, predict_wear
+from ._wear_report import wear_profile_section
 
 __all__ = ["PaperStudy", "StudySettings", "paper_tables", "run_paper_study"]
 
@@ -390,8 +398,6 @@ def _trajectory(ds: xr.Dataset, store: Path, **sel: Any) -> Path | None:
 
 def _wear_table(before: Path, after: Path, discard_revolutions: float) -> pd.DataFrame:
     """Rows "before wear"/"after wear" from :func:`mechanism.compare`, in the paper's units."""
-    from ._wear_prediction import compare
-
     with (
         xr.open_dataset(before, engine="h5netcdf") as b,
         xr.open_dataset(after, engine="h5netcdf") as a,
@@ -411,9 +417,7 @@ def _wear_table(before: Path, after: Path, discard_revolutions: float) -> pd.Dat
 
 def _predict_worn(scene: Any, settings: StudySettings) -> tuple[Any, xr.Dataset | None, str]:
     """The worn scene from :func:`mechanism.predict_wear` (module level: runs on a worker)."""
-    import mechanism
-
-    prediction = mechanism.predict_wear(
+    prediction = predict_wear(
         scene,
         updates=settings.wear_updates,
         cycles_per_update=settings.wear_cycles_per_update,
@@ -425,9 +429,6 @@ def _predict_worn(scene: Any, settings: StudySettings) -> tuple[Any, xr.Dataset 
     profile = None
     info = ""
     try:
-        from mechanism.core.scene import ClearanceRevolute
-        from mechanism.core.wear import WornProfile
-
         joint = worn.joints["C"]
         if not isinstance(joint, ClearanceRevolute):
             raise TypeError("the paper scene's joint C must be a clearance_revolute joint")
@@ -445,8 +446,6 @@ def _predict_worn(scene: Any, settings: StudySettings) -> tuple[Any, xr.Dataset 
 
 def _convergence_run(scene: Any, elements: int, settings: StudySettings) -> list[float]:
     """Extreme strains (µε) of rods 3 and 4 with ``elements`` per rod (runs on a worker)."""
-    from ._convergence import element_convergence
-
     period = 60.0 / abs(float(scene.drive.speed_rpm))
     # the scene's "auto" method runs flexible rods with the fixed-step generalized-α at
     # max_step: keep that step at the paper's T/10000 even when the output grid is coarser
@@ -469,13 +468,9 @@ def _convergence_run(scene: Any, elements: int, settings: StudySettings) -> list
 
 def _session_client(client: Any, n_workers: int | None, n_tasks: int) -> Any:
     """A context manager giving the backend for both sweeps (one cluster for the study)."""
-    import contextlib
-
     if client == "serial":
         return contextlib.nullcontext("serial")
-    from ._sweep import _dask_client
-
-    return _dask_client(client, n_workers, n_tasks)
+    return dask_client(client, n_workers, n_tasks)
 
 
 # --------------------------------------------------------------------------- the study
@@ -542,10 +537,6 @@ def run_paper_study(
     ...     study = mechanism.run_paper_study("results", quick=True)
     ...     print(study.tables["wear"])
     """
-    import chaoskit
-
-    from ._sweep import _resolve_scene
-
     t0 = time.perf_counter()
     if _settings is None:
         settings = StudySettings.quick() if quick else StudySettings.paper()
@@ -557,7 +548,7 @@ def run_paper_study(
     out = Path(output).resolve()
     runs = out / "runs"
     runs.mkdir(parents=True, exist_ok=True)
-    base_scene = _resolve_scene(scene)
+    base_scene = load_scene(scene)
     base_scene = base_scene.replace(
         {"effects.flexibility": settings.flexible_rods, "joints.C.clearance": _DEFAULT_CLEARANCE}
     )
@@ -569,10 +560,6 @@ def run_paper_study(
         options={"n_surrogates": settings.n_surrogates},
     )
     spr = [settings.samples_per_revolution]
-    import mechanism
-
-    has_wear = hasattr(mechanism, "predict_wear")
-    has_convergence = hasattr(mechanism, "element_convergence")
 
     worn_scene = None
     profile = None
@@ -586,10 +573,7 @@ def run_paper_study(
         if backend != "serial" and not settings.flexible_rods:
             # the wear prediction runs on one worker while the before-wear points fill the
             # rest (flexible runs hold the GIL too long for a worker's heartbeat: in-process)
-            if has_wear:
-                pending = backend.submit(
-                    _predict_worn, wear_scene, settings, pure=False, priority=10
-                )
+            pending = backend.submit(_predict_worn, wear_scene, settings, pure=False, priority=10)
         before_raw = sweep(
             base_scene,
             grid={
@@ -608,7 +592,7 @@ def run_paper_study(
         try:
             if pending is not None:
                 worn_scene, profile, wear_info = pending.result()
-            elif has_wear:
+            else:
                 worn_scene, profile, wear_info = _predict_worn(wear_scene, settings)
         except Exception as exc:
             wear_error = f"{type(exc).__name__}: {exc}"
@@ -626,21 +610,14 @@ def run_paper_study(
             ).isel({_SPR: 0}, drop=True)
         conv_rows: dict[int, list[float]] = {}
         conv_errors: list[str] = []
-        if has_convergence:
-            for n in settings.elements:
-                # in this process: a long compiled run holds the GIL, and a dask worker that
-                # misses its heartbeats for minutes is declared dead and restarted
-                try:
-                    conv_rows[n] = _convergence_run(conv_scene, n, settings)
-                except Exception as exc:
-                    conv_errors.append(f"{n} elements: {type(exc).__name__}: {exc}")
-    if not has_wear:
-        unavailable.append(
-            "wear prediction (mechanism.predict_wear) is not available in this version: "
-            "no after-wear rows, the speed table is before wear, the chaos table has no "
-            "after-wear rows"
-        )
-    elif worn_scene is None:
+        for n in settings.elements:
+            # in this process: a long compiled run holds the GIL, and a dask worker that
+            # misses its heartbeats for minutes is declared dead and restarted
+            try:
+                conv_rows[n] = _convergence_run(conv_scene, n, settings)
+            except Exception as exc:
+                conv_errors.append(f"{n} elements: {type(exc).__name__}: {exc}")
+    if worn_scene is None:
         unavailable.append(f"wear prediction failed: {wear_error}")
 
     # ---- tables (ours, in the paper's units)
@@ -688,11 +665,7 @@ def run_paper_study(
         index=pd.Index(elements, name="elements"),
         columns=list(_RODS),
     )
-    if not has_convergence:
-        unavailable.append(
-            "element convergence (mechanism.element_convergence) is not available in this version"
-        )
-    elif conv_errors:
+    if conv_errors:
         unavailable.append("element convergence failed: " + "; ".join(conv_errors))
 
     # ---- chaos analysis and the report
@@ -743,19 +716,24 @@ def run_paper_study(
         n_surrogates=settings.n_surrogates,
         rng=0,
         chaos_reference=chaos_ref if trajectories else None,
+        reference_name="paper",
         chaos_notes=notes["chaos"],
         tables=report_tables,
-        profiles={"after wear (predicted)": profile} if profile is not None else None,
-        profile_sectors=paper_wear_zones(),
-        profile_sector_label="paper's wear zones",
         sweep_maps=sweep_maps,
         bifurcations=bifurcations,
         parameters=parameters,
         title="Jia et al. (2025) reproduced: wear prediction and chaos identification of the "
         "rigid-flexible six-bar with clearance" + (" (quick)" if quick else ""),
         command=command,
-        output=out / "report.html",
     )
+    if profile is not None:
+        wear_section = wear_profile_section(
+            {"after wear (predicted)": profile},
+            sectors=paper_wear_zones(),
+            sector_label="paper's wear zones",
+        )
+        rep = rep.with_sections(wear_section, after="Divergence curves")
+    rep.write(out / "report.html")
     chaos = rep.table("Chaos table").data if trajectories else pd.DataFrame()
     tables["chaos"] = chaos
     return PaperStudy(
@@ -773,8 +751,6 @@ def run_paper_study(
 
 
 def _bifurcations(before: xr.Dataset, store: Path) -> dict[str, xr.Dataset] | None:
-    import chaoskit
-
     try:
         points = stroboscopic_points(before, store=store)
     except ValueError:
@@ -855,14 +831,13 @@ def _report_tables(
     *,
     has_after: bool,
 ) -> list[Any]:
-    import chaoskit
-
     def table(key: str, caption: str, *, reference: str | None = None, **options: Any) -> Any:
         # a table's data, its published values and its notes share one key
         return chaoskit.ReportTable(
             caption=caption,
             data=tables[key],
             reference=paper[reference or key],
+            reference_name="paper",
             labels=LABELS,
             notes=notes[key],
             **options,

@@ -29,26 +29,24 @@ from collections.abc import Callable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from types import MappingProxyType
-from typing import Any, Literal
+from typing import Any
 
 import numpy as np
 import xarray as xr
 
-from chaoskit._contract import stamp
-from chaoskit._version import __version__
-from mechanism.core.record._metrics import (
-    METRIC_SOURCES,
+import chaoskit
+from chaoskit import save_trajectory
+from chaoskit.contract import __version__, stamp
+from mechanism.core import load_scene, simulate
+from mechanism.core.record import (
     METRICS,
-    reduce_values,
     response_metrics,
     window_start,
-)
-from mechanism.core.record._metrics import (
-    ROD_STRAIN as ROD_STRAIN,
 )
 
 from . import _sweep_store as _store
 from ._sweep_store import SweepStoreBusy, SweepStoreMismatch
+from ._wear_prediction import predict_wear
 
 __all__ = [
     "Analysis",
@@ -56,6 +54,7 @@ __all__ = [
     "SweepStoreBusy",
     "SweepStoreMismatch",
     "chaos_map",
+    "dask_client",
     "grid_transforms",
     "load_sweep",
     "register_grid_transform",
@@ -65,13 +64,9 @@ __all__ = [
 
 _log = logging.getLogger("mechanism.sweep")
 
-Status = Literal["ok", "failed", "diverged"]
 STATUSES: tuple[str, ...] = ("ok", "failed", "diverged")
 _TWO_PI = 2.0 * math.pi
 _SOURCE = f"mechanism (chaoskit {__version__})"
-
-# Response metrics (paper-model §2.10): one definition, shared with compare/predict_wear.
-_METRIC_SOURCES = METRIC_SOURCES
 
 
 # --------------------------------------------------------------------------- configuration
@@ -248,8 +243,6 @@ def _wear_transform(scene: Any, value: Any, **settings: Any) -> Any:
     ``settings``; register ``functools.partial(_wear_transform, ...)`` to change them)."""
     if value == "before":
         return scene
-    from ._wear_prediction import predict_wear
-
     options = {**WEAR_AFTER_SETTINGS, **settings}
     return predict_wear(
         scene,
@@ -287,8 +280,6 @@ class _PointTask:
 
 def _simulate_point(scene: Any, *, revolutions: float) -> xr.Dataset:
     """The simulation of one grid point (the one place a test stand-in replaces)."""
-    from mechanism.core._simulate import simulate
-
     # failure as data: a failed integration returns its samples so far and solver_status < 0
     return simulate(scene, revolutions=revolutions, throw=False)
 
@@ -342,11 +333,6 @@ def _simulation_status(traj: xr.Dataset) -> tuple[str, str]:
     return "ok", ""
 
 
-_window_start = window_start
-_reduce = reduce_values
-_response_metrics = response_metrics
-
-
 def _analysis_input(
     traj: xr.Dataset, analysis: Analysis, start: int, extra: Sequence[str] = ()
 ) -> xr.Dataset:
@@ -390,8 +376,6 @@ def _point_seed(seed: int, pid: str) -> int:
 def _analyze_point(traj: xr.Dataset, analysis: Analysis, start: int, pid: str) -> xr.Dataset | None:
     if not analysis.variables:
         return None
-    import chaoskit
-
     kwargs = dict(analysis.options)
     extra: tuple[str, ...] = ()
     if "phase_variable" not in kwargs and "drive_period" not in kwargs and "crank_angle" in traj:
@@ -454,8 +438,6 @@ def _run_point(task: _PointTask) -> tuple[str, str]:
 
     Returns ``(point_id, status)``; the summary is on disk.
     """
-    from chaoskit import save_trajectory
-
     store = Path(task.store)
     t0 = time.perf_counter()
     status, message, trajectory_file = "failed", "", ""
@@ -477,8 +459,8 @@ def _run_point(task: _PointTask) -> tuple[str, str]:
                 save_trajectory(traj, target)
                 trajectory_file = target.relative_to(store).as_posix()
         if status == "ok":
-            start = _window_start(traj, task.analysis.discard_revolutions)
-            parts.append(_response_metrics(traj, start))
+            start = window_start(traj, task.analysis.discard_revolutions)
+            parts.append(response_metrics(traj, start))
             try:
                 result = _analyze_point(traj, task.analysis, start, task.point_id)
             except Exception as exc:
@@ -538,7 +520,14 @@ def _run_serial(tasks: Sequence[_PointTask], progress: bool) -> list[tuple[str, 
 
 
 @contextlib.contextmanager
-def _dask_client(client: Any, n_workers: int | None, n_tasks: int) -> Iterator[Any]:
+def dask_client(client: Any, n_workers: int | None, n_tasks: int) -> Iterator[Any]:
+    """The dask ``Client`` a sweep runs on, as a context manager.
+
+    ``client`` None starts a ``LocalCluster`` of ``n_workers`` single-threaded processes
+    (default: CPU count, at most ``n_tasks``) and closes it on exit; an address connects to
+    that scheduler (closing leaves it running); a ``Client`` is yielded unchanged. Studies
+    that run several sweeps open one backend here and pass it as ``client=``.
+    """
     from distributed import Client, LocalCluster
 
     if client is None:
@@ -567,7 +556,7 @@ def _run_dask(
     from distributed import as_completed
 
     done = []
-    with _dask_client(client, n_workers, len(tasks)) as c:
+    with dask_client(client, n_workers, len(tasks)) as c:
         run = uuid.uuid4().hex[:8]
         futures = {
             c.submit(_run_point, task, key=f"sweep-{task.point_id}-{run}", pure=False): task
@@ -589,8 +578,6 @@ def _run_dask(
 
 def _resolve_scene(scene: Any) -> Any:
     if isinstance(scene, (str, os.PathLike)):
-        from mechanism.core.scene import load_scene
-
         return load_scene(scene if isinstance(scene, str) else Path(scene))
     if not (hasattr(scene, "replace") and hasattr(scene, "to_json")):
         raise TypeError(
@@ -659,10 +646,6 @@ def _check_grid_against_scene(scene: Any, grid: Mapping[str, tuple[Any, ...]]) -
                 scene.replace({key: value})
             except Exception as exc:
                 raise ValueError(f"grid[{key!r}] = {value!r}: {exc}") from exc
-
-
-def _scene_dict(scene: Any) -> Any:
-    return json.loads(scene.to_json())
 
 
 def _callable_name(func: Callable[..., Any]) -> str:
@@ -1084,8 +1067,6 @@ def stroboscopic_points(
     ...     line, parameter="drive.speed_rpm", variable="eccentricity_x")
     >>> chaoskit.plot.bifurcation(diagram)  # doctest: +SKIP
     """
-    import chaoskit
-
     ds = _as_sweep(data)
     root = Path(store) if store is not None else Path(ds.attrs.get("store", "."))
     settings = json.loads(ds.attrs.get("analysis", "{}"))

@@ -33,8 +33,8 @@ try:
 except ImportError:  # Windows: no advisory locks; the exclusive manifest still guards
     fcntl = None  # type: ignore[assignment]
 
-from chaoskit._io import write_netcdf as _write_netcdf
-from chaoskit._paths import safe_filename
+from chaoskit.contract import safe_filename
+from chaoskit.contract import write_netcdf as _write_netcdf
 
 __all__ = [
     "MANIFEST_FORMAT",

@@ -1,7 +1,8 @@
-"""Wear in the dynamics: run wear, ``predict_wear`` (cycle extrapolation) and ``compare``.
+"""Wear prediction: ``predict_wear`` (cycle extrapolation) and ``compare`` (before/after).
 
-* :func:`run_wear` — the Archard wear one simulated run produces, from its contact samples
-  (``simulate`` adds it to the Dataset when ``effects.wear`` is on).
+The wear of one run (:func:`mechanism.core.wear.run_wear`) is part of the core; this study
+builds on it:
+
 * :func:`predict_wear` — the update loop of paper-model §2.7 (Flores 2009; Mukras 2010):
   settle, accumulate one cycle's wear, extrapolate over a block of cycles with the depth
   increment limited relative to the clearance, smooth, update the profile, repeat.
@@ -22,219 +23,20 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
-from chaoskit._contract import stamp
-from chaoskit._validate import check_int, check_positive
-from chaoskit._version import __version__
-from mechanism.core.contact import contact_parameters
-from mechanism.core.model._assemble import scene_to_json
-from mechanism.core.record._metrics import METRICS, ROD_STRAIN, response_metrics, window_start
-from mechanism.core.scene import ClearanceRevolute, Scene
-from mechanism.core.wear import WornProfile, archard_wear
-from mechanism.core.wear import _kernels as wk
+from chaoskit.contract import __version__, check_int, check_positive, stamp, variable
+from mechanism.core import Scene, simulate
+from mechanism.core.record import METRICS, ROD_STRAIN, response_metrics, window_start
+from mechanism.core.scene import ClearanceRevolute
+from mechanism.core.wear import SURFACES, WornProfile, clearance_joint, run_wear, surface_angle
 
 __all__ = [
     "Comparison",
-    "JointWear",
     "WearPrediction",
     "compare",
     "predict_wear",
-    "run_wear",
 ]
 
-_SURFACES = ("bearing", "journal")
-
-
-def _var(dims: tuple[str, ...], data: Any, units: str, long_name: str) -> xr.Variable:
-    return xr.Variable(dims, np.asarray(data), attrs={"units": units, "long_name": long_name})
-
-
-# --------------------------------------------------------------------------- run wear
-
-
-@dataclass(frozen=True, kw_only=True, eq=False)
-class JointWear:
-    """Wear one clearance joint accumulated over a window of a simulated run.
-
-    Attributes
-    ----------
-    joint : str
-        Joint name.
-    depth : numpy.ndarray
-        (2, regions) depth increments (m) of the bearing and journal regions.
-    volume : tuple[float, float]
-        Volume removed from the bearing and the journal (m³).
-    requested_volume : float
-        k Σ Fₙ |v_t| Δt over the window (m³); equals each surface's volume unless an
-        increment was reduced (``reduced`` > 0).
-    sliding_distance : float
-        Σ |v_t| Δt over the samples in contact (m).
-    reduced, rejected : int
-        Increments scaled down by a depth limit, and non-finite samples skipped.
-    """
-
-    joint: str
-    depth: np.ndarray
-    volume: tuple[float, float]
-    requested_volume: float
-    sliding_distance: float
-    reduced: int
-    rejected: int
-
-
-def _clearance_joint(scene: Scene, name: str) -> ClearanceRevolute:
-    joint = scene.joints.get(name)
-    if not isinstance(joint, ClearanceRevolute):
-        raise ValueError(f"{name!r} is not a clearance joint of scene {scene.name!r}.")
-    return joint
-
-
-def _trapezoid_weights(t: np.ndarray) -> np.ndarray:
-    """Weights w with Σ wᵢ fᵢ = trapezoidal ∫ f dt on the sample times ``t``."""
-    w = np.zeros(t.size)
-    if t.size > 1:
-        dt = np.diff(t)
-        w[:-1] += 0.5 * dt
-        w[1:] += 0.5 * dt
-    return w
-
-
-def run_wear(
-    scene: Scene,
-    traj: xr.Dataset,
-    *,
-    start: int = 0,
-    max_increment: float | None = None,
-) -> dict[str, JointWear]:
-    """Archard wear of every clearance joint over the samples ``traj.time[start:]``.
-
-    Per output sample i in contact: slip Δsᵢ = |v_t,i| wᵢ with wᵢ the trapezoidal weight of
-    the sample, Hertz half-width from the local R* of the scene's profile (same stiffness
-    form as K, paper A7), ΔV = k Fₙ Δs to the region containing the contact angle (spread
-    over ±a/R when ``spread_over_contact_width``). The volume Σ ΔV is therefore
-    k ∫ Fₙ |v_t| dt by the trapezoidal rule on the output grid, which by default is also
-    the largest step the integrator takes while clearance joints are active.
-
-    Parameters
-    ----------
-    scene : Scene
-        The scene the trajectory was simulated from (its profiles are the starting point).
-    traj : xarray.Dataset
-        Output of :func:`mechanism.simulate` (needs ``contact_force``,
-        ``sliding_velocity``, ``contact_angle``, ``contact_angle_journal``).
-    start : int
-        First sample of the window.
-    max_increment : float, optional
-        Cap (m) on the depth any region may gain from one sample.
-
-    Returns
-    -------
-    dict
-        :class:`JointWear` by joint name.
-    """
-    if "joint" not in traj.dims:
-        return {}
-    t = np.asarray(traj["time"].values, dtype=np.float64)[start:]
-    w = _trapezoid_weights(t)
-    out: dict[str, JointWear] = {}
-    for name in np.asarray(traj["joint"].values).astype(str):
-        joint = _clearance_joint(scene, str(name))
-        sel = traj.sel(joint=name).isel(time=slice(start, None))
-        force = np.nan_to_num(np.asarray(sel["contact_force"].values, dtype=np.float64))
-        slip = np.abs(np.asarray(sel["sliding_velocity"].values, dtype=np.float64)) * w
-        slip = np.nan_to_num(slip)
-        profile = WornProfile.from_joint(joint)
-        n = profile.regions
-        if joint.wear.coefficient == 0.0 or not (force > 0.0).any():
-            out[str(name)] = JointWear(
-                joint=str(name), depth=np.zeros((2, n)), volume=(0.0, 0.0),
-                requested_volume=0.0, sliding_distance=float(slip[force > 0].sum()),
-                reduced=0, rejected=0,
-            )  # fmt: skip
-            continue
-        p = contact_parameters(joint)
-        result = archard_wear(
-            profile,
-            bearing_angle=np.asarray(sel["contact_angle"].values, dtype=np.float64),
-            journal_angle=np.asarray(sel["contact_angle_journal"].values, dtype=np.float64),
-            normal_force=force,
-            slip=slip,
-            coefficient=joint.wear.coefficient,
-            effective_modulus=p.effective_modulus,
-            form=p.form if p.form is not None else "sum-of-radii",  # type: ignore[arg-type]
-            spread=joint.wear.spread_over_contact_width,
-            max_increment=max_increment,
-            radius_ratio_limit=joint.wear.radius_ratio_limit,
-        )
-        depth = np.stack(
-            [
-                result.profile.bearing_depth - profile.bearing_depth,
-                result.profile.journal_depth - profile.journal_depth,
-            ]
-        )
-        out[str(name)] = JointWear(
-            joint=str(name),
-            depth=depth,
-            volume=(result.bearing_volume, result.journal_volume),
-            requested_volume=result.requested_volume,
-            sliding_distance=float(slip[force > 0].sum()),
-            reduced=result.reduced,
-            rejected=result.rejected,
-        )
-    return out
-
-
-def _angle_coord(regions: int) -> tuple[str, np.ndarray, dict[str, str]]:
-    centres = (np.arange(regions) + 0.5) * (2.0 * math.pi / regions)
-    return ("angle", centres, {"units": "rad", "long_name": "region centre in the part's frame"})
-
-
-def add_run_wear(ds: xr.Dataset, scene: Scene) -> xr.Dataset:
-    """``ds`` with the wear accumulated over the whole run (``effects.wear`` on).
-
-    Adds ``wear_depth(joint, surface, angle)`` (m), ``worn_volume(joint, surface)`` (m³)
-    and ``sliding_distance(joint)`` (m). All clearance joints must have the same number of
-    regions (one ``angle`` coordinate).
-    """
-    wear = run_wear(scene, ds)
-    if not wear:
-        return ds
-    names = list(wear)
-    sizes = {wear[n].depth.shape[1] for n in names}
-    if len(sizes) != 1:
-        raise ValueError(
-            f"the clearance joints {names} have different wear.regions {sorted(sizes)}; "
-            "use one region count for all joints of a scene with effects.wear on."
-        )
-    depth = np.stack([wear[n].depth for n in names])
-    volume = np.array([wear[n].volume for n in names])
-    ds = ds.assign_coords(
-        surface=("surface", np.array(_SURFACES, dtype=object)),
-        angle=_angle_coord(depth.shape[2]),
-    )
-    ds["wear_depth"] = _var(
-        ("joint", "surface", "angle"), depth, "m", "wear depth accumulated during this run"
-    )
-    ds["worn_volume"] = _var(("joint", "surface"), volume, "m3", "volume worn off during this run")
-    ds["sliding_distance"] = _var(
-        ("joint",),
-        [wear[n].sliding_distance for n in names],
-        "m",
-        "sliding distance in contact during this run",
-    )
-    return ds
-
-
 # --------------------------------------------------------------------------- predict_wear
-
-
-def _smooth(values: np.ndarray, width: int) -> np.ndarray:
-    """Circular centred moving average (the profile's own smoothing; keeps Σ values)."""
-    if width <= 1:
-        return values.copy()
-    out = np.empty_like(values)
-    for i in range(values.size):
-        out[i] = wk.smoothed_depth(values, i, width)
-    return out
 
 
 def _with_profiles(scene: Scene, profiles: dict[str, WornProfile]) -> Scene:
@@ -345,8 +147,6 @@ def predict_wear(
     ...                               settle_revolutions=0.5)  # doctest: +SKIP
     >>> pred.worn_scene.joints["C"].wear.bearing_profile[:1]  # doctest: +SKIP
     """
-    from mechanism.core._simulate import simulate
-
     if not isinstance(scene, Scene):
         raise TypeError(f"scene must be a mechanism Scene; got {type(scene).__name__}.")
     updates = check_int(updates, name="updates", minimum=1)
@@ -359,7 +159,7 @@ def predict_wear(
     names = [n for n, j in scene.joints.items() if isinstance(j, ClearanceRevolute)]
     if not names or not scene.effects.clearance:
         raise ValueError("predict_wear needs a scene with an active clearance joint.")
-    profiles = {n: WornProfile.from_joint(_clearance_joint(scene, n)) for n in names}
+    profiles = {n: WornProfile.from_joint(clearance_joint(scene, n)) for n in names}
     if len({p.regions for p in profiles.values()}) != 1:
         raise ValueError("all clearance joints must have the same wear.regions.")
     kwargs: dict[str, Any] = {
@@ -397,8 +197,13 @@ def predict_wear(
             increments = {}
             for name in names:
                 p = profiles[name]
-                w = p.smoothing_regions
-                dh = np.stack([_smooth(wear[name].depth[0], w), _smooth(wear[name].depth[1], w)])
+                # smoothed like the profile itself (its own smoothing_regions)
+                step = p.with_depth(
+                    bearing_depth=wear[name].depth[0], journal_depth=wear[name].depth[1]
+                )
+                dh = np.stack(
+                    [step.smoothed_depth(surface="bearing"), step.smoothed_depth(surface="journal")]
+                )
                 if p.surfaces == "bearing":
                     dh[1] = 0.0
                 if not np.all(np.isfinite(dh)):
@@ -458,35 +263,36 @@ def _prediction_dataset(
     volume = np.zeros(depth.shape[:3])
     for u in range(depth.shape[0]):
         for j, name in enumerate(names):
-            p = profiles[name]
-            volume[u, j, 0] = wk.worn_volume(depth[u, j, 0], p.bearing_radius, p.length, True)
-            volume[u, j, 1] = wk.worn_volume(depth[u, j, 1], p.journal_radius, p.length, False)
+            state = profiles[name].with_depth(
+                bearing_depth=depth[u, j, 0], journal_depth=depth[u, j, 1]
+            )
+            volume[u, j] = (state.bearing_volume, state.journal_volume)
     data: dict[str, Any] = {
-        "wear_depth": _var(("update", "joint", "surface", "angle"), depth, "m", "wear depth"),
-        "worn_volume": _var(("update", "joint", "surface"), volume, "m3", "worn volume"),
-        "cycles": _var(("update",), cum, "1", "crank cycles of wear at this update state"),
-        "block_cycles": _var(
+        "wear_depth": variable(("update", "joint", "surface", "angle"), depth, "m", "wear depth"),
+        "worn_volume": variable(("update", "joint", "surface"), volume, "m3", "worn volume"),
+        "cycles": variable(("update",), cum, "1", "crank cycles of wear at this update state"),
+        "block_cycles": variable(
             ("update",), block_hist, "1", "cycles extrapolated after this update state"
         ),
     }
     for name, (units, long_name) in METRICS.items():
         values = [float(m[name].values) for m in metrics_hist]
-        data[name] = _var(("update",), values, units, long_name + " (last revolution)")
+        data[name] = variable(("update",), values, units, long_name + " (last revolution)")
     coords: dict[str, Any] = {
         "update": ("update", np.arange(depth.shape[0]), {"long_name": "profile update"}),
         "joint": ("joint", np.array(names, dtype=object)),
-        "surface": ("surface", np.array(_SURFACES, dtype=object)),
-        "angle": _angle_coord(regions),
+        "surface": ("surface", np.array(SURFACES, dtype=object)),
+        "angle": surface_angle(regions),
     }
     if all(ROD_STRAIN in m for m in metrics_hist):
         strain = xr.concat([m[ROD_STRAIN] for m in metrics_hist], dim="update")
-        data[ROD_STRAIN] = _var(
+        data[ROD_STRAIN] = variable(
             ("update", "rod"), strain.values, "1", strain.attrs.get("long_name", ROD_STRAIN)
         )
         coords["rod"] = ("rod", np.asarray(strain["rod"].values).astype(object))
     ds = xr.Dataset(data, coords=coords)
-    ds.attrs["scene"] = scene_to_json(scene)
-    ds.attrs["worn_scene"] = scene_to_json(worn_scene)
+    ds.attrs["scene"] = scene.to_json()
+    ds.attrs["worn_scene"] = worn_scene.to_json()
     ds.attrs["scene_name"] = scene.name
     for key, value in settings.items():
         ds.attrs[key] = value
@@ -521,9 +327,9 @@ class Comparison:
         t = self.table
         ds = xr.Dataset(
             {
-                "before": _var(("metric",), t["before"].to_numpy(float), "", "value before"),
-                "after": _var(("metric",), t["after"].to_numpy(float), "", "value after"),
-                "ratio": _var(("metric",), t["ratio"].to_numpy(float), "1", "after / before"),
+                "before": variable(("metric",), t["before"].to_numpy(float), "", "value before"),
+                "after": variable(("metric",), t["after"].to_numpy(float), "", "value after"),
+                "ratio": variable(("metric",), t["ratio"].to_numpy(float), "1", "after / before"),
             },
             coords={
                 "metric": ("metric", np.array(t.index, dtype=object)),

@@ -1,4 +1,4 @@
-"""The report figures (wear profile, chaos map) draw exactly the data they are given."""
+"""The report figures (chaos map) draw exactly the data they are given."""
 
 from __future__ import annotations
 
@@ -15,65 +15,6 @@ def _rendered(ax) -> bool:
     pixels = np.asarray(ax.figure.canvas.buffer_rgba())
     plt.close(ax.figure)
     return pixels.std() > 0
-
-
-def _profile(n: int = 360) -> xr.Dataset:
-    phi = 2 * np.pi * (np.arange(n) + 0.5) / n
-    depth = 1e-6 * (2.0 + np.cos(phi) ** 2)
-    return xr.Dataset(
-        {
-            "wear_depth": ("angle", depth, {"units": "m", "long_name": "bearing wear depth"}),
-            "journal_wear_depth": ("angle", 0.5 * depth, {"units": "m", "long_name": "journal"}),
-            "curvature_radius": ("angle", np.full(n, 0.015), {"units": "m", "long_name": "rho"}),
-        },
-        coords={"angle": ("angle", phi, {"units": "rad"})},
-    )
-
-
-class _ProfileObject:
-    """Stands for a simulator's wear-profile object: anything with to_dataset()."""
-
-    def to_dataset(self) -> xr.Dataset:
-        return _profile(90)
-
-
-def test_wear_profile_draws_depths_in_micrometres_on_a_closed_polar_curve() -> None:
-    ds = _profile()
-    ax = plot.wear_profile(ds, sectors=[(75, 132), (300, 20)])
-    assert ax.name == "polar"
-    lines = ax.get_lines()
-    assert [ln.get_label() for ln in lines] == ["bearing wear depth", "journal"]  # no curvature
-    theta, r = lines[0].get_data()
-    np.testing.assert_allclose(r[:-1], ds["wear_depth"].values * 1e6, rtol=1e-12)
-    np.testing.assert_allclose(theta[:-1], ds["angle"].values, rtol=1e-12)
-    assert theta[-1] == pytest.approx(theta[0] + 2 * np.pi) and r[-1] == r[0]  # closed
-    bars = ax.patches
-    widths = sorted(np.rad2deg(b.get_width()) for b in bars)
-    np.testing.assert_allclose(widths, [57.0, 80.0])  # 300° -> 20° wraps through 0°
-    assert _rendered(ax)
-
-
-def test_wear_profile_accepts_a_dataarray_an_object_and_a_given_polar_axes() -> None:
-    fig = plt.figure()
-    polar = fig.add_subplot(projection="polar")
-    da = _profile()["wear_depth"]
-    assert plot.wear_profile(da, ax=polar) is polar
-    assert _rendered(polar)
-    ax = plot.wear_profile(_ProfileObject(), variables="curvature_radius")
-    _, r = ax.get_lines()[0].get_data()
-    np.testing.assert_allclose(r, 0.015e6)
-    plt.close(ax.figure)
-
-
-def test_wear_profile_refuses_bad_input() -> None:
-    _, flat = plt.subplots()
-    with pytest.raises(ValueError, match="polar"):
-        plot.wear_profile(_profile(), ax=flat)
-    plt.close(flat.figure)
-    with pytest.raises(ValueError, match="angle"):
-        plot.wear_profile(xr.Dataset({"h": ("x", np.ones(4))}))
-    with pytest.raises(ValueError, match="not 1-D along 'angle'"):
-        plot.wear_profile(_profile(), variables=["nope"])
 
 
 def _map() -> xr.Dataset:

@@ -30,7 +30,7 @@ from chaoskit.report import (
     format_number,
     parse_variable,
 )
-from chaoskit.report._build import _worn_arcs, select_series
+from chaoskit.report._build import select_series
 
 OMEGA = 1.2
 DRIVE = 2 * np.pi / OMEGA
@@ -90,25 +90,6 @@ CHAOS_PAPER = pd.DataFrame(
     },
     index=pd.MultiIndex.from_tuples([("X", s) for s in STATES], names=["variable", "state"]),
 )
-ZONES = [(75.0, 132.0), (252.0, 310.0)]
-
-
-def _profile() -> xr.Dataset:
-    """360 regions; bearing wear only inside the two zones (deepest 12 µm at 100°)."""
-    centre = np.arange(360) + 0.5
-    inside = ((centre > 75) & (centre < 132)) | ((centre > 252) & (centre < 310))
-    depth = np.where(inside, 6e-6 + 6e-6 * np.exp(-(((centre - 100.5) / 10) ** 2)), 0.0)
-    return xr.Dataset(
-        {
-            "wear_depth": ("angle", depth, {"units": "m", "long_name": "bearing wear depth"}),
-            "journal_wear_depth": (
-                "angle",
-                0.5 * depth,
-                {"units": "m", "long_name": "journal wear depth"},
-            ),
-        },
-        coords={"angle": ("angle", np.deg2rad(centre), {"units": "rad"})},
-    )
 
 
 def _sweep() -> xr.Dataset:
@@ -168,12 +149,14 @@ def built(trajectories, tmp_path_factory):
         phase_variable="crank_angle",
         rng=0,
         chaos_reference=CHAOS_PAPER,
+        reference_name="paper",
         chaos_notes="The stand-in is not the paper's mechanism.",
         tables=[
             ReportTable(
                 caption="Response metrics before and after wear.",
                 data=METRICS,
                 reference=PAPER,
+                reference_name="paper",
                 ratio=("after wear", "before wear"),
                 labels={
                     "peak_contact_force": "peak contact force (N)",
@@ -181,8 +164,6 @@ def built(trajectories, tmp_path_factory):
                 },
             )
         ],
-        profiles={"after wear": _profile()},
-        profile_sectors=ZONES,
         sweep_maps=[
             SweepMap(
                 data=_sweep(), x="drive.speed_rpm", y="joints.C.clearance", select={"wear": "after"}
@@ -300,7 +281,6 @@ EXPECTED_TABLES = [
     "Response metrics before and after wear",
     "Chaos table",
     "Evidence behind each verdict",
-    "Wear profiles",
     "Values behind the map",
     "Provenance",
     "Inputs",
@@ -321,11 +301,11 @@ def test_every_expected_table_is_in_the_page_numbered_and_captioned(built, page)
 
 def test_every_image_is_an_embedded_png_with_a_caption(built, page) -> None:
     rep, out = built
-    # X: phase portrait, stroboscopic map, divergence; wear profile; chaos map; bifurcation;
-    # the caller's figure
-    assert len(page.figures) == len(rep.figures) == 7
+    # X: phase portrait, stroboscopic map, divergence; chaos map; bifurcation; the caller's
+    # figure
+    assert len(page.figures) == len(rep.figures) == 6
     html = out.read_text(encoding="utf-8")
-    assert html.count("<img") == 7 and "http://" not in html and "https://" not in html
+    assert html.count("<img") == 6 and "http://" not in html and "https://" not in html
     for k, fig in enumerate(page.figures):
         assert fig["src"].startswith("data:image/png;base64,")
         raw = base64.b64decode(fig["src"].split(",", 1)[1], validate=True)
@@ -421,31 +401,6 @@ def test_response_metrics_beside_the_paper_with_ratios_and_differences(built) ->
     assert shown.at[ratio, (force, "difference (%)")] == (
         f"{100 * (ours_ratio - paper_ratio) / paper_ratio:+.1f}"
     )
-
-
-def test_wear_profile_table_finds_the_worn_arcs(built) -> None:
-    rep, _ = built
-    table = rep.table("Wear profiles")
-    bearing = table.data.loc[("after wear", "bearing wear depth")]
-    np.testing.assert_allclose(float(bearing["max_depth"]), 12.0, rtol=1e-3)  # µm
-    assert float(bearing["angle_of_max"]) == pytest.approx(100.5)
-    assert bearing["arcs"] == "[75°, 132°], [252°, 310°]"
-    journal = table.data.loc[("after wear", "journal wear depth")]
-    np.testing.assert_allclose(float(journal["max_depth"]), 6.0, rtol=1e-3)
-
-
-def test_worn_arcs_wrap_through_zero() -> None:
-    centre = np.deg2rad(np.arange(360) + 0.5)
-    depth = np.zeros(360)
-    depth[350:] = depth[:10] = 1.0
-    np.testing.assert_allclose(_worn_arcs(centre, depth, 0.1), [(350.0, 10.0)], atol=1e-9)
-    depth[100:120] = 0.05  # below 10 % of the largest: not worn
-    depth[200:220] = 0.5
-    np.testing.assert_allclose(
-        _worn_arcs(centre, depth, 0.1), [(200.0, 220.0), (350.0, 10.0)], atol=1e-9
-    )
-    assert _worn_arcs(centre, np.ones(360), 0.1) == [(0.0, 360.0)]
-    assert _worn_arcs(centre, np.zeros(360), 0.1) == []
 
 
 def test_sweep_map_table_holds_the_selected_slice(built) -> None:
@@ -578,7 +533,11 @@ def test_chaos_reference_with_unknown_columns_is_refused(trajectories) -> None:
 
 def test_tables_only_report_and_long_layout(tmp_path) -> None:
     table = ReportTable(
-        caption="Metrics in long layout.", data=METRICS, reference=PAPER, layout="long"
+        caption="Metrics in long layout.",
+        data=METRICS,
+        reference=PAPER,
+        reference_name="paper",
+        layout="long",
     )
     rep = chaoskit.report(tables=[table], title="Tables only", command="test")
     shown = rep.tables[0].display()

@@ -13,8 +13,7 @@ import xarray as xr
 import mechanism
 from mechanism.core.model import _kernels as k
 from mechanism.core.model._assemble import assemble, initial_state
-from mechanism.core.wear import WornProfile
-from mechanism.studies._wear_prediction import run_wear
+from mechanism.core.wear import WornProfile, run_wear
 from tests.mechanism.scenes import rigid_paper
 
 JOINT = "C"

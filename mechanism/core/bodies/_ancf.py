@@ -31,22 +31,23 @@ the absolute nodal coordinate formulation with an elastic line approach", J. Sou
 from __future__ import annotations
 
 import math
+import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 import scipy.linalg
+import xarray as xr
 from numpy.typing import ArrayLike
 
-from chaoskit._validate import check_choice, check_int, check_positive
+from chaoskit.contract import check_choice, check_int, check_positive
+from mechanism.core.joints._kernels import ANGLE_SLOPE, POINT_LINEAR
 
 from . import _ancf_kernels as _k
 
 if TYPE_CHECKING:
-    import xarray as xr
-
-    from mechanism.core.scene._model import AncfBeam
+    from mechanism.core.scene import AncfBeam
 
 __all__ = [
     "AncfLayout",
@@ -455,8 +456,6 @@ class BeamStaticSolution:
 
     def to_dataset(self) -> xr.Dataset:
         """Nodal positions, slopes and displacements over ``node`` and ``component``."""
-        import xarray as xr
-
         nodes = self.coordinates.reshape(-1, 4)
         ref = self.reference.reshape(-1, 4)
         coords = {
@@ -548,8 +547,6 @@ def solve_beam_static(
     >>> bool(sol.success), np.round(sol.node_displacement(), 4).tolist()
     (True, [-0.5074, -1.2055])
     """
-    import time
-
     start = time.perf_counter()
     q = mesh._coordinates(load, "load")
     e0 = mesh.straight_coordinates() if initial is None else mesh._coordinates(initial, "initial")
@@ -642,8 +639,6 @@ class BeamModes:
 
     def to_dataset(self) -> xr.Dataset:
         """Frequencies, kinds and mode shapes over ``mode`` (and ``dof``)."""
-        import xarray as xr
-
         n = self.frequency.size
         ds = xr.Dataset(
             {
@@ -846,8 +841,6 @@ class AncfLayout:
 
     def point_row(self, point: str, offset: int) -> tuple[list[int], list[float]]:
         """Point-table rows of ``"start"`` (node 1) or ``"end"`` (last node)."""
-        from mechanism.core.joints._kernels import ANGLE_SLOPE, POINT_LINEAR
-
         if point not in self.point_names:
             raise KeyError(point)
         node = offset + (0 if point == "start" else 4 * self.mesh.n_elements)

@@ -26,7 +26,7 @@ import warnings
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Literal
 
-from chaoskit._validate import check_choice, check_positive
+from chaoskit.contract import check_choice, check_positive
 
 from . import _kernels as k
 

@@ -32,9 +32,8 @@ Examples
 from __future__ import annotations
 
 import dataclasses
-import json
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any, NamedTuple
 
 import numpy as np
@@ -69,10 +68,12 @@ from mechanism.core.scene import (
     RigidBody,
     Scene,
 )
+from mechanism.core.wear import WornProfile
+from mechanism.core.wear import _kernels as wk
 
 from . import _kernels as k
 
-__all__ = ["KernelModel", "Model", "Workspace", "assemble", "initial_state", "scene_to_json"]
+__all__ = ["KernelModel", "Model", "Workspace", "assemble", "initial_state"]
 
 
 class KernelModel(NamedTuple):
@@ -235,20 +236,6 @@ class Model:
             nz_n=np.zeros(m, dtype=np.int64),
             nz_j=np.zeros((m, n), dtype=np.int64),
         )
-
-
-def scene_to_json(scene: Scene) -> str:
-    """The resolved scene as JSON (``Scene.to_json`` when the scene provides one)."""
-    to_json = getattr(scene, "to_json", None)
-    if callable(to_json):
-        return str(to_json())
-
-    def default(obj: Any) -> Any:
-        if isinstance(obj, np.ndarray):
-            return obj.tolist()
-        return str(obj)
-
-    return json.dumps(dataclasses.asdict(scene), default=default, sort_keys=True)
 
 
 def _layouts(scene: Scene) -> list[Any]:
@@ -420,9 +407,6 @@ def _worn_tables(
     An unworn joint (both profiles empty) gets ``CW_WORN = 0`` and no arrays, so its
     contact runs the unworn code path.
     """
-    from mechanism.core.wear import WornProfile
-    from mechanism.core.wear import _kernels as wk
-
     row_i = [0] * k.CW_COLUMNS
     row_f = [p.effective_modulus, float(joint.wear.radius_ratio_limit)]
     if not (joint.wear.bearing_profile or joint.wear.journal_profile):
@@ -454,6 +438,11 @@ def _worn_tables(
 def assemble(scene: Scene, *, ideal: bool = False, eccentricity_offsets: bool = False) -> Model:
     """Compile a scene into a :class:`Model`.
 
+    The steps: lay out the bodies' coordinates (:func:`_mass_tables`), turn every joint into
+    constraint rows or a clearance-joint row (:func:`_joint_tables`), add the drive and the
+    output points (:func:`_drive_tables`, :func:`_crank_points`, :func:`_slider_map`), and
+    pack everything into the flat arrays of a :class:`KernelModel` (:func:`_kernel_model`).
+
     Parameters
     ----------
     scene
@@ -482,35 +471,99 @@ def assemble(scene: Scene, *, ideal: bool = False, eccentricity_offsets: bool = 
         n += lay.n_dof
     if n == 0:
         raise ValueError("the scene has no bodies.")
-    mass = np.zeros((n, n))
-    minv = np.zeros((n, n))
-    blk_lo = np.zeros(n, dtype=np.int64)
-    blk_hi = np.zeros(n, dtype=np.int64)
-    grav = np.zeros(n)
-    q_guess = np.zeros(n)
-    dof_names: list[str] = []
+    mass = _mass_tables(scene, layouts, offsets, n)
+    b = _Builder(scene, layouts, offsets)
+    joints = _joint_tables(
+        scene,
+        b,
+        {lay.name: lay for lay in layouts},
+        use_clearance=scene.effects.clearance and not ideal,
+        eccentricity_offsets=eccentricity_offsets,
+    )
+    drive = _drive_rows(scene, b)
+    crank_points = _crank_points(scene, b, drive.crank_points)
+    slider = _slider_map(scene, b)
+    if b.rows > n:
+        raise ValueError(
+            f"the scene has {b.rows} constraint equations for {n} coordinates; it is "
+            "over-constrained (remove a redundant joint)."
+        )
+    kernel = _kernel_model(scene, layouts, offsets, mass, b, joints, drive, crank_points, slider)
+    return Model(
+        scene=scene,
+        kernel=kernel,
+        body_names=tuple(lay.name for lay in layouts),
+        body_offsets=tuple(offsets[lay.name] for lay in layouts),
+        rigid_bodies=tuple(lay.name for lay in layouts if isinstance(lay, RigidLayout)),
+        beams={lay.name: lay for lay in layouts if isinstance(lay, AncfLayout)},
+        dof_names=tuple(mass.dof_names),
+        point_index=dict(b.point_index),
+        ideal_joints=tuple(joints.ideal_rows),
+        clearance_joints=tuple(joints.clearance_names),
+        drive_row=drive.row,
+        crank_points=crank_points,
+        slider=slider,
+        q_guess=mass.q_guess,
+    )
+
+
+@dataclass
+class _MassTables:
+    mass: np.ndarray
+    minv: np.ndarray
+    blk_lo: np.ndarray
+    blk_hi: np.ndarray
+    gravity: np.ndarray
+    q_guess: np.ndarray
+    dof_names: list[str]
+
+
+def _mass_tables(scene: Scene, layouts: list[Any], offsets: dict[str, int], n: int) -> _MassTables:
+    """Block-diagonal mass matrix and its inverse, gravity forces and the first guess of q."""
+    t = _MassTables(
+        mass=np.zeros((n, n)),
+        minv=np.zeros((n, n)),
+        blk_lo=np.zeros(n, dtype=np.int64),
+        blk_hi=np.zeros(n, dtype=np.int64),
+        gravity=np.zeros(n),
+        q_guess=np.zeros(n),
+        dof_names=[],
+    )
     g = scene.gravity if scene.effects.gravity else (0.0, 0.0)
     for lay in layouts:
         o = offsets[lay.name]
         blk = lay.mass_block()
         sl = slice(o, o + lay.n_dof)
-        mass[sl, sl] = blk
-        minv[sl, sl] = np.linalg.inv(blk)
-        blk_lo[sl] = o
-        blk_hi[sl] = o + lay.n_dof
-        grav[sl] = lay.gravity_block(g)
-        q_guess[sl] = lay.initial_coordinates()
-        dof_names.extend(f"{lay.name}.{c}" for c in lay.coordinate_names)
-    layout_map = {lay.name: lay for lay in layouts}
+        t.mass[sl, sl] = blk
+        t.minv[sl, sl] = np.linalg.inv(blk)
+        t.blk_lo[sl] = o
+        t.blk_hi[sl] = o + lay.n_dof
+        t.gravity[sl] = lay.gravity_block(g)
+        t.q_guess[sl] = lay.initial_coordinates()
+        t.dof_names.extend(f"{lay.name}.{c}" for c in lay.coordinate_names)
+    return t
 
-    b = _Builder(scene, layouts, offsets)
-    ideal_rows: list[IdealJointRows] = []
-    clearance_names: list[str] = []
-    cj_i: list[list[int]] = []
-    cj_f: list[list[float]] = []
-    worn: list[tuple[list[int], list[float]]] = []
-    cw_h: list[np.ndarray] = []
-    use_clearance = scene.effects.clearance and not ideal
+
+@dataclass
+class _JointTables:
+    ideal_rows: list[IdealJointRows] = field(default_factory=list)
+    clearance_names: list[str] = field(default_factory=list)
+    cj_i: list[list[int]] = field(default_factory=list)
+    cj_f: list[list[float]] = field(default_factory=list)
+    worn: list[tuple[list[int], list[float]]] = field(default_factory=list)
+    cw_h: list[np.ndarray] = field(default_factory=list)
+
+
+def _joint_tables(
+    scene: Scene,
+    b: _Builder,
+    layout_map: dict[str, Any],
+    *,
+    use_clearance: bool,
+    eccentricity_offsets: bool,
+) -> _JointTables:
+    """Constraint rows of the ideal joints and the table rows of the clearance joints."""
+    t = _JointTables()
     for name, joint in scene.joints.items():
         where = f"joints.{name}"
         if isinstance(joint, ClearanceRevolute):
@@ -519,26 +572,15 @@ def assemble(scene: Scene, *, ideal: bool = False, eccentricity_offsets: bool = 
             if use_clearance:
                 p = contact_parameters(joint)
                 friction = p.friction_code if scene.effects.friction else 0
-                row_f = [0.0] * k.CF_COLUMNS
-                row_f[k.CF_RB] = joint.bearing_radius
-                row_f[k.CF_RJ] = joint.journal_radius
-                row_f[k.CF_C] = joint.clearance
-                row_f[k.CF_K] = p.stiffness
-                row_f[k.CF_EXP] = p.exponent
-                row_f[k.CF_CE] = p.restitution
-                row_f[k.CF_MU] = p.friction_coefficient
-                row_f[k.CF_V0] = p.v0
-                row_f[k.CF_V1] = p.v1
-                row_f[k.CF_FLOOR] = p.impact_velocity_floor
-                cj_i.append([pb, pj, p.law_code, friction])
-                cj_f.append(row_f)
-                worn.append(_worn_tables(joint, p, cw_h))
-                clearance_names.append(name)
+                t.cj_i.append([pb, pj, p.law_code, friction])
+                t.cj_f.append(_clearance_row(joint, p))
+                t.worn.append(_worn_tables(joint, p, t.cw_h))
+                t.clearance_names.append(name)
             else:
                 ex, ey = joint.initial_eccentricity if eccentricity_offsets else (0.0, 0.0)
                 # Φ = r_b − r_j + e₀ keeps r_j − r_b = e₀
                 row = b.add(CON_COINCIDE, pb, pj, (-ex, -ey))
-                ideal_rows.append(IdealJointRows(name=name, kind="revolute", row=row))
+                t.ideal_rows.append(IdealJointRows(name=name, kind="revolute", row=row))
             continue
         if not isinstance(joint, RevoluteJoint | PrismaticJoint | FixedJoint):
             raise TypeError(f"{where}: unsupported joint type {type(joint).__name__}.")
@@ -548,11 +590,11 @@ def assemble(scene: Scene, *, ideal: bool = False, eccentricity_offsets: bool = 
         rel = _angle_guess(layout_map, bb) - _angle_guess(layout_map, ba)
         if isinstance(joint, RevoluteJoint):
             row = b.add(CON_COINCIDE, pa, pb)
-            ideal_rows.append(IdealJointRows(name=name, kind="revolute", row=row))
+            t.ideal_rows.append(IdealJointRows(name=name, kind="revolute", row=row))
         elif isinstance(joint, FixedJoint):
             row = b.add(CON_COINCIDE, pa, pb)
             b.add(CON_ANGLE, pa, pb, (rel,))
-            ideal_rows.append(IdealJointRows(name=name, kind="fixed", row=row))
+            t.ideal_rows.append(IdealJointRows(name=name, kind="fixed", row=row))
         else:
             ux, uy = (float(c) for c in joint.axis)
             norm = math.hypot(ux, uy)
@@ -561,16 +603,45 @@ def assemble(scene: Scene, *, ideal: bool = False, eccentricity_offsets: bool = 
             ux, uy = ux / norm, uy / norm
             row = b.add(CON_ANGLE, pa, pb, (rel,))
             b.add(CON_NORMAL, pa, pb, (-uy, ux, 0.0))
-            ideal_rows.append(
+            t.ideal_rows.append(
                 IdealJointRows(
                     name=name, kind="prismatic", row=row, normal=(-uy, ux), guide_point=pa
                 )
             )
+    return t
 
-    drive_f, spline_x, spline_c, drive_kind, theta0 = _drive_tables(scene)
-    drive_row: int | None = None
-    drive_con = -1
+
+def _clearance_row(joint: ClearanceRevolute, p: Any) -> list[float]:
+    """The ``CF_*`` row of a clearance joint: geometry and its contact and friction laws."""
+    row_f = [0.0] * k.CF_COLUMNS
+    row_f[k.CF_RB] = joint.bearing_radius
+    row_f[k.CF_RJ] = joint.journal_radius
+    row_f[k.CF_C] = joint.clearance
+    row_f[k.CF_K] = p.stiffness
+    row_f[k.CF_EXP] = p.exponent
+    row_f[k.CF_CE] = p.restitution
+    row_f[k.CF_MU] = p.friction_coefficient
+    row_f[k.CF_V0] = p.v0
+    row_f[k.CF_V1] = p.v1
+    row_f[k.CF_FLOOR] = p.impact_velocity_floor
+    return row_f
+
+
+@dataclass
+class _DriveRows:
+    f: np.ndarray
+    spline_x: np.ndarray
+    spline_c: np.ndarray
+    kind: int
+    row: int | None = None
+    con: int = -1
     crank_points: tuple[int, int] | None = None
+
+
+def _drive_rows(scene: Scene, b: _Builder) -> _DriveRows:
+    """The driving constraint (a prescribed angle of a revolute joint) and its tables."""
+    drive_f, spline_x, spline_c, drive_kind, theta0 = _drive_tables(scene)
+    out = _DriveRows(f=drive_f, spline_x=spline_x, spline_c=spline_c, kind=int(drive_kind))
     if scene.drive is not None:
         jname = scene.drive.joint
         driven = scene.joints.get(jname)
@@ -581,66 +652,79 @@ def assemble(scene: Scene, *, ideal: bool = False, eccentricity_offsets: bool = 
             )
         pa = b.point(driven.bodies[0], driven.points[0], "drive")
         pb = b.point(driven.bodies[1], driven.points[1], "drive")
-        drive_con = len(b.con_i)
-        drive_row = b.add(CON_DRIVE, pa, pb, (theta0,))
-        crank_points = (pa, pb)
+        out.con = len(b.con_i)
+        out.row = b.add(CON_DRIVE, pa, pb, (theta0,))
+        out.crank_points = (pa, pb)
+    return out
+
+
+def _crank_points(
+    scene: Scene, b: _Builder, default: tuple[int, int] | None
+) -> tuple[int, int] | None:
+    """Points whose relative angle is the output ``crank_angle`` (default: the driven joint)."""
     crank_joint = scene.outputs.crank_joint
-    if crank_joint is not None:
-        crank = scene.joints.get(crank_joint)
-        if not isinstance(crank, RevoluteJoint | ClearanceRevolute):
-            raise ValueError(
-                f"outputs.crank_joint must name a revolute joint; got {crank_joint!r}."
-            )
-        if isinstance(crank, ClearanceRevolute):
-            crank_points = (
-                b.point(*crank.bearing, "outputs.crank_joint"),
-                b.point(*crank.journal, "outputs.crank_joint"),
-            )
-        else:
-            crank_points = (
-                b.point(crank.bodies[0], crank.points[0], "outputs.crank_joint"),
-                b.point(crank.bodies[1], crank.points[1], "outputs.crank_joint"),
-            )
-
-    slider = _slider_map(scene, b)
-
-    if b.rows > n:
-        raise ValueError(
-            f"the scene has {b.rows} constraint equations for {n} coordinates; it is "
-            "over-constrained (remove a redundant joint)."
+    if crank_joint is None:
+        return default
+    crank = scene.joints.get(crank_joint)
+    if not isinstance(crank, RevoluteJoint | ClearanceRevolute):
+        raise ValueError(f"outputs.crank_joint must name a revolute joint; got {crank_joint!r}.")
+    if isinstance(crank, ClearanceRevolute):
+        return (
+            b.point(*crank.bearing, "outputs.crank_joint"),
+            b.point(*crank.journal, "outputs.crank_joint"),
         )
+    return (
+        b.point(crank.bodies[0], crank.points[0], "outputs.crank_joint"),
+        b.point(crank.bodies[1], crank.points[1], "outputs.crank_joint"),
+    )
 
-    def arr_i(rows: list[list[int]], width: int) -> np.ndarray:
-        return np.ascontiguousarray(np.array(rows, dtype=np.int64).reshape(-1, width))
 
-    def arr_f(rows: list[list[float]], width: int) -> np.ndarray:
-        return np.ascontiguousarray(np.array(rows, dtype=np.float64).reshape(-1, width))
+def _arr_i(rows: list[list[int]], width: int) -> np.ndarray:
+    return np.ascontiguousarray(np.array(rows, dtype=np.int64).reshape(-1, width))
 
+
+def _arr_f(rows: list[list[float]], width: int) -> np.ndarray:
+    return np.ascontiguousarray(np.array(rows, dtype=np.float64).reshape(-1, width))
+
+
+def _kernel_model(
+    scene: Scene,
+    layouts: list[Any],
+    offsets: dict[str, int],
+    mass: _MassTables,
+    b: _Builder,
+    joints: _JointTables,
+    drive: _DriveRows,
+    crank_points: tuple[int, int] | None,
+    slider: SliderMap | None,
+) -> KernelModel:
+    """Pack the assembled tables into the contiguous arrays the kernels read."""
     beam_names = [lay.name for lay in layouts if isinstance(lay, AncfLayout)]
     beam_rows = {
         lay.name: lay.beam_row(offsets[lay.name]) for lay in layouts if isinstance(lay, AncfLayout)
     }
+    cw_h = joints.cw_h
     solver = scene.solver
-    kernel = KernelModel(
-        n_dof=n,
+    return KernelModel(
+        n_dof=mass.mass.shape[0],
         n_rows=b.rows,
-        mass=mass,
-        minv=minv,
-        blk_lo=blk_lo,
-        blk_hi=blk_hi,
-        gravity_force=grav,
-        pt_i=arr_i(b.pt_i, 8),
-        pt_f=arr_f(b.pt_f, 6),
-        con_i=arr_i(b.con_i, 4),
-        con_f=arr_f(b.con_f, 4),
-        drive_i=np.array([int(drive_kind), drive_con], dtype=np.int64),
-        drive_f=np.ascontiguousarray(drive_f, dtype=np.float64),
-        spline_x=spline_x,
-        spline_c=spline_c,
-        cj_i=arr_i(cj_i, 4),
-        cj_f=arr_f(cj_f, k.CF_COLUMNS),
-        cw_i=arr_i([w[0] for w in worn], k.CW_COLUMNS),
-        cw_f=arr_f([w[1] for w in worn], 2),
+        mass=mass.mass,
+        minv=mass.minv,
+        blk_lo=mass.blk_lo,
+        blk_hi=mass.blk_hi,
+        gravity_force=mass.gravity,
+        pt_i=_arr_i(b.pt_i, 8),
+        pt_f=_arr_f(b.pt_f, 6),
+        con_i=_arr_i(b.con_i, 4),
+        con_f=_arr_f(b.con_f, 4),
+        drive_i=np.array([drive.kind, drive.con], dtype=np.int64),
+        drive_f=np.ascontiguousarray(drive.f, dtype=np.float64),
+        spline_x=drive.spline_x,
+        spline_c=drive.spline_c,
+        cj_i=_arr_i(joints.cj_i, 4),
+        cj_f=_arr_f(joints.cj_f, k.CF_COLUMNS),
+        cw_i=_arr_i([w[0] for w in joints.worn], k.CW_COLUMNS),
+        cw_f=_arr_f([w[1] for w in joints.worn], 2),
         cw_h=np.ascontiguousarray(np.concatenate([np.zeros(0), *cw_h[0::3]])),
         cw_k=np.ascontiguousarray(np.concatenate([np.zeros(0), *cw_h[1::3]])),
         cw_s=np.ascontiguousarray(np.concatenate([np.zeros(0), *cw_h[2::3]])),
@@ -652,34 +736,18 @@ def assemble(scene: Scene, *, ideal: bool = False, eccentricity_offsets: bool = 
             dtype=np.int64,
         ),
         out_f=np.array(slider.axis if slider is not None else (1.0, 0.0), dtype=np.float64),
-        jt_i=arr_i(
+        jt_i=_arr_i(
             [
                 [k.JOINT_PRISMATIC if j.kind == "prismatic" else k.JOINT_PIN, j.row, j.guide_point]
-                for j in ideal_rows
+                for j in joints.ideal_rows
             ],
             3,
         ),
-        jt_f=arr_f([list(j.normal) for j in ideal_rows], 2),
+        jt_f=_arr_f([list(j.normal) for j in joints.ideal_rows], 2),
         alpha=float(solver.baumgarte_alpha),
         beta=float(solver.baumgarte_beta),
-        beam_i=arr_i([beam_rows[n][0] for n in beam_names], BEAM_I_COLUMNS),
-        beam_f=arr_f([beam_rows[n][1] for n in beam_names], BEAM_F_COLUMNS),
-    )
-    return Model(
-        scene=scene,
-        kernel=kernel,
-        body_names=tuple(lay.name for lay in layouts),
-        body_offsets=tuple(offsets[lay.name] for lay in layouts),
-        rigid_bodies=tuple(lay.name for lay in layouts if isinstance(lay, RigidLayout)),
-        beams={lay.name: lay for lay in layouts if isinstance(lay, AncfLayout)},
-        dof_names=tuple(dof_names),
-        point_index=dict(b.point_index),
-        ideal_joints=tuple(ideal_rows),
-        clearance_joints=tuple(clearance_names),
-        drive_row=drive_row,
-        crank_points=crank_points,
-        slider=slider,
-        q_guess=q_guess,
+        beam_i=_arr_i([beam_rows[n][0] for n in beam_names], BEAM_I_COLUMNS),
+        beam_f=_arr_f([beam_rows[n][1] for n in beam_names], BEAM_F_COLUMNS),
     )
 
 

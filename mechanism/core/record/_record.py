@@ -3,7 +3,7 @@ labelled-data boundary).
 
 The Dataset follows the data contract (``docs/data-model.md``): a float64 ``time``
 coordinate in seconds, every variable with ``units`` and ``long_name``, the global
-attributes of :func:`chaoskit._contract.stamp`, the resolved scene as JSON in ``scene`` and
+attributes of :func:`chaoskit.contract.stamp`, the resolved scene as JSON in ``scene`` and
 the solver statistics as ``solver_*`` attributes (``ideal_solver_*`` for the ideal
 mechanism run alongside). Variables are listed in ``docs/simulator.md``.
 """
@@ -15,19 +15,14 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from chaoskit._contract import stamp
-from chaoskit._version import __version__
+from chaoskit.contract import __version__, stamp, variable
 from mechanism.core.integrate import Integration, Recording
 from mechanism.core.model import _kernels as k
-from mechanism.core.model._assemble import Model, scene_to_json
+from mechanism.core.model._assemble import Model
 
 __all__ = ["to_dataset"]
 
 _AXES = ("x", "y", "theta")
-
-
-def _var(dims: tuple[str, ...], data: np.ndarray, units: str, long_name: str) -> xr.Variable:
-    return xr.Variable(dims, data, attrs={"units": units, "long_name": long_name})
 
 
 def _body_block(model: Model, values: np.ndarray) -> np.ndarray:
@@ -40,33 +35,33 @@ def _body_block(model: Model, values: np.ndarray) -> np.ndarray:
 def _common(model: Model, rec: Recording, suffix: str, label: str) -> dict[str, xr.Variable]:
     out: dict[str, xr.Variable] = {}
     if model.rigid_bodies:
-        out[f"position{suffix}"] = _var(
+        out[f"position{suffix}"] = variable(
             ("time", "body", "axis"),
             _body_block(model, rec.q),
             "m (x, y), rad (theta)",
             f"centre-of-mass position and angle of each rigid body{label}",
         )
-        out[f"velocity{suffix}"] = _var(
+        out[f"velocity{suffix}"] = variable(
             ("time", "body", "axis"),
             _body_block(model, rec.v),
             "m s-1 (x, y), rad s-1 (theta)",
             f"centre-of-mass velocity and angular velocity of each rigid body{label}",
         )
     if model.slider is not None:
-        out[f"slider_position{suffix}"] = _var(
+        out[f"slider_position{suffix}"] = variable(
             ("time",), rec.out[:, k.OUT_S], "m", f"slider position along its guide{label}"
         )
-        out[f"slider_velocity{suffix}"] = _var(
+        out[f"slider_velocity{suffix}"] = variable(
             ("time",), rec.out[:, k.OUT_SD], "m s-1", f"slider velocity along its guide{label}"
         )
-        out[f"slider_acceleration{suffix}"] = _var(
+        out[f"slider_acceleration{suffix}"] = variable(
             ("time",),
             rec.out[:, k.OUT_SDD],
             "m s-2",
             f"slider acceleration along its guide{label}",
         )
     if model.drive_row is not None:
-        out[f"driving_torque{suffix}"] = _var(
+        out[f"driving_torque{suffix}"] = variable(
             ("time",),
             -rec.lam[:, model.drive_row],
             "N m",
@@ -98,20 +93,20 @@ def _beam_outputs(model: Model, rec: Recording) -> tuple[dict[str, xr.Variable],
         deflection[:, b] = mesh.midspan_deflection_history(rec.q, offset=offsets[name])
         flat = strain[:, b].reshape(-1)
         extreme = float(flat[np.argmax(np.abs(flat))]) if flat.size else float("nan")
-        out[f"strain_{name}"] = _var(
+        out[f"strain_{name}"] = variable(
             (),
             np.array(1e6 * extreme),
             "1e-6",
             f"signed extreme axial strain of {name} over time and stations "
             "(micro-strain, positive = tension)",
         )
-    out["strain"] = _var(
+    out["strain"] = variable(
         ("time", "rod", "station"),
         strain,
         "1",
         "axial strain along each flexible rod (|r,x| - 1 or the Green strain)",
     )
-    out["midspan_deflection"] = _var(
+    out["midspan_deflection"] = variable(
         ("time", "rod"),
         deflection,
         "m",
@@ -152,7 +147,7 @@ def to_dataset(
     irec = irec.head(n)
     data: dict[str, xr.Variable] = {}
     if model.crank_points is not None:
-        data["crank_angle"] = _var(
+        data["crank_angle"] = variable(
             ("time",),
             rec.out[:, k.OUT_CRANK],
             "rad",
@@ -161,13 +156,13 @@ def to_dataset(
     data.update(_common(model, rec, "", ""))
     data.update(_common(ideal_model, irec, "_ideal", " (ideal mechanism)"))
     if "slider_position" in data and "slider_position_ideal" in data:
-        data["displacement_error"] = _var(
+        data["displacement_error"] = variable(
             ("time",),
             data["slider_position"].values - data["slider_position_ideal"].values,
             "m",
             "slider position minus that of the ideal mechanism",
         )
-        data["speed_error"] = _var(
+        data["speed_error"] = variable(
             ("time",),
             data["slider_velocity"].values - data["slider_velocity_ideal"].values,
             "m s-1",
@@ -177,57 +172,57 @@ def to_dataset(
         fx = rec.jf[:, :, 0]
         fy = rec.jf[:, :, 1]
         dims = ("time", "ideal_joint")
-        data["joint_force"] = _var(
+        data["joint_force"] = variable(
             dims, np.hypot(fx, fy), "N", "magnitude of the reaction force of each ideal joint"
         )
-        data["joint_force_x"] = _var(
+        data["joint_force_x"] = variable(
             dims, fx, "N", "reaction force on the joint's second body, x component"
         )
-        data["joint_force_y"] = _var(
+        data["joint_force_y"] = variable(
             dims, fy, "N", "reaction force on the joint's second body, y component"
         )
     if model.clearance_joints:
         cj = rec.cj
         dims = ("time", "joint")
         delta = cj[:, :, k.CJ_DELTA]
-        data["eccentricity_x"] = _var(
+        data["eccentricity_x"] = variable(
             dims, cj[:, :, k.CJ_EX], "m", "journal centre minus bearing centre, x"
         )
-        data["eccentricity_y"] = _var(
+        data["eccentricity_y"] = variable(
             dims, cj[:, :, k.CJ_EY], "m", "journal centre minus bearing centre, y"
         )
-        data["penetration"] = _var(
+        data["penetration"] = variable(
             dims, np.maximum(delta, 0.0), "m", "penetration depth max(|e| - c, 0)"
         )
-        data["contact_force"] = _var(dims, cj[:, :, k.CJ_FN], "N", "normal contact force")
-        data["friction_force"] = _var(
+        data["contact_force"] = variable(dims, cj[:, :, k.CJ_FN], "N", "normal contact force")
+        data["friction_force"] = variable(
             dims, cj[:, :, k.CJ_FT], "N", "friction force on the journal along the tangent"
         )
-        data["contact_angle"] = _var(
+        data["contact_angle"] = variable(
             dims, cj[:, :, k.CJ_PHI_B], "rad", "direction of the eccentricity in the bearing frame"
         )
-        data["contact_angle_journal"] = _var(
+        data["contact_angle_journal"] = variable(
             dims, cj[:, :, k.CJ_PHI_J], "rad", "direction of the eccentricity in the journal frame"
         )
-        data["penetration_velocity"] = _var(
+        data["penetration_velocity"] = variable(
             dims, cj[:, :, k.CJ_DELTA_DOT], "m s-1", "rate of |e| - c (positive approaching)"
         )
-        data["sliding_velocity"] = _var(
+        data["sliding_velocity"] = variable(
             dims, cj[:, :, k.CJ_VT], "m s-1", "tangential velocity of the journal contact point"
         )
-        data["in_contact"] = _var(
+        data["in_contact"] = variable(
             dims, (delta > 0.0).astype(np.int8), "1", "journal touches the bearing (1) or not (0)"
         )
     if model.beams:
         strain_vars, strain_coords = _beam_outputs(model, rec)
         data.update(strain_vars)
-    data["mechanical_energy"] = _var(
+    data["mechanical_energy"] = variable(
         ("time",),
         rec.out[:, k.OUT_ENERGY],
         "J",
         "kinetic + gravity + contact potential + beam strain energy",
     )
-    data["constraint_violation"] = _var(
+    data["constraint_violation"] = variable(
         ("time",),
         rec.out[:, k.OUT_VIOLATION],
         "m",
@@ -248,7 +243,7 @@ def to_dataset(
     if model.beams:
         coords.update(strain_coords)
     ds = xr.Dataset(data, coords=coords)
-    ds.attrs["scene"] = scene_to_json(model.scene)
+    ds.attrs["scene"] = model.scene.to_json()
     ds.attrs["scene_name"] = model.scene.name
     ds.attrs.update(run.stats.as_attrs("solver_"))
     ds.attrs.update(ideal_run.stats.as_attrs("ideal_solver_"))

@@ -6,7 +6,10 @@ Load a built-in scene or a TOML file with :func:`load_scene`, change it with
 unit and accepted range.
 """
 
-from ._load import (
+from ._model import *  # noqa: F403
+from ._model import __all__ as _model_all
+from ._scene import (
+    Scene,
     SceneError,
     list_scenes,
     load_scene,
@@ -16,11 +19,10 @@ from ._load import (
     scene_from_toml,
     validate_scene,
 )
-from ._model import *  # noqa: F403
-from ._model import __all__ as _model_all
 
 __all__ = [
     *_model_all,
+    "Scene",
     "SceneError",
     "list_scenes",
     "load_scene",

@@ -1,6 +1,7 @@
 """The scene data model: frozen dataclasses that a TOML scene is validated into.
 
-This module is the contract between scene loading (``_load.py``) and assembly
+The parts of a scene; :class:`Scene` itself and its loading live in ``_scene.py``.
+This module is the contract between scene loading (``_scene.py``) and assembly
 (``mechanism/core/model/_assemble.py``). All quantities are SI (m, kg, s, rad, N, Pa); rpm appears
 only in :class:`ConstantSpeedDrive` as the user-facing ``speed_rpm``.
 
@@ -34,7 +35,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Annotated, Any, Literal
+from typing import Annotated, Any, Literal
 
 from annotated_types import Ge, Gt, Le, Lt, MinLen
 from pydantic import (
@@ -46,10 +47,6 @@ from pydantic import (
     Tag,
     with_config,
 )
-
-if TYPE_CHECKING:
-    from collections.abc import Mapping
-    from pathlib import Path
 
 __all__ = [
     "GROUND",
@@ -66,7 +63,6 @@ __all__ = [
     "PrismaticJoint",
     "RevoluteJoint",
     "RigidBody",
-    "Scene",
     "SolverSettings",
     "WearSettings",
 ]
@@ -442,66 +438,3 @@ Drive = Annotated[
     | Annotated[AngleProfileDrive, Tag("angle_profile")],
     Discriminator(_drive_tag),
 ]
-
-
-@with_config(_CONFIG)
-@dataclass(frozen=True, kw_only=True)
-class Scene:
-    """A planar mechanism as data: bodies, joints, drive, effects and solver settings.
-
-    Load one with :func:`mechanism.load_scene` (built-in name or TOML path), change it with
-    :meth:`replace`, store it with :func:`mechanism.save_scene` or :meth:`to_json`.
-
-    Examples
-    --------
-    >>> import mechanism
-    >>> scene = mechanism.load_scene("slider-crank")
-    >>> faster = scene.replace({"drive.speed_rpm": 6000.0})
-    >>> faster.drive.speed_rpm, scene.drive.speed_rpm
-    (6000.0, 5000.0)
-    """
-
-    name: Name
-    description: Annotated[str, Strict()] = ""
-    effects: Effects = field(default_factory=Effects)
-    gravity: Annotated[Vec2, Unit("m s-2")] = (0.0, -9.81)
-    ground_points: Annotated[dict[str, Vec2], Unit("m")] = field(default_factory=dict)
-    bodies: dict[str, Body] = field(default_factory=dict)
-    joints: dict[str, Joint] = field(default_factory=dict)
-    drive: Drive | None = None
-    solver: SolverSettings = field(default_factory=SolverSettings)
-    outputs: Outputs = field(default_factory=Outputs)
-
-    def replace(self, changes: Mapping[str, Any]) -> Scene:
-        """A new validated scene with dotted keys replaced, e.g. ``{"joints.C.clearance": 2e-4}``.
-
-        A table value (a dict) replaces the whole table. Unknown keys raise
-        :class:`~mechanism.core.scene.SceneError` listing the valid keys at that level.
-        """
-        from ._load import replace_scene
-
-        return replace_scene(self, changes)
-
-    def to_dict(self) -> dict[str, Any]:
-        """Plain nested dicts and lists (unset optional fields as ``None``)."""
-        from ._load import scene_to_dict
-
-        return scene_to_dict(self)
-
-    def to_json(self) -> str:
-        """The resolved scene as JSON text (read back with ``scene_from_json``)."""
-        from ._load import scene_to_json
-
-        return scene_to_json(self)
-
-    def to_toml(self) -> str:
-        """The resolved scene as TOML text (what ``save_scene`` writes)."""
-        from ._load import scene_to_toml
-
-        return scene_to_toml(self)
-
-    def save(self, path: str | Path) -> None:
-        """Write the scene as TOML to ``path`` (same as ``mechanism.save_scene``)."""
-        from ._load import save_scene
-
-        save_scene(self, path)

@@ -28,7 +28,7 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from chaoskit._validate import check_positive
+from chaoskit.contract import check_positive
 from mechanism.core.contact._kernels import hertz_half_width as _half_width_kernel
 from mechanism.core.contact._laws import StiffnessForm, form_code
 

@@ -23,7 +23,7 @@ from typing import TYPE_CHECKING, Any, Literal
 import numpy as np
 import xarray as xr
 
-from chaoskit._validate import check_choice, check_int, check_positive
+from chaoskit.contract import check_choice, check_int, check_positive
 from mechanism.core.contact._laws import StiffnessForm, form_code
 
 from . import _kernels as wk

@@ -1,5 +1,5 @@
-"""Scene loading and storage: TOML/JSON → validated :class:`Scene`, dotted-key replacement,
-and a small TOML emitter so that a saved scene loads back identical.
+"""The :class:`Scene`, its loading and storage: TOML/JSON → validated :class:`Scene`,
+dotted-key replacement, and a small TOML emitter so that a saved scene loads back identical.
 
 Validation has two stages. Field validation (pydantic ``TypeAdapter`` over the frozen
 dataclasses of ``_model.py``) checks types, ranges and unknown keys; every error is
@@ -21,27 +21,37 @@ import tomllib
 import types
 import typing
 from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
 from typing import Annotated, Any
 
 import annotated_types as at
 import numpy as np
-from pydantic import Discriminator, Tag, TypeAdapter, ValidationError
+from pydantic import Discriminator, Strict, Tag, TypeAdapter, ValidationError, with_config
 
 from ._model import (
+    _CONFIG,
     GROUND,
     AncfBeam,
     AngleProfileDrive,
+    Body,
     ClearanceRevolute,
+    Drive,
+    Effects,
+    Joint,
+    Name,
+    Outputs,
     PrismaticJoint,
     RevoluteJoint,
     RigidBody,
-    Scene,
+    SolverSettings,
     Unit,
+    Vec2,
 )
 
 __all__ = [
+    "Scene",
     "SceneError",
     "list_scenes",
     "load_scene",
@@ -59,6 +69,59 @@ __all__ = [
 _NAME = re.compile(r"^[A-Za-z0-9_-]+$")
 _BEAM_LENGTH_RTOL = 1e-3  # |end − start| vs length: catches unit slips, allows rounded input
 _AXIS_TOL = 1e-6
+
+
+@with_config(_CONFIG)
+@dataclass(frozen=True, kw_only=True)
+class Scene:
+    """A planar mechanism as data: bodies, joints, drive, effects and solver settings.
+
+    Load one with :func:`mechanism.load_scene` (built-in name or TOML path), change it with
+    :meth:`replace`, store it with :func:`mechanism.save_scene` or :meth:`to_json`.
+
+    Examples
+    --------
+    >>> import mechanism
+    >>> scene = mechanism.load_scene("slider-crank")
+    >>> faster = scene.replace({"drive.speed_rpm": 6000.0})
+    >>> faster.drive.speed_rpm, scene.drive.speed_rpm
+    (6000.0, 5000.0)
+    """
+
+    name: Name
+    description: Annotated[str, Strict()] = ""
+    effects: Effects = field(default_factory=Effects)
+    gravity: Annotated[Vec2, Unit("m s-2")] = (0.0, -9.81)
+    ground_points: Annotated[dict[str, Vec2], Unit("m")] = field(default_factory=dict)
+    bodies: dict[str, Body] = field(default_factory=dict)
+    joints: dict[str, Joint] = field(default_factory=dict)
+    drive: Drive | None = None
+    solver: SolverSettings = field(default_factory=SolverSettings)
+    outputs: Outputs = field(default_factory=Outputs)
+
+    def replace(self, changes: Mapping[str, Any]) -> Scene:
+        """A new validated scene with dotted keys replaced, e.g. ``{"joints.C.clearance": 2e-4}``.
+
+        A table value (a dict) replaces the whole table. Unknown keys raise
+        :class:`~mechanism.core.scene.SceneError` listing the valid keys at that level.
+        """
+        return replace_scene(self, changes)
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain nested dicts and lists (unset optional fields as ``None``)."""
+        return scene_to_dict(self)
+
+    def to_json(self) -> str:
+        """The resolved scene as JSON text (read back with ``scene_from_json``)."""
+        return scene_to_json(self)
+
+    def to_toml(self) -> str:
+        """The resolved scene as TOML text (what ``save_scene`` writes)."""
+        return scene_to_toml(self)
+
+    def save(self, path: str | Path) -> None:
+        """Write the scene as TOML to ``path`` (same as ``mechanism.save_scene``)."""
+        save_scene(self, path)
 
 
 class SceneError(ValueError):
