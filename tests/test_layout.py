@@ -32,6 +32,7 @@ LAZY_IMPORTS = {
     "matplotlib": "plotting is optional; numerics never import it (house style)",
     "jinja2": "only report rendering needs the templates",
     "distributed": "dask is the optional parallel backend of sweeps",
+    "dask": "the scheduler is configured only where a write may run inside a dask worker",
     "tqdm": "progress bars are opt-in",
     "scipy": "scipy.stats/integrate/interpolate load only on the paths that use them",
 }
