@@ -86,6 +86,7 @@ MET_DELTA = 1  # largest δ = |e| − c
 MET_TORQUE_MAX = 2  # driving torque −λ_drive, largest and smallest
 MET_TORQUE_MIN = 3
 MET_COLUMNS = 4
+PEAK_SAMPLES = 8  # a contact step's force is also sampled at k/8 of the step, k = 1…7
 
 # columns of Output.strobe
 STROBE_TARGET = 0  # next crank angle phase + 2πk to record
@@ -318,7 +319,23 @@ def _sections(model, ws, out, kind, dense, told, h, vimp, scratch, yout, counter
 
 
 @njit(cache=True)
-def _after_step(model, ws, out, kind, dense, told, t, h, vimp, scratch, yout, counters):
+def _metrics_from_workspace(met, ws, drive_row):
+    """Update the running extremes from the workspace of the last evaluation."""
+    for j in range(ws.cj.shape[0]):
+        if ws.cj[j, CJ_FN] > met[MET_FN]:
+            met[MET_FN] = ws.cj[j, CJ_FN]
+        if ws.cj[j, CJ_DELTA] > met[MET_DELTA]:
+            met[MET_DELTA] = ws.cj[j, CJ_DELTA]
+    if drive_row >= 0:
+        torque = -ws.lam[drive_row]
+        if torque > met[MET_TORQUE_MAX]:
+            met[MET_TORQUE_MAX] = torque
+        if torque < met[MET_TORQUE_MIN]:
+            met[MET_TORQUE_MIN] = torque
+
+
+@njit(cache=True)
+def _after_step(model, ws, out, kind, dense, told, t, h, vimp, contact, scratch, yout, counters):
     """Record what ``out`` asks for after an accepted step from ``told`` to ``t``.
 
     The metrics read the workspace as the step's last evaluation left it (the accepted
@@ -328,17 +345,20 @@ def _after_step(model, ws, out, kind, dense, told, t, h, vimp, scratch, yout, co
     mode = out.mode
     if mode & REC_METRICS and t >= out.t_window:
         met = out.metrics
+        _metrics_from_workspace(met, ws, out.drive_row)
+        touching = False
         for j in range(ws.cj.shape[0]):
-            if ws.cj[j, CJ_FN] > met[MET_FN]:
-                met[MET_FN] = ws.cj[j, CJ_FN]
-            if ws.cj[j, CJ_DELTA] > met[MET_DELTA]:
-                met[MET_DELTA] = ws.cj[j, CJ_DELTA]
-        if out.drive_row >= 0:
-            torque = -ws.lam[out.drive_row]
-            if torque > met[MET_TORQUE_MAX]:
-                met[MET_TORQUE_MAX] = torque
-            if torque < met[MET_TORQUE_MIN]:
-                met[MET_TORQUE_MIN] = torque
+            touching = touching or ws.cj[j, CJ_DELTA] > 0.0 or contact[j] != 0
+        if touching:
+            # an impact peaks between accepted states: the equations of motion (for the
+            # multipliers) on the dense output at PEAK_SAMPLES − 1 interior points
+            n = model.n_dof
+            for s in range(1, PEAK_SAMPLES):
+                th = s / PEAK_SAMPLES
+                _dense_eval(kind, dense, th, h, yout)
+                accelerations(model, ws, told + th * h, yout[:n], yout[n:], vimp, scratch[n:],
+                              counters)  # fmt: skip
+                _metrics_from_workspace(met, ws, out.drive_row)
     t_out = out.t_out
     cursor = out.cursor
     n_out = t_out.shape[0]
@@ -535,8 +555,8 @@ def dopri5_advance(model, ws, loop, out, ctl, t_stop):
             t = t + h
             if t_end - t < 4.0 * _EPS * max(abs(t_end), 1.0):
                 t = t_end
-            _after_step(model, ws, out, DENSE_DOPRI5, dense, told, t, h, vimp, scratch, yout,
-                        out_counters)  # fmt: skip
+            _after_step(model, ws, out, DENSE_DOPRI5, dense, told, t, h, vimp, contact, scratch,
+                        yout, out_counters)  # fmt: skip
             for i in range(n2):
                 y[i] = ynew[i]
                 k1[i] = k7[i]
@@ -1225,8 +1245,8 @@ def genalpha_advance(model, ws, loop, out, ctl, jac, t_stop):
             dense[2, n + i] = acc[i]
             dense[3, i] = vn[i]
             dense[3, n + i] = x[i]
-        _after_step(model, ws, out, DENSE_HERMITE, dense, told, t, h, vimp, scratch, yout,
-                    out_counters)  # fmt: skip
+        _after_step(model, ws, out, DENSE_HERMITE, dense, told, t, h, vimp, contact, scratch,
+                    yout, out_counters)  # fmt: skip
         for i in range(n):
             q[i] = qn[i]
             v[i] = vn[i]

@@ -39,6 +39,7 @@ __all__ = [
     "GeneralizedAlpha",
     "Integration",
     "Integrator",
+    "RecordPlan",
     "Recording",
     "ScipyIVP",
     "SolverStats",
@@ -377,6 +378,12 @@ class Dopri5(Integrator):
 
     Parameters
     ----------
+    contact_entry_depth : float
+        A step that passes the error test but takes a separated clearance joint deeper
+        than this fraction of its radial clearance is retried with the step at which the
+        penetration, interpolated from the start of the step, is half of it (as in
+        :class:`GeneralizedAlpha`), so no impact is stepped over whatever the step bound;
+        0 disables the check.
     max_steps : int
         Upper bound on attempted steps (accepted + rejected).
 
@@ -388,8 +395,13 @@ class Dopri5(Integrator):
     G. Wanner, *Solving Ordinary Differential Equations I*, §II.5–6.
     """
 
+    contact_entry_depth: float = 0.01
     max_steps: int = 200_000_000
     name: str = field(default="dopri5", init=False)
+
+    def __post_init__(self) -> None:
+        if not float(self.contact_entry_depth) >= 0.0:
+            raise ValueError(f"contact_entry_depth must be ≥ 0; got {self.contact_entry_depth!r}.")
 
     def integrate(
         self,
