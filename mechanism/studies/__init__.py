@@ -1,14 +1,18 @@
-"""Studies built on the simulator core: sweeps and their store, wear prediction, element
-convergence and the paper study. Everything here uses :mod:`mechanism.core`'s public names.
+"""Studies built on the simulator core: sweeps and their store, bifurcation diagrams, wear
+prediction, element convergence and the paper study. Everything here uses
+:mod:`mechanism.core`'s public names.
 """
 
 from __future__ import annotations
 
+from ._bifurcation import bifurcation
 from ._convergence import ElementConvergence, element_convergence
 from ._paper import PaperStudy, StudySettings, paper_tables, run_paper_study
+from ._plot import plot_bifurcation
 from ._sweep import (
     Analysis,
     GridTransform,
+    SweepStoreBusy,
     SweepStoreMismatch,
     chaos_map,
     grid_transforms,
@@ -26,14 +30,17 @@ __all__ = [
     "GridTransform",
     "PaperStudy",
     "StudySettings",
+    "SweepStoreBusy",
     "SweepStoreMismatch",
     "WearPrediction",
+    "bifurcation",
     "chaos_map",
     "compare",
     "element_convergence",
     "grid_transforms",
     "load_sweep",
     "paper_tables",
+    "plot_bifurcation",
     "predict_wear",
     "register_grid_transform",
     "run_paper_study",
