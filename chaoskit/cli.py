@@ -270,7 +270,6 @@ def demo(
 ) -> None:
     """Analyse a sample trajectory (by default the Lorenz system) and print the result."""
     if path is None:
-
         with _user_errors():
             path = sample_path(DEFAULT_SAMPLE)
     _run_analysis(

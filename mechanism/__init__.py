@@ -113,11 +113,23 @@ _sweeps: list[str] = [
     "sweep",
 ]
 
+# --- bifurcation diagrams: add imports and names below this line only ---
+from .studies import bifurcation, plot_bifurcation  # noqa: E402
+
+_bifurcations: list[str] = ["bifurcation", "plot_bifurcation"]
+
 # --- paper study (issue 8): add imports and names below this line only ---
 from .studies import PaperStudy, StudySettings, paper_tables, run_paper_study  # noqa: E402
 
 _paper_study: list[str] = ["PaperStudy", "StudySettings", "paper_tables", "run_paper_study"]
 
 __all__ = (
-    _foundation + _scenes + _simulation + _contact_wear + _flexibility + _sweeps + _paper_study
+    _foundation
+    + _scenes
+    + _simulation
+    + _contact_wear
+    + _flexibility
+    + _sweeps
+    + _bifurcations
+    + _paper_study
 )

@@ -18,14 +18,17 @@ from mechanism import (
     Scene,
     SceneError,
     SimulationError,
+    bifurcation,
     element_convergence,
     list_scenes,
     load_scene,
+    plot_bifurcation,
     predict_wear,
     run_paper_study,
     simulate,
     sweep,
 )
+from mechanism.studies._bifurcation import parse_values
 from mechanism.studies._sweep_store import write_netcdf
 
 app = typer.Typer(
@@ -368,6 +371,84 @@ def sweep_command(
         if state != "ok":
             typer.echo(f"  {state:>8}  {pid}: {message}")
     typer.echo(f"summary: {Path(ds.attrs['store']) / 'summary.nc'}")
+
+
+# --- bifurcation diagrams: commands below this line only ---
+
+
+@app.command("bifurcation")
+def bifurcation_command(
+    scene: str = typer.Argument(..., help="Built-in scene name or path of a TOML scene."),
+    param: str = typer.Option(
+        ..., "--param", help="Swept scene key, e.g. drive.speed_rpm or joints.C.clearance."
+    ),
+    values: str = typer.Option(
+        ..., "--values", help="START:STOP:COUNT (both ends included) or V1,V2,..."
+    ),
+    revolutions: float = typer.Option(
+        120.0, "--revolutions", help="Drive periods simulated per value (transient included)."
+    ),
+    discard: float = typer.Option(20.0, "--discard", help="Revolutions treated as transient."),
+    variables: list[str] | None = typer.Option(
+        None, "--var", help="Section variable (default: the journal eccentricity). Repeatable."
+    ),
+    store: Path | None = typer.Option(
+        None, "--store", help="Folder for the per-value files; a re-run resumes."
+    ),
+    output: Path | None = typer.Option(None, "-o", "--output", help="Write the Dataset (.nc)."),
+    figure: Path | None = typer.Option(
+        None, "--figure", help="Draw the orbit diagram (.png, .pdf, .svg)."
+    ),
+    scheduler: str | None = typer.Option(
+        None,
+        "--scheduler",
+        metavar="ADDRESS",
+        help="dask scheduler address (tcp://host:8786); 'serial' runs in this process.",
+    ),
+    workers: int | None = typer.Option(
+        None, "--workers", min=1, help="Workers of the local dask cluster (default: CPU count)."
+    ),
+    set_options: list[str] | None = typer.Option(None, "--set", metavar="KEY=VALUE", help=SET_HELP),
+    progress: bool = typer.Option(True, "--progress/--no-progress", help="Progress bar."),
+) -> None:
+    """Orbit diagram: stroboscopic points of a scene over one parameter (dask, resumable)."""
+    if scheduler is not None and workers is not None:
+        raise typer.BadParameter("give --scheduler or --workers, not both", param_hint="--workers")
+    if figure is not None and figure.suffix.lower() not in (".png", ".pdf", ".svg"):
+        raise typer.BadParameter("the figure must end in .png, .pdf or .svg", param_hint="--figure")
+    resolved = load_scene_option(scene, set_options)
+    try:
+        ds = bifurcation(
+            resolved,
+            parameter=param,
+            values=parse_values(values),
+            revolutions=revolutions,
+            discard=discard,
+            variables=tuple(variables) if variables else ("eccentricity",),
+            client=scheduler,
+            n_workers=workers,
+            store=store,
+            progress=progress,
+        )
+    except ValueError as exc:
+        typer.echo(f"Error: {exc}", err=True)
+        raise typer.Exit(code=2) from None
+    status = ds["status"].values
+    counts = ", ".join(f"{(status == s).sum()} {s}" for s in ("ok", "failed", "diverged"))
+    typer.echo(f"{status.size} values: {counts}; {ds.sizes['crossing']} revolutions kept")
+    for value, state, message in zip(ds[param].values, status, ds["message"].values, strict=True):
+        if state != "ok":
+            typer.echo(f"  {state:>8}  {param} = {value}: {message}")
+    if output is not None:
+        write_netcdf(ds, output)
+        typer.echo(f"dataset: {output}")
+    if figure is not None:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        axes = plot_bifurcation(ds)
+        axes[0].figure.savefig(figure, dpi=200, bbox_inches="tight")
+        typer.echo(f"figure: {figure}")
 
 
 # --- paper study (issue 8): commands below this line only ---

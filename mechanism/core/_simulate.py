@@ -5,20 +5,30 @@ from __future__ import annotations
 import functools
 import math
 from concurrent.futures import ThreadPoolExecutor
-from typing import Any
+from typing import Any, Literal, get_args
 
 import numpy as np
 import xarray as xr
 
-from chaoskit.contract import check_positive
+from chaoskit.contract import check_choice, check_positive
 from mechanism.core.model._assemble import Model, assemble, initial_state
-from mechanism.core.record._record import to_dataset
+from mechanism.core.record._record import metrics_dataset, sections_dataset, to_dataset
 
-from .integrate import Integration, Integrator, resolve_method
+from .integrate import GeneralizedAlpha, Integration, Integrator, RecordPlan, resolve_method
 from .scene import AngleProfileDrive, ConstantSpeedDrive, Scene
 from .wear import add_run_wear
 
-__all__ = ["SimulationError", "drive_period", "output_grid", "simulate"]
+__all__ = [
+    "RECORD_MODES",
+    "RecordMode",
+    "SimulationError",
+    "drive_period",
+    "output_grid",
+    "simulate",
+]
+
+RecordMode = Literal["full", "metrics", "sections"]
+RECORD_MODES: tuple[str, ...] = get_args(RecordMode)
 
 
 class SimulationError(RuntimeError):
@@ -64,18 +74,17 @@ def _duration(scene: Scene, revolutions: float | None, t_end: float | None) -> f
     return revolutions * period
 
 
-def _max_step(model: Model, output_step: float) -> float:
-    """Largest step of the main run.
-
-    ``solver.max_step`` if set; else the output step while clearance joints are active (so
-    that no impact is stepped over) and unlimited without them. (The ideal companion has
-    no events at all: its step is always left to the error control, its outputs come from
-    the dense output on the same grid.)
-    """
+def _max_step(model: Model, integrator: Integrator, default_step: float) -> float:
+    """Largest step of a run: ``solver.max_step`` if set; for the fixed-step generalized-α
+    the scene's default output step (its step); otherwise unlimited. The output grid
+    never sets it: impacts are resolved by the step control and the rejection of steps
+    that enter contact too deep."""
     given = model.scene.solver.max_step
     if given is not None:
         return float(given)
-    return float(output_step) if model.clearance_joints else math.inf
+    if isinstance(integrator, GeneralizedAlpha) and integrator.step == "max_step":
+        return float(default_step)
+    return math.inf
 
 
 def _run(
@@ -89,6 +98,7 @@ def _run(
     max_step: float,
     progress: bool,
     label: str,
+    record: RecordPlan,
 ) -> Integration:
     return method.integrate(
         model,
@@ -100,6 +110,7 @@ def _run(
         projection=model.scene.solver.projection,
         progress=progress,
         label=label,
+        record=record,
     )
 
 
@@ -112,10 +123,14 @@ def simulate(
     rtol: float | None = None,
     atol: float | None = None,
     output_step: float | None = None,
+    record: RecordMode = "full",
+    discard: float = 0.0,
+    phase: float = 0.0,
     progress: bool = False,
     throw: bool = True,
 ) -> xr.Dataset:
-    """Simulate a mechanism and return its trajectory.
+    """Simulate a mechanism and return its trajectory, its response metrics or its
+    stroboscopic section.
 
     The scene is assembled once (:func:`mechanism.core.model._assemble.assemble`); the initial state
     is the ideal-mechanism configuration at t = 0 with the journals at their
@@ -124,6 +139,9 @@ def simulate(
     chosen method; the same scene with every clearance joint ideal is integrated alongside
     (in a second thread: the compiled integrators release the GIL, so the companion adds
     no wall time when a core is free) to give the ``*_ideal`` outputs and the errors.
+
+    What is recorded does not change the integration: the step sequence, and so every
+    recorded value, is the same whatever ``record`` and ``output_step`` are.
 
     Parameters
     ----------
@@ -138,19 +156,37 @@ def simulate(
         ``"auto"`` (the scene default: fixed-step generalized-α when the assembled model
         has ANCF beams, i.e. ``effects.flexibility`` is on, else ``"dopri5"``),
         ``"dopri5"`` (compiled Dormand–Prince 5(4)), ``"RK45"``, ``"DOP853"``, ``"Radau"``,
-        ``"BDF"``, ``"LSODA"`` (scipy), ``"generalized-alpha"`` (implicit, adaptive),
-        ``"generalized-alpha-fixed"`` (implicit, step ``solver.max_step``, else the output
-        step), or an integrator object from :mod:`mechanism.core.integrate`. Default:
-        ``scene.solver.method``; ``solver_method`` in the attributes names the integrator
-        that ran.
+        ``"BDF"``, ``"LSODA"`` (scipy; full record only), ``"generalized-alpha"``
+        (implicit, adaptive), ``"generalized-alpha-fixed"`` (implicit, step
+        ``solver.max_step``, else the scene's default output step), or an integrator
+        object from :mod:`mechanism.core.integrate`. Default: ``scene.solver.method``;
+        ``solver_method`` in the attributes names the integrator that ran.
     rtol, atol : float, optional
         Tolerances; default ``scene.solver``.
     output_step : float, optional
-        Spacing (s) of the uniform output grid; default ``scene.solver.output_step`` or the
-        drive period / 10000. The maximum step is ``scene.solver.max_step``, or by default
-        this value for a mechanism with active clearance joints and unlimited for one
-        without (``effects.clearance = false``); the ideal companion's step is left to the
-        error control.
+        Spacing (s) of the uniform output grid. ``record="full"``: the trajectory's
+        samples, default ``scene.solver.output_step`` or the drive period / 10000.
+        ``"metrics"`` and ``"sections"``: the grid on which the slider is compared with the
+        ideal mechanism (``max_displacement_error``, ``max_speed_error``; nothing else is
+        stored), default the drive period / 1000. The grid does not bound the step: the
+        maximum step is ``scene.solver.max_step``, else unlimited for the error-controlled
+        methods, whose step control and rejection of steps entering contact deeper than
+        1 % of the clearance resolve every impact, and the scene's default output step for
+        the fixed-step generalized-α.
+    record : {"full", "metrics", "sections"}
+        ``"full"``: the trajectory on the output grid (below). ``"metrics"``: the response
+        metrics of ``mechanism._metrics.METRICS`` over the time after ``discard``
+        revolutions, with peak contact force, penetration and driving torque taken at
+        every accepted integrator state (not on a grid), as scalar variables.
+        ``"sections"``: the metrics and the stroboscopic points — every variable of the
+        full record, sampled where the crank angle passes ``phase`` + 2πk after
+        ``discard`` revolutions, located on the integrator's dense output (not
+        interpolated from a grid) — along the dimension ``crossing``.
+    discard : float
+        Revolutions treated as transient by ``"metrics"`` and ``"sections"`` (≥ 0, less
+        than the simulated revolutions); must be 0 for ``"full"`` (slice the trajectory).
+    phase : float
+        Strobe phase (rad) of ``"sections"``.
     progress : bool
         Show a progress bar (tqdm).
     throw : bool
@@ -161,13 +197,17 @@ def simulate(
     Returns
     -------
     xarray.Dataset
-        Variables ``crank_angle``, ``position``/``velocity`` (time, body, axis),
-        ``slider_position``/``_velocity``/``_acceleration`` and their ``*_ideal`` twins,
-        ``displacement_error``, ``speed_error``, per clearance joint (dim ``joint``)
-        ``eccentricity_x``/``_y``, ``penetration``, ``contact_force``, ``friction_force``,
-        ``contact_angle``, ``in_contact``; ``driving_torque``; ``joint_force`` (time,
-        ideal_joint); ``mechanical_energy``; ``constraint_violation``. Solver statistics in
-        the ``solver_*`` attributes. See ``docs/simulator.md``.
+        ``record="full"``: variables ``crank_angle``, ``position``/``velocity`` (time, body,
+        axis), ``slider_position``/``_velocity``/``_acceleration`` and their ``*_ideal``
+        twins, ``displacement_error``, ``speed_error``, per clearance joint (dim ``joint``)
+        ``eccentricity_x``/``_y``, ``penetration``, ``contact_force``,
+        ``friction_force``, ``contact_angle``, ``in_contact``; ``driving_torque``;
+        ``joint_force`` (time, ideal_joint); ``mechanical_energy``;
+        ``constraint_violation``. ``"sections"``: the same variables (without the
+        ideal twins and errors) along ``crossing`` with coordinates ``time`` and
+        ``drive_cycle`` (the layout of :func:`chaoskit.stroboscopic_map`), plus the
+        metrics. ``"metrics"``: the metrics. Solver statistics in the ``solver_*``
+        attributes, the mode in ``record``. See ``docs/simulator.md``.
 
     Examples
     --------
@@ -180,48 +220,93 @@ def simulate(
     >>> ds = simulate(scene, revolutions=1, output_step=0.01)
     >>> round(float(ds.crank_angle[-1]), 6)
     6.283185
+    >>> strobe = simulate(scene, revolutions=3, record="sections", discard=1)
+    >>> strobe.drive_cycle.values.tolist()
+    [1, 2, 3]
     """
     if not isinstance(scene, Scene):
         raise TypeError(f"scene must be a mechanism Scene; got {type(scene).__name__}.")
+    record = check_choice(record, name="record", choices=RECORD_MODES)  # type: ignore[assignment]
     solver = scene.solver
     duration = _duration(scene, revolutions, t_end)
     rtol = check_positive(solver.rtol if rtol is None else rtol, name="rtol")
     atol = check_positive(solver.atol if atol is None else atol, name="atol")
     period = drive_period(scene)
+    discard = check_positive(discard, name="discard", allow_zero=True)
+    if isinstance(phase, bool) or not isinstance(phase, int | float) or not math.isfinite(phase):
+        raise ValueError(f"phase must be a finite angle in rad; got {phase!r}.")
+    phase = float(phase)
+    if record == "full" and discard != 0.0:
+        raise ValueError(
+            "discard applies to record='metrics' and 'sections'; slice the full trajectory."
+        )
+    if record != "full":
+        if period is None:
+            raise ValueError(
+                f"record={record!r} needs a periodic drive (its revolutions and sections); "
+                "use record='full'."
+            )
+        if not discard * period < duration:
+            raise ValueError(
+                f"discard must be below the simulated {duration / period:g} revolutions; "
+                f"got {discard!r}."
+            )
+    default_step = solver.output_step
+    if default_step is None:
+        default_step = (period if period is not None else duration) / 10000.0
     if output_step is None:
-        output_step = solver.output_step
-    if output_step is None:
-        output_step = (period if period is not None else duration) / 10000.0
+        output_step = default_step if record == "full" or period is None else period / 1000.0
     output_step = check_positive(output_step, name="output_step")
     if solver.max_step is not None:
         check_positive(solver.max_step, name="solver.max_step")
     t_out = output_grid(duration, output_step)
+    if record == "sections":
+        # run a hair past the end so the strobe at the last revolution is always taken
+        # (the crank angle at t_end may fall short of it by round-off); it is kept only
+        # if within the simulated revolutions
+        assert period is not None
+        t_out = np.append(t_out, duration + 1e-6 * period)
 
     model = assemble(scene)
     integrator = resolve_method(solver.method if method is None else method, model)
-    max_step = _max_step(model, output_step)
+    max_step = _max_step(model, integrator, default_step)
+    if record == "full":
+        plan = ideal_plan = RecordPlan()
+    else:
+        assert period is not None
+        window = discard * period
+        sections = math.ceil(duration / period - discard) + 2 if record == "sections" else 0
+        plan = RecordPlan(
+            grid="light", sections=sections, phase=phase, discard=discard, metrics_from=window
+        )
+        ideal_plan = RecordPlan(grid="light")
     q0, v0 = initial_state(model)
     main = functools.partial(
         _run, model, integrator, np.concatenate([q0, v0]), t_out, rtol=rtol, atol=atol,
-        max_step=max_step, progress=progress, label=f"{scene.name}",
+        max_step=max_step, progress=progress, label=f"{scene.name}", record=plan,
     )  # fmt: skip
     if model.clearance_joints:
         ideal_model = assemble(scene, ideal=True)
         iq0, iv0 = initial_state(ideal_model, eccentricity=False)
+        # the companion has no impacts: its step is the error control's (the fixed-step
+        # generalized-α keeps the main run's step)
+        fixed = isinstance(integrator, GeneralizedAlpha) and integrator.step == "max_step"
+        ideal_max_step = max_step if fixed else math.inf
         # The ideal companion does not depend on the main run: it runs in a second
         # thread (the compiled integrators release the GIL), so on a machine with a
         # free core it adds no wall time.
         with ThreadPoolExecutor(max_workers=1) as pool:
             ideal_future = pool.submit(
                 _run, ideal_model, integrator, np.concatenate([iq0, iv0]), t_out, rtol=rtol,
-                atol=atol, max_step=math.inf, progress=progress,
-                label=f"{scene.name} (ideal)",
+                atol=atol, max_step=ideal_max_step, progress=progress,
+                label=f"{scene.name} (ideal)", record=ideal_plan,
             )  # fmt: skip
             run = main()
             ideal_run = ideal_future.result()
     else:
         run = main()
         ideal_model, ideal_run = model, run
+        ideal_max_step = max_step
     if not run.stats.success and throw:
         t_fail = run.recording.t[-1] if run.recording.t.size else 0.0
         raise SimulationError(
@@ -234,20 +319,30 @@ def simulate(
             f"({integrator.name}): {ideal_run.stats.message}"
         )
     attrs: dict[str, Any] = {
-        "t_end": float(t_out[-1]),
+        "record": record,
+        "t_end": float(t_out[-1]) if record == "full" else float(duration),
         "output_step": float(output_step),
         "rtol": float(rtol),
         "atol": float(atol),
         "max_step": float(max_step),
-        "ideal_max_step": math.inf if model.clearance_joints else float(max_step),
+        "ideal_max_step": float(ideal_max_step),
         "baumgarte_alpha": float(solver.baumgarte_alpha),
         "baumgarte_beta": float(solver.baumgarte_beta),
         "projection": int(bool(solver.projection)),
     }
     if period is not None:
         attrs["drive_period"] = float(period)
-        attrs["revolutions"] = float(t_out[-1] / period)
-    ds = to_dataset(model, run, ideal_model, ideal_run, attrs=attrs)
+        attrs["revolutions"] = float(attrs["t_end"] / period)
+    if record == "full":
+        ds = to_dataset(model, run, ideal_model, ideal_run, attrs=attrs)
+    else:
+        assert period is not None
+        attrs["discard_revolutions"] = float(discard)
+        ds = metrics_dataset(model, run, ideal_run, t_out, window=discard * period, attrs=attrs)
+        if record == "sections":
+            ds = sections_dataset(model, run, ideal_run, metrics=ds, phase=phase, attrs=attrs)
+            ds = ds.isel(crossing=ds["time"].values <= duration * (1.0 + 1e-9))
+        return ds
     if scene.effects.wear and model.clearance_joints:
         ds = add_run_wear(ds, scene)
     return ds

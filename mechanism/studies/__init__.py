@@ -1,13 +1,16 @@
-"""Studies built on the simulator core: sweeps and their store, wear prediction, element
-convergence, wear-profile figures and report sections, and the paper study.
+"""Studies built on the simulator core: sweeps and their store, bifurcation diagrams, wear
+prediction, element convergence, wear-profile figures and report sections, and the paper
+study.
 
 Everything here uses :mod:`mechanism.core`'s public names.
 """
 
 from __future__ import annotations
 
+from ._bifurcation import bifurcation
 from ._convergence import ElementConvergence, element_convergence
 from ._paper import PaperStudy, StudySettings, paper_tables, run_paper_study
+from ._plot import plot_bifurcation
 from ._sweep import (
     Analysis,
     GridTransform,
@@ -34,6 +37,7 @@ __all__ = [
     "SweepStoreBusy",
     "SweepStoreMismatch",
     "WearPrediction",
+    "bifurcation",
     "chaos_map",
     "compare",
     "dask_client",
@@ -41,6 +45,7 @@ __all__ = [
     "grid_transforms",
     "load_sweep",
     "paper_tables",
+    "plot_bifurcation",
     "plot_wear_profile",
     "predict_wear",
     "register_grid_transform",

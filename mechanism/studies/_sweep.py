@@ -328,7 +328,8 @@ def _simulation_status(traj: xr.Dataset) -> tuple[str, str]:
             diverged = any(word in lowered for word in _DIVERGED_WORDS)
             return ("diverged" if diverged else "failed"), message
     for name, var in traj.data_vars.items():
-        if var.dtype.kind == "f" and not np.all(np.isfinite(var.values)):
+        # scalar variables are summaries (a metric is NaN where it does not apply)
+        if var.ndim and var.dtype.kind == "f" and not np.all(np.isfinite(var.values)):
             return "diverged", f"variable {name!r} has non-finite values"
     return "ok", ""
 
@@ -450,7 +451,13 @@ def _run_point(task: _PointTask) -> tuple[str, str]:
         traj.attrs["sweep_point"] = json.dumps(dict(task.params))
         traj.attrs["sweep_point_id"] = task.point_id
         target = _store.trajectory_path(store, task.point_id)
-        if status == "ok":
+        if "time" not in traj.dims:
+            # a section or summary record: its scalar variables are the point's metrics
+            _store.write_netcdf(traj, target)
+            trajectory_file = target.relative_to(store).as_posix()
+            if status == "ok":
+                parts.append({k: v for k, v in traj.data_vars.items() if v.ndim == 0})
+        elif status == "ok":
             save_trajectory(traj, target)
             trajectory_file = target.relative_to(store).as_posix()
         else:
@@ -458,7 +465,7 @@ def _run_point(task: _PointTask) -> tuple[str, str]:
             with contextlib.suppress(ValueError, TypeError, OSError):
                 save_trajectory(traj, target)
                 trajectory_file = target.relative_to(store).as_posix()
-        if status == "ok":
+        if status == "ok" and "time" in traj.dims:
             start = window_start(traj, task.analysis.discard_revolutions)
             parts.append(response_metrics(traj, start))
             try:

@@ -31,8 +31,7 @@ STEEL = Material(youngs_modulus=207e9, poisson_ratio=0.3)
 def _simulate(scene: Scene, *, halve: bool = False, **kwargs) -> object:
     """Run with the step cap equal to the output step, or half of it (``halve``)."""
     output_step = kwargs.pop("output_step")
-    if halve:
-        scene = scene.replace({"solver.max_step": output_step / 2})
+    scene = scene.replace({"solver.max_step": output_step / 2 if halve else output_step})
     ds = mechanism.simulate(scene, output_step=output_step, **kwargs)
     assert ds.attrs["solver_status"] == 0, ds.attrs["solver_message"]
     return ds

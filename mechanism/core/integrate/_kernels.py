@@ -2,22 +2,41 @@
 
 Both loops run entirely inside numba; the Python layer (``_methods.py``) calls them in
 chunks only to drive an optional progress bar, and the trajectory does not depend on the
-chunking. Outputs are written on the caller's uniform grid ``t_out`` into a ``Recording``
-(one right-hand-side evaluation per output sample gives q̈, λ and the contact quantities).
+chunking or on what is recorded. A loop takes four typed tuples besides the model and its
+workspace:
 
-``state`` (float64[4]) carries [t, h, facold, last step rejected] between chunks,
-``cursor`` (int64[1]) the next output index, ``counters`` the statistics of
-``mechanism.core.model._kernels`` (steps, rejected, f evaluations, contact events, contact-law
-evaluations, Jacobians, Newton iterations).
+* :class:`StepControl` — the settings of the run (end time, tolerances, step limits, the
+  contact-entry test, the generalized-α parameters);
+* :class:`LoopState` — what is carried from one chunk to the next: the state
+  y = [q; q̇], its derivative (Dormand–Prince, first same as last) or acceleration
+  (generalized-α), the pseudo-accelerations, ``step`` (float64[4], see each loop), the
+  impact-velocity latch, the contact flags and the counters of ``mechanism.core.model._kernels``;
+* :class:`Output` — what is recorded after every accepted step (see
+  :func:`_after_step`): full samples on the output grid (one right-hand-side evaluation
+  each), or light samples (crank angle, slider s and ṡ from the dense output, no
+  evaluation), stroboscopic sections located on the dense output, and running response
+  metrics at every accepted state;
+* :class:`Jacobian` (generalized-α only) — the Jacobian buffers and column sets.
+
+Status codes are those of :mod:`mechanism.core._status`.
 """
 
 from __future__ import annotations
 
 import math
+from typing import Any, NamedTuple
 
 import numpy as np
 from numba import njit
 
+from mechanism.core._status import (
+    STATUS_MAX_STEPS,
+    STATUS_NONFINITE,
+    STATUS_OK,
+    STATUS_RUNNING,
+    STATUS_SINGULAR,
+    STATUS_STEP_TOO_SMALL,
+)
 from mechanism.core.bodies._ancf_kernels import BEAM_F_DAMPING, beams_jacobian_add
 from mechanism.core.contact._kernels import FRICTION_NONE
 from mechanism.core.joints._kernels import update_points
@@ -25,28 +44,114 @@ from mechanism.core.model._kernels import (
     CF_V0,
     CF_V1,
     CJ_DELTA,
+    CJ_FN,
     CJ_VT,
     CNT_COLUMNS,
     CNT_JAC,
     CNT_NEWTON,
     CNT_REJECTED,
     CNT_STEPS,
-    STATUS_OK,
     _clearance_forces,
     accelerations,
     derived_outputs,
     entry_depth_ratio,
+    light_outputs,
     project,
     rhs,
     update_latch,
 )
 
-STATUS_RUNNING = 1
-STATUS_STEP_TOO_SMALL = -1
-STATUS_SINGULAR = -2
-STATUS_NONFINITE = -3
-STATUS_MAX_STEPS = -4
-STATUS_NEWTON = -5
+__all__ = [
+    "STATUS_MAX_STEPS",
+    "STATUS_NONFINITE",
+    "STATUS_OK",
+    "STATUS_RUNNING",
+    "STATUS_SINGULAR",
+    "STATUS_STEP_TOO_SMALL",
+    "Jacobian",
+    "LoopState",
+    "Output",
+    "StepControl",
+]
+
+# what an Output records (bit flags of Output.mode)
+REC_FULL = 1  # full samples on the output grid
+REC_LIGHT = 2  # crank angle, slider s and ṡ on the output grid
+REC_SECTIONS = 4  # full samples where the crank angle passes phase + 2πk
+REC_METRICS = 8  # running extremes at every accepted state after Output.t_window
+
+# columns of Output.metrics (running extremes over the accepted states)
+MET_FN = 0  # largest normal contact force of any clearance joint
+MET_DELTA = 1  # largest δ = |e| − c
+MET_TORQUE_MAX = 2  # driving torque −λ_drive, largest and smallest
+MET_TORQUE_MIN = 3
+MET_COLUMNS = 4
+PEAK_SAMPLES = 8  # a contact step's force is also sampled at k/8 of the step, k = 1…7
+
+# columns of Output.strobe
+STROBE_TARGET = 0  # next crank angle phase + 2πk to record
+STROBE_DIRECTION = 1  # +1 or −1: the sense of rotation of the crank
+STROBE_ANGLE = 2  # crank angle at the last accepted state
+STROBE_COLUMNS = 3
+
+# dense-output kinds
+DENSE_DOPRI5 = 0  # rows: y₀, r₂…r₅ of Hairer's continuous extension
+DENSE_HERMITE = 1  # rows: [q₀; q̇₀], [q₁; q̇₁], [q̇₀; q̈₀], [q̇₁; q̈₁] (cubic Hermite)
+
+
+class StepControl(NamedTuple):
+    """Settings of one integration (constant through the run)."""
+
+    t_end: float
+    rtol: float
+    atol: float
+    max_step: float
+    max_steps: int  # attempted steps (accepted + rejected)
+    projection: bool
+    entry_depth: float  # reject steps entering contact deeper than this × clearance; 0: off
+    entry_min_step: float  # below this step an entry is accepted rather than retried
+    rho_inf: float  # generalized-α only (spectral radius at infinity)
+    max_newton: int  # generalized-α only
+    fixed_step: float  # generalized-α only: > 0 for the fixed-step scheme
+
+
+class LoopState(NamedTuple):
+    """What one chunk of a loop hands to the next."""
+
+    y: np.ndarray  # (2n,) [q; q̇], updated in place
+    f: np.ndarray  # Dormand–Prince: f(t, y) (2n,); generalized-α: q̈ (n,)
+    apse: np.ndarray  # generalized-α pseudo-accelerations (n,); empty for Dormand–Prince
+    step: np.ndarray  # float64[4], see each loop
+    vimp: np.ndarray  # impact-velocity latch of each clearance joint
+    contact: np.ndarray  # int64 contact flag of each clearance joint
+    counters: np.ndarray  # int64[CNT_COLUMNS]
+
+
+class Output(NamedTuple):
+    """What a loop records after each accepted step (unused arrays have length 0)."""
+
+    mode: int  # REC_* flags
+    t_out: np.ndarray  # output grid (REC_FULL or REC_LIGHT)
+    cursor: np.ndarray  # int64[2]: next grid sample, sections recorded
+    rec: Any  # Recording of the grid samples (REC_FULL)
+    light: np.ndarray  # (len(t_out), 3) crank angle, s, ṡ (REC_LIGHT)
+    sections: Any  # Recording of the section samples (REC_SECTIONS)
+    strobe: np.ndarray  # float64[STROBE_COLUMNS]
+    metrics: np.ndarray  # float64[MET_COLUMNS]
+    t_window: float  # metrics count from this time on
+    drive_row: int  # row of the drive constraint in λ, −1 without a drive
+
+
+class Jacobian(NamedTuple):
+    """Generalized-α Jacobian buffers: ∂q̈/∂q, ∂q̈/∂q̇ and the column sets (differenced,
+    analytic ANCF, clearance-contact)."""
+
+    kq: np.ndarray
+    cv: np.ndarray
+    fd_cols: np.ndarray
+    an_cols: np.ndarray
+    contact_cols: np.ndarray
+
 
 # Dormand–Prince 5(4) tableau (Dormand & Prince 1980; Hairer, Nørsett & Wanner, II.5)
 C2 = 1.0 / 5.0
@@ -127,6 +232,150 @@ def record_batch(model, ws, rec, i0, times, states, vimp, counters):
 
 
 @njit(cache=True)
+def _dense_eval(kind, dense, th, h, yout):
+    """The continuous extension of the last step at θ = (t − t₀)/h into ``yout``."""
+    n2 = yout.shape[0]
+    if kind == DENSE_DOPRI5:
+        th1 = 1.0 - th
+        for i in range(n2):
+            yout[i] = dense[0, i] + th * (
+                dense[1, i] + th1 * (dense[2, i] + th * (dense[3, i] + th1 * dense[4, i]))
+            )
+    else:
+        h00 = (1.0 + 2.0 * th) * (1.0 - th) ** 2
+        h10 = th * (1.0 - th) ** 2
+        h01 = th * th * (3.0 - 2.0 * th)
+        h11 = th * th * (th - 1.0)
+        for i in range(n2):
+            yout[i] = (
+                h00 * dense[0, i]
+                + h10 * h * dense[2, i]
+                + h01 * dense[1, i]
+                + (h11 * h * dense[3, i])
+            )
+
+
+@njit(cache=True)
+def _crank_at(model, ws, kind, dense, th, h, yout, light):
+    _dense_eval(kind, dense, th, h, yout)
+    light_outputs(model, ws, yout, light)
+    return light[0]
+
+
+@njit(cache=True)
+def _sections(model, ws, out, kind, dense, told, h, vimp, scratch, yout, counters):
+    """Record a full sample wherever the crank angle passed the next strobe angle
+    φ + 2πk during the step, located on the dense output by the Illinois method to
+    round-off in the angle."""
+    strobe = out.strobe
+    light = np.empty(3)
+    sense = strobe[STROBE_DIRECTION]
+    c_end = _crank_at(model, ws, kind, dense, 1.0, h, yout, light)
+    lo = 0.0
+    c_lo = strobe[STROBE_ANGLE]
+    while sense * (c_end - strobe[STROBE_TARGET]) >= 0.0:
+        target = strobe[STROBE_TARGET]
+        a = lo
+        fa = sense * (c_lo - target)
+        b = 1.0
+        fb = sense * (c_end - target)
+        root = b
+        side = 0
+        tol = 4.0 * _EPS * max(1.0, abs(target))
+        for _ in range(100):
+            if fb <= tol or b - a <= _EPS:
+                root = b
+                break
+            if fa == fb:
+                root = b
+                break
+            c = (a * fb - b * fa) / (fb - fa)
+            c = min(max(c, a), b)
+            fc = sense * (_crank_at(model, ws, kind, dense, c, h, yout, light) - target)
+            if fc >= 0.0:
+                b = c
+                fb = fc
+                if side == 1:
+                    fa *= 0.5
+                side = 1
+            else:
+                a = c
+                fa = fc
+                if side == -1:
+                    fb *= 0.5
+                side = -1
+            root = b
+        _dense_eval(kind, dense, root, h, yout)
+        i = out.cursor[1]
+        if i < out.sections.t.shape[0]:
+            record_sample(
+                model, ws, out.sections, i, told + root * h, yout, vimp, scratch, counters
+            )
+            out.cursor[1] = i + 1
+        strobe[STROBE_TARGET] = target + sense * 2.0 * math.pi
+        lo = root
+        c_lo = _crank_at(model, ws, kind, dense, lo, h, yout, light)
+    strobe[STROBE_ANGLE] = c_end
+
+
+@njit(cache=True)
+def _metrics_from_workspace(met, ws, drive_row):
+    """Update the running extremes from the workspace of the last evaluation."""
+    for j in range(ws.cj.shape[0]):
+        if ws.cj[j, CJ_FN] > met[MET_FN]:
+            met[MET_FN] = ws.cj[j, CJ_FN]
+        if ws.cj[j, CJ_DELTA] > met[MET_DELTA]:
+            met[MET_DELTA] = ws.cj[j, CJ_DELTA]
+    if drive_row >= 0:
+        torque = -ws.lam[drive_row]
+        if torque > met[MET_TORQUE_MAX]:
+            met[MET_TORQUE_MAX] = torque
+        if torque < met[MET_TORQUE_MIN]:
+            met[MET_TORQUE_MIN] = torque
+
+
+@njit(cache=True)
+def _after_step(model, ws, out, kind, dense, told, t, h, vimp, contact, scratch, yout, counters):
+    """Record what ``out`` asks for after an accepted step from ``told`` to ``t``.
+
+    The metrics read the workspace as the step's last evaluation left it (the accepted
+    state for Dormand–Prince, the last Newton iterate for generalized-α), so this runs
+    before any sample overwrites it; samples come from the step's dense output.
+    """
+    mode = out.mode
+    if mode & REC_METRICS and t >= out.t_window:
+        met = out.metrics
+        _metrics_from_workspace(met, ws, out.drive_row)
+        touching = False
+        for j in range(ws.cj.shape[0]):
+            touching = touching or ws.cj[j, CJ_DELTA] > 0.0 or contact[j] != 0
+        if touching:
+            # an impact peaks between accepted states: the equations of motion (for the
+            # multipliers) on the dense output at PEAK_SAMPLES − 1 interior points
+            n = model.n_dof
+            for s in range(1, PEAK_SAMPLES):
+                th = s / PEAK_SAMPLES
+                _dense_eval(kind, dense, th, h, yout)
+                accelerations(model, ws, told + th * h, yout[:n], yout[n:], vimp, scratch[n:],
+                              counters)  # fmt: skip
+                _metrics_from_workspace(met, ws, out.drive_row)
+    t_out = out.t_out
+    cursor = out.cursor
+    n_out = t_out.shape[0]
+    while cursor[0] < n_out and t_out[cursor[0]] <= t:
+        th = (t_out[cursor[0]] - told) / h
+        _dense_eval(kind, dense, th, h, yout)
+        if mode & REC_FULL:
+            record_sample(model, ws, out.rec, cursor[0], t_out[cursor[0]], yout, vimp, scratch,
+                          counters)  # fmt: skip
+        else:
+            light_outputs(model, ws, yout, out.light[cursor[0]])
+        cursor[0] += 1
+    if mode & REC_SECTIONS:
+        _sections(model, ws, out, kind, dense, told, h, vimp, scratch, yout, counters)
+
+
+@njit(cache=True)
 def _wrms(err, y0, y1, rtol, atol):
     s = 0.0
     n = err.shape[0]
@@ -173,47 +422,42 @@ def _initial_step(model, ws, t, y, f0, vimp, counters, rtol, atol, max_step):
 
 
 @njit(cache=True)
-def dopri5_start(model, ws, t, y, k1, vimp, state, counters, rtol, atol, max_step):
-    """Evaluate k1 = f(t, y) and the starting step; returns a status."""
-    status = rhs(model, ws, t, y, vimp, k1, counters)
+def dopri5_start(model, ws, t, loop, ctl):
+    """Evaluate f = f(t, y) and the starting step; returns a status."""
+    status = rhs(model, ws, t, loop.y, loop.vimp, loop.f, loop.counters)
     if status != STATUS_OK:
-        return -status
-    state[0] = t
-    if state[1] <= 0.0:
-        state[1] = _initial_step(model, ws, t, y, k1, vimp, counters, rtol, atol, max_step)
-    state[2] = 1e-4
-    state[3] = 0.0
+        return status
+    step = loop.step
+    step[0] = t
+    if step[1] <= 0.0:
+        step[1] = _initial_step(model, ws, t, loop.y, loop.f, loop.vimp, loop.counters,
+                                ctl.rtol, ctl.atol, ctl.max_step)  # fmt: skip
+    step[2] = 1e-4
+    step[3] = 0.0
     return STATUS_RUNNING
 
 
 @njit(cache=True, nogil=True)
-def dopri5_advance(
-    model,
-    ws,
-    rec,
-    t_out,
-    cursor,
-    y,
-    k1,
-    state,
-    vimp,
-    contact,
-    counters,
-    t_stop,
-    t_end,
-    rtol,
-    atol,
-    max_step,
-    projection,
-    max_steps,
-):
-    """Advance the Dormand–Prince 5(4) integration until ``t ≥ t_stop`` (or ``t_end``).
+def dopri5_advance(model, ws, loop, out, ctl, t_stop):
+    """Advance the Dormand–Prince 5(4) integration until ``t ≥ t_stop`` (or ``ctl.t_end``).
 
     Step-size control as in Hairer's DOPRI5 (PI controller, β = 0.04, safety 0.9, growth
-    limited to [0.2, 10]); error norm ‖e/(atol + rtol·max(|y|, |y_new|))‖_rms. Returns
-    ``STATUS_RUNNING`` (1) when ``t_stop`` is reached before ``t_end``, 0 at ``t_end``, or a
-    negative failure status.
+    limited to [0.2, 10]); error norm ‖e/(atol + rtol·max(|y|, |y_new|))‖_rms. With
+    ``ctl.entry_depth`` > 0 a step that passes the error test but takes a separated
+    clearance joint deeper than ``entry_depth`` × clearance is retried shorter, as in the
+    generalized-α loop, so no impact is stepped over whatever the output grid.
+    ``loop.step`` = [t, h, facold, last step rejected]. Returns ``STATUS_RUNNING`` when
+    ``t_stop`` is reached before ``t_end``, ``STATUS_OK`` at ``t_end``, or a failure status.
     """
+    y = loop.y
+    k1 = loop.f
+    vimp = loop.vimp
+    contact = loop.contact
+    counters = loop.counters
+    t_end = ctl.t_end
+    rtol = ctl.rtol
+    atol = ctl.atol
+    max_step = ctl.max_step
     n2 = y.shape[0]
     k2 = np.empty(n2)
     k3 = np.empty(n2)
@@ -224,20 +468,16 @@ def dopri5_advance(
     ytmp = np.empty(n2)
     ynew = np.empty(n2)
     err = np.empty(n2)
-    r2 = np.empty(n2)
-    r3 = np.empty(n2)
-    r4 = np.empty(n2)
-    r5 = np.empty(n2)
+    dense = np.empty((5, n2))
     yout = np.empty(n2)
     scratch = np.empty(n2)
     out_counters = np.zeros(counters.shape[0], dtype=np.int64)
-    n_out = t_out.shape[0]
     beta = 0.04
     expo1 = 0.2 - beta * 0.75
-    t = state[0]
-    h = state[1]
-    facold = state[2]
-    last_rejected = state[3] > 0.0
+    t = loop.step[0]
+    h = loop.step[1]
+    facold = loop.step[2]
+    last_rejected = loop.step[3] > 0.0
     status = STATUS_RUNNING
     while True:
         if t >= t_end:
@@ -245,7 +485,7 @@ def dopri5_advance(
             break
         if t >= t_stop:
             break
-        if counters[CNT_STEPS] + counters[CNT_REJECTED] >= max_steps:
+        if counters[CNT_STEPS] + counters[CNT_REJECTED] >= ctl.max_steps:
             status = STATUS_MAX_STEPS
             break
         h = min(h, max_step)
@@ -257,27 +497,28 @@ def dopri5_advance(
         st = STATUS_OK
         for i in range(n2):
             ytmp[i] = y[i] + h * A21 * k1[i]
-        st |= rhs(model, ws, t + C2 * h, ytmp, vimp, k2, counters)
+        st = min(st, rhs(model, ws, t + C2 * h, ytmp, vimp, k2, counters))
         for i in range(n2):
             ytmp[i] = y[i] + h * (A31 * k1[i] + A32 * k2[i])
-        st |= rhs(model, ws, t + C3 * h, ytmp, vimp, k3, counters)
+        st = min(st, rhs(model, ws, t + C3 * h, ytmp, vimp, k3, counters))
         for i in range(n2):
             ytmp[i] = y[i] + h * (A41 * k1[i] + A42 * k2[i] + A43 * k3[i])
-        st |= rhs(model, ws, t + C4 * h, ytmp, vimp, k4, counters)
+        st = min(st, rhs(model, ws, t + C4 * h, ytmp, vimp, k4, counters))
         for i in range(n2):
             ytmp[i] = y[i] + h * (A51 * k1[i] + A52 * k2[i] + A53 * k3[i] + A54 * k4[i])
-        st |= rhs(model, ws, t + C5 * h, ytmp, vimp, k5, counters)
+        st = min(st, rhs(model, ws, t + C5 * h, ytmp, vimp, k5, counters))
         for i in range(n2):
             ytmp[i] = y[i] + h * (
                 A61 * k1[i] + A62 * k2[i] + A63 * k3[i] + A64 * k4[i] + A65 * k5[i]
             )
-        st |= rhs(model, ws, t + h, ytmp, vimp, k6, counters)
+        st = min(st, rhs(model, ws, t + h, ytmp, vimp, k6, counters))
         for i in range(n2):
             ynew[i] = y[i] + h * (
                 A71 * k1[i] + A73 * k3[i] + A74 * k4[i] + A75 * k5[i] + A76 * k6[i]
             )
-        st |= rhs(model, ws, t + h, ynew, vimp, k7, counters)
-        if st & 2:
+        st = min(st, rhs(model, ws, t + h, ynew, vimp, k7, counters))
+        if st != STATUS_OK:
+            # a singular or non-finite stage: the configuration cannot be continued
             status = STATUS_SINGULAR
             break
         for i in range(n2):
@@ -291,36 +532,37 @@ def dopri5_advance(
             last_rejected = True
             continue
         fac11 = e**expo1
+        if e <= 1.0 and ctl.entry_depth > 0.0:
+            r_end = entry_depth_ratio(model, ws, ynew, contact)
+            if r_end > ctl.entry_depth and h > ctl.entry_min_step:
+                counters[CNT_REJECTED] += 1
+                h *= _entry_fraction(model, ws, y, contact, ctl.entry_depth, r_end)
+                last_rejected = True
+                continue
         if e <= 1.0:
             # dense-output coefficients before y is overwritten
             for i in range(n2):
                 d = ynew[i] - y[i]
                 b = h * k1[i] - d
-                r2[i] = d
-                r3[i] = b
-                r4[i] = d - h * k7[i] - b
-                r5[i] = h * (
+                dense[0, i] = y[i]
+                dense[1, i] = d
+                dense[2, i] = b
+                dense[3, i] = d - h * k7[i] - b
+                dense[4, i] = h * (
                     D1 * k1[i] + D3 * k3[i] + D4 * k4[i] + D5 * k5[i] + D6 * k6[i] + D7 * k7[i]
                 )
             told = t
             t = t + h
             if t_end - t < 4.0 * _EPS * max(abs(t_end), 1.0):
                 t = t_end
-            while cursor[0] < n_out and t_out[cursor[0]] <= t:
-                th = (t_out[cursor[0]] - told) / h
-                th1 = 1.0 - th
-                for i in range(n2):
-                    yout[i] = y[i] + th * (r2[i] + th1 * (r3[i] + th * (r4[i] + th1 * r5[i])))
-                record_sample(
-                    model, ws, rec, cursor[0], t_out[cursor[0]], yout, vimp, scratch, out_counters
-                )
-                cursor[0] += 1
+            _after_step(model, ws, out, DENSE_DOPRI5, dense, told, t, h, vimp, contact, scratch,
+                        yout, out_counters)  # fmt: skip
             for i in range(n2):
                 y[i] = ynew[i]
                 k1[i] = k7[i]
             counters[CNT_STEPS] += 1
             update_latch(model, ws, y, vimp, contact, counters)
-            if projection:
+            if ctl.projection:
                 if not project(model, ws, t, y, 1e-12, 5):
                     status = STATUS_SINGULAR
                     break
@@ -337,11 +579,24 @@ def dopri5_advance(
             counters[CNT_REJECTED] += 1
             h = h / min(5.0, fac11 / 0.9)
             last_rejected = True
-    state[0] = t
-    state[1] = h
-    state[2] = facold
-    state[3] = 1.0 if last_rejected else 0.0
+    loop.step[0] = t
+    loop.step[1] = h
+    loop.step[2] = facold
+    loop.step[3] = 1.0 if last_rejected else 0.0
     return status
+
+
+@njit(cache=True)
+def _entry_fraction(model, ws, y, contact, entry_depth, r_end):
+    """Fraction of a step that entered contact too deep to retry with: the step at which
+    the penetration, interpolated linearly from the start of the step, is half the
+    allowed entry depth, so one retry lands inside the contact (a fixed fraction could
+    approach a slowly closing gap, a worn flank, in ever shorter steps)."""
+    r_start = entry_depth_ratio(model, ws, y, contact)
+    frac = 0.3
+    if r_start < 0.5 * entry_depth:
+        frac = (0.5 * entry_depth - r_start) / (r_end - r_start)
+    return min(0.9, max(0.01, frac))
 
 
 # --------------------------------------------------------------------------- generalized-α
@@ -686,36 +941,7 @@ def _hybrid_jacobian(
 
 
 @njit(cache=True, error_model="numpy", nogil=True)
-def genalpha_advance(
-    model,
-    ws,
-    rec,
-    t_out,
-    cursor,
-    y,
-    acc,
-    apse,
-    kq,
-    cv,
-    state,
-    vimp,
-    contact,
-    counters,
-    t_stop,
-    t_end,
-    rtol,
-    atol,
-    max_step,
-    rho_inf,
-    max_newton,
-    entry_depth,
-    projection,
-    max_steps,
-    fixed_step,
-    fd_cols,
-    an_cols,
-    cc,
-):
+def genalpha_advance(model, ws, loop, out, ctl, jac, t_stop):
     """Advance a variable-step generalized-α integration (Chung & Hulbert 1993) of
     q̈ = a(t, q, q̇) until ``t ≥ t_stop`` (or ``t_end``).
 
@@ -754,6 +980,27 @@ def genalpha_advance(
     last refresh]. Returns 1 (``t_stop`` reached), 0 (done) or
     a negative failure status.
     """
+    y = loop.y
+    acc = loop.f
+    apse = loop.apse
+    state = loop.step
+    vimp = loop.vimp
+    contact = loop.contact
+    counters = loop.counters
+    kq = jac.kq
+    cv = jac.cv
+    fd_cols = jac.fd_cols
+    an_cols = jac.an_cols
+    cc = jac.contact_cols
+    t_end = ctl.t_end
+    rtol = ctl.rtol
+    atol = ctl.atol
+    max_step = ctl.max_step
+    rho_inf = ctl.rho_inf
+    max_newton = ctl.max_newton
+    entry_depth = ctl.entry_depth
+    projection = ctl.projection
+    fixed_step = ctl.fixed_step
     n = model.n_dof
     n2 = 2 * n
     q = y[:n]
@@ -772,6 +1019,7 @@ def genalpha_advance(
     piv = np.empty(n, dtype=np.int64)
     yout = np.empty(n2)
     scratch = np.empty(n2)
+    dense = np.empty((4, n2))
     out_counters = np.zeros(counters.shape[0], dtype=np.int64)
     was = np.zeros(contact.shape[0], dtype=contact.dtype)
     nc = cc.shape[0]
@@ -787,7 +1035,6 @@ def genalpha_advance(
     wv = np.empty(nc)
     gt = np.zeros((contact.shape[0], nc))
     base_contact = False
-    n_out = t_out.shape[0]
     t = state[0]
     h = state[1]
     jac_valid = state[2] > 0.0
@@ -803,7 +1050,7 @@ def genalpha_advance(
             break
         if t >= t_stop:
             break
-        if counters[CNT_STEPS] + counters[CNT_REJECTED] >= max_steps:
+        if counters[CNT_STEPS] + counters[CNT_REJECTED] >= ctl.max_steps:
             status = STATUS_MAX_STEPS
             break
         h = min(h, max_step)
@@ -961,18 +1208,11 @@ def genalpha_advance(
             r_end = entry_depth_ratio(model, ws, yout, contact)
             # A penetration that does not vanish with the step is a jump of the surface
             # (a worn profile between regions), not an impact to resolve: below
-            # 1e-6 × max_step the entry is accepted rather than retried forever.
-            if r_end > entry_depth and h > 1e-6 * max_step:
-                # Retry with the step at which the penetration, interpolated linearly from
-                # the start of the step, is half the allowed entry depth: one retry lands
-                # inside the contact, where a fixed fraction of the step could approach a
-                # slowly closing gap (a worn flank) in ever shorter steps.
-                r_start = entry_depth_ratio(model, ws, y, contact)
-                frac = 0.3
-                if r_start < 0.5 * entry_depth:
-                    frac = (0.5 * entry_depth - r_start) / (r_end - r_start)
+            # ``ctl.entry_min_step`` (1e-6 × max_step) the entry is accepted rather than
+            # retried forever.
+            if r_end > entry_depth and h > ctl.entry_min_step:
                 counters[CNT_REJECTED] += 1
-                h *= min(0.9, max(0.01, frac))
+                h *= _entry_fraction(model, ws, y, contact, entry_depth, r_end)
                 continue
         if fixed_step <= 0.0 and not e <= 1.0:
             counters[CNT_REJECTED] += 1
@@ -996,19 +1236,17 @@ def genalpha_advance(
         t = t + h
         if t_end - t < 4.0 * _EPS * max(abs(t_end), 1.0):
             t = t_end
-        while cursor[0] < n_out and t_out[cursor[0]] <= t:
-            th = (t_out[cursor[0]] - told) / h
-            h00 = (1.0 + 2.0 * th) * (1.0 - th) ** 2
-            h10 = th * (1.0 - th) ** 2
-            h01 = th * th * (3.0 - 2.0 * th)
-            h11 = th * th * (th - 1.0)
-            for i in range(n):
-                yout[i] = h00 * q[i] + h10 * h * v[i] + h01 * qn[i] + h11 * h * vn[i]
-                yout[n + i] = h00 * v[i] + h10 * h * acc[i] + h01 * vn[i] + h11 * h * x[i]
-            record_sample(
-                model, ws, rec, cursor[0], t_out[cursor[0]], yout, vimp, scratch, out_counters
-            )
-            cursor[0] += 1
+        for i in range(n):
+            dense[0, i] = q[i]
+            dense[0, n + i] = v[i]
+            dense[1, i] = qn[i]
+            dense[1, n + i] = vn[i]
+            dense[2, i] = v[i]
+            dense[2, n + i] = acc[i]
+            dense[3, i] = vn[i]
+            dense[3, n + i] = x[i]
+        _after_step(model, ws, out, DENSE_HERMITE, dense, told, t, h, vimp, contact, scratch,
+                    yout, out_counters)  # fmt: skip
         for i in range(n):
             q[i] = qn[i]
             v[i] = vn[i]

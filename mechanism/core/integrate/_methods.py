@@ -24,6 +24,7 @@ from typing import TYPE_CHECKING, Any, Literal, NamedTuple
 
 import numpy as np
 
+from mechanism.core._status import MESSAGES
 from mechanism.core.joints._kernels import ANGLE_RIGID, ANGLE_SLOPE, POINT_LINEAR, POINT_RIGID
 from mechanism.core.model import _kernels as k
 
@@ -38,6 +39,7 @@ __all__ = [
     "GeneralizedAlpha",
     "Integration",
     "Integrator",
+    "RecordPlan",
     "Recording",
     "ScipyIVP",
     "SolverStats",
@@ -46,16 +48,7 @@ __all__ = [
 
 ScipyMethodName = Literal["RK45", "DOP853", "Radau", "BDF", "LSODA"]
 
-_MESSAGES = {
-    ik.STATUS_RUNNING: "running",
-    0: "The solver reached the end of the interval.",
-    ik.STATUS_STEP_TOO_SMALL: "The step size became too small (stiffness or a discontinuity).",
-    ik.STATUS_SINGULAR: "The constraint Jacobian became singular (a locked or redundant "
-    "configuration).",
-    ik.STATUS_NONFINITE: "The solution became non-finite.",
-    ik.STATUS_MAX_STEPS: "The maximum number of steps was reached.",
-    ik.STATUS_NEWTON: "Newton iterations did not converge.",
-}
+_MESSAGES = MESSAGES
 
 
 class Recording(NamedTuple):
@@ -145,13 +138,125 @@ class SolverStats:
 
 
 @dataclass(frozen=True, kw_only=True)
+class RecordPlan:
+    """What an integration records besides its statistics.
+
+    Parameters
+    ----------
+    grid : {"full", "light"}
+        On the output grid: full samples (state, accelerations, multipliers, contact
+        quantities and derived outputs; one right-hand-side evaluation each) or light
+        samples (crank angle, slider position and velocity from the dense output alone).
+    sections : int
+        Capacity of the stroboscopic recording (0: none): a full sample wherever the
+        crank angle passes ``phase`` + 2πk, located on the integrator's dense output.
+    phase : float
+        Strobe phase (rad).
+    discard : float
+        Crank revolutions from the start before the first section.
+    metrics_from : float or None
+        Time (s) from which running extremes (peak contact force, deepest penetration,
+        driving torque) are taken at every accepted state; None: none.
+    """
+
+    grid: Literal["full", "light"] = "full"
+    sections: int = 0
+    phase: float = 0.0
+    discard: float = 0.0
+    metrics_from: float | None = None
+
+
+FULL = RecordPlan()
+
+
+@dataclass(frozen=True, kw_only=True)
 class Integration:
     """Result of an integrator run: the recorded samples (possibly fewer than requested
-    when the run failed) and the statistics."""
+    when the run failed) and the statistics.
+
+    ``recording`` holds the full grid samples (empty with a light plan), ``light`` the
+    light grid samples (N, 3: crank angle, slider s, ṡ), ``sections`` the section samples
+    and ``metrics`` the running extremes (``mechanism.integrate._kernels.MET_*``)."""
 
     recording: Recording
     stats: SolverStats
     final_state: np.ndarray
+    light: np.ndarray | None = None
+    sections: Recording | None = None
+    metrics: np.ndarray | None = None
+
+
+def _output(
+    model: Model, ws: Any, y0: np.ndarray, vimp: np.ndarray, t_out: np.ndarray, plan: RecordPlan
+) -> ik.Output:
+    """The kernels' Output tuple for ``plan``, with the first grid sample (and a section
+    at the start when the initial crank angle is a strobe angle) recorded."""
+    full = plan.grid == "full"
+    mode = ik.REC_FULL if full else ik.REC_LIGHT
+    if plan.sections:
+        mode |= ik.REC_SECTIONS
+    if plan.metrics_from is not None:
+        mode |= ik.REC_METRICS
+    light = np.zeros((0 if full else t_out.size, 3))
+    strobe = np.zeros(ik.STROBE_COLUMNS)
+    metrics = np.array([-np.inf, -np.inf, -np.inf, np.inf])
+    drive_row = -1 if model.drive_row is None else int(model.drive_row)
+    out = ik.Output(
+        mode=mode,
+        t_out=t_out,
+        cursor=np.zeros(2, dtype=np.int64),
+        rec=Recording.empty(model, t_out.size if full else 0),
+        light=light,
+        sections=Recording.empty(model, int(plan.sections)),
+        strobe=strobe,
+        metrics=metrics,
+        t_window=math.inf if plan.metrics_from is None else float(plan.metrics_from),
+        drive_row=drive_row,
+    )
+    y = np.ascontiguousarray(y0, dtype=np.float64)
+    scratch = np.empty_like(y)
+    t0 = float(t_out[0])
+    if full:
+        ik.record_sample(model.kernel, ws, out.rec, 0, t0, y, vimp, scratch,
+                         np.zeros(k.CNT_COLUMNS, dtype=np.int64))  # fmt: skip
+    else:
+        k.light_outputs(model.kernel, ws, y, light[0])
+    out.cursor[0] = 1
+    if plan.sections:
+        start = np.empty(3)
+        k.light_outputs(model.kernel, ws, y, start)
+        sense = -1.0 if getattr(model.scene.drive, "speed_rpm", 1.0) < 0 else 1.0
+        two_pi = 2.0 * math.pi
+        first = start[0] + sense * two_pi * plan.discard - plan.phase
+        turns = math.ceil(first / two_pi - 1e-9) if sense > 0 else math.floor(first / two_pi + 1e-9)
+        target = plan.phase + two_pi * turns
+        if abs(target - start[0]) <= 1e-9:
+            ik.record_sample(model.kernel, ws, out.sections, 0, t0, y, vimp, scratch,
+                             np.zeros(k.CNT_COLUMNS, dtype=np.int64))  # fmt: skip
+            out.cursor[1] = 1
+            target += sense * two_pi
+        strobe[ik.STROBE_TARGET] = target
+        strobe[ik.STROBE_DIRECTION] = sense
+        strobe[ik.STROBE_ANGLE] = start[0]
+    return out
+
+
+def _integration(
+    name: str, out: ik.Output, status: int, counters: np.ndarray, wall: float, y: np.ndarray
+) -> Integration:
+    """Package a compiled loop's outputs (truncated to what was recorded)."""
+    if status == ik.STATUS_RUNNING:
+        status = 0
+    n_grid = int(out.cursor[0])
+    full = bool(out.mode & ik.REC_FULL)
+    return Integration(
+        recording=out.rec.head(n_grid) if status != 0 else out.rec,
+        stats=_stats(name, status, counters, wall),
+        final_state=y,
+        light=None if full else (out.light[:n_grid] if status != 0 else out.light),
+        sections=out.sections.head(int(out.cursor[1])) if out.mode & ik.REC_SECTIONS else None,
+        metrics=out.metrics.copy() if out.mode & ik.REC_METRICS else None,
+    )
 
 
 def _stats(
@@ -215,6 +320,36 @@ def _initial_latch(model: Model, y0: np.ndarray) -> tuple[np.ndarray, np.ndarray
     return vimp, contact
 
 
+def _control(
+    method: Any,
+    t0: float,
+    t_end: float,
+    *,
+    rtol: float,
+    atol: float,
+    max_step: float,
+    projection: bool,
+    fixed_step: float = 0.0,
+) -> ik.StepControl:
+    """The kernels' StepControl of ``method`` (a Dopri5 or GeneralizedAlpha) for a run."""
+    entry = float(getattr(method, "contact_entry_depth", 0.0))
+    # below this step an entry is accepted (a worn profile can make the penetration jump)
+    floor = 1e-6 * max_step if math.isfinite(max_step) else 1e-10 * (t_end - t0)
+    return ik.StepControl(
+        t_end=t_end,
+        rtol=float(rtol),
+        atol=float(atol),
+        max_step=float(max_step),
+        max_steps=int(method.max_steps),
+        projection=bool(projection),
+        entry_depth=entry,
+        entry_min_step=float(floor),
+        rho_inf=float(getattr(method, "rho_inf", 0.0)),
+        max_newton=int(getattr(method, "max_newton", 1)),
+        fixed_step=float(fixed_step),
+    )
+
+
 class Integrator:
     """Base of the integrator strategies (see the subclasses)."""
 
@@ -232,6 +367,7 @@ class Integrator:
         projection: bool = False,
         progress: bool = False,
         label: str = "simulate",
+        record: RecordPlan = FULL,
     ) -> Integration:
         raise NotImplementedError
 
@@ -242,6 +378,12 @@ class Dopri5(Integrator):
 
     Parameters
     ----------
+    contact_entry_depth : float
+        A step that passes the error test but takes a separated clearance joint deeper
+        than this fraction of its radial clearance is retried with the step at which the
+        penetration, interpolated from the start of the step, is half of it (as in
+        :class:`GeneralizedAlpha`), so no impact is stepped over whatever the step bound;
+        0 disables the check.
     max_steps : int
         Upper bound on attempted steps (accepted + rejected).
 
@@ -253,8 +395,13 @@ class Dopri5(Integrator):
     G. Wanner, *Solving Ordinary Differential Equations I*, §II.5–6.
     """
 
+    contact_entry_depth: float = 0.01
     max_steps: int = 200_000_000
     name: str = field(default="dopri5", init=False)
+
+    def __post_init__(self) -> None:
+        if not float(self.contact_entry_depth) >= 0.0:
+            raise ValueError(f"contact_entry_depth must be ≥ 0; got {self.contact_entry_depth!r}.")
 
     def integrate(
         self,
@@ -268,43 +415,36 @@ class Dopri5(Integrator):
         projection: bool = False,
         progress: bool = False,
         label: str = "simulate",
+        record: RecordPlan = FULL,
     ) -> Integration:
         km = model.kernel
         ws = model.workspace()
-        rec = Recording.empty(model, t_out.size)
         y = np.ascontiguousarray(y0, dtype=np.float64).copy()
-        k1 = np.zeros_like(y)
-        state = np.zeros(4)
         counters = np.zeros(k.CNT_COLUMNS, dtype=np.int64)
-        cursor = np.zeros(1, dtype=np.int64)
         vimp, contact = _initial_latch(model, y)
+        loop = ik.LoopState(
+            y=y, f=np.zeros_like(y), apse=np.zeros(0), step=np.zeros(4), vimp=vimp,
+            contact=contact, counters=counters,
+        )  # fmt: skip
         t0 = float(t_out[0])
         t_end = float(t_out[-1])
+        ctl = _control(self, t0, t_end, rtol=rtol, atol=atol, max_step=max_step,
+                       projection=projection)  # fmt: skip
+        out = _output(model, ws, y, vimp, t_out, record)
         start = time.perf_counter()
-        status = ik.dopri5_start(km, ws, t0, y, k1, vimp, state, counters, rtol, atol, max_step)
+        status = ik.dopri5_start(km, ws, t0, loop, ctl)
         if status == ik.STATUS_RUNNING:
-            ik.record_sample(km, ws, rec, 0, t0, y, vimp, np.empty_like(y), counters.copy())
-            cursor[0] = 1
             bar = _Progress(progress, t0, t_end, label)
             try:
                 for t_stop in _chunks(t0, t_end, progress):
-                    status = ik.dopri5_advance(
-                        km, ws, rec, t_out, cursor, y, k1, state, vimp, contact, counters,
-                        t_stop, t_end, rtol, atol, max_step, projection, self.max_steps,
-                    )  # fmt: skip
-                    bar.update(state[0])
+                    status = ik.dopri5_advance(km, ws, loop, out, ctl, t_stop)
+                    bar.update(loop.step[0])
                     if status != ik.STATUS_RUNNING:
                         break
             finally:
                 bar.close()
         wall = time.perf_counter() - start
-        if status == ik.STATUS_RUNNING:
-            status = 0
-        return Integration(
-            recording=rec.head(int(cursor[0])) if status != 0 else rec,
-            stats=_stats(self.name, status, counters, wall),
-            final_state=y,
-        )
+        return _integration(self.name, out, status, counters, wall, y)
 
 
 def _jacobian_columns(model: Model) -> tuple[np.ndarray, np.ndarray]:
@@ -421,29 +561,27 @@ class GeneralizedAlpha(Integrator):
         projection: bool = False,
         progress: bool = False,
         label: str = "simulate",
+        record: RecordPlan = FULL,
     ) -> Integration:
         km = model.kernel
         n = model.n_dof
         ws = model.workspace()
-        rec = Recording.empty(model, t_out.size)
         y = np.ascontiguousarray(y0, dtype=np.float64).copy()
         counters = np.zeros(k.CNT_COLUMNS, dtype=np.int64)
-        cursor = np.zeros(1, dtype=np.int64)
         vimp, contact = _initial_latch(model, y)
         t0 = float(t_out[0])
         t_end = float(t_out[-1])
+        out = _output(model, ws, y, vimp, t_out, record)
         start = time.perf_counter()
         acc = np.zeros(n)
         status = k.accelerations(km, ws, t0, y[:n], y[n:], vimp, acc, counters)
-        if status != 0:
-            status = -int(status)
-        else:
+        if status == ik.STATUS_OK:
             status = ik.STATUS_RUNNING
-            apse = acc.copy()
-            kq = np.zeros((n, n))
-            cv = np.zeros((n, n))
             fd_cols, an_cols = _jacobian_columns(model)
-            contact_cols = _contact_columns(model)
+            jac = ik.Jacobian(
+                kq=np.zeros((n, n)), cv=np.zeros((n, n)), fd_cols=fd_cols, an_cols=an_cols,
+                contact_cols=_contact_columns(model),
+            )  # fmt: skip
             if self.step == "max_step":
                 # an unbounded run (e.g. the ideal companion) steps at the output spacing
                 fixed = float(max_step)
@@ -456,32 +594,23 @@ class GeneralizedAlpha(Integrator):
                 h0 = max_step
             else:
                 h0 = min(max_step, 1e-3 * (t_end - t0), 1e-4)
-            state = np.array([t0, h0, 0.0, 0.0])
-            ik.record_sample(km, ws, rec, 0, t0, y, vimp, np.empty_like(y), counters.copy())
-            cursor[0] = 1
+            ctl = _control(self, t0, t_end, rtol=rtol, atol=atol, max_step=max_step,
+                           projection=projection, fixed_step=fixed)  # fmt: skip
+            loop = ik.LoopState(
+                y=y, f=acc, apse=acc.copy(), step=np.array([t0, h0, 0.0, 0.0]), vimp=vimp,
+                contact=contact, counters=counters,
+            )  # fmt: skip
             bar = _Progress(progress, t0, t_end, label)
             try:
                 for t_stop in _chunks(t0, t_end, progress):
-                    status = ik.genalpha_advance(
-                        km, ws, rec, t_out, cursor, y, acc, apse, kq, cv, state, vimp,
-                        contact, counters, t_stop, t_end, rtol, atol, max_step,
-                        float(self.rho_inf), int(self.max_newton),
-                        float(self.contact_entry_depth), projection, self.max_steps,
-                        fixed, fd_cols, an_cols, contact_cols,
-                    )  # fmt: skip
-                    bar.update(state[0])
+                    status = ik.genalpha_advance(km, ws, loop, out, ctl, jac, t_stop)
+                    bar.update(loop.step[0])
                     if status != ik.STATUS_RUNNING:
                         break
             finally:
                 bar.close()
         wall = time.perf_counter() - start
-        if status == ik.STATUS_RUNNING:
-            status = 0
-        return Integration(
-            recording=rec.head(int(cursor[0])) if status != 0 else rec,
-            stats=_stats(self.name, status, counters, wall),
-            final_state=y,
-        )
+        return _integration(self.name, out, status, counters, wall, y)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -519,9 +648,15 @@ class ScipyIVP(Integrator):
         projection: bool = False,
         progress: bool = False,
         label: str = "simulate",
+        record: RecordPlan = FULL,
     ) -> Integration:
         import scipy.integrate as si
 
+        if record != FULL:
+            raise ValueError(
+                f"the scipy method {self.method!r} records the full trajectory only; use "
+                "'dopri5' or a generalized-α method for metrics or sections."
+            )
         km = model.kernel
         ws = model.workspace()
         rec = Recording.empty(model, t_out.size)
@@ -534,7 +669,7 @@ class ScipyIVP(Integrator):
             out = np.empty_like(yy)
             st = k.rhs(km, ws, t, np.ascontiguousarray(yy, dtype=np.float64), vimp, out, counters)
             if st != 0:
-                status_box[0] = -int(st)
+                status_box[0] = int(st)
             return out
 
         t0 = float(t_out[0])

@@ -24,6 +24,7 @@ import math
 import numpy as np
 from numba import njit
 
+from mechanism.core._status import STATUS_NONFINITE, STATUS_OK, STATUS_SINGULAR
 from mechanism.core.bodies._ancf_kernels import beams_force_add, beams_strain_energy
 from mechanism.core.contact._kernels import (
     FRICTION_NONE,
@@ -95,9 +96,6 @@ CW_FORM = 5  # stiffness form code for the local stiffness, −1: K is a given n
 CW_COLUMNS = 6
 # ``model.cw_f`` (n_cj, 2) = [E*, radius ratio limit]
 
-STATUS_OK = 0
-STATUS_SINGULAR = 2
-STATUS_NONFINITE = 3
 
 # columns of the derived output table written with every output sample
 OUT_CRANK = 0
@@ -546,6 +544,56 @@ def violation_series(model, ws, t, q, v, out):
 
 
 @njit(cache=True)
+def crank_angle(model, pcf):
+    """Crank angle (rad, unwrapped) from the point cache; 0 without a crank joint."""
+    pa = model.out_i[0]
+    pb = model.out_i[1]
+    return pcf[pb, PC_ANG] - pcf[pa, PC_ANG] if pa >= 0 else 0.0
+
+
+@njit(cache=True)
+def _slider_kinematics(model, pcf):
+    """Slider position s and velocity ṡ along its guide from the point cache, with the
+    guide direction (gx, gy), its rate ω and the relative position and velocity (d, ḋ)."""
+    ga = model.out_i[2]
+    gb = model.out_i[3]
+    th = pcf[ga, PC_ANG]
+    w = pcf[ga, PC_RATE]
+    c = math.cos(th)
+    sn = math.sin(th)
+    ux = model.out_f[0]
+    uy = model.out_f[1]
+    gx = c * ux - sn * uy
+    gy = sn * ux + c * uy
+    kx = -gy
+    ky = gx
+    dx = pcf[gb, PC_X] - pcf[ga, PC_X]
+    dy = pcf[gb, PC_Y] - pcf[ga, PC_Y]
+    ddx = pcf[gb, PC_VX] - pcf[ga, PC_VX]
+    ddy = pcf[gb, PC_VY] - pcf[ga, PC_VY]
+    # s = u·d, u = A(θ_a) ū: ṡ = u̇·d + u·ḋ, s̈ = ü·d + 2u̇·ḋ + u·d̈
+    s = gx * dx + gy * dy
+    sd = w * (kx * dx + ky * dy) + gx * ddx + gy * ddy
+    return s, sd, gx, gy, w, dx, dy, ddx, ddy
+
+
+@njit(cache=True)
+def light_outputs(model, ws, y, out):
+    """Crank angle, slider s and ṡ of state ``y`` from positions and velocities alone
+    (no right-hand-side evaluation): ``out`` = [crank angle, s, ṡ] (0 where absent)."""
+    n = model.n_dof
+    update_points(y[:n], y[n:], model.pt_i, model.pt_f, ws.pci, ws.pcf)
+    out[0] = crank_angle(model, ws.pcf)
+    if model.out_i[2] >= 0:
+        s, sd, _, _, _, _, _, _, _ = _slider_kinematics(model, ws.pcf)
+        out[1] = s
+        out[2] = sd
+    else:
+        out[1] = 0.0
+        out[2] = 0.0
+
+
+@njit(cache=True)
 def derived_outputs(model, ws, q, v, a, out, jf):
     """Output quantities of the state whose right-hand side was just evaluated.
 
@@ -556,32 +604,18 @@ def derived_outputs(model, ws, q, v, a, out, jf):
     """
     pci = ws.pci
     pcf = ws.pcf
-    pa = model.out_i[0]
-    pb = model.out_i[1]
-    out[OUT_CRANK] = pcf[pb, PC_ANG] - pcf[pa, PC_ANG] if pa >= 0 else 0.0
+    out[OUT_CRANK] = crank_angle(model, pcf)
     ga = model.out_i[2]
     gb = model.out_i[3]
     if ga >= 0:
-        th = pcf[ga, PC_ANG]
-        w = pcf[ga, PC_RATE]
-        al = angle_acceleration(a, pci, pcf, ga)
-        c = math.cos(th)
-        sn = math.sin(th)
-        ux = model.out_f[0]
-        uy = model.out_f[1]
-        gx = c * ux - sn * uy
-        gy = sn * ux + c * uy
+        s, sd, gx, gy, w, dx, dy, ddx, ddy = _slider_kinematics(model, pcf)
         kx = -gy
         ky = gx
+        al = angle_acceleration(a, pci, pcf, ga)
         aax, aay = point_acceleration(a, pci, pcf, ga)
         abx, aby = point_acceleration(a, pci, pcf, gb)
-        dx = pcf[gb, PC_X] - pcf[ga, PC_X]
-        dy = pcf[gb, PC_Y] - pcf[ga, PC_Y]
-        ddx = pcf[gb, PC_VX] - pcf[ga, PC_VX]
-        ddy = pcf[gb, PC_VY] - pcf[ga, PC_VY]
-        # s = u·d, u = A(θ_a) ū: ṡ = u̇·d + u·ḋ, s̈ = ü·d + 2u̇·ḋ + u·d̈
-        out[OUT_S] = gx * dx + gy * dy
-        out[OUT_SD] = w * (kx * dx + ky * dy) + gx * ddx + gy * ddy
+        out[OUT_S] = s
+        out[OUT_SD] = sd
         out[OUT_SDD] = (
             al * (kx * dx + ky * dy)
             - w * w * (gx * dx + gy * dy)

@@ -10,6 +10,7 @@ mechanism run alongside). Variables are listed in ``docs/simulator.md``.
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import numpy as np
@@ -17,10 +18,13 @@ import xarray as xr
 
 from chaoskit.contract import __version__, stamp, variable
 from mechanism.core.integrate import Integration, Recording
+from mechanism.core.integrate import _kernels as ik
 from mechanism.core.model import _kernels as k
 from mechanism.core.model._assemble import Model
 
-__all__ = ["to_dataset"]
+from ._metrics import METRICS
+
+__all__ = ["metrics_dataset", "sections_dataset", "to_dataset"]
 
 _AXES = ("x", "y", "theta")
 
@@ -135,16 +139,23 @@ def to_dataset(
     ideal_run: Integration,
     *,
     attrs: dict[str, Any] | None = None,
+    sections: bool = False,
 ) -> xr.Dataset:
     """Build the trajectory Dataset of a simulation and its ideal-mechanism companion.
 
-    Both recordings must share the output grid (the shorter one sets the length).
+    Both recordings must share the output grid (the shorter one sets the length). With
+    ``sections``, the run's section samples instead, without the ideal twins (the
+    companion's statistics are still attached); the dimension is still ``time``.
     """
-    rec = run.recording
-    irec = ideal_run.recording
-    n = min(rec.t.size, irec.t.size)
-    rec = rec.head(n)
-    irec = irec.head(n)
+    if sections:
+        assert run.sections is not None
+        rec = run.sections
+        irec = None
+    else:
+        rec = run.recording
+        n = min(rec.t.size, ideal_run.recording.t.size)
+        rec = rec.head(n)
+        irec = ideal_run.recording.head(n)
     data: dict[str, xr.Variable] = {}
     if model.crank_points is not None:
         data["crank_angle"] = variable(
@@ -154,7 +165,8 @@ def to_dataset(
             "crank angle (relative angle of the crank joint, unwrapped)",
         )
     data.update(_common(model, rec, "", ""))
-    data.update(_common(ideal_model, irec, "_ideal", " (ideal mechanism)"))
+    if irec is not None:
+        data.update(_common(ideal_model, irec, "_ideal", " (ideal mechanism)"))
     if "slider_position" in data and "slider_position_ideal" in data:
         data["displacement_error"] = variable(
             ("time",),
@@ -242,7 +254,17 @@ def to_dataset(
         )
     if model.beams:
         coords.update(strain_coords)
-    ds = xr.Dataset(data, coords=coords)
+    return _finish(xr.Dataset(data, coords=coords), model, run, ideal_run, attrs)
+
+
+def _finish(
+    ds: xr.Dataset,
+    model: Model,
+    run: Integration,
+    ideal_run: Integration,
+    attrs: dict[str, Any] | None,
+) -> xr.Dataset:
+    """The scene, the solver statistics, ``attrs`` and the data contract's stamp."""
     ds.attrs["scene"] = model.scene.to_json()
     ds.attrs["scene_name"] = model.scene.name
     ds.attrs.update(run.stats.as_attrs("solver_"))
@@ -255,3 +277,84 @@ def to_dataset(
         source=f"mechanism (chaoskit {__version__})",
         history=f"mechanism.simulate({model.scene.name!r}, method={run.stats.method!r})",
     )
+
+
+def _metric(name: str, value: float) -> xr.Variable:
+    units, long_name = METRICS[name]
+    return variable((), np.array(value, dtype=np.float64), units, long_name)
+
+
+def metrics_dataset(
+    model: Model,
+    run: Integration,
+    ideal_run: Integration,
+    t_out: np.ndarray,
+    *,
+    window: float,
+    attrs: dict[str, Any] | None = None,
+) -> xr.Dataset:
+    """The response metrics (``mechanism._metrics.METRICS``) of a run recorded with
+    running extremes and light grid samples, over the time from ``window`` on.
+
+    Peak contact force, penetration and driving torque are the extremes over every
+    accepted integrator state; the slider errors compare the light samples of the run and
+    its ideal companion on the output grid ``t_out``. NaN where not simulated.
+    """
+    assert run.metrics is not None
+    met = run.metrics
+    nan = math.nan
+    data: dict[str, xr.Variable] = {}
+    touching = bool(model.clearance_joints) and math.isfinite(met[ik.MET_FN])
+    data["peak_contact_force"] = _metric("peak_contact_force", met[ik.MET_FN] if touching else nan)
+    data["max_penetration"] = _metric(
+        "max_penetration", max(met[ik.MET_DELTA], 0.0) if touching else nan
+    )
+    disp = speed = nan
+    light, ideal = run.light, ideal_run.light
+    if model.slider is not None and light is not None and ideal is not None:
+        n = min(light.shape[0], ideal.shape[0])
+        keep = np.flatnonzero(t_out[:n] >= window * (1.0 - 1e-12))
+        if keep.size:
+            disp = float(np.max(np.abs(light[keep, 1] - ideal[keep, 1])))
+            speed = float(np.max(np.abs(light[keep, 2] - ideal[keep, 2])))
+    data["max_displacement_error"] = _metric("max_displacement_error", disp)
+    data["max_speed_error"] = _metric("max_speed_error", speed)
+    high, low = met[ik.MET_TORQUE_MAX], met[ik.MET_TORQUE_MIN]
+    torque = nan
+    if model.drive_row is not None and math.isfinite(high):
+        torque = high if abs(high) >= abs(low) else low
+    data["driving_torque_extreme"] = _metric("driving_torque_extreme", torque)
+    return _finish(xr.Dataset(data), model, run, ideal_run, attrs)
+
+
+def sections_dataset(
+    model: Model,
+    run: Integration,
+    ideal_run: Integration,
+    *,
+    metrics: xr.Dataset,
+    phase: float,
+    attrs: dict[str, Any] | None = None,
+) -> xr.Dataset:
+    """The run's stroboscopic samples along ``crossing`` (coordinates ``time`` and
+    ``drive_cycle`` k, where the crank angle is ``phase`` + 2πk), with the ``metrics``.
+
+    The layout is that of :func:`chaoskit.stroboscopic_map`, so the result goes straight
+    into :func:`chaoskit.bifurcation_diagram`.
+    """
+    ds = to_dataset(model, run, model, ideal_run, attrs=attrs, sections=True)
+    ds = ds.rename_dims({"time": "crossing"})
+    if "crank_angle" in ds:
+        angle = np.asarray(ds["crank_angle"].values, dtype=np.float64)
+        cycles = np.rint((angle - phase) / (2.0 * math.pi)).astype(np.int64)
+    else:
+        cycles = np.arange(ds.sizes["crossing"], dtype=np.int64)
+    ds = ds.assign_coords(
+        drive_cycle=("crossing", cycles, {"units": "1", "long_name": "drive cycle k"})
+    )
+    for name, var in metrics.data_vars.items():
+        ds[name] = var
+    ds.attrs.update(
+        {"section_kind": "stroboscopic", "phase_variable": "crank_angle", "drive_phase": phase}
+    )
+    return ds

@@ -21,6 +21,7 @@ import math
 import numpy as np
 from numba import njit
 
+from mechanism.core._status import STATUS_OK, STATUS_REDUCED, STATUS_REJECTED
 from mechanism.core.contact._kernels import effective_curvature, hertz_half_width
 
 TWO_PI = 2.0 * math.pi
@@ -28,9 +29,6 @@ TWO_PI = 2.0 * math.pi
 INTERP_REGION = 0  # the value of the region that contains the angle (paper bookkeeping)
 INTERP_LINEAR = 1  # linear between region centres (continuous in the angle)
 
-STATUS_OK = 0
-STATUS_REDUCED = 1  # the increment was scaled down to respect the depth limits
-STATUS_REJECTED = 2  # non-finite input; nothing applied
 
 # A journal region may lose at most this fraction of its radius (worn-through guard).
 MAX_INWARD_DEPTH_FRACTION = 1.0 - 1e-6

@@ -1,0 +1,324 @@
+"""Bifurcation (orbit) diagrams of a scene over one parameter, on the sweep machinery.
+
+Each parameter value is one sweep point whose simulation records only stroboscopic
+sections and the response metrics (``simulate(..., record="sections")``), so a value
+costs the integration alone; the store, resume, failures as data and the dask backends
+are those of :func:`mechanism.sweep`.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import math
+import os
+import tempfile
+from collections.abc import Callable, Iterator, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import xarray as xr
+
+from chaoskit.contract import __version__, stamp
+from mechanism.core import simulate
+
+from ._sweep import Analysis, _resolve_scene, sweep
+
+__all__ = ["EXPONENT_VARIABLES", "bifurcation", "parse_values"]
+
+ECCENTRICITY = "eccentricity"
+# the per-value exponent a bifurcation Dataset can carry: estimate and 95 % interval
+EXPONENT_VARIABLES = ("lyapunov_exponent", "lyapunov_exponent_low", "lyapunov_exponent_high")
+_SOURCE = f"mechanism (chaoskit {__version__})"
+
+
+def _no_exponent(scene: Any, *, revolutions: float, discard: float) -> tuple[float, float, float]:
+    raise ValueError(
+        "the largest Lyapunov exponent from the equations of motion is not available in this "
+        "version; run the bifurcation without exponent=True."
+    )
+
+
+# Hook for the exponent of one value: (scene, revolutions=, discard=) -> (λ, low, high) in
+# 1/s. The simulator's own estimator (two nearby trajectories of the full state) plugs in
+# here; until it does, asking for the exponent is a clear error.
+largest_exponent: Callable[..., tuple[float, float, float]] = _no_exponent
+
+
+@dataclass(frozen=True)
+class _SectionPoint:
+    """The simulation of one bifurcation value (pickled to the dask workers); its repr
+    names the settings in the store's manifest, so a resumed store must match them."""
+
+    discard: float
+    phase: float
+    exponent: bool
+
+    def __call__(self, scene: Any, *, revolutions: float) -> xr.Dataset:
+        ds = simulate(
+            scene,
+            revolutions=revolutions,
+            record="sections",
+            discard=self.discard,
+            phase=self.phase,
+            throw=False,
+        )
+        if self.exponent and ds.attrs.get("solver_status") == 0:
+            value, low, high = largest_exponent(
+                scene, revolutions=revolutions, discard=self.discard
+            )
+            for name, number, what in zip(
+                EXPONENT_VARIABLES,
+                (value, low, high),
+                ("largest Lyapunov exponent", "its 95 % interval, low", "its 95 % interval, high"),
+                strict=True,
+            ):
+                ds[name] = xr.DataArray(float(number), attrs={"units": "s-1", "long_name": what})
+        return ds
+
+
+def parse_values(text: str) -> list[float]:
+    """Parameter values from ``START:STOP:COUNT`` (COUNT values from START to STOP, both
+    included) or a comma-separated list.
+
+    Examples
+    --------
+    >>> parse_values("30:300:4")
+    [30.0, 120.0, 210.0, 300.0]
+    >>> parse_values("1e-4, 2e-4")
+    [0.0001, 0.0002]
+    """
+    text = text.strip()
+    try:
+        if ":" in text:
+            start, stop, count = text.split(":")
+            n = int(count)
+            if n < 1:
+                raise ValueError
+            return [float(v) for v in np.linspace(float(start), float(stop), n)]
+        return [float(v) for v in text.split(",")]
+    except ValueError:
+        raise ValueError(
+            f"values must be START:STOP:COUNT (e.g. 30:300:60) or V1,V2,...; got {text!r}."
+        ) from None
+
+
+@contextlib.contextmanager
+def _store_folder(store: str | os.PathLike[str] | None) -> Iterator[Path]:
+    if store is not None:
+        yield Path(store)
+        return
+    with tempfile.TemporaryDirectory(prefix="mechanism-bifurcation-") as tmp:
+        yield Path(tmp)
+
+
+def _point_variable(section: xr.Dataset, name: str) -> xr.DataArray:
+    if name == ECCENTRICITY and name not in section:
+        ex, ey = section["eccentricity_x"], section["eccentricity_y"]
+        return xr.DataArray(
+            np.hypot(ex.values, ey.values),
+            dims=ex.dims,
+            attrs={"units": "m", "long_name": "journal eccentricity |e| in its bearing"},
+        )
+    if name not in section:
+        raise ValueError(
+            f"variable {name!r} is not recorded at the sections; available: "
+            f"{sorted(map(str, section.data_vars))} and {ECCENTRICITY!r}."
+        )
+    var = section[name]
+    extra = [d for d in var.dims if d not in ("crossing", "joint")]
+    if "crossing" not in var.dims or extra:
+        raise ValueError(
+            f"variable {name!r} has dims {var.dims}; a bifurcation variable is along "
+            "'crossing' (and 'joint')."
+        )
+    return var
+
+
+def bifurcation(
+    scene: Any,
+    *,
+    parameter: str,
+    values: Sequence[float],
+    revolutions: float,
+    discard: float,
+    variables: Sequence[str] = (ECCENTRICITY,),
+    phase: float = 0.0,
+    exponent: bool = False,
+    client: Any = None,
+    n_workers: int | None = None,
+    store: str | os.PathLike[str] | None = None,
+    progress: bool = False,
+) -> xr.Dataset:
+    r"""Orbit diagram of a scene over one parameter: stroboscopic points per value.
+
+    For every value of ``parameter`` the scene is simulated for ``revolutions`` drive
+    periods recording only the stroboscopic section (the full state where the crank angle
+    passes :math:`\varphi + 2\pi k`, located on the integrator's dense output) after
+    ``discard`` revolutions, and the response metrics. A period-:math:`n` response gives
+    :math:`n` distinct points above its value, a chaotic one a band (Strogatz, *Nonlinear
+    Dynamics and Chaos*, 2nd ed., 2015, §10.2). The values run as the points of a
+    :func:`mechanism.sweep` over ``{parameter: values}``: one dask task each, a store that a
+    re-run resumes, and failures as data.
+
+    Parameters
+    ----------
+    scene
+        A :class:`mechanism.Scene`, a built-in scene name or a TOML path.
+    parameter
+        A dotted scene key, e.g. ``"drive.speed_rpm"`` or ``"joints.C.clearance"``.
+    values
+        Its values (see :func:`parse_values` for the ``START:STOP:COUNT`` form).
+    revolutions
+        Drive periods simulated per value (the transient included).
+    discard
+        Revolutions treated as transient; the points are those of the revolutions after.
+    variables
+        Section variables to keep (default: the journal eccentricity :math:`|e|` of each
+        clearance joint); any variable of ``simulate(record="sections")`` along
+        ``crossing`` (and ``joint``).
+    phase
+        Crank phase :math:`\varphi` of the strobe, rad.
+    exponent
+        Also estimate the largest Lyapunov exponent of every value from the equations of
+        motion (variables ``lyapunov_exponent`` and its 95 % interval
+        ``lyapunov_exponent_low`` / ``_high``, 1/s).
+    client, n_workers, progress
+        As for :func:`mechanism.sweep` (default: a ``LocalCluster``; ``"serial"``: this
+        process).
+    store
+        Folder of the per-value files (a re-run resumes); default a temporary folder,
+        removed afterwards.
+
+    Returns
+    -------
+    xarray.Dataset
+        Along ``parameter`` and ``crossing`` (coordinate: the drive cycle :math:`k`), and
+        ``joint`` for per-joint variables: the section values, NaN where a value has fewer
+        points (failed, diverged); the strobe instants as coordinate ``time``; per value
+        the response metrics, ``status``, ``message``, ``point_id`` and, with
+        ``exponent``, the exponent variables. Draw it with
+        :func:`mechanism.plot_bifurcation`.
+
+    Examples
+    --------
+    >>> import mechanism
+    >>> ds = mechanism.bifurcation(
+    ...     "slider-crank-clearance", parameter="drive.speed_rpm", values=[3000, 4000],
+    ...     revolutions=4, discard=2, client="serial")
+    >>> ds.eccentricity.dims
+    ('drive.speed_rpm', 'crossing', 'joint')
+    >>> ds.crossing.values.tolist()
+    [2, 3, 4]
+    """
+    scene = _resolve_scene(scene)
+    if isinstance(values, str):
+        values = parse_values(values)
+    values = [float(v) for v in values]
+    if not values or not all(math.isfinite(v) for v in values):
+        raise ValueError(f"values must be a non-empty list of finite numbers; got {values!r}.")
+    if isinstance(variables, str):
+        variables = (variables,)
+    variables = tuple(variables)
+    if not variables:
+        raise ValueError("variables must name at least one section variable.")
+    if isinstance(discard, bool) or not isinstance(discard, int | float) or discard < 0:
+        raise ValueError(f"discard must be a number >= 0 (revolutions); got {discard!r}.")
+    if exponent and largest_exponent is _no_exponent:
+        _no_exponent(scene, revolutions=revolutions, discard=discard)
+    simulator = _SectionPoint(discard=float(discard), phase=float(phase), exponent=bool(exponent))
+    with _store_folder(store) as folder:
+        summary = sweep(
+            scene,
+            grid={parameter: values},
+            revolutions=revolutions,
+            analysis=Analysis(variables=(), discard_revolutions=float(discard)),
+            client=client,
+            n_workers=n_workers,
+            store=folder,
+            progress=progress,
+            _simulator=simulator,
+        )
+        sections = [_load_section(folder, str(f)) for f in summary["trajectory_file"].values]
+    return _assemble(summary, sections, parameter=parameter, variables=variables, store=store)
+
+
+def _load_section(folder: Path, relative: str) -> xr.Dataset | None:
+    if not relative:
+        return None
+    with xr.open_dataset(folder / relative, engine="h5netcdf") as opened:
+        return opened.load()
+
+
+def _assemble(
+    summary: xr.Dataset,
+    sections: Sequence[xr.Dataset | None],
+    *,
+    parameter: str,
+    variables: tuple[str, ...],
+    store: str | os.PathLike[str] | None,
+) -> xr.Dataset:
+    """The gathered per-value summary plus the section points over (parameter, crossing)."""
+    status = summary["status"].values
+    usable = [
+        s if s is not None and st == "ok" else None for s, st in zip(sections, status, strict=True)
+    ]
+    cycles = sorted({int(k) for s in usable if s is not None for k in s["drive_cycle"].values})
+    slot = {k: i for i, k in enumerate(cycles)}
+    n_values, n_cross = summary.sizes[parameter], len(cycles)
+    times = np.full((n_values, n_cross), np.nan)
+    columns: dict[str, tuple[np.ndarray, tuple[str, ...], dict[str, Any]]] = {}
+    joints: np.ndarray | None = None
+    for i, section in enumerate(usable):
+        if section is None:
+            continue
+        where = np.array([slot[int(k)] for k in section["drive_cycle"].values], dtype=int)
+        times[i, where] = section["time"].values
+        for name in variables:
+            var = _point_variable(section, name).transpose("crossing", ...)
+            if "joint" in var.dims and joints is None:
+                joints = np.asarray(section["joint"].values).astype(str)
+            if name not in columns:
+                shape = (n_values, n_cross, *var.shape[1:])
+                dims = (parameter, "crossing", *map(str, var.dims[1:]))
+                columns[name] = (np.full(shape, np.nan), dims, dict(var.attrs))
+            columns[name][0][i, where] = var.values
+    if not columns:
+        # no value succeeded: empty section variables keep the layout
+        for name in variables:
+            columns[name] = (np.full((n_values, 0), np.nan), (parameter, "crossing"), {})
+    ds = summary.drop_vars(["trajectory_file"])
+    for name, (data, dims, attrs) in columns.items():
+        ds[name] = xr.Variable(dims, data, attrs=attrs)
+    coords: dict[str, Any] = {
+        "crossing": (
+            "crossing",
+            np.asarray(cycles, dtype=np.int64),
+            {"units": "1", "long_name": "drive cycle k (crank angle = phase + 2 pi k)"},
+        ),
+        "time": (
+            (parameter, "crossing"),
+            times,
+            {"units": "s", "long_name": "time of the stroboscopic point"},
+        ),
+    }
+    if joints is not None:
+        coords["joint"] = ("joint", joints.astype(object))
+    ds = ds.assign_coords(coords)
+    ds.attrs.pop("store", None)
+    extra = {
+        "bifurcation_parameter": parameter,
+        "bifurcation_variables": ",".join(variables),
+        "section_kind": "stroboscopic",
+        "phase_variable": "crank_angle",
+    }
+    if store is not None:
+        extra["store"] = str(Path(store).resolve())
+    return stamp(
+        ds,
+        title=f"bifurcation diagram over {parameter} (stroboscopic points)",
+        source=_SOURCE,
+        history=f"mechanism.bifurcation(parameter={parameter!r}, variables={list(variables)})",
+        extra=extra,
+    )

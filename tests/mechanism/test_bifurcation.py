@@ -1,0 +1,189 @@
+"""``mechanism.bifurcation``: orbit diagrams on the sweep machinery, the figure, the CLI."""
+
+from __future__ import annotations
+
+import matplotlib
+import numpy as np
+import pytest
+import xarray as xr
+from typer.testing import CliRunner
+
+import mechanism
+import mechanism.studies._bifurcation as bif
+from mechanism.cli import app
+
+matplotlib.use("Agg")
+
+SCENE = "slider-crank-clearance"
+SPEEDS = [3000.0, 5000.0]
+
+
+@pytest.fixture(scope="module")
+def diagram(tmp_path_factory):
+    store = tmp_path_factory.mktemp("bifurcation")
+    return mechanism.bifurcation(
+        SCENE,
+        parameter="drive.speed_rpm",
+        values=SPEEDS,
+        revolutions=5,
+        discard=2,
+        client="serial",
+        store=store,
+    ), store
+
+
+def test_points_are_those_of_a_sections_run(diagram) -> None:
+    ds, _ = diagram
+    assert ds.eccentricity.dims == ("drive.speed_rpm", "crossing", "joint")
+    assert ds.crossing.values.tolist() == [2, 3, 4, 5]
+    assert ds["drive.speed_rpm"].values.tolist() == SPEEDS
+    assert ds.eccentricity.attrs["units"] == "m"
+    assert (ds.status.values == "ok").all()
+    scene = mechanism.load_scene(SCENE).replace({"drive.speed_rpm": SPEEDS[1]})
+    alone = mechanism.simulate(scene, revolutions=5, record="sections", discard=2)
+    expected = np.hypot(alone.eccentricity_x.values, alone.eccentricity_y.values)
+    np.testing.assert_array_equal(ds.eccentricity.isel({"drive.speed_rpm": 1}).values, expected)
+    np.testing.assert_array_equal(ds.time.isel({"drive.speed_rpm": 1}).values, alone.time.values)
+    assert float(ds.peak_contact_force[1]) == float(alone.peak_contact_force)
+    # the journal stays inside clearance + penetration
+    clearance = scene.joints["B"].clearance
+    assert np.all(ds.eccentricity.values < 1.5 * clearance)
+
+
+def test_a_rerun_resumes_from_the_store(diagram) -> None:
+    ds, store = diagram
+    again = mechanism.bifurcation(
+        SCENE,
+        parameter="drive.speed_rpm",
+        values=SPEEDS,
+        revolutions=5,
+        discard=2,
+        client="serial",
+        store=store,
+    )
+    assert "0 to run, 2 already done" in again.attrs["history"]
+    np.testing.assert_array_equal(again.eccentricity.values, ds.eccentricity.values)
+    with pytest.raises(mechanism.SweepStoreMismatch):
+        mechanism.bifurcation(
+            SCENE,
+            parameter="drive.speed_rpm",
+            values=SPEEDS,
+            revolutions=5,
+            discard=1,
+            client="serial",
+            store=store,
+        )
+
+
+def test_a_failing_value_is_data(tmp_path, monkeypatch) -> None:
+    def diverging(scene, **kwargs):
+        if scene.drive.speed_rpm < 0:
+            raise mechanism.SimulationError("the solution became non-finite")
+        return mechanism.simulate(scene, **kwargs)
+
+    monkeypatch.setattr(bif, "simulate", diverging)
+    ds = mechanism.bifurcation(
+        SCENE,
+        parameter="drive.speed_rpm",
+        values=[-4000.0, 4000.0],
+        revolutions=3,
+        discard=1,
+        client="serial",
+        store=tmp_path,
+        variables=("eccentricity_x", "contact_force"),
+    )
+    assert ds.status.values.tolist() == ["failed", "ok"]
+    assert "non-finite" in str(ds.message.values[0])
+    assert np.isnan(ds.eccentricity_x.values[0]).all()
+    assert np.isfinite(ds.eccentricity_x.values[1]).all()
+    assert ds.contact_force.dims == ("drive.speed_rpm", "crossing", "joint")
+    axes = mechanism.plot_bifurcation(ds)
+    assert len(axes) == 1 and "1 failed" in axes[0].get_title()
+
+
+def test_the_exponent_hook_fills_the_lower_panel(tmp_path, monkeypatch) -> None:
+    with pytest.raises(ValueError, match="not available"):
+        mechanism.bifurcation(
+            SCENE, parameter="drive.speed_rpm", values=SPEEDS, revolutions=3, discard=1,
+            client="serial", store=tmp_path / "none", exponent=True,
+        )  # fmt: skip
+
+    def stand_in(scene, *, revolutions, discard):
+        speed = scene.drive.speed_rpm
+        return speed / 1000.0 - 4.0, speed / 1000.0 - 4.5, speed / 1000.0 - 3.5
+
+    monkeypatch.setattr(bif, "largest_exponent", stand_in)
+    ds = mechanism.bifurcation(
+        SCENE, parameter="drive.speed_rpm", values=SPEEDS, revolutions=3, discard=1,
+        client="serial", store=tmp_path / "with", exponent=True,
+    )  # fmt: skip
+    np.testing.assert_allclose(ds.lyapunov_exponent.values, [-1.0, 1.0])
+    np.testing.assert_allclose(ds.lyapunov_exponent_high.values, [-0.5, 1.5])
+    assert ds.lyapunov_exponent.attrs["units"] == "s-1"
+    axes = mechanism.plot_bifurcation(ds)
+    assert len(axes) == 2
+    assert axes[1].get_ylabel() == "λ (1/s)"
+
+
+def test_thousands_of_points_stay_visible() -> None:
+    rng = np.random.default_rng(0)
+    values = np.linspace(30, 300, 60)
+    data = xr.Dataset(
+        {
+            "eccentricity": (
+                ("drive.speed_rpm", "crossing", "joint"),
+                rng.uniform(0, 1e-4, (60, 100, 1)),
+                {"units": "m", "long_name": "journal eccentricity"},
+            ),
+            "status": ("drive.speed_rpm", np.full(60, "ok")),
+        },
+        coords={"drive.speed_rpm": values, "crossing": np.arange(100), "joint": ["C"]},
+        attrs={"bifurcation_parameter": "drive.speed_rpm", "bifurcation_variables": "eccentricity"},
+    )
+    (ax,) = mechanism.plot_bifurcation(data)
+    (points,) = ax.collections
+    assert points.get_offsets().shape == (6000, 2)
+    assert 0.5 <= float(points.get_sizes()[0]) <= 4.0
+    assert points.get_rasterized()
+
+
+def test_clockwise_drive_is_strobed_too() -> None:
+    scene = mechanism.load_scene(SCENE).replace({"drive.speed_rpm": -4000.0})
+    ds = mechanism.simulate(scene, revolutions=2, record="sections")
+    assert ds.drive_cycle.values.tolist() == [0, -1, -2]
+    np.testing.assert_allclose(ds.crank_angle.values, [0, -2 * np.pi, -4 * np.pi], atol=1e-10)
+
+
+def test_parse_values() -> None:
+    assert bif.parse_values("30:300:60")[:2] == pytest.approx([30.0, 34.576271186440678])
+    assert len(bif.parse_values("30:300:60")) == 60
+    assert bif.parse_values("2e-4") == [2e-4]
+    for bad in ("30:300", "30:300:0", "a,b", ""):
+        with pytest.raises(ValueError, match="START:STOP:COUNT"):
+            bif.parse_values(bad)
+
+
+def test_command_line(tmp_path) -> None:
+    runner = CliRunner()
+    figure = tmp_path / "orbit.png"
+    output = tmp_path / "orbit.nc"
+    result = runner.invoke(
+        app,
+        [
+            "bifurcation", SCENE, "--param", "drive.speed_rpm", "--values", "3000:4000:2",
+            "--revolutions", "3", "--discard", "1", "--scheduler", "serial",
+            "--store", str(tmp_path / "store"), "--figure", str(figure), "-o", str(output),
+            "--no-progress",
+        ],
+    )  # fmt: skip
+    assert result.exit_code == 0, result.output
+    assert "2 values: 2 ok" in result.output
+    assert figure.stat().st_size > 1000 and output.exists()
+    bad = runner.invoke(
+        app,
+        ["bifurcation", SCENE, "--param", "drive.speed_rpm", "--values", "30:300",
+         "--scheduler", "serial"],
+    )  # fmt: skip
+    assert bad.exit_code == 2
+    assert "START:STOP:COUNT" in bad.output
+    assert "Traceback" not in bad.output

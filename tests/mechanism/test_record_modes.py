@@ -1,0 +1,151 @@
+"""``simulate(record=...)``: full trajectory, response metrics, stroboscopic sections.
+
+What is recorded must not change the integration: the output grid neither bounds the step
+nor moves a step, the metrics are taken at every accepted state (and inside contact
+steps), and section points are located on the integrator's dense output.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import chaoskit
+import mechanism
+from mechanism.core.record._metrics import METRICS, response_metrics
+from tests.mechanism.scenes import rigid_paper
+
+PERIOD = 0.4  # s, the paper scene at 150 rpm
+
+
+@pytest.fixture(scope="module")
+def scene():
+    return rigid_paper()
+
+
+@pytest.fixture(scope="module")
+def full_fine(scene):
+    """Three revolutions recorded in full at T/10000."""
+    return mechanism.simulate(scene, revolutions=3, output_step=PERIOD / 10000)
+
+
+@pytest.fixture(scope="module")
+def sections(scene):
+    return mechanism.simulate(scene, revolutions=3, record="sections", discard=1)
+
+
+def test_peak_force_does_not_depend_on_the_output_step(scene, full_fine) -> None:
+    fine = mechanism.simulate(
+        scene, revolutions=3, record="metrics", discard=1, output_step=PERIOD / 10000
+    )
+    coarse = mechanism.simulate(
+        scene, revolutions=3, record="metrics", discard=1, output_step=PERIOD / 100
+    )
+    peak_fine = float(fine["peak_contact_force"])
+    peak_coarse = float(coarse["peak_contact_force"])
+    assert peak_fine > 1000.0  # the journal impacts the bearing in every revolution
+    np.testing.assert_allclose(peak_coarse, peak_fine, rtol=5e-3)
+    # the same integration: the steps do not depend on the grid
+    assert (
+        coarse.attrs["solver_steps"]
+        == fine.attrs["solver_steps"]
+        == full_fine.attrs["solver_steps"]
+    )
+    # and the peak is that of the dense T/10000 samples of the full record (to 0.5 %)
+    start = int(full_fine.time.searchsorted(PERIOD))
+    sampled = response_metrics(full_fine, start)
+    np.testing.assert_allclose(peak_fine, float(sampled["peak_contact_force"]), rtol=5e-3)
+    np.testing.assert_allclose(
+        float(fine["max_penetration"]), float(sampled["max_penetration"]), rtol=5e-3
+    )
+    # errors are compared on the output grid: the fine grid reproduces the full record's
+    for name in ("max_displacement_error", "max_speed_error"):
+        np.testing.assert_allclose(float(fine[name]), float(sampled[name]), rtol=1e-9)
+
+
+def test_full_record_does_not_depend_on_the_output_grid(scene, full_fine) -> None:
+    coarse = mechanism.simulate(scene, revolutions=3, output_step=PERIOD / 100)
+    assert coarse.attrs["max_step"] == math.inf
+    fine = full_fine.isel(time=slice(None, None, 100))
+    # the grids agree to round-off in time (0.004 k against 0.00004 (100 k))
+    np.testing.assert_allclose(coarse.time.values, fine.time.values, rtol=0, atol=1e-15)
+    # dense output of the same steps at the same instants: equal to round-off
+    for name in ("eccentricity_x", "contact_force", "slider_position", "driving_torque"):
+        scale = float(np.abs(fine[name]).max())
+        np.testing.assert_allclose(coarse[name].values, fine[name].values, atol=1e-9 * scale)
+
+
+def test_sections_are_located_on_the_dense_output(scene, sections, full_fine) -> None:
+    assert sections.attrs["record"] == "sections"
+    assert sections.attrs["section_kind"] == "stroboscopic"
+    assert sections.drive_cycle.values.tolist() == [1, 2, 3]
+    # the crank angle at a section is 2πk to round-off
+    np.testing.assert_allclose(
+        sections.crank_angle.values, 2 * np.pi * sections.drive_cycle.values, atol=1e-11
+    )
+    # a constant-speed drive crosses at t = kT (up to the Baumgarte-controlled drift)
+    np.testing.assert_allclose(sections.time.values, PERIOD * np.arange(1, 4), atol=1e-9)
+    # the same integration sampled on the fine grid at t = kT gives the same state
+    at = full_fine.sel(time=sections.time.values, method="nearest")
+    for name in ("eccentricity_x", "eccentricity_y"):
+        np.testing.assert_allclose(
+            sections[name].values, at[name].values, atol=1e-7 * 2.5e-4, rtol=0
+        )
+    # chaoskit's stroboscopic map of the fine record interpolates to the same points
+    strobe = chaoskit.stroboscopic_map(
+        full_fine[["eccentricity_x", "crank_angle"]].isel(joint=0),
+        phase_variable="crank_angle",
+    )
+    strobe = strobe.isel(crossing=strobe.drive_cycle.values >= 1)
+    np.testing.assert_allclose(
+        sections.eccentricity_x.isel(joint=0).values,
+        strobe.eccentricity_x.values,
+        atol=1e-6 * 2.5e-4,
+    )
+
+
+def test_sections_carry_every_variable_and_the_metrics(sections) -> None:
+    for name in ("eccentricity_x", "contact_force", "position", "slider_position"):
+        assert sections[name].dims[0] == "crossing"
+    assert "slider_position_ideal" not in sections
+    for name, (units, long_name) in METRICS.items():
+        assert sections[name].dims == ()
+        assert sections[name].attrs == {"units": units, "long_name": long_name}
+    diagram = chaoskit.bifurcation_diagram(
+        [sections.isel(joint=0)], parameter="speed", variable="eccentricity_x", values=[150.0]
+    )
+    assert diagram.sizes["point"] == 3
+
+
+def test_phase_moves_the_strobe(scene) -> None:
+    quarter = mechanism.simulate(
+        scene, revolutions=2, record="sections", phase=math.pi / 2, output_step=PERIOD / 10
+    )
+    np.testing.assert_allclose(quarter.time.values, PERIOD * np.array([0.25, 1.25]), atol=1e-9)
+    np.testing.assert_allclose(
+        quarter.crank_angle.values, math.pi / 2 + 2 * np.pi * np.arange(2), atol=1e-11
+    )
+
+
+def test_the_initial_state_is_a_section_without_discard(scene) -> None:
+    ds = mechanism.simulate(scene, revolutions=1, record="sections")
+    assert ds.drive_cycle.values.tolist() == [0, 1]
+    assert ds.time.values[0] == 0.0
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "match"),
+    [
+        ({"record": "trajectory"}, "record must be one of"),
+        ({"discard": 1}, "discard applies to record='metrics'"),
+        ({"record": "metrics", "discard": 2}, "discard must be below"),
+        ({"record": "metrics", "discard": -1}, "discard must be finite and >= 0"),
+        ({"record": "sections", "phase": math.nan}, "phase must be a finite angle"),
+        ({"record": "metrics", "method": "RK45"}, "records the full trajectory only"),
+    ],
+)
+def test_bad_record_settings_raise(scene, kwargs, match) -> None:
+    with pytest.raises(ValueError, match=match):
+        mechanism.simulate(scene, revolutions=2, **kwargs)
