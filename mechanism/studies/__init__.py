@@ -9,6 +9,7 @@ from ._paper import PaperStudy, StudySettings, paper_tables, run_paper_study
 from ._sweep import (
     Analysis,
     GridTransform,
+    SweepStoreBusy,
     SweepStoreMismatch,
     chaos_map,
     grid_transforms,
@@ -26,6 +27,7 @@ __all__ = [
     "GridTransform",
     "PaperStudy",
     "StudySettings",
+    "SweepStoreBusy",
     "SweepStoreMismatch",
     "WearPrediction",
     "chaos_map",
