@@ -1,10 +1,12 @@
 """Studies built on the simulator core: sweeps and their store, wear prediction, element
-convergence and the paper study. Everything here uses :mod:`mechanism.core`'s public names.
+convergence, the paper study and the largest Lyapunov exponent of a scene. Everything here
+uses :mod:`mechanism.core`'s public names.
 """
 
 from __future__ import annotations
 
 from ._convergence import ElementConvergence, element_convergence
+from ._lyapunov import SceneLyapunov, lyapunov_exponent
 from ._paper import PaperStudy, StudySettings, paper_tables, run_paper_study
 from ._sweep import (
     Analysis,
@@ -26,6 +28,7 @@ __all__ = [
     "ElementConvergence",
     "GridTransform",
     "PaperStudy",
+    "SceneLyapunov",
     "StudySettings",
     "SweepStoreBusy",
     "SweepStoreMismatch",
@@ -35,6 +38,7 @@ __all__ = [
     "element_convergence",
     "grid_transforms",
     "load_sweep",
+    "lyapunov_exponent",
     "paper_tables",
     "predict_wear",
     "register_grid_transform",
