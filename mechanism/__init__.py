@@ -123,6 +123,11 @@ from .studies import PaperStudy, StudySettings, paper_tables, run_paper_study  #
 
 _paper_study: list[str] = ["PaperStudy", "StudySettings", "paper_tables", "run_paper_study"]
 
+# --- chaos from the equations (issue 16): add imports and names below this line only ---
+from .studies import SceneLyapunov, lyapunov_exponent  # noqa: E402
+
+_chaos: list[str] = ["SceneLyapunov", "lyapunov_exponent"]
+
 __all__ = (
     _foundation
     + _scenes
@@ -132,4 +137,5 @@ __all__ = (
     + _sweeps
     + _bifurcations
     + _paper_study
+    + _chaos
 )

@@ -22,6 +22,7 @@ from mechanism import (
     element_convergence,
     list_scenes,
     load_scene,
+    lyapunov_exponent,
     plot_bifurcation,
     predict_wear,
     run_paper_study,
@@ -488,3 +489,69 @@ def paper_command(
     if study.report_markdown is not None:
         typer.echo(f"markdown: {study.report_markdown}")
     typer.echo(f"wall time: {study.wall_time:.1f} s")
+
+
+# --- chaos from the equations (issue 16): commands below this line only ---
+
+
+@app.command("lyapunov")
+def lyapunov_command(
+    scene: str = typer.Argument(..., help="Built-in scene name or path of a TOML scene."),
+    set_options: list[str] | None = typer.Option(None, "--set", metavar="KEY=VALUE", help=SET_HELP),
+    revolutions: float | None = typer.Option(
+        None, "--revolutions", help="Simulated drive periods, discarded ones included."
+    ),
+    t_end: float | None = typer.Option(
+        None, "--t-end", help="Simulated time in s (scenes without a periodic drive)."
+    ),
+    discard: float = typer.Option(
+        0.0, "--discard", help="Transient left out: drive periods (with --revolutions) or s."
+    ),
+    perturbation: float = typer.Option(
+        1e-9, "--perturbation", help="Deviation size relative to the smallest clearance."
+    ),
+    renormalize_every: int = typer.Option(
+        1, "--renormalize-every", help="Accepted steps between renormalisations."
+    ),
+    rtol: float | None = typer.Option(None, "--rtol", help="Relative tolerance (default 1e-8)."),
+    atol: float | None = typer.Option(None, "--atol", help="Absolute tolerance (default 1e-8)."),
+    output: str | None = typer.Option(
+        None, "-o", "--output", help="Write the running estimate to this netCDF file."
+    ),
+    progress: bool = typer.Option(True, "--progress/--no-progress", help="Show a progress bar."),
+) -> None:
+    """Largest Lyapunov exponent of a scene from its equations of motion."""
+    resolved = load_scene_option(scene, set_options)
+    if revolutions is None and t_end is None:
+        revolutions = 100.0
+    try:
+        result = lyapunov_exponent(
+            resolved,
+            revolutions=revolutions,
+            t_end=t_end,
+            discard=discard,
+            perturbation=perturbation,
+            renormalize_every=renormalize_every,
+            rtol=rtol,
+            atol=atol,
+            progress=progress,
+        )
+    except ValueError as exc:
+        typer.echo(f"Error: {exc}", err=True)
+        raise typer.Exit(code=2) from None
+    except SimulationError as exc:
+        typer.echo(f"Error: {exc}", err=True)
+        raise typer.Exit(code=1) from None
+    low, high = result.ci
+    line = f"{resolved.name}: largest Lyapunov exponent {result.exponent:.6g} 1/s"
+    if result.drive_period is not None:
+        line += f" ({result.exponent_per_period:.4g} per drive period)"
+    typer.echo(f"{line}, 95 % interval [{low:.6g}, {high:.6g}] 1/s")
+    if result.stats is not None:
+        typer.echo(
+            f"{result.stats.steps} steps, {result.renormalizations} renormalisations, "
+            f"{result.stats.contact_events} contact events, {result.stats.wall_time:.3g} s"
+        )
+    if output is not None:
+        write_netcdf(result.to_dataset(), output)
+        typer.echo(f"wrote {output}")

@@ -1,6 +1,6 @@
-"""Studies built on the simulator core: sweeps and their store, bifurcation diagrams, wear
-prediction, element convergence, wear-profile figures and report sections, and the paper
-study.
+"""Studies built on the simulator core: sweeps and their store, bifurcation diagrams, the
+largest Lyapunov exponent of a scene, wear prediction, element convergence, wear-profile
+figures and report sections, and the paper study.
 
 Everything here uses :mod:`mechanism.core`'s public names.
 """
@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from ._bifurcation import bifurcation
 from ._convergence import ElementConvergence, element_convergence
+from ._lyapunov import SceneLyapunov, lyapunov_exponent
 from ._paper import PaperStudy, StudySettings, paper_tables, run_paper_study
 from ._plot import plot_bifurcation
 from ._sweep import (
@@ -33,6 +34,7 @@ __all__ = [
     "ElementConvergence",
     "GridTransform",
     "PaperStudy",
+    "SceneLyapunov",
     "StudySettings",
     "SweepStoreBusy",
     "SweepStoreMismatch",
@@ -44,6 +46,7 @@ __all__ = [
     "element_convergence",
     "grid_transforms",
     "load_sweep",
+    "lyapunov_exponent",
     "paper_tables",
     "plot_bifurcation",
     "plot_wear_profile",

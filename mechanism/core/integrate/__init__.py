@@ -1,6 +1,7 @@
 """Integrators: compiled Dormand–Prince 5(4) (default), scipy ``solve_ivp`` methods and an
 implicit generalized-α method for stiff contact. Pass a name or a strategy object as
-``method=`` to :func:`mechanism.simulate`."""
+``method=`` to :func:`mechanism.simulate`. :func:`integrate_tangent` advances a state and
+a renormalised deviation on one step sequence (the largest Lyapunov exponent)."""
 
 from ._methods import (
     METHODS,
@@ -14,6 +15,13 @@ from ._methods import (
     SolverStats,
     resolve_method,
 )
+from ._tangent import (
+    TangentIntegration,
+    deviation_size,
+    initial_deviation,
+    integrate_tangent,
+    length_scale,
+)
 
 __all__ = [
     "METHODS",
@@ -25,5 +33,10 @@ __all__ = [
     "Recording",
     "ScipyIVP",
     "SolverStats",
+    "TangentIntegration",
+    "deviation_size",
+    "initial_deviation",
+    "integrate_tangent",
+    "length_scale",
     "resolve_method",
 ]

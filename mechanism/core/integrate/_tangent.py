@@ -1,0 +1,224 @@
+"""Reference trajectory and renormalised deviation on one step sequence (Python layer).
+
+:func:`integrate_tangent` drives the compiled loop of ``_tangent_kernels``: it advances a
+state and a deviation of fixed size by the same Dormand–Prince steps, renormalising the
+deviation every few accepted steps, and returns the accumulated log growth at the
+requested stop times. The largest Lyapunov exponent of a scene
+(:func:`mechanism.lyapunov_exponent`) is built on it.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from mechanism.core.joints._kernels import PC_X, PC_Y, update_points
+from mechanism.core.model import _kernels as k
+
+from . import _kernels as ik
+from . import _tangent_kernels as tk
+from ._methods import SolverStats, _initial_latch, _Progress, _stats
+
+if TYPE_CHECKING:
+    from mechanism.core.model import Model
+
+__all__ = [
+    "TangentIntegration",
+    "deviation_size",
+    "initial_deviation",
+    "integrate_tangent",
+    "length_scale",
+]
+
+
+@dataclass(frozen=True, kw_only=True)
+class TangentIntegration:
+    """Log growth of a renormalised deviation along a reference trajectory.
+
+    Attributes
+    ----------
+    t : numpy.ndarray
+        Times (s) at which the growth was read: the requested stops reached (the last
+        step before each stop is shortened to land on it; the deviation is renormalised
+        there).
+    log_growth : numpy.ndarray
+        Σ ln(|d|/size) from the start up to each ``t`` (natural log, dimensionless).
+    renormalizations : int
+        Renormalisations done.
+    stats : SolverStats
+        Reference integration cost; ``function_evaluations`` counts both copies.
+    final_state, final_deviation : numpy.ndarray
+    """
+
+    t: np.ndarray
+    log_growth: np.ndarray
+    renormalizations: int
+    stats: SolverStats
+    final_state: np.ndarray
+    final_deviation: np.ndarray
+
+
+def _inv_mass(model: Model) -> float:
+    """1 / total mass (translation x-coordinates of the rigid bodies)."""
+    mass = sum(float(model.kernel.mass[o, o]) for o in model.body_offsets)
+    return 1.0 / mass
+
+
+def deviation_size(model: Model, d: np.ndarray, *, time_scale: float) -> float:
+    """Mass-weighted size (m) √((δqᵀMδq + τ²δq̇ᵀMδq̇)/m_total) of a state deviation ``d``."""
+    d = np.ascontiguousarray(d, dtype=np.float64)
+    return float(tk.deviation_norm(model.kernel, d, time_scale**2, _inv_mass(model)))
+
+
+def length_scale(model: Model, y0: np.ndarray) -> float:
+    """Length (m) a deviation size is relative to: the smallest radial clearance of the
+    active clearance joints, else the mechanism's size (largest extent of its points at
+    state ``y0``)."""
+    if model.clearance_joints:
+        return float(np.min(model.kernel.cj_f[:, k.CF_C]))
+    ws = model.workspace()
+    n = model.n_dof
+    y = np.ascontiguousarray(y0, dtype=np.float64)
+    update_points(y[:n], y[n:], model.kernel.pt_i, model.kernel.pt_f, ws.pci, ws.pcf)
+    xy = ws.pcf[:, [PC_X, PC_Y]]
+    span = float(np.max(np.ptp(xy, axis=0))) if xy.shape[0] > 1 else 0.0
+    return span if span > 0.0 else 1.0
+
+
+def _check_rigid(model: Model) -> None:
+    if model.beams:
+        raise ValueError(
+            "the exponent needs a rigid model: flexible (ANCF) bodies are integrated with "
+            "generalized-alpha, which has no tangent integration yet; set "
+            "effects.flexibility = false."
+        )
+
+
+def initial_deviation(
+    model: Model, y0: np.ndarray, *, t0: float, size: float, time_scale: float, seed: int = 0
+) -> np.ndarray:
+    """A random deviation of ``y0`` tangent to the constraint manifold, of the given size.
+
+    Raises
+    ------
+    ValueError
+        When the constraints leave the scene no degree of freedom (its motion is
+        prescribed, so no deviation exists) or the model is flexible.
+    """
+    _check_rigid(model)
+    free = model.n_dof - model.n_rows
+    if free <= 0:
+        raise ValueError(
+            f"the scene has no degree of freedom ({model.n_dof} coordinates, "
+            f"{model.n_rows} constraint equations): its motion is prescribed by the drive, "
+            "so it has no Lyapunov exponent; give it a clearance joint or a free body."
+        )
+    y = np.ascontiguousarray(y0, dtype=np.float64)
+    d = np.random.default_rng(seed).standard_normal(y.size)
+    ws, ws2 = model.workspace(), model.workspace()
+    if not tk.project_tangent(model.kernel, ws, ws2, float(t0), y, d, np.empty(y.size)):
+        raise ValueError("the constraint Jacobian is singular at the initial state.")
+    r = tk.deviation_norm(model.kernel, d, time_scale**2, _inv_mass(model))
+    return np.ascontiguousarray(d * (size / r))
+
+
+def integrate_tangent(
+    model: Model,
+    y0: np.ndarray,
+    d0: np.ndarray,
+    t_stops: np.ndarray,
+    *,
+    rtol: float,
+    atol: float,
+    max_step: float,
+    renormalize_every: int,
+    time_scale: float,
+    projection: bool = False,
+    max_steps: int = 200_000_000,
+    progress: bool = False,
+    label: str = "lyapunov",
+) -> TangentIntegration:
+    """Integrate ``y0`` from ``t_stops[0]`` and its deviation ``d0`` to ``t_stops[-1]``.
+
+    Parameters
+    ----------
+    model
+        Assembled rigid mechanism.
+    y0, d0
+        Initial state [q; q̇] and deviation (its size, :func:`deviation_size`, is kept at
+        every renormalisation).
+    t_stops
+        Increasing times (s); the first is the start. The growth is read at each.
+    rtol, atol, max_step
+        Step control of the reference, as :class:`~mechanism.integrate.Dopri5`.
+    renormalize_every
+        Accepted steps between renormalisations (also done at every stop).
+    time_scale
+        τ (s) of the deviation norm.
+
+    Returns
+    -------
+    TangentIntegration
+        Fewer rows than ``t_stops`` when the run failed (``stats.status`` < 0).
+    """
+    _check_rigid(model)
+    km = model.kernel
+    ws, ws2 = model.workspace(), model.workspace()
+    stops = np.ascontiguousarray(t_stops, dtype=np.float64)
+    y = np.ascontiguousarray(y0, dtype=np.float64).copy()
+    d = np.ascontiguousarray(d0, dtype=np.float64).copy()
+    tau2 = float(time_scale) ** 2
+    inv_mass = _inv_mass(model)
+    size = float(tk.deviation_norm(km, d, tau2, inv_mass))
+    k1 = np.zeros_like(y)
+    kd1 = np.zeros_like(y)
+    state = np.zeros(5)
+    counters = np.zeros(k.CNT_COLUMNS, dtype=np.int64)
+    counters_p = np.zeros(k.CNT_COLUMNS, dtype=np.int64)
+    growth = np.zeros(tk.GROWTH_COLUMNS)
+    vimp, contact = _initial_latch(model, y)
+    vimp_p = vimp.copy()
+    t0, t_end = float(stops[0]), float(stops[-1])
+    times = [t0]
+    logs = [0.0]
+    start = time.perf_counter()
+    status = k.rhs(km, ws, t0, y, vimp, k1, counters)
+    if status == k.STATUS_OK:
+        state[0] = t0
+        state[1] = ik._initial_step(km, ws, t0, y, k1, vimp, counters, rtol, atol, max_step)
+        state[2] = 1e-4
+        status = ik.STATUS_RUNNING
+    if status == ik.STATUS_RUNNING:
+        status = tk.tangent_start(km, ws, t0, y, d, k1, kd1, vimp, vimp_p, counters, counters_p)
+    bar = _Progress(progress, t0, t_end, label)
+    try:
+        for t_stop in stops[1:]:
+            if status != ik.STATUS_RUNNING:
+                break
+            status = tk.tangent_advance(
+                km, ws, ws2, y, d, k1, kd1, state, vimp, vimp_p, contact, counters,
+                counters_p, growth, float(t_stop), t_end, rtol, atol, max_step, projection,
+                max_steps, int(renormalize_every), size, tau2, inv_mass,
+            )  # fmt: skip
+            if status in (ik.STATUS_RUNNING, 0):
+                times.append(float(state[0]))
+                logs.append(float(growth[tk.GROWTH_LOG]))
+            bar.update(state[0])
+    finally:
+        bar.close()
+    wall = time.perf_counter() - start
+    if status == ik.STATUS_RUNNING:
+        status = 0
+    counters[k.CNT_FEV] += counters_p[k.CNT_FEV]
+    stats = _stats("dopri5", status, counters, wall)
+    return TangentIntegration(
+        t=np.array(times),
+        log_growth=np.array(logs),
+        renormalizations=int(growth[tk.GROWTH_COUNT]),
+        stats=stats,
+        final_state=y,
+        final_deviation=d,
+    )

@@ -1,0 +1,344 @@
+"""``mechanism.lyapunov_exponent``: the largest Lyapunov exponent of a scene from its equations.
+
+The two-trajectory (Benettin) method on the full state [q; q̇], with the second trajectory
+kept as a small deviation that shares the reference's step sequence and contact events
+(:func:`mechanism.core.integrate.integrate_tangent`); see ``docs/mechanism-lyapunov.md``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import xarray as xr
+
+from chaoskit.contract import check_int, check_positive
+from mechanism.core import SimulationError, drive_period
+from mechanism.core.integrate import (
+    SolverStats,
+    initial_deviation,
+    integrate_tangent,
+    length_scale,
+)
+from mechanism.core.model import assemble, initial_state
+from mechanism.core.scene import Scene
+
+__all__ = ["SceneLyapunov", "lyapunov_exponent"]
+
+#: segments of the running estimate of a scene without a periodic drive
+UNDRIVEN_SEGMENTS = 100
+#: default rtol = atol: at the scenes' usual 1e-5 an explicit method resolves the stiff
+#: contact-friction directions only at its stability limit, and the deviation measures
+#: the integrator (docs/mechanism-lyapunov.md §3)
+DEFAULT_TOLERANCE = 1e-8
+
+
+@dataclass(frozen=True, kw_only=True)
+class SceneLyapunov:
+    """Largest Lyapunov exponent of a scene, with its running estimate and interval.
+
+    Attributes
+    ----------
+    exponent : float
+        λ₁ (1/s, natural log): total log growth of the renormalised deviation over the
+        kept time divided by that time.
+    ci : tuple of float
+        95 % interval of ``exponent`` (1/s) from batch means (see ``ci_method``).
+    ci_method : str
+    drive_period : float or None
+        Drive period T (s), None for a scene without a periodic drive.
+    time : numpy.ndarray
+        End time (s) of each segment of the kept run (one drive period each, else
+        1/100 of the kept time).
+    running_exponent : numpy.ndarray
+        Estimate over the kept run up to each ``time`` (1/s).
+    segment_exponent : numpy.ndarray
+        Exponent over each segment alone (1/s); its fluctuation sets ``ci``.
+    batches : int
+        Number of batches of consecutive segments behind ``ci``.
+    settings : dict
+        Everything the estimate depends on: ``revolutions``/``t_end``, ``discard``
+        (s), ``perturbation`` (relative), ``length_scale`` (m), ``perturbation_size`` (m),
+        ``time_scale`` (s), ``renormalize_every`` (accepted steps), ``rtol``, ``atol``,
+        ``max_step`` (s), ``seed``.
+    renormalizations : int
+    stats : SolverStats
+        Cost of the whole run (discarded part included); ``function_evaluations``
+        counts both trajectories.
+    scene_name : str
+    """
+
+    exponent: float
+    ci: tuple[float, float]
+    ci_method: str
+    drive_period: float | None
+    time: np.ndarray
+    running_exponent: np.ndarray
+    segment_exponent: np.ndarray
+    batches: int
+    settings: dict[str, Any] = field(default_factory=dict)
+    renormalizations: int = 0
+    stats: SolverStats | None = None
+    scene_name: str = ""
+
+    @property
+    def exponent_per_period(self) -> float:
+        """λ₁ T: nats per drive period (NaN without a periodic drive)."""
+        return self.exponent * self.drive_period if self.drive_period else math.nan
+
+    @property
+    def ci_per_period(self) -> tuple[float, float]:
+        """``ci`` in nats per drive period."""
+        p = self.drive_period or math.nan
+        return (self.ci[0] * p, self.ci[1] * p)
+
+    def to_dataset(self) -> xr.Dataset:
+        """Running and per-segment exponents over ``time``; scalars and settings in attrs."""
+        attrs: dict[str, Any] = {
+            "scene": self.scene_name,
+            "exponent": self.exponent,
+            "exponent_units": "s-1",
+            "exponent_per_period": self.exponent_per_period,
+            "ci_low": self.ci[0],
+            "ci_high": self.ci[1],
+            "ci_method": self.ci_method,
+            "batches": self.batches,
+            "drive_period": math.nan if self.drive_period is None else self.drive_period,
+            "renormalizations": self.renormalizations,
+        }
+        for key, value in self.settings.items():
+            attrs[f"setting_{key}"] = math.nan if value is None else value
+        if self.stats is not None:
+            attrs.update(self.stats.as_attrs())
+        long = "largest Lyapunov exponent"
+        return xr.Dataset(
+            {
+                "running_exponent": (
+                    "time",
+                    self.running_exponent,
+                    {"units": "s-1", "long_name": f"running estimate of the {long}"},
+                ),
+                "segment_exponent": (
+                    "time",
+                    self.segment_exponent,
+                    {"units": "s-1", "long_name": f"{long} over each segment"},
+                ),
+            },
+            coords={"time": ("time", self.time, {"units": "s", "long_name": "segment end"})},
+            attrs=attrs,
+        )
+
+
+def _batch_interval(
+    t: np.ndarray, log_growth: np.ndarray, batches: int
+) -> tuple[tuple[float, float], int]:
+    """95 % batch-means interval of the exponent from the growth at segment ends."""
+    from scipy import stats
+
+    n_seg = t.size - 1
+    b = min(batches, n_seg)
+    if b < 2:
+        return (math.nan, math.nan), b
+    edges = np.round(np.linspace(0, n_seg, b + 1)).astype(int)
+    rates = np.diff(log_growth[edges]) / np.diff(t[edges])
+    half = float(stats.t.ppf(0.975, b - 1) * rates.std(ddof=1) / math.sqrt(b))
+    centre = float((log_growth[-1] - log_growth[0]) / (t[-1] - t[0]))
+    return (centre - half, centre + half), b
+
+
+def lyapunov_exponent(
+    scene: Scene,
+    *,
+    revolutions: float | None = None,
+    t_end: float | None = None,
+    discard: float = 0.0,
+    perturbation: float = 1e-9,
+    renormalize_every: int = 1,
+    rtol: float | None = None,
+    atol: float | None = None,
+    max_step: float | None = None,
+    batches: int = 10,
+    seed: int = 0,
+    progress: bool = False,
+) -> SceneLyapunov:
+    r"""Largest Lyapunov exponent of a scene from its equations of motion.
+
+    A reference trajectory from the scene's initial state (as :func:`mechanism.simulate`)
+    and a deviation of size :math:`\varepsilon = ` ``perturbation`` × L (L the smallest
+    radial clearance, or the mechanism's size without clearance joints) are advanced by
+    the same Dormand–Prince steps: the deviation's rate at every stage is
+    f(y + d) − f(y), the directional finite difference of the compiled right-hand side,
+    and step size, step rejection and the contact latch are decided by the reference
+    alone. Every ``renormalize_every`` accepted steps the deviation is projected onto the
+    tangent space of the constraints (Φq δq = 0, Φq δq̇ + (Φq q̇)_q δq = 0) and rescaled
+    to ε in the mass-weighted norm
+
+    .. math:: \|d\|^2 = (\delta q^\top M \delta q + \tau^2 \delta\dot q^\top M
+              \delta\dot q) / m_\mathrm{total},
+
+    :math:`\tau = T/2\pi` (1 s without a periodic drive), and
+
+    .. math:: \lambda_1 = \frac{1}{t - t_d} \sum \ln \frac{\|d\|}{\varepsilon}
+
+    over the kept time (Benettin, Galgani, Giorgilli & Strelcyn 1980).
+
+    Parameters
+    ----------
+    scene : mechanism.scene.Scene
+        A rigid mechanism (``effects.flexibility = false`` for scenes with ANCF beams).
+    revolutions : float, optional
+        Simulated drive periods, discarded ones included.
+    t_end : float, optional
+        Simulated time (s), instead of ``revolutions`` (required without a periodic drive).
+    discard : float
+        Transient left out of the estimate (the deviation still evolves through it):
+        drive periods with ``revolutions``, seconds with ``t_end``.
+    perturbation : float
+        ε / L, in (0, 1e-3]; 1e-9 keeps the deviation linear across impacts.
+    renormalize_every : int
+        Accepted steps between renormalisations (≥ 1); it also happens at every
+        segment end.
+    rtol, atol : float, optional
+        Tolerances of the reference; default 1e-8 (not ``scene.solver``'s: the exponent
+        is tolerance-independent only well below the usual 1e-5).
+    max_step : float, optional
+        Largest step (s); default ``scene.solver.max_step``, else T/10000 with active
+        clearance joints (the default of :func:`mechanism.simulate`) and unlimited
+        without.
+    batches : int
+        Batches of consecutive segments for the 95 % interval (≥ 2; fewer when there are
+        fewer segments).
+    seed : int
+        Seed of the random initial direction of the deviation.
+    progress : bool
+        Show a progress bar.
+
+    Returns
+    -------
+    SceneLyapunov
+
+    Raises
+    ------
+    ValueError
+        On bad arguments, a flexible model, or a scene without a degree of freedom.
+    SimulationError
+        When the integration fails.
+
+    References
+    ----------
+    G. Benettin, L. Galgani, A. Giorgilli, J.-M. Strelcyn, Meccanica 15 (1980) 9–20.
+    T. S. Parker, L. O. Chua, *Practical Numerical Algorithms for Chaotic Systems*,
+    Springer 1989, §3.4.
+
+    Examples
+    --------
+    >>> import mechanism
+    >>> scene = mechanism.load_scene("paper").replace({"effects.flexibility": False})
+    >>> result = mechanism.lyapunov_exponent(scene, revolutions=0.2)
+    >>> result.time.size
+    2
+    """
+    if not isinstance(scene, Scene):
+        raise TypeError(f"scene must be a mechanism Scene; got {type(scene).__name__}.")
+    period = drive_period(scene)
+    if (revolutions is None) == (t_end is None):
+        raise ValueError("pass exactly one of revolutions or t_end.")
+    discard = check_positive(discard, name="discard", allow_zero=True)
+    if revolutions is not None:
+        if period is None:
+            raise ValueError(
+                "the scene has no periodic drive, so revolutions cannot be converted to "
+                "time; pass t_end (s)."
+            )
+        revolutions = check_positive(revolutions, name="revolutions")
+        if not discard < revolutions:
+            raise ValueError(
+                f"discard must be smaller than revolutions ({revolutions!r}); got {discard!r}."
+            )
+        duration, t_discard = revolutions * period, discard * period
+    else:
+        duration = check_positive(t_end, name="t_end")
+        if not discard < duration:
+            raise ValueError(
+                f"discard must be smaller than t_end ({duration!r} s); got {discard!r}."
+            )
+        t_discard = discard
+    perturbation = check_positive(perturbation, name="perturbation")
+    if perturbation > 1e-3:
+        raise ValueError(f"perturbation must be in (0, 1e-3]; got {perturbation!r}.")
+    every = check_int(renormalize_every, name="renormalize_every", minimum=1)
+    batches = check_int(batches, name="batches", minimum=2)
+    seed = check_int(seed, name="seed", minimum=0)
+    solver = scene.solver
+    rtol = check_positive(DEFAULT_TOLERANCE if rtol is None else rtol, name="rtol")
+    atol = check_positive(DEFAULT_TOLERANCE if atol is None else atol, name="atol")
+    model = assemble(scene)
+    if max_step is None:
+        max_step = solver.max_step
+    if max_step is None:
+        max_step = (period or duration) / 10000.0 if model.clearance_joints else math.inf
+    max_step = float(max_step)
+    if not max_step > 0.0:
+        raise ValueError(f"max_step must be > 0 (s); got {max_step!r}.")
+
+    q0, v0 = initial_state(model)
+    y0 = np.concatenate([q0, v0])
+    length = length_scale(model, y0)
+    size = perturbation * length
+    tau = period / (2.0 * math.pi) if period is not None else 1.0
+    d0 = initial_deviation(model, y0, t0=0.0, size=size, time_scale=tau, seed=seed)
+    segment = period if period is not None else (duration - t_discard) / UNDRIVEN_SEGMENTS
+    n_seg = max(1, round((duration - t_discard) / segment))
+    kept = t_discard + (duration - t_discard) * np.arange(n_seg + 1) / n_seg
+    stops = np.concatenate([[0.0], kept]) if t_discard > 0.0 else kept
+    run = integrate_tangent(
+        model, y0, d0, stops, rtol=rtol, atol=atol, max_step=max_step,
+        renormalize_every=every, time_scale=tau, projection=solver.projection,
+        progress=progress, label=f"{scene.name} (lyapunov)",
+    )  # fmt: skip
+    if not run.stats.success:
+        raise SimulationError(
+            f"exponent of {scene.name!r}: the integration failed after t = {run.t[-1]:.6g} s: "
+            f"{run.stats.message}"
+        )
+    first = 1 if t_discard > 0.0 else 0
+    t = run.t[first:]
+    growth = run.log_growth[first:]
+    exponent = float((growth[-1] - growth[0]) / (t[-1] - t[0]))
+    ci, used = _batch_interval(t, growth, batches)
+    running = (growth[1:] - growth[0]) / (t[1:] - t[0])
+    segments = np.diff(growth) / np.diff(t)
+    unit = "drive period" if period is not None else f"1/{UNDRIVEN_SEGMENTS} of the kept time"
+    settings: dict[str, Any] = {
+        "revolutions": revolutions,
+        "t_end": float(duration),
+        "discard": float(t_discard),
+        "perturbation": float(perturbation),
+        "length_scale": float(length),
+        "perturbation_size": float(size),
+        "time_scale": float(tau),
+        "renormalize_every": int(every),
+        "rtol": float(rtol),
+        "atol": float(atol),
+        "max_step": float(max_step),
+        "seed": int(seed),
+    }
+    return SceneLyapunov(
+        exponent=exponent,
+        ci=ci,
+        ci_method=(
+            f"batch means: {used} batches of consecutive segments (one {unit} each), "
+            "Student t, 95 %"
+        ),
+        drive_period=period,
+        time=t[1:],
+        running_exponent=running,
+        segment_exponent=segments,
+        batches=used,
+        settings=settings,
+        renormalizations=run.renormalizations,
+        stats=run.stats,
+        scene_name=scene.name,
+    )

@@ -1,0 +1,330 @@
+"""Largest Lyapunov exponent of a scene (``mechanism.lyapunov_exponent``).
+
+The smooth check compares the scene computation of a double pendulum of two uniform bars
+with an independent implementation written here: its closed-form equations of motion in
+the two joint angles, their variational equations (analytic Jacobian) and QR (Benettin)
+renormalisation, measured in the same mass-weighted norm from the same initial deviation.
+The non-smooth checks run the rigid paper scene.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+import scipy.integrate as si
+from typer.testing import CliRunner
+
+import mechanism
+from mechanism.cli import app
+from mechanism.core.integrate import initial_deviation
+from mechanism.core.model import assemble, initial_state
+from mechanism.core.scene import RevoluteJoint, RigidBody, Scene, SolverSettings
+from tests.mechanism.scenes import rigid_paper
+
+MASS = (1.0, 1.0)  # kg
+LENGTH = (0.5, 0.5)  # m
+GRAVITY = 9.81  # m s-2
+# released at rest with both bars at 135° from the downward vertical: chaotic
+THETA0 = (0.75 * math.pi, 0.75 * math.pi)
+
+
+def double_pendulum(theta1: float, theta2: float, *, tol: float = 1e-10) -> Scene:
+    """Two uniform bars, pinned to the frame and to each other, released at rest with
+    angles θ₁, θ₂ from the downward vertical (bar frame x-axis along the bar)."""
+    (m1, m2), (l1, l2) = MASS, LENGTH
+    a1, a2 = theta1 - math.pi / 2, theta2 - math.pi / 2
+    elbow = (l1 * math.cos(a1), l1 * math.sin(a1))
+    return Scene(
+        name="double-pendulum",
+        ground_points={"O": (0.0, 0.0)},
+        bodies={
+            "bar1": RigidBody(
+                mass=m1, inertia=m1 * l1**2 / 12, angle=a1,
+                position=(0.5 * l1 * math.cos(a1), 0.5 * l1 * math.sin(a1)),
+                points={"O": (-l1 / 2, 0.0), "A": (l1 / 2, 0.0)},
+            ),
+            "bar2": RigidBody(
+                mass=m2, inertia=m2 * l2**2 / 12, angle=a2,
+                position=(elbow[0] + 0.5 * l2 * math.cos(a2), elbow[1] + 0.5 * l2 * math.sin(a2)),
+                points={"A": (-l2 / 2, 0.0)},
+            ),
+        },
+        joints={
+            "O": RevoluteJoint(bodies=("ground", "bar1"), points=("O", "O")),
+            "A": RevoluteJoint(bodies=("bar1", "bar2"), points=("A", "A")),
+        },
+        solver=SolverSettings(rtol=tol, atol=tol),
+    )  # fmt: skip
+
+
+# --------------------------------------------------------------- independent implementation
+_A = MASS[0] * LENGTH[0] ** 2 / 3 + MASS[1] * LENGTH[0] ** 2
+_C = MASS[1] * LENGTH[1] ** 2 / 3
+_B = 0.5 * MASS[1] * LENGTH[0] * LENGTH[1]
+_K1 = (0.5 * MASS[0] + MASS[1]) * GRAVITY * LENGTH[0]
+_K2 = 0.5 * MASS[1] * GRAVITY * LENGTH[1]
+
+
+def _flow(_t: float, z: np.ndarray) -> np.ndarray:
+    """Lagrange's equations of the two-bar pendulum and their variational equations.
+
+    [A, B cos Δ; B cos Δ, C] θ̈ = [−B sin Δ ω₂² − K₁ sin θ₁, B sin Δ ω₁² − K₂ sin θ₂],
+    Δ = θ₁ − θ₂; the tangent frame P (4 × 4) obeys Ṗ = J P with the analytic Jacobian.
+    """
+    t1, t2, w1, w2 = z[:4]
+    delta = t1 - t2
+    cd, sd = math.cos(delta), math.sin(delta)
+    det = _A * _C - (_B * cd) ** 2
+    r1 = -_B * sd * w2**2 - _K1 * math.sin(t1)
+    r2 = _B * sd * w1**2 - _K2 * math.sin(t2)
+    al1 = (_C * r1 - _B * cd * r2) / det
+    al2 = (_A * r2 - _B * cd * r1) / det
+    # d(r − M(θ)θ̈)/d(θ₁, θ₂, ω₁, ω₂) at fixed θ̈, then θ̈' = M⁻¹ of it
+    dr = np.array(
+        [
+            [-_B * cd * w2**2 - _K1 * math.cos(t1) + _B * sd * al2, _B * cd * w2**2 - _B * sd * al2,
+             0.0, -2.0 * _B * sd * w2],
+            [_B * cd * w1**2 + _B * sd * al1, -_B * cd * w1**2 - _K2 * math.cos(t2) - _B * sd * al1,
+             2.0 * _B * sd * w1, 0.0],
+        ]
+    )  # fmt: skip
+    minv = np.array([[_C, -_B * cd], [-_B * cd, _A]]) / det
+    frame = z[4:].reshape(4, 4)
+    d_frame = np.empty((4, 4))
+    d_frame[:2] = frame[2:]
+    d_frame[2:] = minv @ dr @ frame
+    return np.concatenate([[w1, w2, al1, al2], d_frame.ravel()])
+
+
+def _cartesian(x: np.ndarray) -> np.ndarray:
+    """(12 × 4) map of (δθ₁, δθ₂, δω₁, δω₂) to the bars' (δx, δy, δφ) and their rates."""
+    t1, t2, w1, w2 = x
+    (l1, l2) = LENGTH
+    jac = np.array(
+        [[0.5 * l1 * math.cos(t1), 0.0], [0.5 * l1 * math.sin(t1), 0.0], [1.0, 0.0],
+         [l1 * math.cos(t1), 0.5 * l2 * math.cos(t2)], [l1 * math.sin(t1), 0.5 * l2 * math.sin(t2)],
+         [0.0, 1.0]]
+    )  # fmt: skip
+    # ∂(J ω)/∂θ
+    djw = np.array(
+        [[-0.5 * l1 * math.sin(t1) * w1, 0.0], [0.5 * l1 * math.cos(t1) * w1, 0.0], [0.0, 0.0],
+         [-l1 * math.sin(t1) * w1, -0.5 * l2 * math.sin(t2) * w2],
+         [l1 * math.cos(t1) * w1, 0.5 * l2 * math.cos(t2) * w2], [0.0, 0.0]]
+    )  # fmt: skip
+    out = np.zeros((12, 4))
+    out[:6, :2] = jac
+    out[6:, :2] = djw
+    out[6:, 2:] = jac
+    return out
+
+
+def _metric(x: np.ndarray) -> np.ndarray:
+    """Gram matrix of the mass-weighted norm (τ = 1 s) in joint-angle coordinates."""
+    (m1, m2), (l1, l2) = MASS, LENGTH
+    w = np.array([m1, m1, m1 * l1**2 / 12, m2, m2, m2 * l2**2 / 12] * 2) / (m1 + m2)
+    c = _cartesian(x)
+    return c.T @ (w[:, None] * c)
+
+
+def benettin_closed_form(
+    theta: tuple[float, float],
+    first: np.ndarray,
+    t_end: float,
+    *,
+    interval: float = 0.25,
+    tol: float = 1e-11,
+) -> float:
+    """Largest exponent (1/s) of the first tangent vector ``first`` over [0, t_end]: the
+    frame [first, e₂, e₃, e₄] is re-orthonormalised by QR (in the mass metric) every
+    ``interval`` s and the log of R₁₁ accumulated."""
+    frame = np.eye(4)
+    frame[:, 0] = first
+    x = np.array([theta[0], theta[1], 0.0, 0.0])
+    chol = np.linalg.cholesky(_metric(x))
+    q, r = np.linalg.qr(chol.T @ frame)
+    frame = np.linalg.solve(chol.T, q * np.sign(np.diag(r)))
+    z = np.concatenate([x, frame.ravel()])
+    total = 0.0
+    for t0 in np.arange(0.0, t_end - 1e-12, interval):
+        sol = si.solve_ivp(_flow, (t0, t0 + interval), z, method="DOP853", rtol=tol, atol=tol)
+        z = sol.y[:, -1].copy()
+        chol = np.linalg.cholesky(_metric(z[:4]))
+        q, r = np.linalg.qr(chol.T @ z[4:].reshape(4, 4))
+        total += math.log(abs(r[0, 0]))
+        z[4:] = np.linalg.solve(chol.T, q * np.sign(np.diag(r))).ravel()
+    return total / t_end
+
+
+def _joint_angle_deviation(scene: Scene) -> np.ndarray:
+    """The scene's initial deviation (seed 0) as (δθ₁, δθ₂, δω₁, δω₂), unit length."""
+    model = assemble(scene)
+    q0, v0 = initial_state(model)
+    d = initial_deviation(model, np.concatenate([q0, v0]), t0=0.0, size=1.0, time_scale=1.0)
+    n = model.n_dof
+    return np.array([d[2], d[5], d[n + 2], d[n + 5]])
+
+
+def test_double_pendulum_matches_closed_form_variational_equations() -> None:
+    """Same trajectory, same initial deviation, same norm: the two computations agree
+    while their trajectories coincide (8 s, about 12 nats of growth)."""
+    scene = double_pendulum(*THETA0)
+    horizon = 8.0
+    result = mechanism.lyapunov_exponent(scene, t_end=horizon, perturbation=1e-9)
+    reference = benettin_closed_form(THETA0, _joint_angle_deviation(scene), horizon)
+    assert reference > 1.0  # chaotic: ≥ 8 nats over the horizon
+    np.testing.assert_allclose(result.exponent, reference, rtol=0.01)
+    assert result.drive_period is None
+    assert result.settings["time_scale"] == 1.0
+
+
+@pytest.mark.slow
+def test_double_pendulum_converged_exponent_within_5_percent() -> None:
+    """Long runs (chaotic sea, trajectories long decorrelated) agree within 5 %."""
+    scene = double_pendulum(*THETA0, tol=1e-9)
+    t_end = 600.0
+    result = mechanism.lyapunov_exponent(scene, t_end=t_end, discard=20.0)
+    reference = benettin_closed_form(THETA0, _joint_angle_deviation(scene), t_end)
+    np.testing.assert_allclose(result.exponent, reference, rtol=0.05)
+
+
+def test_small_oscillation_is_regular() -> None:
+    """A small in-phase swing (near a normal mode, quasi-periodic): the interval contains
+    0 and the estimate is a few percent of the chaotic one."""
+    result = mechanism.lyapunov_exponent(double_pendulum(0.2, 0.2, tol=1e-9), t_end=60.0,
+                                         discard=10.0)  # fmt: skip
+    assert result.ci[0] <= 0.0
+    assert abs(result.exponent) < 0.05
+
+
+# ------------------------------------------------------------------ rigid paper scene
+
+
+def test_paper_deviation_is_linear_across_impacts() -> None:
+    """1e-9 and 1e-7 of the clearance grow alike over the first revolution (its impacts
+    included): the deviation stays in the linear regime."""
+    scene = rigid_paper()
+    small, large = (
+        mechanism.lyapunov_exponent(scene, revolutions=1, perturbation=eps) for eps in (1e-9, 1e-7)
+    )
+    assert small.stats is not None and small.stats.contact_events > 5
+    np.testing.assert_allclose(large.exponent, small.exponent, rtol=0.02)
+    assert small.settings["perturbation_size"] == pytest.approx(1e-9 * 2e-4)
+
+
+@pytest.fixture(scope="module")
+def paper_reference() -> mechanism.SceneLyapunov:
+    """20 kept revolutions of the rigid paper scene at the default settings."""
+    return mechanism.lyapunov_exponent(rigid_paper(), revolutions=22, discard=2)
+
+
+def _agree(a: mechanism.SceneLyapunov, b: mechanism.SceneLyapunov) -> None:
+    assert a.ci[0] <= b.exponent <= a.ci[1]
+    assert b.ci[0] <= a.exponent <= b.ci[1]
+
+
+@pytest.mark.slow
+def test_paper_exponent_independent_of_perturbation_and_renormalisation(
+    paper_reference: mechanism.SceneLyapunov,
+) -> None:
+    """1e-9 and 1e-7 of the clearance, renormalised every step or every 10 steps: each
+    estimate inside the other's 95 % interval."""
+    assert paper_reference.ci[0] > 0.0  # chaotic
+    scene = rigid_paper()
+    larger = mechanism.lyapunov_exponent(scene, revolutions=22, discard=2, perturbation=1e-7)
+    _agree(paper_reference, larger)
+    # the linear regime: both sizes see the same growth, revolution by revolution
+    np.testing.assert_allclose(
+        larger.segment_exponent, paper_reference.segment_exponent, rtol=0.05, atol=5.0
+    )
+    sparse = mechanism.lyapunov_exponent(scene, revolutions=22, discard=2, renormalize_every=10)
+    _agree(paper_reference, sparse)
+
+
+@pytest.mark.slow
+def test_paper_exponent_independent_of_tolerance(paper_reference: mechanism.SceneLyapunov) -> None:
+    """rtol = atol = 1e-7 and 1e-9 against the default 1e-8."""
+    for tol in (1e-7, 1e-9):
+        other = mechanism.lyapunov_exponent(
+            rigid_paper(), revolutions=22, discard=2, rtol=tol, atol=tol
+        )
+        _agree(paper_reference, other)
+
+
+# --------------------------------------------------------------------------- errors / CLI
+
+
+def test_prescribed_motion_has_no_exponent() -> None:
+    with pytest.raises(ValueError, match="no degree of freedom"):
+        mechanism.lyapunov_exponent(rigid_paper({"effects.clearance": False}), revolutions=1)
+
+
+def test_flexible_scene_is_refused_clearly() -> None:
+    with pytest.raises(ValueError, match=r"effects\.flexibility = false"):
+        mechanism.lyapunov_exponent(mechanism.load_scene("paper"), revolutions=1)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "match"),
+    [
+        ({"revolutions": 2, "perturbation": 0.1}, "perturbation"),
+        ({"revolutions": 2, "discard": 2}, "discard"),
+        ({"revolutions": 2, "renormalize_every": 0}, "renormalize_every"),
+        ({"revolutions": 2, "t_end": 1.0}, "exactly one"),
+        ({"revolutions": -1}, "revolutions"),
+    ],
+)
+def test_bad_arguments_name_the_parameter(kwargs: dict, match: str) -> None:
+    with pytest.raises(ValueError, match=match):
+        mechanism.lyapunov_exponent(rigid_paper(), **kwargs)
+
+
+def test_undriven_scene_needs_t_end() -> None:
+    with pytest.raises(ValueError, match="t_end"):
+        mechanism.lyapunov_exponent(double_pendulum(*THETA0), revolutions=3)
+
+
+def test_result_dataset_has_units_and_the_settings() -> None:
+    result = mechanism.lyapunov_exponent(double_pendulum(*THETA0, tol=1e-8), t_end=2.0)
+    ds = result.to_dataset()
+    for name in ("running_exponent", "segment_exponent", "time"):
+        assert ds[name].attrs["units"] and ds[name].attrs["long_name"]
+    assert ds.sizes["time"] == 100
+    assert ds.attrs["exponent"] == result.exponent
+    assert ds.attrs["setting_perturbation"] == 1e-9
+    np.testing.assert_allclose(ds.running_exponent[-1], result.exponent, rtol=1e-12)
+    # the running estimate is the time average of the segment exponents
+    seg = result.segment_exponent
+    np.testing.assert_allclose(np.mean(seg), result.exponent, rtol=1e-9)
+
+
+def test_cli_bad_input_exits_2_without_traceback(tmp_path) -> None:
+    runner = CliRunner()
+    res = runner.invoke(app, ["lyapunov", "paper", "--revolutions", "2"])
+    assert res.exit_code == 2
+    assert "effects.flexibility = false" in res.output
+    assert "Traceback" not in res.output
+    res = runner.invoke(
+        app,
+        ["lyapunov", "paper", "--set", "effects.flexibility=false", "--revolutions", "2",
+         "--perturbation", "0.5"],
+    )  # fmt: skip
+    assert res.exit_code == 2
+    assert "perturbation" in res.output
+
+
+def test_cli_prints_and_writes_the_estimate(tmp_path) -> None:
+    out = tmp_path / "lyap.nc"
+    res = CliRunner().invoke(
+        app,
+        ["lyapunov", "paper", "--set", "effects.flexibility=false", "--revolutions", "0.5",
+         "--no-progress", "-o", str(out)],
+    )  # fmt: skip
+    assert res.exit_code == 0, res.output
+    assert "1/s" in res.output
+    import xarray as xr
+
+    with xr.open_dataset(out, engine="h5netcdf") as ds:
+        assert ds.attrs["scene"] == "paper"
+        assert math.isfinite(ds.attrs["exponent"])
