@@ -35,7 +35,6 @@ import numpy as np
 import xarray as xr
 
 import chaoskit
-from chaoskit import save_trajectory
 from chaoskit.contract import __version__, stamp
 from mechanism.core import load_scene, simulate
 from mechanism.core.record import (
@@ -458,12 +457,12 @@ def _run_point(task: _PointTask) -> tuple[str, str]:
             if status == "ok":
                 parts.append({k: v for k, v in traj.data_vars.items() if v.ndim == 0})
         elif status == "ok":
-            save_trajectory(traj, target)
+            chaoskit.save_trajectory(traj, target)
             trajectory_file = target.relative_to(store).as_posix()
         else:
             # kept for diagnosis when it satisfies the contract (a run with NaNs does not)
             with contextlib.suppress(ValueError, TypeError, OSError):
-                save_trajectory(traj, target)
+                chaoskit.save_trajectory(traj, target)
                 trajectory_file = target.relative_to(store).as_posix()
         if status == "ok" and "time" in traj.dims:
             start = window_start(traj, task.analysis.discard_revolutions)
