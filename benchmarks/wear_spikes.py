@@ -175,7 +175,7 @@ def ratios(updates: int, rule: str, output: str | None) -> None:
         t0 = time.perf_counter()
         after = mechanism.simulate(state, revolutions=REVOLUTIONS) if u else before
         wall = time.perf_counter() - t0
-        table = mechanism.compare(before, after, discard_revolutions=1.0).table
+        table = mechanism.compare_wear(before, after, discard_revolutions=1.0).table
         summary = spike_summary(after, state)
         row = {
             "cycles": float(pred.cycles[u]),

@@ -60,7 +60,8 @@ _estimators: list[str] = [
 from . import plot  # noqa: E402
 from ._bifurcation import bifurcation_diagram  # noqa: E402
 from ._portraits import phase_portrait  # noqa: E402
-from .classify import (  # noqa: E402
+from .sections import poincare_section, stroboscopic_map  # noqa: E402
+from .verdict import (  # noqa: E402
     SectionStructure,
     SurrogateResult,
     Verdict,
@@ -75,7 +76,6 @@ from .classify import (  # noqa: E402
     verdict_table,
     zero_one_test,
 )
-from .sections import poincare_section, stroboscopic_map  # noqa: E402
 
 _views: list[str] = [
     "SectionStructure",
@@ -99,7 +99,7 @@ _views: list[str] = [
 ]
 
 # --- report (issue 8): add imports and names below this line only ---
-from .report import (  # noqa: E402
+from .reporting import (  # noqa: E402
     Report,
     ReportFigure,
     ReportSection,

@@ -19,8 +19,8 @@ from ._portraits import phase_portrait
 from ._samples import sample_path
 from ._selection import select_series, variable_spec
 from ._version import __version__
-from .classify import classify_variables, verdict_table
-from .report import report as build_report
+from .reporting import report as build_report
+from .verdict import classify_variables, verdict_table
 
 app = typer.Typer(
     name="chaoskit",

@@ -1,27 +1,73 @@
 """mechanism — a planar multibody simulator for rigid-flexible mechanisms with clearance and wear.
 
 Scenes are data (TOML); trajectories are :class:`xarray.Dataset` objects following the
-chaoskit data contract (``docs/data-model.md``).
+chaoskit data contract (``docs/data-model.md``). Two layers (``docs/architecture.md``):
+
+* :mod:`mechanism.core` — scene → assemble → integrate → record, with the bodies, joints,
+  contact laws and worn-joint geometry; it never imports the studies;
+* :mod:`mechanism.studies` — sweeps and their store, wear prediction, element convergence
+  and the paper study, built on the core's public names.
+
+The names below are the public API of both.
 """
 
 from __future__ import annotations
 
 from chaoskit.contract import __version__
 
-_foundation = ["__version__"]
-
-# --- scenes (issue 5, scene loading): add imports and names below this line only ---
-from .core import scene  # noqa: E402
-from .core.scene import (  # noqa: E402
+from .core import (
+    AncfMesh,
+    BeamModes,
+    BeamStaticSolution,
     Scene,
     SceneError,
+    SimulationError,
+    WornProfile,
+    archard_wear,
+    beam_modes,
+    contact_stiffness,
+    euler_bernoulli_frequencies,
+    hertz_stiffness,
+    integrate,
     list_scenes,
     load_scene,
     save_scene,
+    scene,
     scene_from_json,
+    simulate,
+    solve_beam_static,
+)
+from .studies import (
+    Analysis,
+    ElementConvergence,
+    GridTransform,
+    PaperStudy,
+    SceneLyapunov,
+    StudySettings,
+    SweepStoreBusy,
+    SweepStoreMismatch,
+    WearComparison,
+    WearPrediction,
+    bifurcation,
+    chaos_map,
+    compare_wear,
+    element_convergence,
+    grid_transforms,
+    load_sweep,
+    lyapunov_exponent,
+    paper_tables,
+    plot_bifurcation,
+    plot_wear_profile,
+    predict_wear,
+    register_grid_transform,
+    run_paper_study,
+    stroboscopic_points,
+    sweep,
+    wear_profile_section,
 )
 
-_scenes: list[str] = [
+_foundation = ["__version__"]
+_scenes = [
     "Scene",
     "SceneError",
     "list_scenes",
@@ -30,52 +76,20 @@ _scenes: list[str] = [
     "scene",
     "scene_from_json",
 ]
-
-# --- simulation (issue 5, core): add imports and names below this line only ---
-from .core import (  # noqa: E402
-    SimulationError,
-    integrate,
-    simulate,
-)
-
-_simulation: list[str] = ["SimulationError", "integrate", "simulate"]
-
-# --- contact and wear (issues 5 and 7): add imports and names below this line only ---
-from .core import WornProfile, archard_wear, contact_stiffness, hertz_stiffness  # noqa: E402  # noqa: E402
-from .studies import (  # noqa: E402
-    Comparison,
-    WearPrediction,
-    compare,
-    plot_wear_profile,
-    predict_wear,
-    wear_profile_section,
-)
-
-_contact_wear: list[str] = [
-    "Comparison",
+_simulation = ["SimulationError", "integrate", "simulate"]
+_contact_wear = [
+    "WearComparison",
     "WearPrediction",
     "WornProfile",
     "archard_wear",
-    "compare",
+    "compare_wear",
     "contact_stiffness",
     "hertz_stiffness",
     "plot_wear_profile",
     "predict_wear",
     "wear_profile_section",
 ]
-
-# --- flexibility (issue 6): add imports and names below this line only ---
-from .core import (  # noqa: E402
-    AncfMesh,
-    BeamModes,
-    BeamStaticSolution,
-    beam_modes,
-    euler_bernoulli_frequencies,
-    solve_beam_static,
-)
-from .studies import ElementConvergence, element_convergence  # noqa: E402
-
-_flexibility: list[str] = [
+_flexibility = [
     "AncfMesh",
     "BeamModes",
     "BeamStaticSolution",
@@ -85,22 +99,7 @@ _flexibility: list[str] = [
     "euler_bernoulli_frequencies",
     "solve_beam_static",
 ]
-
-# --- sweeps (issue 8): add imports and names below this line only ---
-from .studies import (  # noqa: E402
-    Analysis,
-    GridTransform,
-    SweepStoreBusy,
-    SweepStoreMismatch,
-    chaos_map,
-    grid_transforms,
-    load_sweep,
-    register_grid_transform,
-    stroboscopic_points,
-    sweep,
-)
-
-_sweeps: list[str] = [
+_sweeps = [
     "Analysis",
     "GridTransform",
     "SweepStoreBusy",
@@ -112,21 +111,9 @@ _sweeps: list[str] = [
     "stroboscopic_points",
     "sweep",
 ]
-
-# --- bifurcation diagrams: add imports and names below this line only ---
-from .studies import bifurcation, plot_bifurcation  # noqa: E402
-
-_bifurcations: list[str] = ["bifurcation", "plot_bifurcation"]
-
-# --- paper study (issue 8): add imports and names below this line only ---
-from .studies import PaperStudy, StudySettings, paper_tables, run_paper_study  # noqa: E402
-
-_paper_study: list[str] = ["PaperStudy", "StudySettings", "paper_tables", "run_paper_study"]
-
-# --- chaos from the equations (issue 16): add imports and names below this line only ---
-from .studies import SceneLyapunov, lyapunov_exponent  # noqa: E402
-
-_chaos: list[str] = ["SceneLyapunov", "lyapunov_exponent"]
+_bifurcations = ["bifurcation", "plot_bifurcation"]
+_paper_study = ["PaperStudy", "StudySettings", "paper_tables", "run_paper_study"]
+_chaos = ["SceneLyapunov", "lyapunov_exponent"]
 
 __all__ = (
     _foundation

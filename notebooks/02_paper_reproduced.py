@@ -149,6 +149,7 @@ metrics_table = chaoskit.ReportTable(
     caption="Response metrics at 150 rpm, ours (rigid rods, quick settings) and the paper's",
     data=ours,
     reference=paper.loc[ours.index],
+    reference_name="paper",
     ratio=("after wear", "before wear") if len(states) == 2 else None,
 )
 out = Path(tempfile.mkdtemp(prefix="paper-")) / "report.html"
@@ -158,6 +159,7 @@ rep = chaoskit.report(
     phase_variable="crank_angle",
     discard=period,
     chaos_reference=paper_chaos,
+    reference_name="paper",
     tables=[metrics_table],
     title="Six-bar press with a worn clearance joint — quick reproduction",
     output=out,

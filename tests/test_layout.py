@@ -195,57 +195,59 @@ def cycle_problems(root: Path) -> list[str]:
     ]
 
 
-def local_import_problems(root: Path) -> list[str]:
-    problems = []
+def _pairs(root: Path):  # type: ignore[no-untyped-def]
+    """(import, one of its targets, "file:line") for every import of the tree."""
     for imp in imports(root):
-        if not imp.local:
-            continue
         for target in imp.targets:
-            top = target.split(".")[0]
-            if top not in LAZY_IMPORTS:
-                problems.append(
-                    f"{_where(imp, root)}: {target!r} is imported inside a function; import it "
-                    "at module level (or add a heavy optional library to LAZY_IMPORTS)"
-                )
-    return problems
+            yield imp, target, _where(imp, root)
+
+
+def _top(name: str) -> str:
+    return name.split(".")[0]
+
+
+def local_import_problems(root: Path) -> list[str]:
+    return [
+        f"{where}: {target!r} is imported inside a function; import it at module level (or "
+        "add a heavy optional library to LAZY_IMPORTS)"
+        for imp, target, where in _pairs(root)
+        if imp.local and _top(target) not in LAZY_IMPORTS
+    ]
 
 
 def private_import_problems(root: Path) -> list[str]:
-    problems = []
-    for imp in imports(root):
-        own = imp.module.split(".")[0]
-        for target in imp.targets:
-            if _first_party(target) and target.split(".")[0] != own and _private(target):
-                problems.append(
-                    f"{_where(imp, root)}: {imp.module} imports the private {target!r} of "
-                    "another package; use its public API (e.g. chaoskit.contract)"
-                )
-    return problems
+    return [
+        f"{where}: {imp.module} imports the private {target!r} of another package; use its "
+        "public API (e.g. chaoskit.contract)"
+        for imp, target, where in _pairs(root)
+        if _first_party(target) and _top(target) != _top(imp.module) and _private(target)
+    ]
+
+
+def _layer_problem(module: str, target: str) -> str | None:
+    if _top(module) == "chaoskit" and _top(target) == "mechanism":
+        return f"chaoskit imports {target!r}"
+    upward = target in ("mechanism", "mechanism.cli") or target.startswith("mechanism.studies")
+    if module.startswith("mechanism.core") and upward:
+        return (
+            f"the core module {module} imports {target!r}; the core never imports upward "
+            "(studies, the package, the CLI)"
+        )
+    if module.startswith("mechanism.studies") and target.startswith("mechanism.core"):
+        if _private(target):
+            return (
+                f"the study {module} imports the core's private {target!r}; studies use "
+                "mechanism.core's public names"
+            )
+    return None
 
 
 def layer_problems(root: Path) -> list[str]:
-    problems = []
-    for imp in imports(root):
-        for target in imp.targets:
-            if imp.module.startswith("chaoskit") and target.split(".")[0] == "mechanism":
-                problems.append(f"{_where(imp, root)}: chaoskit imports {target!r}")
-            if imp.module.startswith("mechanism.core") and (
-                target in ("mechanism", "mechanism.cli") or target.startswith("mechanism.studies")
-            ):
-                problems.append(
-                    f"{_where(imp, root)}: the core module {imp.module} imports {target!r}; the "
-                    "core never imports upward (studies, the package, the CLI)"
-                )
-            if (
-                imp.module.startswith("mechanism.studies")
-                and target.startswith("mechanism.core")
-                and _private(target)
-            ):
-                problems.append(
-                    f"{_where(imp, root)}: the study {imp.module} imports the core's private "
-                    f"{target!r}; studies use mechanism.core's public names"
-                )
-    return problems
+    return [
+        f"{where}: {problem}"
+        for imp, target, where in _pairs(root)
+        if (problem := _layer_problem(imp.module, target)) is not None
+    ]
 
 
 # --------------------------------------------------------------------------- the real tree

@@ -194,53 +194,24 @@ def lyapunov_rosenstein(
 
     Defaults (only ``dt`` given):
 
-    * ``lag``: :func:`~chaoskit.estimate_delay` with ``method="auto"`` (first MI minimum,
-      capped by the 1/e autocorrelation time, which gives 1 for maps);
-    * ``embedding_dim``: smallest dimension with < 1 % false nearest neighbours (Kennel;
-      5,000 reference points);
-    * ``theiler_window``: one mean period (1 / power-weighted mean frequency), capped at a
+    * ``lag``: :func:`~chaoskit.estimate_delay` with ``method="auto"``; ``embedding_dim``:
+      smallest dimension with < 1 % false nearest neighbours;
+    * ``theiler_window``: one mean period (1 / power-weighted mean frequency), at most a
       tenth of the points;
-    * ``max_horizon``: grown by doubling on 1,000 pilot pairs until the curve reaches 90 % of
-      the way from y(0) to its plateau (the mean log distance of random pairs), then ×1.25;
-      capped at 20 mean periods (at least 64) and half the usable points. Horizons beyond
-      400 are sampled on an even grid;
-    * ``fit_range="auto"``: the longest, steepest straight window (at least half a mean
-      period) before saturation — see :mod:`chaoskit.lyapunov._scaling` and
-      ``docs/estimators.md`` for the rule;
-    * reference points: all points, or ``max_points`` evenly spaced ones for long series
-      (``subsampled`` says so); neighbours are always searched among all points;
-    * ``distance="auto"``: Euclidean distances; but for a flow (``lag > 1``) whose Euclidean
-      exponent times the mean period is below 0.7 nats, the curve is recomputed with the
-      *transverse* distance (the part of the separation perpendicular to the local flow
-      direction ``y_{i+1} − y_{i−1}``) and refitted. Flows have a zero exponent along the
-      flow; when the largest exponent per orbit is small (Rössler: ≈ 0.4 nats) a
-      neighbour's along-flow offset, which never grows, dominates the separation over most
-      of the usable range and flattens the Euclidean curve (−15 % to −40 % on Rössler x).
-      When it is large (Lorenz: ≈ 1.5 nats) the separation turns into the unstable
-      direction within an orbit, while the transverse curve grows too fast once the
-      separations are finite (+7 … +15 % on Lorenz x), so the Euclidean curve is kept. The
-      choice is in ``params["distance"]`` and ``params["distance_rule"]``;
-    * ``neighbor="auto"``: maps (``lag == 1``) pair each reference point with its nearest
-      *sample*. For a flow the nearest sample sits up to half a sampling step along the
-      flow from the closest point of the neighbouring orbit; that offset lies in the
-      neutral flow direction, fades only as the unstable part grows and flattens the
-      curve (Lorenz x: −3 … −7 % at N ≥ 5·10⁴, reproduced by the linearised dynamics along
-      the same pairs). Moving the neighbour to its orbit's closest point
-      :math:`\mathbf y(j+s)` (quadratic through :math:`\mathbf y_{j-1}, \mathbf y_j,
-      \mathbf y_{j+1}`, :math:`|s| \le 1`) removes the offset but leaves a steeper stretch
-      after the transient (+0 … +13 %). The two bracket the exponent, so flows use the mean
-      of the two log distances (``"mean"``) and half their slope difference widens
-      ``ci``. ``"sample"``, ``"orbit"`` and ``"mean"`` force a choice; the transverse
-      distance always uses the nearest sample (it discards the along-flow offset itself).
+    * ``max_horizon``: grown until the curve nears its plateau, at most 20 mean periods and
+      half the usable points; ``fit_range="auto"``: the longest, steepest straight window
+      before saturation;
+    * reference points: all, or ``max_points`` evenly spaced ones (``subsampled``);
+    * ``distance="auto"``: Euclidean, but a flow whose exponent per mean period is below 0.7
+      nats is refitted with the distance transverse to the flow (a neighbour's along-flow
+      offset flattens the Euclidean curve of weakly chaotic flows such as Rössler);
+    * ``neighbor="auto"``: maps use the nearest sample; flows the mean of the nearest-sample
+      and closest-orbit-point curves, which bracket the exponent.
 
-    The 95 % interval ``ci`` is the sum of three half-widths (each in ``params``):
-    sampling — the per-pair least-squares slopes over the fit range, cut in time order into
-    20 contiguous batches, Student-t interval on the batch means (batch means absorb the
-    correlation of neighbouring reference points); fit range — the largest change of the
-    slope when either end of the automatic window moves by a fifth of its length; and, for
-    ``neighbor="mean"``, half the slope difference of the sample and orbit curves. On
-    Lorenz x and Rössler x (five initial conditions, N = 10⁴ … 10⁵) it covered the true
-    exponent in 39 of 40 cases. It does not cover the choice of embedding.
+    ``ci`` is a 95 % interval: batch means of the per-pair slopes, plus the slope change
+    when the fit window's ends move, plus (``neighbor="mean"``) half the difference of the
+    two neighbour curves; it does not cover the choice of embedding. The rules, their bias
+    on Lorenz and Rössler and the interval's coverage are measured in ``docs/estimators.md``.
 
     Parameters
     ----------

@@ -115,25 +115,14 @@ def lyapunov_wolf(
 
     Defaults (only ``dt`` given): lag, dimension and Theiler window as in
     :func:`~chaoskit.lyapunov_rosenstein`; ``evolve`` = 1 sample when ``lag == 1`` (maps and
-    coarsely sampled flows), else one mean period of the signal, so that the modulation of
-    the separation by the varying speed along the orbit averages out within an interval and
-    a replaced separation has time to turn into the unstable direction; scale band from the
-    paper rule ``dlt = 0.02 (d_mean − d_min)``, band ``[d_min + dlt/2, d_min + 2 dlt]`` with
-    ``d_mean`` the mean distance of 20,000 random pairs and ``d_min`` the smallest nearest-neighbour
-    distance; ``max_angle`` = 45°, except for flows (``lag > 1``) whose 45° estimate times
-    the mean period is below 0.7 nats: they are rerun with 0.2 rad (a replacement's
-    misalignment puts part of the separation in the neutral flow direction, which never
-    grows; with weak chaos per orbit that costs a large share of the growth of an interval:
-    Rössler x, N = 5·10⁴, went from −11.6 … +1.5 % to −5.0 … +2.5 % over five initial
-    conditions; Lorenz keeps 45°, where 0.2 rad gives −12 … −23 %). Replacement candidates
-    come from all points, or from an evenly strided subset for longer series: at most
-    20,000 × ``evolve`` and 50,000 points (a search costs ∝ the candidates in the band; the
-    band is a fixed fraction of the attractor, so it still holds many candidates).
-
-    The loop runs compiled: candidates are bucketed on a uniform grid over the first
-    ``min(m, 3)`` coordinates (cells a third of the band's upper bound) that only prefilters
-    them — the chosen neighbour does not depend on the grid. Ties in the angle (every
-    same-side candidate in one dimension) go to the nearer, then the earlier point.
+    coarsely sampled flows), else one mean period; scale band from the paper rule
+    ``dlt = 0.02 (d_mean − d_min)``, band ``[d_min + dlt/2, d_min + 2 dlt]``;
+    ``max_angle`` = 45°, except for flows whose 45° estimate per mean period is below 0.7
+    nats, which are rerun with 0.2 rad (a misaligned replacement puts part of the separation
+    in the neutral flow direction). Long series draw replacement candidates from an evenly
+    strided subset (at most 20,000 × ``evolve`` and 50,000 points); the compiled loop only
+    prefilters candidates on a grid, so the chosen neighbour does not depend on it. The
+    rules and their measured bias (Lorenz, Rössler) are in ``docs/estimators.md``.
 
     The 95 % interval ``ci`` is a Student-t interval over 20 contiguous batches of the
     per-step stretching (batch means absorb the correlation along the trajectory).

@@ -25,12 +25,11 @@ from ._sweep import (
     stroboscopic_points,
     sweep,
 )
-from ._wear_prediction import Comparison, WearPrediction, compare, predict_wear
+from ._wear_prediction import WearComparison, WearPrediction, compare_wear, predict_wear
 from ._wear_report import plot_wear_profile, wear_profile_section
 
 __all__ = [
     "Analysis",
-    "Comparison",
     "ElementConvergence",
     "GridTransform",
     "PaperStudy",
@@ -38,10 +37,11 @@ __all__ = [
     "StudySettings",
     "SweepStoreBusy",
     "SweepStoreMismatch",
+    "WearComparison",
     "WearPrediction",
     "bifurcation",
     "chaos_map",
-    "compare",
+    "compare_wear",
     "dask_client",
     "element_convergence",
     "grid_transforms",

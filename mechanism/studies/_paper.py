@@ -46,7 +46,7 @@ from mechanism.core.scene import ClearanceRevolute
 
 from ._convergence import element_convergence
 from ._sweep import Analysis, dask_client, register_grid_transform, stroboscopic_points, sweep
-from ._wear_prediction import compare, predict_wear
+from ._wear_prediction import compare_wear, predict_wear
 from ._wear_report import wear_profile_section
 
 __all__ = ["PaperStudy", "StudySettings", "paper_tables", "run_paper_study"]
@@ -397,12 +397,12 @@ def _trajectory(ds: xr.Dataset, store: Path, **sel: Any) -> Path | None:
 
 
 def _wear_table(before: Path, after: Path, discard_revolutions: float) -> pd.DataFrame:
-    """Rows "before wear"/"after wear" from :func:`mechanism.compare`, in the paper's units."""
+    """Rows "before wear"/"after wear" from :func:`mechanism.compare_wear`, in the paper's units."""
     with (
         xr.open_dataset(before, engine="h5netcdf") as b,
         xr.open_dataset(after, engine="h5netcdf") as a,
     ):
-        table = compare(b.load(), a.load(), discard_revolutions=discard_revolutions).table
+        table = compare_wear(b.load(), a.load(), discard_revolutions=discard_revolutions).table
     rows: dict[str, dict[str, float]] = {"before wear": {}, "after wear": {}}
     for col in COLUMNS:
         if col in _FROM_SWEEP:
@@ -638,7 +638,7 @@ def run_paper_study(
         None if after is None else _trajectory(after, after_store, **{"drive.speed_rpm": 150})
     )
     if before_path is not None and after_path is not None:
-        # the before/after table is mechanism.compare's (same definitions as the sweep's)
+        # the before/after table is mechanism.compare_wear's (same definitions as the sweep's)
         tables["wear"] = _wear_table(before_path, after_path, settings.discard_revolutions)
     for rpm, key in ((150, "clearance"), (90, "clearance_90rpm")):
         tables[key] = _frame(

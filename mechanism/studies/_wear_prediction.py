@@ -1,4 +1,4 @@
-"""Wear prediction: ``predict_wear`` (cycle extrapolation) and ``compare`` (before/after).
+"""Wear prediction: ``predict_wear`` (cycle extrapolation) and ``compare_wear`` (before/after).
 
 The wear of one run (:func:`mechanism.core.wear.run_wear`) is part of the core; this study
 builds on it:
@@ -6,7 +6,7 @@ builds on it:
 * :func:`predict_wear` — the update loop of paper-model §2.7 (Flores 2009; Mukras 2010):
   settle, accumulate one cycle's wear, extrapolate over a block of cycles with the depth
   increment limited relative to the clearance, smooth, update the profile, repeat.
-* :func:`compare` — the response metrics of paper-model §2.10 before and after wear, side
+* :func:`compare_wear` — the response metrics of paper-model §2.10 before and after wear, side
   by side with their ratios (metric definitions shared with sweeps, ``_metrics.py``).
 
 See ``docs/wear.md``.
@@ -30,9 +30,9 @@ from mechanism.core.scene import ClearanceRevolute
 from mechanism.core.wear import SURFACES, WornProfile, clearance_joint, run_wear, surface_angle
 
 __all__ = [
-    "Comparison",
+    "WearComparison",
     "WearPrediction",
-    "compare",
+    "compare_wear",
     "predict_wear",
 ]
 
@@ -307,12 +307,12 @@ def _prediction_dataset(
     )
 
 
-# --------------------------------------------------------------------------- compare
+# --------------------------------------------------------------------------- compare_wear
 
 
 @dataclass(frozen=True, kw_only=True, eq=False)
-class Comparison:
-    """Response metrics before and after wear with their ratios (:func:`compare`).
+class WearComparison:
+    """Response metrics before and after wear with their ratios (:func:`compare_wear`).
 
     ``table`` is a pandas DataFrame indexed by metric with columns ``before``, ``after``,
     ``ratio`` (after/before) and ``units``; rod strains appear as
@@ -354,9 +354,9 @@ def _metric_rows(traj: xr.Dataset, discard: float) -> dict[str, tuple[float, str
     return rows
 
 
-def compare(
+def compare_wear(
     before: xr.Dataset, after: xr.Dataset, *, discard_revolutions: float = 1.0
-) -> Comparison:
+) -> WearComparison:
     """The paper's response metrics of two trajectories side by side, with ratios.
 
     Displacement error, speed error, peak contact force, maximum penetration, signed
@@ -375,7 +375,7 @@ def compare(
 
     Returns
     -------
-    Comparison
+    WearComparison
 
     Examples
     --------
@@ -383,7 +383,7 @@ def compare(
     >>> t = np.linspace(0.0, 1.0, 5)
     >>> a = xr.Dataset({"contact_force": ("time", [0.0, 1.0, 2.0, 1.0, 0.0])}, {"time": t})
     >>> b = a.assign(contact_force=2.0 * a.contact_force)
-    >>> float(compare(a, b, discard_revolutions=0).table.loc["peak_contact_force", "ratio"])
+    >>> float(compare_wear(a, b, discard_revolutions=0).table.loc["peak_contact_force", "ratio"])
     2.0
     """
     for label, ds in (("before", before), ("after", after)):
@@ -403,4 +403,4 @@ def compare(
         {"before": b, "after": a, "ratio": ratio, "units": [rb[k][1] for k in index]},
         index=pd.Index(index, name="metric"),
     )
-    return Comparison(table=table, discard_revolutions=discard)
+    return WearComparison(table=table, discard_revolutions=discard)

@@ -16,7 +16,7 @@ import pandas as pd
 import xarray as xr
 
 from chaoskit import ReportFigure, ReportSection, ReportTable
-from chaoskit.report import MISSING
+from chaoskit.reporting import MISSING
 
 __all__ = ["plot_wear_profile", "wear_profile_section"]
 
@@ -178,7 +178,7 @@ def wear_profile_section(
 
     Returns
     -------
-    chaoskit.report.ReportSection
+    chaoskit.ReportSection
         Add it to a report with :meth:`chaoskit.Report.with_sections`.
     """
     out: list[Any] = []

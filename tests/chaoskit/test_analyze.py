@@ -8,7 +8,7 @@ import xarray as xr
 
 import chaoskit
 from chaoskit import analyze, classify_variables, systems, verdict_table
-from chaoskit.classify._analyze import FIELDS
+from chaoskit.verdict._analyze import FIELDS
 
 
 def _henon_dataset(n: int = 800, a: float = 1.4) -> xr.Dataset:

@@ -10,7 +10,7 @@ import xarray as xr
 
 import chaoskit
 from chaoskit import SectionStructure, Verdict, VerdictRule, classify, systems
-from chaoskit.classify._verdict import combine
+from chaoskit.verdict._verdict import combine
 from tests.chaoskit.test_sections import duffing_dataset
 from tests.chaoskit.test_surrogates import ar1
 

@@ -23,14 +23,14 @@ from PIL import Image
 
 import chaoskit
 from chaoskit import systems
-from chaoskit.report import (
+from chaoskit.reporting import (
     ReportFigure,
     ReportTable,
     SweepMap,
     format_number,
     parse_variable,
 )
-from chaoskit.report._build import select_series
+from chaoskit.reporting._build import select_series
 
 OMEGA = 1.2
 DRIVE = 2 * np.pi / OMEGA

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from chaoskit import SurrogateResult, iaaft_surrogates, surrogate_test, systems
-from chaoskit.classify._surrogates import match_ends, prediction_error
+from chaoskit.verdict._surrogates import match_ends, prediction_error
 
 
 def ar1(n: int, phi: float, seed: int) -> np.ndarray:

@@ -15,7 +15,11 @@ import chaoskit
 import mechanism
 import mechanism.core._simulate
 from mechanism.cli import app
+from mechanism.core import _status as st
 from mechanism.core.integrate import Dopri5, GeneralizedAlpha, ScipyIVP, resolve_method
+from mechanism.core.integrate import _kernels as ik
+from mechanism.core.model import _kernels as k
+from mechanism.core.model._assemble import assemble, initial_state
 from tests.mechanism.scenes import rigid_paper, rotating_guide, s3
 
 CLEARANCE_VARS = (
@@ -257,3 +261,24 @@ def test_paper_scene_runs_three_revolutions_with_kilonewton_contact_forces() -> 
     assert float(late.in_contact.mean()) > 0.5
     assert ds.constraint_violation.values.max() < 1e-7
     assert np.abs(late.driving_torque.values).max() > 10.0
+
+
+def test_one_status_table_for_the_model_kernels_and_the_time_loops() -> None:
+    codes = [getattr(st, name) for name in st.__all__ if name.startswith("STATUS_")]
+    assert len(set(codes)) == len(codes) == 7 and set(st.MESSAGES) == set(codes)
+    assert all(c < 0 for c in codes if c not in (st.STATUS_OK, st.STATUS_RUNNING))
+    model = assemble(mechanism.load_scene("slider-crank"))
+    q, v = initial_state(model)
+    y = np.concatenate([q, v])
+    y[0] = np.nan  # a non-finite state: the model kernel and the loop report the same code
+    counters = np.zeros(k.CNT_COLUMNS, dtype=np.int64)
+    vimp = np.zeros(0)
+    acc = np.zeros(model.n_dof)
+    ws = model.workspace()
+    n = model.n_dof
+    assert k.accelerations(model.kernel, ws, 0.0, y[:n], y[n:], vimp, acc, counters) == (
+        st.STATUS_NONFINITE
+    )
+    k1, state = np.zeros_like(y), np.zeros(4)
+    status = ik.dopri5_start(model.kernel, ws, 0.0, y, k1, vimp, state, counters, 1e-6, 1e-8, 1e-3)
+    assert status == st.STATUS_NONFINITE

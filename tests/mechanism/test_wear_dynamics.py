@@ -277,7 +277,7 @@ def test_paper_peak_force_ratio_reaches_the_paper_value(paper):
     )
     before = mechanism.simulate(pred.scene, revolutions=8)
     after = mechanism.simulate(pred.worn_scene, revolutions=8)
-    table = mechanism.compare(before, after, discard_revolutions=1.0).table
+    table = mechanism.compare_wear(before, after, discard_revolutions=1.0).table
     assert table.loc["peak_contact_force", "ratio"] > 2.54
     for name in ("max_penetration", "max_speed_error", "max_displacement_error"):
         assert table.loc[name, "ratio"] > 1.2, name
@@ -304,7 +304,7 @@ def test_compare_ratios_are_after_over_before(worn_run):
     for name, factor in (("contact_force", 2.54), ("penetration", 1.82), ("speed_error", 1.57)):
         after[name] = factor * before[name]
     after["driving_torque"] = 1.67 * before["driving_torque"]
-    cmp_ = mechanism.compare(before, after, discard_revolutions=0)
+    cmp_ = mechanism.compare_wear(before, after, discard_revolutions=0)
     table = cmp_.table
     expected = {
         "peak_contact_force": 2.54,
@@ -322,10 +322,10 @@ def test_compare_ratios_are_after_over_before(worn_run):
     np.testing.assert_allclose(out.ratio.sel(metric="peak_contact_force"), 2.54)
     assert out.units.sel(metric="peak_contact_force").item() == "N"
     # a real trajectory against itself
-    same = mechanism.compare(ds, ds, discard_revolutions=0.1).table
+    same = mechanism.compare_wear(ds, ds, discard_revolutions=0.1).table
     np.testing.assert_allclose(same["ratio"].to_numpy(float), 1.0)
     with pytest.raises(ValueError, match="discard_revolutions"):
-        mechanism.compare(ds, ds, discard_revolutions=-1)
+        mechanism.compare_wear(ds, ds, discard_revolutions=-1)
 
 
 def test_run_wear_window_only_counts_its_samples(worn_run):

@@ -1,6 +1,6 @@
-"""Response metrics of a trajectory (paper-model §2.10), shared by sweeps and ``compare``.
+"""Response metrics of a trajectory (paper-model §2.10), shared by sweeps and ``compare_wear``.
 
-One definition of each metric: ``sweep`` stores them per grid point, ``compare`` and
+One definition of each metric: ``sweep`` stores them per grid point, ``compare_wear`` and
 ``predict_wear`` put them side by side before and after wear.
 """
 

@@ -1,8 +1,8 @@
-"""Render a :class:`~chaoskit.report.Report` to HTML and Markdown with Jinja2 templates.
+"""Render a :class:`~chaoskit.Report` to HTML and Markdown with Jinja2 templates.
 
 Both renderers take their cell text from :meth:`ReportTable.display`, so the page and its
 Markdown twin print the same strings. The templates ship as package data in
-``chaoskit/report/templates/``.
+``chaoskit/reporting/templates/``.
 """
 
 from __future__ import annotations
@@ -27,7 +27,7 @@ def _environment() -> Environment:
     from jinja2 import Environment, PackageLoader, StrictUndefined, select_autoescape
 
     return Environment(
-        loader=PackageLoader("chaoskit.report", "templates"),
+        loader=PackageLoader("chaoskit.reporting", "templates"),
         autoescape=select_autoescape(["html", "html.j2"]),
         undefined=StrictUndefined,
         trim_blocks=True,

@@ -1,7 +1,7 @@
 """The verdict and its evidence: 0–1 test, IAAFT surrogates, section structure, classify.
 
-Note that the top-level name ``chaoskit.classify`` is the function; import the other names
-from ``chaoskit`` directly (they are all re-exported there).
+The subpackage is ``chaoskit.verdict``; every name is re-exported from ``chaoskit``
+(``chaoskit.classify`` is the function that returns a :class:`Verdict`).
 """
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""Reports: analyses, figures and tables of one or more trajectories as HTML and Markdown.
+"""Reporting: analyses, figures and tables of one or more trajectories as HTML and Markdown.
 
 :func:`report` analyses each trajectory (one state each, e.g. before and after wear),
 draws the figures with :mod:`chaoskit.plot` and assembles a frozen :class:`Report` of
@@ -8,8 +8,8 @@ maps and bifurcation diagrams the caller adds. A :class:`Report` is a list of
 (:meth:`Report.with_sections`); :meth:`Report.write` writes a self-contained HTML page and
 its Markdown twin. See ``docs/reports.md``.
 
-Note that the top-level name ``chaoskit.report`` is the function; import the classes from
-``chaoskit`` directly.
+The subpackage is ``chaoskit.reporting``; its main names are re-exported from ``chaoskit``
+(``chaoskit.report`` is the function).
 """
 
 from __future__ import annotations

@@ -33,9 +33,9 @@ from .._io import _atomic_write, load_trajectory
 from .._portraits import DERIVATIVE_NAMES, phase_portrait
 from .._selection import VariableSpec, parse_variable, select_series
 from .._version import __version__
-from ..classify import classify_variables, verdict_table
-from ..classify._rng import as_generator
 from ..sections import poincare_section, stroboscopic_map
+from ..verdict import classify_variables, verdict_table
+from ..verdict._rng import as_generator
 from ._items import MISSING, ReportCode, ReportFigure, ReportSection, ReportTable, format_number
 from ._render import render_html, render_markdown
 

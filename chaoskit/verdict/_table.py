@@ -1,6 +1,6 @@
 """The table of verdicts: one row of scalars per variable, with units and long names.
 
-Shared by :meth:`Verdict.to_dataset` and :func:`chaoskit.classify.verdict_table`; it knows
+Shared by :meth:`Verdict.to_dataset` and :func:`chaoskit.verdict.verdict_table`; it knows
 the fields of a verdict's summary, not how a verdict is reached.
 """
 
