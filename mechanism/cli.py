@@ -152,11 +152,26 @@ def simulate_command(
     rtol: float | None = typer.Option(None, "--rtol", help="Relative tolerance."),
     atol: float | None = typer.Option(None, "--atol", help="Absolute tolerance."),
     output_step: float | None = typer.Option(
-        None, "--output-step", help="Output spacing in s (default drive period / 10000)."
+        None,
+        "--output-step",
+        help="Output spacing in s (default drive period / 10000; / 1000 for metrics and "
+        "sections, where it only sets the grid of the slider errors).",
+    ),
+    record: str = typer.Option(
+        "full",
+        "--record",
+        help="full (the trajectory), metrics (response metrics only) or sections "
+        "(stroboscopic points and the metrics).",
+    ),
+    discard: float = typer.Option(
+        0.0, "--discard", help="Revolutions treated as transient by metrics and sections."
     ),
     progress: bool = typer.Option(True, "--progress/--no-progress", help="Show a progress bar."),
 ) -> None:
-    """Simulate a scene and write its trajectory (netCDF by default)."""
+    """Simulate a scene and write its trajectory, metrics or sections (netCDF by default)."""
+    if record != "full" and not output.endswith(".nc"):
+        typer.echo(f"Error: record={record!r} is written as netCDF (.nc); got {output}", err=True)
+        raise typer.Exit(code=2)
     resolved = load_scene_option(scene, set_options)
     try:
         ds = simulate(
@@ -167,11 +182,26 @@ def simulate_command(
             rtol=rtol,
             atol=atol,
             output_step=output_step,
+            record=record,  # type: ignore[arg-type]
+            discard=discard,
             progress=progress,
         )
     except (ValueError, SimulationError) as exc:
         typer.echo(f"Error: {exc}", err=True)
         raise typer.Exit(code=1) from None
+    if record != "full":
+        if not output.endswith(".nc"):
+            typer.echo(
+                f"Error: record={record!r} is written as netCDF (.nc); got {output}", err=True
+            )
+            raise typer.Exit(code=2)
+        write_netcdf(ds, output)
+        what = f"{ds.sizes['crossing']} sections, " if record == "sections" else ""
+        typer.echo(
+            f"{output}: {what}peak contact force {float(ds['peak_contact_force']):.6g} N, "
+            f"{ds.attrs['solver_steps']} steps ({ds.attrs['solver_rejected_steps']} rejected)"
+        )
+        return
     path = chaoskit.save_trajectory(ds, output)
     typer.echo(
         f"{path}: {ds.sizes['time']} samples, t_end = {ds.attrs['t_end']:.6g} s, "
@@ -313,6 +343,21 @@ def parse_grid_options(options: Sequence[str]) -> dict[str, list[Any]]:
     return grid
 
 
+def _scheduler_option() -> Any:
+    return typer.Option(
+        None,
+        "--scheduler",
+        metavar="ADDRESS",
+        help="dask scheduler address (tcp://host:8786); 'serial' runs in this process.",
+    )
+
+
+def _workers_option() -> Any:
+    return typer.Option(
+        None, "--workers", min=1, help="Workers of the local dask cluster (default: CPU count)."
+    )
+
+
 @app.command("sweep")
 def sweep_command(
     scene: str = typer.Argument(..., help="Built-in scene name or path of a TOML scene."),
@@ -321,15 +366,8 @@ def sweep_command(
         ..., "--store", help="Folder for the point files and summary.nc; a re-run resumes."
     ),
     revolutions: float = typer.Option(3.0, "--revolutions", help="Crank revolutions per point."),
-    scheduler: str | None = typer.Option(
-        None,
-        "--scheduler",
-        metavar="ADDRESS",
-        help="dask scheduler address (tcp://host:8786); 'serial' runs in this process.",
-    ),
-    workers: int | None = typer.Option(
-        None, "--workers", min=1, help="Workers of the local dask cluster (default: CPU count)."
-    ),
+    scheduler: str | None = _scheduler_option(),
+    workers: int | None = _workers_option(),
     set_options: list[str] | None = typer.Option(None, "--set", metavar="KEY=VALUE", help=SET_HELP),
     variables: list[str] | None = typer.Option(
         None, "--var", help="Variable for chaoskit.analyze (default: eccentricity_x and _y)."
@@ -400,15 +438,8 @@ def bifurcation_command(
     figure: Path | None = typer.Option(
         None, "--figure", help="Draw the orbit diagram (.png, .pdf, .svg)."
     ),
-    scheduler: str | None = typer.Option(
-        None,
-        "--scheduler",
-        metavar="ADDRESS",
-        help="dask scheduler address (tcp://host:8786); 'serial' runs in this process.",
-    ),
-    workers: int | None = typer.Option(
-        None, "--workers", min=1, help="Workers of the local dask cluster (default: CPU count)."
-    ),
+    scheduler: str | None = _scheduler_option(),
+    workers: int | None = _workers_option(),
     set_options: list[str] | None = typer.Option(None, "--set", metavar="KEY=VALUE", help=SET_HELP),
     progress: bool = typer.Option(True, "--progress/--no-progress", help="Progress bar."),
 ) -> None:
