@@ -31,6 +31,8 @@ def main(
 
 
 # --- scenes (issue 5, scene loading): commands below this line only ---
+import os  # noqa: E402
+from pathlib import Path  # noqa: E402
 from typing import TYPE_CHECKING, Any  # noqa: E402
 
 if TYPE_CHECKING:
@@ -77,6 +79,46 @@ def parse_set_options(options: Sequence[str] | None) -> dict[str, Any]:
     return changes
 
 
+NETCDF_SUFFIXES = (".nc", ".nc4", ".netcdf", ".h5", ".hdf5")
+
+
+def check_output_option(output: str | os.PathLike[str]) -> Path:
+    """The ``-o`` path of a command that writes netCDF, checked before any work: a netCDF
+    suffix, not a folder, in a folder that exists or can be made and is writable. Exits
+    with status 2 and one line naming the problem otherwise."""
+    path = Path(output)
+    problem = None
+    if path.suffix.lower() not in NETCDF_SUFFIXES:
+        problem = (
+            f"{path}: the output is netCDF; give a name ending in .nc (got "
+            f"{path.suffix or 'no suffix'}). Multi-dimensional outputs do not fit CSV or npz; "
+            "select 1-D series and convert them with chaoskit.save_trajectory."
+        )
+    elif path.is_dir():
+        problem = f"{path} is a folder; give a file name ending in .nc."
+    else:
+        parent = path.parent
+        while not parent.exists() and parent != parent.parent:
+            parent = parent.parent
+        if not parent.is_dir():
+            problem = f"cannot create {path}: {parent} is not a folder."
+        elif not os.access(parent, os.W_OK | os.X_OK):
+            problem = f"cannot write {path}: {parent} is not writable."
+    if problem is not None:
+        typer.echo(f"Error: {problem}", err=True)
+        raise typer.Exit(code=2)
+    return path
+
+
+def write_output(ds: Any, path: Path, writer: Any = write_netcdf) -> None:
+    """Write ``ds`` with ``writer``; a failure (a full disk) is one line and exit status 1."""
+    try:
+        writer(ds, path)
+    except OSError as exc:
+        typer.echo(f"Error: cannot write {path}: {exc}", err=True)
+        raise typer.Exit(code=1) from None
+
+
 def load_scene_option(scene: str, set_options: Sequence[str] | None = None) -> Scene:
     """Load ``scene`` (built-in name or TOML path) and apply ``--set`` options; exit with
     status 2 and the scene error on stderr when it is invalid. For all scene commands."""
@@ -119,7 +161,7 @@ def show_command(
 @app.command("simulate")
 def simulate_command(
     scene: str = typer.Argument(..., help="Built-in scene name or path of a TOML scene."),
-    output: str = typer.Option(..., "-o", "--output", help="Trajectory file (.nc, .csv, .npz)."),
+    output: str = typer.Option(..., "-o", "--output", help="Trajectory file (.nc)."),
     set_options: list[str] | None = typer.Option(None, "--set", metavar="KEY=VALUE", help=SET_HELP),
     revolutions: float | None = typer.Option(
         None, "--revolutions", help="Simulated drive periods (default 1)."
@@ -139,10 +181,11 @@ def simulate_command(
     ),
     progress: bool = typer.Option(True, "--progress/--no-progress", help="Show a progress bar."),
 ) -> None:
-    """Simulate a scene and write its trajectory (netCDF by default)."""
+    """Simulate a scene and write its trajectory (netCDF)."""
     import chaoskit
     from mechanism import SimulationError, simulate
 
+    path = check_output_option(output)
     resolved = load_scene_option(scene, set_options)
     try:
         ds = simulate(
@@ -158,7 +201,7 @@ def simulate_command(
     except (ValueError, SimulationError) as exc:
         typer.echo(f"Error: {exc}", err=True)
         raise typer.Exit(code=1) from None
-    path = chaoskit.save_trajectory(ds, output)
+    write_output(ds, path, chaoskit.save_trajectory)
     typer.echo(
         f"{path}: {ds.sizes['time']} samples, t_end = {ds.attrs['t_end']:.6g} s, "
         f"{ds.attrs['solver_steps']} steps ({ds.attrs['solver_rejected_steps']} rejected), "
@@ -190,6 +233,7 @@ def wear_command(
     """Predict the worn profile (cycle extrapolation) and write it with the worn scene."""
     from mechanism import SimulationError, predict_wear
 
+    path = check_output_option(output)
     resolved = load_scene_option(scene, set_options)
     try:
         pred = predict_wear(
@@ -204,7 +248,7 @@ def wear_command(
         typer.echo(f"Error: {exc}", err=True)
         raise typer.Exit(code=1) from None
     ds = pred.to_dataset()
-    write_netcdf(ds, output)
+    write_output(ds, path)
     force = ds["peak_contact_force"].values
     typer.echo(
         f"{output}: {pred.updates} updates, {float(pred.cycles[-1]):.6g} cycles, "
@@ -237,6 +281,7 @@ def convergence_command(
     """Element-convergence table: extreme rod strains (µε) against elements per rod."""
     from mechanism import SimulationError, element_convergence
 
+    path = None if output is None else check_output_option(output)
     resolved = load_scene_option(scene, set_options)
     try:
         counts = [int(x) for x in elements.split(",") if x.strip()]
@@ -259,13 +304,12 @@ def convergence_command(
         typer.echo(f"Error: {exc}", err=True)
         raise typer.Exit(code=1) from None
     typer.echo(table.to_markdown())
-    if output is not None:
-        write_netcdf(table.to_dataset(), output)
-        typer.echo(f"{output}: written")
+    if path is not None:
+        write_output(table.to_dataset(), path)
+        typer.echo(f"{path}: written")
 
 
 # --- sweeps (issue 8): commands below this line only ---
-from pathlib import Path  # noqa: E402
 
 GRID_HELP = (
     "A swept key and its values, e.g. --grid joints.C.clearance=1e-4,2e-4 "
@@ -358,6 +402,9 @@ def sweep_command(
     except ValueError as exc:
         typer.echo(f"Error: {exc}", err=True)
         raise typer.Exit(code=2) from None
+    except OSError as exc:  # e.g. the disk filled up: nothing more can be recorded
+        typer.echo(f"Error: the sweep stopped: {exc}", err=True)
+        raise typer.Exit(code=1) from None
     status = ds["status"].values.ravel()
     counts = ", ".join(f"{(status == s).sum()} {s}" for s in ("ok", "failed", "diverged"))
     typer.echo(ds.attrs["history"].splitlines()[-1].split(" ", 1)[1])

@@ -133,3 +133,23 @@ def test_when_nothing_can_be_written_the_sweep_stops_with_a_clear_error(
         _sweep(scene, store)
     assert err.value.errno == errno.ENOSPC
     assert not list(store.rglob("*.tmp"))
+
+
+def test_save_scene_is_atomic(tmp_path: Path, monkeypatch) -> None:
+    """A write that fails midway (a full disk) leaves the good scene file in place."""
+    good = mechanism.load_scene("slider-crank")
+    path = mechanism.save_scene(good, tmp_path / "scene.toml")
+    before = path.read_bytes()
+
+    def full(self: Path, text: str, encoding: str | None = None) -> int:
+        with open(self, "w", encoding=encoding) as fh:
+            fh.write(text[: len(text) // 3])
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    monkeypatch.setattr(Path, "write_text", full)
+    with pytest.raises(OSError, match="No space left"):
+        mechanism.save_scene(good.replace({"drive.speed_rpm": 90.0}), path)
+    monkeypatch.undo()
+    assert path.read_bytes() == before
+    assert mechanism.load_scene(path) == good
+    assert [p.name for p in tmp_path.iterdir()] == ["scene.toml"]
