@@ -10,7 +10,7 @@ import pytest
 import xarray as xr
 
 import mechanism
-from mechanism import _sweep_store as store_mod
+from mechanism.studies import _sweep_store as store_mod
 from tests.mechanism import sweep_standins as standins
 
 CLEARANCE = "joints.B.clearance"
