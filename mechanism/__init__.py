@@ -34,11 +34,12 @@ _scenes: list[str] = [
 # --- simulation (issue 5, core): add imports and names below this line only ---
 from .core import (  # noqa: E402
     SimulationError,
+    SimulationWarning,
     integrate,
     simulate,
 )
 
-_simulation: list[str] = ["SimulationError", "integrate", "simulate"]
+_simulation: list[str] = ["SimulationError", "SimulationWarning", "integrate", "simulate"]
 
 # --- contact and wear (issues 5 and 7): add imports and names below this line only ---
 from .core import WornProfile, archard_wear, contact_stiffness, hertz_stiffness  # noqa: E402  # noqa: E402

@@ -31,7 +31,10 @@ def main(
 
 
 # --- scenes (issue 5, scene loading): commands below this line only ---
+import contextlib  # noqa: E402
 import os  # noqa: E402
+import warnings  # noqa: E402
+from collections.abc import Iterator  # noqa: E402
 from pathlib import Path  # noqa: E402
 from typing import TYPE_CHECKING, Any  # noqa: E402
 
@@ -108,6 +111,24 @@ def check_output_option(output: str | os.PathLike[str]) -> Path:
         typer.echo(f"Error: {problem}", err=True)
         raise typer.Exit(code=2)
     return path
+
+
+@contextlib.contextmanager
+def _warnings_as_lines() -> Iterator[None]:
+    """Print each SimulationWarning as one ``Warning: ...`` line on stderr, as it comes."""
+    from mechanism import SimulationWarning
+
+    def show(message: Any, category: Any, *args: Any, **kwargs: Any) -> None:
+        if issubclass(category, SimulationWarning):
+            typer.echo(f"Warning: {message}", err=True)
+        else:
+            default(message, category, *args, **kwargs)
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("always", SimulationWarning)
+        default = warnings.showwarning
+        warnings.showwarning = show
+        yield
 
 
 def write_output(ds: Any, path: Path, writer: Any = write_netcdf) -> None:
@@ -188,16 +209,17 @@ def simulate_command(
     path = check_output_option(output)
     resolved = load_scene_option(scene, set_options)
     try:
-        ds = simulate(
-            resolved,
-            revolutions=revolutions,
-            t_end=t_end,
-            method=method,
-            rtol=rtol,
-            atol=atol,
-            output_step=output_step,
-            progress=progress,
-        )
+        with _warnings_as_lines():
+            ds = simulate(
+                resolved,
+                revolutions=revolutions,
+                t_end=t_end,
+                method=method,
+                rtol=rtol,
+                atol=atol,
+                output_step=output_step,
+                progress=progress,
+            )
     except (ValueError, SimulationError) as exc:
         typer.echo(f"Error: {exc}", err=True)
         raise typer.Exit(code=1) from None

@@ -14,6 +14,7 @@ from chaoskit._validate import check_positive
 from mechanism.core.model._assemble import Model, assemble, initial_state
 from mechanism.core.record._record import to_dataset
 
+from ._run_checks import warn_if_deep_penetration, warn_if_large
 from .integrate import Integration, Integrator, resolve_method
 from .scene import AngleProfileDrive, ConstantSpeedDrive, Scene
 
@@ -199,6 +200,7 @@ def simulate(
     model = assemble(scene)
     integrator = resolve_method(solver.method if method is None else method, model)
     max_step = _max_step(model, output_step)
+    warn_if_large([model, model] if model.clearance_joints else [model], t_out.size, output_step)
     q0, v0 = initial_state(model)
     main = functools.partial(
         _run, model, integrator, np.concatenate([q0, v0]), t_out, rtol=rtol, atol=atol,
@@ -247,6 +249,7 @@ def simulate(
         attrs["drive_period"] = float(period)
         attrs["revolutions"] = float(t_out[-1] / period)
     ds = to_dataset(model, run, ideal_model, ideal_run, attrs=attrs)
+    warn_if_deep_penetration(ds, scene)
     if scene.effects.wear and model.clearance_joints:
         from mechanism.studies._wear_prediction import (
             add_run_wear,  # issue 7: the run's Archard wear

@@ -88,3 +88,14 @@ def test_simulate_write_failure_is_one_line_and_exit_1(
     out = runner.invoke(app, ["simulate", "slider-crank", "-o", str(tmp_path / "new" / "run.nc")])
     assert out.exit_code == 0, out.output
     assert chaoskit.load_trajectory(tmp_path / "new" / "run.nc").sizes["time"] == 10
+
+
+def test_simulate_prints_a_deep_penetration_as_one_warning_line(tmp_path: Path) -> None:
+    out = runner.invoke(
+        app,
+        ["simulate", "slider-crank-clearance", "--set", "joints.B.clearance=1e-7",
+         "--no-progress", "-o", str(tmp_path / "run.nc")],
+    )  # fmt: skip
+    assert out.exit_code == 0, out.output
+    lines = out.stderr.splitlines()
+    assert len(lines) == 1 and lines[0].startswith("Warning: joint B: the largest penetration")
