@@ -40,6 +40,7 @@ import pandas as pd
 import xarray as xr
 
 from ._sweep import Analysis, register_grid_transform, stroboscopic_points, sweep
+from ._sweep_store import point_file
 
 __all__ = ["PaperStudy", "StudySettings", "paper_tables", "run_paper_study"]
 
@@ -385,7 +386,7 @@ def _trajectory(ds: xr.Dataset, store: Path, **sel: Any) -> Path | None:
     point = _point(ds, **sel)
     if str(point["status"].values) != "ok":
         return None
-    return store / str(point["trajectory_file"].values)
+    return point_file(store, str(point["trajectory_file"].values))
 
 
 def _wear_table(before: Path, after: Path, discard_revolutions: float) -> pd.DataFrame:

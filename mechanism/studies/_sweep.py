@@ -705,7 +705,13 @@ def _is_done(store: Path, pid: str) -> bool:
         return False
     assert summary is not None
     rel = str(np.asarray(summary["trajectory_file"].values).item())
-    return bool(rel) and _store.readable_trajectory(store / rel)  # present is not enough
+    if not rel:
+        return False
+    try:
+        path = _store.point_file(store, rel)
+    except ValueError:
+        return False  # a summary naming a file elsewhere: run the point again
+    return _store.readable_trajectory(path)  # present is not enough
 
 
 def sweep(
@@ -1113,7 +1119,7 @@ def stroboscopic_points(
     for index in np.ndindex(shape):
         if str(status[index]) != "ok" or not str(files[index]):
             continue
-        traj = chaoskit.load_trajectory(root / str(files[index]))
+        traj = chaoskit.load_trajectory(_store.point_file(root, str(files[index])))
         columns = {}
         for name in names:
             if name not in traj:

@@ -186,3 +186,13 @@ def test_sweep_analysis_takes_the_selection_syntax(scene, tmp_path: Path) -> Non
                                analysis=mechanism.Analysis(variables=("strain",)))  # fmt: skip
     assert str(two_dims["status"].values.item()) == "failed"
     assert "strain[rod=...]" in str(two_dims["message"].values.item())
+
+
+def test_a_summary_naming_a_file_outside_the_store_is_not_trusted(tmp_path: Path) -> None:
+    store = tmp_path / "store"
+    (store / "points").mkdir(parents=True)
+    outside = tmp_path / "elsewhere.nc"
+    for bad in ("../elsewhere.nc", str(outside), "points/../../elsewhere.nc"):
+        with pytest.raises(ValueError, match="outside itself"):
+            store_mod.point_file(store, bad)
+    assert store_mod.point_file(store, "points/a.nc") == (store / "points" / "a.nc").resolve()
