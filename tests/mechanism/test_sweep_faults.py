@@ -159,7 +159,7 @@ def test_save_scene_is_atomic(tmp_path: Path, monkeypatch) -> None:
 def test_sweep_analysis_takes_the_selection_syntax(scene, tmp_path: Path) -> None:
     """``eccentricity_x[joint=B]`` selects as ``joint="B"`` does; the rows keep the spec."""
     grid = {CLEARANCE: [2e-4]}
-    opts = {"n_surrogates": 3}
+    opts = {"n_surrogates": 19}
     by_spec = _sweep(
         scene,
         tmp_path / "a",
