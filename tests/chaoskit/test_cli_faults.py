@@ -5,7 +5,6 @@ Exit codes: 0 success; 2 bad input (nothing analysed); 1 when every variable fai
 
 from __future__ import annotations
 
-import os
 import subprocess
 import sys
 from pathlib import Path
@@ -115,22 +114,6 @@ def test_analyze_takes_time_dt_and_step(tmp_path: Path) -> None:
     assert out.exit_code == 0, out.output
     out = runner.invoke(app, ["analyze", str(secs), "--time", "nope"])
     assert out.exit_code == 2 and "time column 'nope' not found" in out.stderr
-
-
-def test_demo_works_outside_the_repository(tmp_path: Path) -> None:
-    env = {**os.environ, "PYTHONPATH": str(REPO), "NUMBA_NUM_THREADS": "1"}
-    proc = subprocess.run(
-        [sys.executable, "-m", "chaoskit.cli", "demo"],
-        cwd=tmp_path,
-        env=env,
-        capture_output=True,
-        text=True,
-        timeout=600,
-    )
-    assert proc.returncode == 0, proc.stderr
-    rows = {line.split()[0]: line.split()[1] for line in proc.stdout.splitlines()
-            if line[:2] in ("x ", "y ", "z ")}  # fmt: skip
-    assert rows == {"x": "chaotic", "y": "chaotic", "z": "chaotic"}
 
 
 def test_sample_path_finds_every_sample_and_refuses_others() -> None:
