@@ -186,3 +186,23 @@ def test_analyze_expands_or_selects_multi_dimensional_variables(tmp_path: Path) 
     out = runner.invoke(app, ["report", path, "--var", "eccentricity_x",
                               "-o", str(tmp_path / "r.html")])  # fmt: skip
     assert out.exit_code == 2 and "eccentricity_x[joint=...]" in out.stderr
+
+
+def test_report_refuses_a_bad_output_before_analysing(tmp_path: Path, monkeypatch) -> None:
+    import sys
+
+    report_pkg = sys.modules["chaoskit.report"]  # the name chaoskit.report is the function
+
+    def refuse(*args, **kwargs):
+        raise AssertionError("the output should have been refused before the analysis")
+
+    monkeypatch.setattr(report_pkg, "report", refuse)
+    good = _files(tmp_path)["truncated"].with_name("good.nc")
+    folder = tmp_path / "out"
+    folder.mkdir()
+    a_file = tmp_path / "notes.txt"
+    a_file.write_text("x")
+    for output, message in [(folder, "is a folder"), (a_file / "r.html", "is not a folder")]:
+        out = runner.invoke(app, ["report", str(good), "--var", "x", "-o", str(output)])
+        assert out.exit_code == 2, out.output
+        assert out.stderr.count("\n") == 1 and message in out.stderr
