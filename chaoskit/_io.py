@@ -135,9 +135,9 @@ def _from_table(
             t = float(dt) * np.arange(len(frame), dtype=np.float64)
         else:
             raise ValueError(
-                f"no time column in {what} (looked for {list(_TIME_NAMES)}); pass time='column', "
-                "dt=<sampling interval in s>, or step='column' for a map (step='step' numbers "
-                "the rows)."
+                f"no time column in {what} (looked for {list(_TIME_NAMES)}); pass "
+                "time='column' (command line: --time), dt=<sampling interval in s> (--dt), or "
+                "step='column' for a map (--step; step='step' numbers the rows)."
             )
         index = ("time", t)
     for col in frame.columns:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import shlex
 import sys
 from collections.abc import Iterator
@@ -277,6 +278,21 @@ def demo(
     )
 
 
+def _check_output(path: Path) -> None:
+    """Refuse, before any analysis, an output that is a folder or lies in an unwritable one."""
+    if path.is_dir():
+        raise ValueError(
+            f"{path} is a folder; give the report's file name, e.g. {path}/report.html"
+        )
+    parent = path.parent
+    while not parent.exists() and parent != parent.parent:
+        parent = parent.parent
+    if not parent.is_dir():
+        raise ValueError(f"cannot create {path}: {parent} is not a folder.")
+    if not os.access(parent, os.W_OK | os.X_OK):
+        raise ValueError(f"cannot write {path}: {parent} is not writable.")
+
+
 def _parse_selections(items: list[str]) -> dict[str, str]:
     out: dict[str, str] = {}
     for item in items:
@@ -343,6 +359,7 @@ def report(
 ) -> None:
     """Analyse trajectories and write an HTML report with its Markdown twin."""
     with _user_errors():
+        _check_output(output)
         reference = _read_reference(chaos_reference) if chaos_reference is not None else None
         rep = build_report(
             [str(p) for p in paths],

@@ -22,6 +22,7 @@ from .core import (
     Scene,
     SceneError,
     SimulationError,
+    SimulationWarning,
     WornProfile,
     archard_wear,
     beam_modes,
@@ -76,7 +77,7 @@ _scenes = [
     "scene",
     "scene_from_json",
 ]
-_simulation = ["SimulationError", "integrate", "simulate"]
+_simulation = ["SimulationError", "SimulationWarning", "integrate", "simulate"]
 _contact_wear = [
     "WearComparison",
     "WearPrediction",

@@ -18,6 +18,7 @@ from mechanism import (
     Scene,
     SceneError,
     SimulationError,
+    SimulationWarning,
     bifurcation,
     element_convergence,
     list_scenes,
@@ -56,6 +57,10 @@ def main(
 
 
 # --- scenes (issue 5, scene loading): commands below this line only ---
+import contextlib  # noqa: E402
+import os  # noqa: E402
+import warnings  # noqa: E402
+from collections.abc import Iterator  # noqa: E402
 from typing import TYPE_CHECKING  # noqa: E402
 
 if TYPE_CHECKING:
@@ -98,6 +103,63 @@ def parse_set_options(options: Sequence[str] | None) -> dict[str, Any]:
     return changes
 
 
+NETCDF_SUFFIXES = (".nc", ".nc4", ".netcdf", ".h5", ".hdf5")
+
+
+def check_output_option(output: str | os.PathLike[str]) -> Path:
+    """The ``-o`` path of a command that writes netCDF, checked before any work: a netCDF
+    suffix, not a folder, in a folder that exists or can be made and is writable. Exits
+    with status 2 and one line naming the problem otherwise."""
+    path = Path(output)
+    problem = None
+    if path.suffix.lower() not in NETCDF_SUFFIXES:
+        problem = (
+            f"{path}: the output is netCDF; give a name ending in .nc (got "
+            f"{path.suffix or 'no suffix'}). Multi-dimensional outputs do not fit CSV or npz; "
+            "select 1-D series and convert them with chaoskit.save_trajectory."
+        )
+    elif path.is_dir():
+        problem = f"{path} is a folder; give a file name ending in .nc."
+    else:
+        parent = path.parent
+        while not parent.exists() and parent != parent.parent:
+            parent = parent.parent
+        if not parent.is_dir():
+            problem = f"cannot create {path}: {parent} is not a folder."
+        elif not os.access(parent, os.W_OK | os.X_OK):
+            problem = f"cannot write {path}: {parent} is not writable."
+    if problem is not None:
+        typer.echo(f"Error: {problem}", err=True)
+        raise typer.Exit(code=2)
+    return path
+
+
+@contextlib.contextmanager
+def _warnings_as_lines() -> Iterator[None]:
+    """Print each SimulationWarning as one ``Warning: ...`` line on stderr, as it comes."""
+
+    def show(message: Any, category: Any, *args: Any, **kwargs: Any) -> None:
+        if issubclass(category, SimulationWarning):
+            typer.echo(f"Warning: {message}", err=True)
+        else:
+            default(message, category, *args, **kwargs)
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("always", SimulationWarning)
+        default = warnings.showwarning
+        warnings.showwarning = show
+        yield
+
+
+def write_output(ds: Any, path: Path, writer: Any = write_netcdf) -> None:
+    """Write ``ds`` with ``writer``; a failure (a full disk) is one line and exit status 1."""
+    try:
+        writer(ds, path)
+    except OSError as exc:
+        typer.echo(f"Error: cannot write {path}: {exc}", err=True)
+        raise typer.Exit(code=1) from None
+
+
 def load_scene_option(scene: str, set_options: Sequence[str] | None = None) -> Scene:
     """Load ``scene`` (built-in name or TOML path) and apply ``--set`` options; exit with
     status 2 and the scene error on stderr when it is invalid. For all scene commands."""
@@ -136,7 +198,7 @@ def show_command(
 @app.command("simulate")
 def simulate_command(
     scene: str = typer.Argument(..., help="Built-in scene name or path of a TOML scene."),
-    output: str = typer.Option(..., "-o", "--output", help="Trajectory file (.nc, .csv, .npz)."),
+    output: str = typer.Option(..., "-o", "--output", help="Trajectory file (.nc)."),
     set_options: list[str] | None = typer.Option(None, "--set", metavar="KEY=VALUE", help=SET_HELP),
     revolutions: float | None = typer.Option(
         None, "--revolutions", help="Simulated drive periods (default 1)."
@@ -168,41 +230,35 @@ def simulate_command(
     ),
     progress: bool = typer.Option(True, "--progress/--no-progress", help="Show a progress bar."),
 ) -> None:
-    """Simulate a scene and write its trajectory, metrics or sections (netCDF by default)."""
-    if record != "full" and not output.endswith(".nc"):
-        typer.echo(f"Error: record={record!r} is written as netCDF (.nc); got {output}", err=True)
-        raise typer.Exit(code=2)
+    """Simulate a scene and write its trajectory, metrics or sections (netCDF)."""
+    path = check_output_option(output)
     resolved = load_scene_option(scene, set_options)
     try:
-        ds = simulate(
-            resolved,
-            revolutions=revolutions,
-            t_end=t_end,
-            method=method,
-            rtol=rtol,
-            atol=atol,
-            output_step=output_step,
-            record=record,  # type: ignore[arg-type]
-            discard=discard,
-            progress=progress,
-        )
+        with _warnings_as_lines():
+            ds = simulate(
+                resolved,
+                revolutions=revolutions,
+                t_end=t_end,
+                method=method,
+                rtol=rtol,
+                atol=atol,
+                output_step=output_step,
+                record=record,  # type: ignore[arg-type]
+                discard=discard,
+                progress=progress,
+            )
     except (ValueError, SimulationError) as exc:
         typer.echo(f"Error: {exc}", err=True)
         raise typer.Exit(code=1) from None
     if record != "full":
-        if not output.endswith(".nc"):
-            typer.echo(
-                f"Error: record={record!r} is written as netCDF (.nc); got {output}", err=True
-            )
-            raise typer.Exit(code=2)
-        write_netcdf(ds, output)
+        write_output(ds, path)
         what = f"{ds.sizes['crossing']} sections, " if record == "sections" else ""
         typer.echo(
-            f"{output}: {what}peak contact force {float(ds['peak_contact_force']):.6g} N, "
+            f"{path}: {what}peak contact force {float(ds['peak_contact_force']):.6g} N, "
             f"{ds.attrs['solver_steps']} steps ({ds.attrs['solver_rejected_steps']} rejected)"
         )
         return
-    path = chaoskit.save_trajectory(ds, output)
+    write_output(ds, path, chaoskit.save_trajectory)
     typer.echo(
         f"{path}: {ds.sizes['time']} samples, t_end = {ds.attrs['t_end']:.6g} s, "
         f"{ds.attrs['solver_steps']} steps ({ds.attrs['solver_rejected_steps']} rejected), "
@@ -232,6 +288,7 @@ def wear_command(
     progress: bool = typer.Option(True, "--progress/--no-progress", help="Show a progress bar."),
 ) -> None:
     """Predict the worn profile (cycle extrapolation) and write it with the worn scene."""
+    path = check_output_option(output)
     resolved = load_scene_option(scene, set_options)
     try:
         pred = predict_wear(
@@ -246,7 +303,7 @@ def wear_command(
         typer.echo(f"Error: {exc}", err=True)
         raise typer.Exit(code=1) from None
     ds = pred.to_dataset()
-    write_netcdf(ds, output)
+    write_output(ds, path)
     force = ds["peak_contact_force"].values
     typer.echo(
         f"{output}: {pred.updates} updates, {float(pred.cycles[-1]):.6g} cycles, "
@@ -277,6 +334,7 @@ def convergence_command(
     progress: bool = typer.Option(False, "--progress/--no-progress", help="Show progress bars."),
 ) -> None:
     """Element-convergence table: extreme rod strains (µε) against elements per rod."""
+    path = None if output is None else check_output_option(output)
     resolved = load_scene_option(scene, set_options)
     try:
         counts = [int(x) for x in elements.split(",") if x.strip()]
@@ -299,9 +357,9 @@ def convergence_command(
         typer.echo(f"Error: {exc}", err=True)
         raise typer.Exit(code=1) from None
     typer.echo(table.to_markdown())
-    if output is not None:
-        write_netcdf(table.to_dataset(), output)
-        typer.echo(f"{output}: written")
+    if path is not None:
+        write_output(table.to_dataset(), path)
+        typer.echo(f"{path}: written")
 
 
 # --- sweeps (issue 8): commands below this line only ---
@@ -401,6 +459,9 @@ def sweep_command(
     except ValueError as exc:
         typer.echo(f"Error: {exc}", err=True)
         raise typer.Exit(code=2) from None
+    except OSError as exc:  # e.g. the disk filled up: nothing more can be recorded
+        typer.echo(f"Error: the sweep stopped: {exc}", err=True)
+        raise typer.Exit(code=1) from None
     status = ds["status"].values.ravel()
     counts = ", ".join(f"{(status == s).sum()} {s}" for s in ("ok", "failed", "diverged"))
     typer.echo(ds.attrs["history"].splitlines()[-1].split(" ", 1)[1])

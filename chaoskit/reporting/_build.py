@@ -30,6 +30,7 @@ import xarray as xr
 
 from .. import plot
 from .._io import _atomic_write, load_trajectory
+from .._paths import safe_filename
 from .._portraits import DERIVATIVE_NAMES, phase_portrait
 from .._selection import VariableSpec, parse_variable, select_series
 from .._version import __version__
@@ -283,7 +284,7 @@ class Report:
 
     def figure_filename(self, figure: ReportFigure) -> str:
         """File name of a figure next to the Markdown twin."""
-        return f"figure-{figure.number:02d}-{figure.name}.png"
+        return safe_filename(f"figure-{figure.number:02d}-{figure.name}") + ".png"
 
     def write(
         self,

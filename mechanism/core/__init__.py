@@ -8,6 +8,7 @@ the building blocks; :func:`simulate` runs a scene and returns a Dataset. Nothin
 from __future__ import annotations
 
 from . import bodies, contact, integrate, joints, model, record, scene, wear
+from ._run_checks import SimulationWarning
 from ._simulate import SimulationError, drive_period, output_grid, simulate
 from .bodies._ancf import (
     AncfMesh,
@@ -28,6 +29,7 @@ __all__ = [
     "Scene",
     "SceneError",
     "SimulationError",
+    "SimulationWarning",
     "WornProfile",
     "archard_wear",
     "beam_modes",

@@ -15,6 +15,7 @@ from chaoskit.contract import check_choice, check_positive
 from mechanism.core.model._assemble import Model, assemble, initial_state
 from mechanism.core.record._record import metrics_dataset, sections_dataset, to_dataset
 
+from ._run_checks import warn_if_deep_penetration, warn_if_large
 from .integrate import GeneralizedAlpha, Integration, Integrator, RecordPlan, resolve_method
 from .scene import AngleProfileDrive, ConstantSpeedDrive, Scene
 from .wear import add_run_wear
@@ -273,6 +274,8 @@ def simulate(
     max_step = _max_step(model, integrator, default_step)
     if record == "full":
         plan = ideal_plan = RecordPlan()
+        models = [model, model] if model.clearance_joints else [model]
+        warn_if_large(models, t_out.size, output_step)
     else:
         assert period is not None
         window = discard * period
@@ -339,10 +342,12 @@ def simulate(
         attrs["revolutions"] = float(attrs["t_end"] / period)
     if record == "full":
         ds = to_dataset(model, run, ideal_model, ideal_run, attrs=attrs)
+        warn_if_deep_penetration(ds, scene)
     else:
         assert period is not None
         attrs["discard_revolutions"] = float(discard)
         ds = metrics_dataset(model, run, ideal_run, t_out, window=discard * period, attrs=attrs)
+        warn_if_deep_penetration(ds, scene)
         if record == "sections":
             ds = sections_dataset(model, run, ideal_run, metrics=ds, phase=phase, attrs=attrs)
             ds = ds.isel(crossing=ds["time"].values <= duration * (1.0 + 1e-9))

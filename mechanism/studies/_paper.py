@@ -46,6 +46,7 @@ from mechanism.core.scene import ClearanceRevolute
 
 from ._convergence import element_convergence
 from ._sweep import Analysis, dask_client, register_grid_transform, stroboscopic_points, sweep
+from ._sweep_store import point_file
 from ._wear_prediction import compare_wear, predict_wear
 from ._wear_report import wear_profile_section
 
@@ -393,7 +394,7 @@ def _trajectory(ds: xr.Dataset, store: Path, **sel: Any) -> Path | None:
     point = _point(ds, **sel)
     if str(point["status"].values) != "ok":
         return None
-    return store / str(point["trajectory_file"].values)
+    return point_file(store, str(point["trajectory_file"].values))
 
 
 def _wear_table(before: Path, after: Path, discard_revolutions: float) -> pd.DataFrame:

@@ -79,11 +79,13 @@ class Analysis:
     ----------
     variables
         Trajectory variables handed to :func:`chaoskit.analyze` (one row each in the
-        result's ``variable`` dimension). Default: the journal eccentricity ``x`` and ``y``
-        of the clearance joint, the paper's "X and Y direction" series. Empty: response
-        metrics only.
+        result's ``variable`` dimension), each ``NAME`` or ``NAME[DIM=VALUE,...]`` as in
+        ``chaoskit analyze`` (e.g. ``"eccentricity_x[joint=C]"``). Default: the journal
+        eccentricity ``x`` and ``y`` of the clearance joint, the paper's "X and Y direction"
+        series. Empty: response metrics only.
     joint
-        Clearance joint whose variables (``joint`` dimension) are analysed; default the first.
+        Clearance joint for the variables with a ``joint`` dimension whose name selects none;
+        default the first.
     discard_revolutions
         Crank revolutions dropped from the start before metrics and analysis (transient), ≥ 0.
         The paper evaluates after the first revolution.
@@ -336,27 +338,30 @@ def _simulation_status(traj: xr.Dataset) -> tuple[str, str]:
 def _analysis_input(
     traj: xr.Dataset, analysis: Analysis, start: int, extra: Sequence[str] = ()
 ) -> xr.Dataset:
-    """The analysed series (and ``extra`` ones): 1-D along time, after the discard, decimated."""
+    """The analysed series (and ``extra`` ones): 1-D along time, after the discard, decimated.
+
+    Each name is a selection as everywhere in chaoskit (``NAME`` or ``NAME[DIM=VALUE,...]``);
+    a ``joint`` dimension not selected in the name takes ``analysis.joint`` (default: the
+    first clearance joint).
+    """
     columns = {}
-    joint = analysis.joint
+    default: dict[str, Any] = {}
+    if "joint" in traj.dims:
+        if analysis.joint is not None:
+            default["joint"] = analysis.joint
+        elif traj.sizes["joint"] > 0:
+            default["joint"] = str(traj["joint"].values[0]) if "joint" in traj.coords else "0"
     for name in (*analysis.variables, *extra):
-        if name not in traj:
+        base = name.split("[", 1)[0].strip()
+        if base not in traj:
             raise ValueError(
                 f"analysis variable {name!r} is not in the trajectory; available: "
                 f"{sorted(map(str, traj.data_vars))}."
             )
-        var = traj[name]
-        if "joint" in var.dims:
-            if var.sizes["joint"] == 0:
-                raise ValueError(f"analysis variable {name!r} has no clearance joint to select.")
-            var = var.sel(joint=joint) if joint is not None else var.isel(joint=0)
-        other = [str(d) for d in var.dims if d != "time"]
-        if other:
-            raise ValueError(
-                f"analysis variable {name!r} has dims {var.dims}; only 'time' (and 'joint') "
-                "are supported."
-            )
-        columns[name] = var.drop_vars([c for c in var.coords if c != "time"])
+        if "joint" in traj[base].dims and traj.sizes["joint"] == 0:
+            raise ValueError(f"analysis variable {name!r} has no clearance joint to select.")
+        series = chaoskit.select_series(traj, name, sel=default)
+        columns[name] = series.drop_vars([c for c in series.coords if c != "time"])
     data = xr.Dataset(columns).isel(time=slice(start, None))
     n = data.sizes["time"]
     stride = analysis.decimation
@@ -687,7 +692,13 @@ def _is_done(store: Path, pid: str) -> bool:
         return False
     assert summary is not None
     rel = str(np.asarray(summary["trajectory_file"].values).item())
-    return bool(rel) and _store.readable_trajectory(store / rel)  # present is not enough
+    if not rel:
+        return False
+    try:
+        path = _store.point_file(store, rel)
+    except ValueError:
+        return False  # a summary naming a file elsewhere: run the point again
+    return _store.readable_trajectory(path)  # present is not enough
 
 
 def sweep(
@@ -1093,7 +1104,7 @@ def stroboscopic_points(
     for index in np.ndindex(shape):
         if str(status[index]) != "ok" or not str(files[index]):
             continue
-        traj = chaoskit.load_trajectory(root / str(files[index]))
+        traj = chaoskit.load_trajectory(_store.point_file(root, str(files[index])))
         columns = {}
         for name in names:
             if name not in traj:

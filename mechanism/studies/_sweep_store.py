@@ -42,6 +42,7 @@ __all__ = [
     "SweepStoreMismatch",
     "check_or_write_manifest",
     "locked",
+    "point_file",
     "point_id",
     "read_summary",
     "readable_trajectory",
@@ -113,6 +114,21 @@ def point_id(params: Mapping[str, Any]) -> str:
 
 def trajectory_path(store: Path, pid: str) -> Path:
     return store / POINTS / f"{pid}.nc"
+
+
+def point_file(store: Path, relative: str) -> Path:
+    """A point file named in a summary, as a path that cannot leave the store.
+
+    Raises
+    ------
+    ValueError
+        If ``relative`` is absolute or climbs out of the store (a damaged or foreign summary).
+    """
+    root = Path(store).resolve()
+    path = (root / relative).resolve()
+    if Path(relative).is_absolute() or not path.is_relative_to(root):
+        raise ValueError(f"the store {store} names a point file outside itself: {relative!r}.")
+    return path
 
 
 def summary_path(store: Path, pid: str) -> Path:

@@ -5,7 +5,6 @@ Exit codes: 0 success; 2 bad input (nothing analysed); 1 when every variable fai
 
 from __future__ import annotations
 
-import os
 import subprocess
 import sys
 from pathlib import Path
@@ -117,22 +116,6 @@ def test_analyze_takes_time_dt_and_step(tmp_path: Path) -> None:
     assert out.exit_code == 2 and "time column 'nope' not found" in out.stderr
 
 
-def test_demo_works_outside_the_repository(tmp_path: Path) -> None:
-    env = {**os.environ, "PYTHONPATH": str(REPO), "NUMBA_NUM_THREADS": "1"}
-    proc = subprocess.run(
-        [sys.executable, "-m", "chaoskit.cli", "demo"],
-        cwd=tmp_path,
-        env=env,
-        capture_output=True,
-        text=True,
-        timeout=600,
-    )
-    assert proc.returncode == 0, proc.stderr
-    rows = {line.split()[0]: line.split()[1] for line in proc.stdout.splitlines()
-            if line[:2] in ("x ", "y ", "z ")}  # fmt: skip
-    assert rows == {"x": "chaotic", "y": "chaotic", "z": "chaotic"}
-
-
 def test_sample_path_finds_every_sample_and_refuses_others() -> None:
     from chaoskit._samples import SAMPLES
 
@@ -203,3 +186,23 @@ def test_analyze_expands_or_selects_multi_dimensional_variables(tmp_path: Path) 
     out = runner.invoke(app, ["report", path, "--var", "eccentricity_x",
                               "-o", str(tmp_path / "r.html")])  # fmt: skip
     assert out.exit_code == 2 and "eccentricity_x[joint=...]" in out.stderr
+
+
+def test_report_refuses_a_bad_output_before_analysing(tmp_path: Path, monkeypatch) -> None:
+    import sys
+
+    report_pkg = sys.modules["chaoskit.report"]  # the name chaoskit.report is the function
+
+    def refuse(*args, **kwargs):
+        raise AssertionError("the output should have been refused before the analysis")
+
+    monkeypatch.setattr(report_pkg, "report", refuse)
+    good = _files(tmp_path)["truncated"].with_name("good.nc")
+    folder = tmp_path / "out"
+    folder.mkdir()
+    a_file = tmp_path / "notes.txt"
+    a_file.write_text("x")
+    for output, message in [(folder, "is a folder"), (a_file / "r.html", "is not a folder")]:
+        out = runner.invoke(app, ["report", str(good), "--var", "x", "-o", str(output)])
+        assert out.exit_code == 2, out.output
+        assert out.stderr.count("\n") == 1 and message in out.stderr

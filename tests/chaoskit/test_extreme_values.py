@@ -6,6 +6,8 @@ fix a series of amplitude 1e308 gave NaN histogram codes that indexed outside th
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings
@@ -14,6 +16,7 @@ from hypothesis.extra.numpy import arrays
 from numpy.testing import assert_array_equal
 
 from chaoskit import (
+    VerdictRule,
     analyze,
     classify,
     classify_variables,
@@ -33,7 +36,7 @@ HENON = systems.henon(1200)[:, 0]
 _REF_MI = mutual_information(UNIT, max_lag=60).curve
 _REF_LABEL = classify(UNIT, dt=0.01, rng=0).label
 
-SLOW_OK = settings(max_examples=10, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+CHEAP = VerdictRule(alpha=0.25)  # 3 surrogates can reach it: the fuzz test is about crashes
 
 
 def test_the_reported_1e308_series_is_classified_like_the_unit_one() -> None:
@@ -74,11 +77,17 @@ def test_histogram_codes_stay_in_range_for_every_finite_span() -> None:
         assert codes.min() >= 0 and codes.max() < 16
 
 
-@SLOW_OK
-@given(exponent=st.sampled_from([-1074 + 60, -1000, -700, -330, 330, 700, 1000, 1023]))
+@functools.cache
+def _unit_verdict():
+    return classify(UNIT[:1000], dt=0.01, rng=0, n_surrogates=3, rule=CHEAP)
+
+
+@pytest.mark.parametrize("exponent", [-1014, -700, 700, 1023])
 def test_classify_is_scale_invariant_up_to_the_float64_limit(exponent: int) -> None:
-    x = np.ldexp(UNIT, exponent)
-    assert classify(x, dt=0.01, rng=0).label == _REF_LABEL
+    ref = _unit_verdict()
+    got = classify(np.ldexp(UNIT[:1000], exponent), dt=0.01, rng=0, n_surrogates=3, rule=CHEAP)
+    assert (got.label, got.lag, got.embedding_dim) == (ref.label, ref.lag, ref.embedding_dim)
+    assert got.votes == ref.votes
 
 
 @pytest.mark.parametrize("scale", [1.7e308, 1e-310])
@@ -92,7 +101,7 @@ def test_estimators_refuse_amplitudes_beyond_the_accepted_range(scale: float) ->
 
 @pytest.mark.parametrize("exponent", [990, -990])
 def test_surrogate_test_at_extreme_amplitudes_matches_unit_scale(exponent: int) -> None:
-    kwargs = {"embedding_dim": 2, "lag": 1, "n_surrogates": 19, "rng": 0}
+    kwargs = {"embedding_dim": 2, "lag": 1, "n_surrogates": 9, "alpha": 0.1, "rng": 0}
     ref = surrogate_test(HENON, **kwargs)
     res = surrogate_test(np.ldexp(HENON, exponent), **kwargs)  # peaks 1.3e±298
     assert res.p_value == ref.p_value
@@ -132,10 +141,10 @@ def test_fuzz_load_analyze_classify_never_crash(x: np.ndarray) -> None:
     except ValueError as err:
         assert str(err) and "\n" not in str(err)
         return
-    table = analyze(ds, rng=0, n_surrogates=3)
+    table = analyze(ds, rng=0, n_surrogates=3, rule=CHEAP)
     assert table.sizes["variable"] == 1
     try:
-        verdict = classify(x, dt=0.01, rng=0, n_surrogates=3)
+        verdict = classify(x, dt=0.01, rng=0, n_surrogates=3, rule=CHEAP)
     except ValueError as err:
         assert str(err) and "\n" not in str(err)
     else:

@@ -6,6 +6,7 @@ import errno
 import threading
 from pathlib import Path
 
+import numpy as np
 import pytest
 import xarray as xr
 
@@ -133,3 +134,65 @@ def test_when_nothing_can_be_written_the_sweep_stops_with_a_clear_error(
         _sweep(scene, store)
     assert err.value.errno == errno.ENOSPC
     assert not list(store.rglob("*.tmp"))
+
+
+def test_save_scene_is_atomic(tmp_path: Path, monkeypatch) -> None:
+    """A write that fails midway (a full disk) leaves the good scene file in place."""
+    good = mechanism.load_scene("slider-crank")
+    path = mechanism.save_scene(good, tmp_path / "scene.toml")
+    before = path.read_bytes()
+
+    def full(self: Path, text: str, encoding: str | None = None) -> int:
+        with open(self, "w", encoding=encoding) as fh:
+            fh.write(text[: len(text) // 3])
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    monkeypatch.setattr(Path, "write_text", full)
+    with pytest.raises(OSError, match="No space left"):
+        mechanism.save_scene(good.replace({"drive.speed_rpm": 90.0}), path)
+    monkeypatch.undo()
+    assert path.read_bytes() == before
+    assert mechanism.load_scene(path) == good
+    assert [p.name for p in tmp_path.iterdir()] == ["scene.toml"]
+
+
+def test_sweep_analysis_takes_the_selection_syntax(scene, tmp_path: Path) -> None:
+    """``eccentricity_x[joint=B]`` selects as ``joint="B"`` does; the rows keep the spec."""
+    grid = {CLEARANCE: [2e-4]}
+    opts = {"n_surrogates": 19}
+    by_spec = _sweep(
+        scene,
+        tmp_path / "a",
+        grid=grid,
+        analysis=mechanism.Analysis(variables=("eccentricity_x[joint=B]",), options=opts),
+    )
+    by_joint = _sweep(
+        scene,
+        tmp_path / "b",
+        grid=grid,
+        analysis=mechanism.Analysis(variables=("eccentricity_x",), joint="B", options=opts),
+    )
+    assert list(by_spec["variable"].values) == ["eccentricity_x[joint=B]"]
+    assert by_spec["mle_wolf"].values.ravel() == pytest.approx(by_joint["mle_wolf"].values.ravel())
+
+    def with_strain(scene, *, revolutions):
+        ds = standins.analytic_simulator(scene, revolutions=revolutions)
+        strain = np.zeros((ds.sizes["time"], 2, 3)) + ds["crank_angle"].values[:, None, None]
+        ds["strain"] = (("time", "rod", "station"), strain, {"units": "1", "long_name": "e"})
+        return ds.assign_coords(rod=["r3", "r4"], station=[0.0, 0.5, 1.0])
+
+    two_dims = mechanism.sweep(scene, store=tmp_path / "c", grid=grid, revolutions=2,
+                               client="serial", _simulator=with_strain,
+                               analysis=mechanism.Analysis(variables=("strain",)))  # fmt: skip
+    assert str(two_dims["status"].values.item()) == "failed"
+    assert "strain[rod=...]" in str(two_dims["message"].values.item())
+
+
+def test_a_summary_naming_a_file_outside_the_store_is_not_trusted(tmp_path: Path) -> None:
+    store = tmp_path / "store"
+    (store / "points").mkdir(parents=True)
+    outside = tmp_path / "elsewhere.nc"
+    for bad in ("../elsewhere.nc", str(outside), "points/../../elsewhere.nc"):
+        with pytest.raises(ValueError, match="outside itself"):
+            store_mod.point_file(store, bad)
+    assert store_mod.point_file(store, "points/a.nc") == (store / "points" / "a.nc").resolve()

@@ -30,6 +30,8 @@ import annotated_types as at
 import numpy as np
 from pydantic import Discriminator, Strict, Tag, TypeAdapter, ValidationError, with_config
 
+from chaoskit._io import _atomic_write
+
 from ._model import (
     _CONFIG,
     GROUND,
@@ -194,7 +196,9 @@ def save_scene(scene: Scene, path: str | Path) -> Path:
     """Validate ``scene`` and write it as TOML; :func:`load_scene` reads it back identical.
 
     Unset optional keys (``None``) are omitted, since TOML has no null; they load back
-    as ``None``. Floats are written with the shortest repr that round-trips exactly.
+    as ``None``. Floats are written with the shortest repr that round-trips exactly. The
+    file is written atomically (temporary file, then rename): if writing fails, e.g. on a
+    full disk, an existing file at ``path`` is left as it was.
 
     Examples
     --------
@@ -210,7 +214,9 @@ def save_scene(scene: Scene, path: str | Path) -> Path:
         f"# mechanism scene {scene.name!r}, written by mechanism.save_scene.\n"
         "# Keys, units and accepted ranges: docs/scenes.md\n\n"
     )
-    path.write_text(header + scene_to_toml(scene), encoding="utf-8")
+    text = header + scene_to_toml(scene)
+    # atomic: a failed write (a full disk) leaves the old scene file, never half a TOML
+    _atomic_write(path, lambda p: p.write_text(text, encoding="utf-8"), nbytes=len(text))
     return path
 
 
