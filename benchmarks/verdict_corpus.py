@@ -195,6 +195,11 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--out", type=Path, default=OUT, help="CSV written (atomically)")
     parser.add_argument("--cache", type=Path, default=CACHE, help="where series are kept")
     parser.add_argument("--summarize", type=Path, help="only print the tables of a CSV")
+    parser.add_argument(
+        "--rerun-undetermined",
+        type=Path,
+        help="re-classify only the undetermined and failed rows of this CSV, keep the rest",
+    )
     args = parser.parse_args(argv)
     if args.summarize is not None:
         with open(args.summarize, encoding="utf-8") as fh:
@@ -204,8 +209,16 @@ def main(argv: list[str] | None = None) -> int:
     if args.workers < 1:
         parser.error("--workers must be >= 1")
     cases = corpus(with_dysts=not args.no_dysts)
-    # longest first, so the pool does not end on one slow series
-    cases.sort(key=lambda c: (c.family != "dysts", -c.n))
+    kept: list[dict[str, Any]] = []
+    if args.rerun_undetermined is not None:
+        with open(args.rerun_undetermined, encoding="utf-8") as fh:
+            old = list(csv.DictReader(fh))
+        redo = {(r["name"], int(r["n"])) for r in old if r["label"] in ("undetermined", "")}
+        kept = [r for r in old if (r["name"], int(r["n"])) not in redo]
+        cases = [c for c in cases if (c.name, c.n) in redo]
+    # the series generated here first, then the dysts flows, shorter before longer: a run
+    # cut short still holds every family
+    cases.sort(key=lambda c: (c.family == "dysts", c.n if c.family == "dysts" else 0))
     t0 = time.perf_counter()
     rows: list[dict[str, Any]] = []
     ctx = multiprocessing.get_context("fork")
@@ -225,6 +238,7 @@ def main(argv: list[str] | None = None) -> int:
                 print(f"[{i}/{len(cases)}] {row['name']} N={row['n']}: {result}",
                       file=sys.stderr, flush=True)  # fmt: skip
     wall = time.perf_counter() - t0
+    rows += kept
     rows.sort(key=lambda r: (r["family"], r["name"], int(r["n"])))
     with open(fh.name, "w", newline="", encoding="utf-8") as sorted_fh:
         writer = csv.DictWriter(sorted_fh, fieldnames=FIELDS, extrasaction="ignore")

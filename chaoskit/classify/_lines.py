@@ -151,9 +151,13 @@ def _strongest_line(
         f = (i + shift) / (pad * n)
     else:
         f = near
+    f = min(max(f, 0.0), 0.5)
+    lo, hi = max(f - half, 0.0), min(f + half, 0.5)
+    if hi <= lo:
+        return f
     res = minimize_scalar(
         lambda g: -_dtft_power(r, window, g),
-        bounds=(max(f - half, 0.0), min(f + half, 0.5)),
+        bounds=(lo, hi),
         method="bounded",
         options={"xatol": 1e-7 / n},
     )
