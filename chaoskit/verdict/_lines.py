@@ -151,9 +151,13 @@ def _strongest_line(
         f = (i + shift) / (pad * n)
     else:
         f = near
+    f = min(max(f, 0.0), 0.5)
+    lo, hi = max(f - half, 0.0), min(f + half, 0.5)
+    if hi <= lo:
+        return f
     res = minimize_scalar(
         lambda g: -_dtft_power(r, window, g),
-        bounds=(max(f - half, 0.0), min(f + half, 0.5)),
+        bounds=(lo, hi),
         method="bounded",
         options={"xatol": 1e-7 / n},
     )
@@ -292,15 +296,42 @@ def _alias_distance(f: np.ndarray, g: np.ndarray) -> np.ndarray:
     return np.minimum(d1, d2)
 
 
+def _harmonic_distance(freqs: np.ndarray, f0: float) -> tuple[np.ndarray, np.ndarray]:
+    """For each line, the nearest harmonic m·f0 (m ≥ 1, aliasing included: harmonics above
+    the Nyquist frequency appear folded) and the distance to it (cycles per sample)."""
+    top = min(int(np.ceil(2.0 / f0)) + 1, 4096)  # up to twice the sampling frequency
+    m = np.arange(1, top + 1, dtype=np.float64)
+    d = _alias_distance(freqs[:, None], m[None, :] * f0)
+    best = np.argmin(d, axis=1)
+    return m[best], d[np.arange(freqs.size), best]
+
+
 def _fundamental(
-    freqs: np.ndarray, tol: np.ndarray, candidates: np.ndarray, n: int
+    freqs: np.ndarray,
+    amps: np.ndarray,
+    tol: np.ndarray,
+    spread: float,
+    candidates: np.ndarray,
+    n: int,
 ) -> tuple[float, int] | None:
-    """First candidate fundamental of which every line is a harmonic (within tolerance)."""
+    """First candidate fundamental of which every line is a harmonic (within tolerance;
+    ``spread`` is the standard error of the reference line the candidates divide).
+
+    Harmonics above the Nyquist frequency are accepted folded back only for weak lines
+    (below 5 % of the strongest): folding makes the harmonics of a slow fundamental dense,
+    and a strong line matching one by accident must not make a torus periodic.
+    """
+    weak = amps < 0.05 * amps[0]
     for j, f0 in enumerate(candidates):
         if f0 * n < 4.0:  # fewer than four repeats: a period cannot be claimed
             break
+        # the m-th harmonic inherits m times the error of the fundamental
         h = np.maximum(np.round(freqs / f0), 1.0)
-        if np.all(_alias_distance(freqs, h * f0) <= tol * np.sqrt(h)):
+        ok = np.abs(freqs - h * f0) <= tol + 5.0 * h * spread / (j + 1)
+        if not np.all(ok | weak):
+            continue
+        h, dist = _harmonic_distance(freqs, f0)
+        if np.all(ok | (dist <= tol + 5.0 * h * spread / (j + 1))):
             return float(f0), j + 1
     return None
 
@@ -314,13 +345,15 @@ def _combination_rank(bases: list[float], f: float, tol: float) -> bool:
     return bool(np.min(_alias_distance(np.full(values.size, f), values)) <= tol)
 
 
-def _independent(bases: list[float], tol: float, limit: int) -> bool:
-    """No integer relation with coefficients up to ``limit`` between the bases."""
+def _independent(bases: list[float], crlb: list[float], n: int, limit: int) -> bool:
+    """No integer relation :math:`\\sum c_i f_i = 0` with :math:`|c_i| \\le` ``limit``
+    that the record could not tell from exact: the residual frequency must drift by more
+    than 0.05 cycles over the record (plus five standard errors)."""
     grid = np.arange(-limit, limit + 1)
     combos = np.array(list(itertools.product(grid, repeat=len(bases))), dtype=np.float64)
     combos = combos[np.any(combos != 0, axis=1)]
-    size = np.sum(np.abs(combos), axis=1)
-    return bool(np.all(np.abs(combos @ np.array(bases)) > tol * size))
+    tol = 0.05 / n + 5.0 * np.abs(combos) @ np.array(crlb)
+    return bool(np.all(np.abs(combos @ np.array(bases)) > tol))
 
 
 def _drive_harmonics(
@@ -336,8 +369,7 @@ def _drive_harmonics(
         f0 = f_drive / k
         if f0 * n < 4.0:
             break
-        h = np.maximum(np.round(freqs / f0), 1.0)
-        if np.any(_alias_distance(freqs, h * f0) > 1.0 / n):
+        if np.any(_harmonic_distance(freqs, f0)[1] > 1.0 / n):
             continue
         top = max(1, min(int(0.5 / f0), 12 * k))
         hf = f0 * np.arange(1, top + 1)
@@ -354,14 +386,14 @@ def _drive_harmonics(
     return None
 
 
-def _maxima_per_period(freqs: np.ndarray, coefs: np.ndarray, f0: float) -> int:
-    """Local maxima of the fitted waveform over one fundamental period."""
-    t = np.arange(1024) / (1024 * f0)
+def _maxima_per_period(freqs: np.ndarray, coefs: np.ndarray, f0: float, n: int) -> int:
+    """Prominent maxima of the fitted waveform per fundamental period, counted at the
+    sample times (harmonics above the Nyquist frequency are seen aliased, as sampled)."""
+    t = np.arange(n, dtype=np.float64)
     phase = 2 * np.pi * t[:, None] * freqs[None, :]
     wave = np.cos(phase) @ coefs[:, 0] + np.sin(phase) @ coefs[:, 1]
-    wrapped = np.concatenate([wave, wave, wave])
-    peaks, _ = find_peaks(wrapped, prominence=0.01 * float(np.ptp(wave)))
-    return max(1, int(np.count_nonzero((peaks >= 1024) & (peaks < 2048))))
+    peaks, _ = find_peaks(wave, prominence=0.02 * float(np.ptp(wave)))
+    return max(1, round(peaks.size / (n * f0)))
 
 
 def line_spectrum(
@@ -468,7 +500,7 @@ def line_spectrum(
                 amplitudes=np.hypot(hc[:, 0], hc[:, 1]),
                 base_frequencies=np.array([1.0 / (k * drive_period)]),
                 fundamental_period=k * drive_period, period_samples=None,
-                maxima_per_period=_maxima_per_period(hf, hc, hf[0]), residual_fraction=frac,
+                maxima_per_period=_maxima_per_period(hf, hc, hf[0], n), residual_fraction=frac,
                 white_p=p, n_cycles=n * dt / drive_period,
             )  # fmt: skip
     frac = float(np.var(resid)) / var0
@@ -490,27 +522,31 @@ def line_spectrum(
     if converged and lines.size and frac <= max_residual:
         # Uncertainty of each refined frequency: Cramér–Rao for a line in white noise,
         # sqrt(3/z)/(2πn), with a floor for the interference of the other lines.
-        tol = 5.0 * np.sqrt(3.0 / z) / (2 * np.pi * n) + 0.02 / n
+        crlb = np.sqrt(3.0 / z) / (2 * np.pi * n)
+        tol = 5.0 * crlb + 0.02 / n
         cands = f_ref / np.arange(1, max_period + 1)
-        found = _fundamental(lines, tol, cands, n)
+        spread = 0.0 if drive_period is not None else float(crlb[0])
+        found = _fundamental(lines, amps, tol, spread, cands, n)
         if found is not None:
             f0, _ = found
             return LineSpectrum(
                 kind="periodic", base_frequencies=np.array([f0 / dt]),
-                fundamental_period=dt / f0, maxima_per_period=_maxima_per_period(lines, coefs, f0),
-                **base,  # type: ignore[arg-type]
+                fundamental_period=dt / f0,
+                maxima_per_period=_maxima_per_period(lines, coefs, f0, n), **base,  # type: ignore[arg-type]
             )  # fmt: skip
         bases: list[float] = [float(lines[0])] if drive_period is None else [f_ref]
+        errs: list[float] = [float(crlb[0])] if drive_period is None else [0.0]
         ok = True
-        for f, t in zip(lines, tol, strict=True):
+        for f, t, e in zip(lines, tol, crlb, strict=True):
             if _combination_rank(bases, float(f), float(t)):
                 continue
             if len(bases) == 3:
                 ok = False
                 break
             bases.append(float(f))
+            errs.append(float(e))
         limit = max_period if len(bases) == 2 else MAX_COEF[1]
-        if ok and len(bases) >= 2 and _independent(bases, float(np.max(tol)), limit):
+        if ok and len(bases) >= 2 and _independent(bases, errs, n, limit):
             return LineSpectrum(
                 kind="quasi-periodic", base_frequencies=np.array(bases) / dt,
                 fundamental_period=nan, maxima_per_period=None, **base,  # type: ignore[arg-type]

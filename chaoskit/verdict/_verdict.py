@@ -570,31 +570,33 @@ def combine(
     else:
         label = "undetermined"
         if not long_enough:
+            # nothing else could decide at this length: say only what would
             needs.append(f"≥ {rule.min_cycles} {cycle_unit}; the series has {n_cycles:.0f}")
-        elif section == "too-few-points":
-            assert structure is not None
-            needs.append(
-                f"≥ {rule.min_cycles} section points; the section has {structure.n_points}"
-            )
+        else:
+            if section == "too-few-points":
+                assert structure is not None
+                needs.append(
+                    f"≥ {rule.min_cycles} section points; the section has {structure.n_points}"
+                )
+            if section == "closed-curve":
+                needs.append(
+                    "a longer series to tell a torus from a thin chaotic band (the section "
+                    "is a closed curve but both exponents are clearly positive)"
+                )
+            elif surrogates_rejected is not False:
+                for name, pos in (("Rosenstein", rosenstein_positive), ("Wolf", wolf_positive)):
+                    if pos is False:
+                        needs.append(
+                            f"a clearly positive {name} exponent (λ₁T ≥ {rule.min_growth:g}, "
+                            "95 % interval above 0), or a line spectrum or section that "
+                            "shows the motion regular"
+                        )
+                    elif pos is None:
+                        needs.append(f"a {name} exponent (the estimator failed; see errors)")
+                if surrogates_rejected is None:
+                    needs.append("a surrogate test (it failed; see errors)")
         if lines is None:
             needs.append("a recurrence / line-spectrum analysis (it failed; see errors)")
-        if section == "closed-curve":
-            needs.append(
-                "a longer series to tell a torus from a thin chaotic band (the section is "
-                "a closed curve but both exponents are clearly positive)"
-            )
-        elif surrogates_rejected is not False or not long_enough:
-            for name, pos in (("Rosenstein", rosenstein_positive), ("Wolf", wolf_positive)):
-                if pos is False:
-                    needs.append(
-                        f"a clearly positive {name} exponent (λ₁T ≥ {rule.min_growth:g}, "
-                        "95 % interval above 0), or a line spectrum or section that shows "
-                        "the motion regular"
-                    )
-                elif pos is None:
-                    needs.append(f"a {name} exponent (the estimator failed; see errors)")
-            if surrogates_rejected is None:
-                needs.append("a surrogate test (it failed; see errors)")
         if lines == "unresolved" and not needs:
             needs.append(
                 "a longer or cleaner series: spectral lines explain all but 0.1 % of the "
