@@ -98,4 +98,9 @@ from .report import Report, ReportFigure, ReportTable, SweepMap, report  # noqa:
 
 _report: list[str] = ["Report", "ReportFigure", "ReportTable", "SweepMap", "report"]
 
-__all__ = _foundation + _estimators + _views + _report
+# --- measures toolbox: add imports and names below this line only ---
+from .dimension import CorrelationDimensionResult, correlation_dimension  # noqa: E402
+
+_measures: list[str] = ["CorrelationDimensionResult", "correlation_dimension"]
+
+__all__ = _foundation + _estimators + _views + _report + _measures

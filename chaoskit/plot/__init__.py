@@ -27,3 +27,8 @@ __all__ = [
     "poincare",
     "wear_profile",
 ]
+
+# --- measures toolbox: add imports and names below this line only ---
+from ._measures import local_slopes
+
+__all__ += ["local_slopes"]

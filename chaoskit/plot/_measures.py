@@ -1,0 +1,37 @@
+"""Figures of the measures toolbox: local slopes of the correlation sum, recurrence plots,
+Lyapunov spectra. Each draws on an Axes (a new one if ``ax`` is None) and returns it."""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from ._figures import _axes
+
+__all__ = ["local_slopes"]
+
+
+def local_slopes(result: Any, *, ax: Any = None) -> Any:
+    """Local slopes d ln C / d ln r against the radius, one line per embedding dimension.
+
+    ``result`` is a :class:`chaoskit.CorrelationDimensionResult`. The scaling region is
+    shaded and D2 drawn as a dashed line, as in TISEAN's ``c2d`` plots.
+    """
+    ax = _axes(ax)
+    dims = result.embedding_dims
+    cmap = __import__("matplotlib").colormaps["viridis"]
+    for k, m in enumerate(dims):
+        colour = cmap(k / max(1, dims.size - 1))
+        ax.plot(result.radius, result.local_slope[k], color=colour, lw=1.0, label=f"m = {m}")
+    ax.set_xscale("log")
+    ax.axvspan(*result.scaling_range, color="0.85", zorder=0, label="scaling region")
+    ax.axhline(result.d2, color="k", ls="--", lw=0.8, label=f"D2 = {result.d2:.3g}")
+    top = np.nanmax(result.local_slope) if np.isfinite(result.local_slope).any() else 1.0
+    ax.set_ylim(0.0, min(float(top) * 1.05, float(dims[-1]) + 1.0))
+    units = result.units if result.units not in ("", "1") else ""
+    ax.set_xlabel(f"radius r [{units}]" if units else "radius r")
+    ax.set_ylabel("local slope d ln C / d ln r")
+    ax.set_title("correlation dimension", fontsize=9)
+    ax.legend(fontsize=7, ncol=2)
+    return ax
