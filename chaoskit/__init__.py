@@ -99,8 +99,21 @@ from .report import Report, ReportFigure, ReportTable, SweepMap, report  # noqa:
 _report: list[str] = ["Report", "ReportFigure", "ReportTable", "SweepMap", "report"]
 
 # --- measures toolbox: add imports and names below this line only ---
+from .complexity import (  # noqa: E402
+    ComplexityResult,
+    detrended_fluctuation,
+    hurst_exponent,
+    sample_entropy,
+)
 from .dimension import CorrelationDimensionResult, correlation_dimension  # noqa: E402
 
-_measures: list[str] = ["CorrelationDimensionResult", "correlation_dimension"]
+_measures: list[str] = [
+    "ComplexityResult",
+    "CorrelationDimensionResult",
+    "correlation_dimension",
+    "detrended_fluctuation",
+    "hurst_exponent",
+    "sample_entropy",
+]
 
 __all__ = _foundation + _estimators + _views + _report + _measures
