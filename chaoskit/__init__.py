@@ -106,13 +106,16 @@ from .complexity import (  # noqa: E402
     sample_entropy,
 )
 from .dimension import CorrelationDimensionResult, correlation_dimension  # noqa: E402
+from .recurrence import RecurrenceResult, recurrence_analysis  # noqa: E402
 
 _measures: list[str] = [
     "ComplexityResult",
     "CorrelationDimensionResult",
+    "RecurrenceResult",
     "correlation_dimension",
     "detrended_fluctuation",
     "hurst_exponent",
+    "recurrence_analysis",
     "sample_entropy",
 ]
 

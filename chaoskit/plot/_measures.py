@@ -9,7 +9,7 @@ import numpy as np
 
 from ._figures import _axes
 
-__all__ = ["local_slopes"]
+__all__ = ["local_slopes", "recurrence_plot"]
 
 
 def local_slopes(result: Any, *, ax: Any = None) -> Any:
@@ -34,4 +34,34 @@ def local_slopes(result: Any, *, ax: Any = None) -> Any:
     ax.set_ylabel("local slope d ln C / d ln r")
     ax.set_title("correlation dimension", fontsize=9)
     ax.legend(fontsize=7, ncol=2)
+    return ax
+
+
+def recurrence_plot(result: Any, *, ax: Any = None, max_pixels: int = 1000) -> Any:
+    """The recurrence matrix of a :class:`chaoskit.RecurrenceResult` as an image.
+
+    Matrices wider than ``max_pixels`` are shown as the share of recurrences in each
+    pixel (so long series stay legible and cheap to draw).
+    """
+    ax = _axes(ax)
+    n = result.n_points
+    bins = min(n, int(max_pixels))
+    coo = result.matrix.tocoo()
+    image, _, _ = np.histogram2d(coo.row, coo.col, bins=bins, range=[[0, n], [0, n]])
+    image /= (n / bins) ** 2
+    ax.imshow(
+        image,
+        origin="lower",
+        cmap="Greys",
+        vmin=0.0,
+        vmax=max(float(image.max()), 1e-12),
+        extent=(0, n, 0, n),
+        interpolation="nearest",
+    )
+    ax.set_xlabel("sample i")
+    ax.set_ylabel("sample j")
+    ax.set_title(
+        f"recurrence plot (RR = {result.recurrence_rate:.3g}, DET = {result.determinism:.3g})",
+        fontsize=9,
+    )
     return ax
