@@ -106,15 +106,18 @@ from .complexity import (  # noqa: E402
     sample_entropy,
 )
 from .dimension import CorrelationDimensionResult, correlation_dimension  # noqa: E402
+from .lyapunov import LyapunovSpectrumResult, lyapunov_spectrum  # noqa: E402
 from .recurrence import RecurrenceResult, recurrence_analysis  # noqa: E402
 
 _measures: list[str] = [
     "ComplexityResult",
     "CorrelationDimensionResult",
+    "LyapunovSpectrumResult",
     "RecurrenceResult",
     "correlation_dimension",
     "detrended_fluctuation",
     "hurst_exponent",
+    "lyapunov_spectrum",
     "recurrence_analysis",
     "sample_entropy",
 ]
