@@ -3,15 +3,20 @@
 nolds (Schölzel 2019) implements these measures in plain numpy; chaoskit adds validation,
 result objects with the curve each value was fitted from, and the limits below, checked
 before the call so that a long series gives a clear error instead of a stall or a
-MemoryError. Measured on one core (``benchmarks/nolds_limits.py``, docs/estimators.md):
+MemoryError. Measured on white noise, CPU time on one core (``benchmarks/nolds_limits.py``,
+``docs/benchmarks/nolds-limits.csv``):
 
-==============  ===========================  ==========================  ==============
-measure         memory                       time                        limit (samples)
-==============  ===========================  ==========================  ==============
-sample entropy  O(N), ~80 bytes per sample   O(N²): 30 s at N = 16 000   20 000
-DFA             O(N), ~200 bytes per sample  O(N): 11.5 s at N = 10 000  50 000
-Hurst (R/S)     O(N), ~200 bytes per sample  O(N log N)                  1 000 000
-==============  ===========================  ==========================  ==============
+==============  ============================  ================================  ============
+measure         peak memory                   CPU time                          limit (N)
+==============  ============================  ================================  ============
+sample entropy  O(N), 80 bytes per sample     O(N²): 10 s at N = 16 000          20 000
+DFA             O(N), 205 bytes per sample    O(N): 12 s at N = 40 000           50 000
+Hurst (R/S)     O(N), 16 bytes per sample     O(N): 0.13 s at N = 10⁶            10 000 000
+==============  ============================  ================================  ============
+
+The limits keep a call under about 20 s of CPU and 2 GB of memory. Note that nolds'
+``debug_data`` option of ``sampen`` keeps every pair distance (O(N²) memory, 1.6 GB at
+N = 20 000), so chaoskit never asks for it.
 """
 
 from __future__ import annotations
@@ -34,7 +39,7 @@ __all__ = [
 ]
 
 #: Longest series each measure accepts (see the module docstring for the measurements).
-MAX_SAMPLES = {"sample_entropy": 20_000, "dfa": 50_000, "hurst_rs": 1_000_000}
+MAX_SAMPLES = {"sample_entropy": 20_000, "dfa": 50_000, "hurst_rs": 10_000_000}
 _MIN_SAMPLES = {"sample_entropy": 50, "dfa": 100, "hurst_rs": 100}
 _DESCRIPTION = {
     "sample_entropy": "O(N²) pair comparisons in Python",
@@ -282,7 +287,7 @@ def hurst_exponent(x: Any, *, windows: Any = None) -> ComplexityResult:
     Parameters
     ----------
     x
-        Scalar series (increments, not a walk), at most 1 000 000 samples.
+        Scalar series (increments, not a walk), at most 10 000 000 samples.
     windows
         Window lengths in samples, ≥ 4 (default: nolds' 15 lengths in the middle of the
         logarithmic range up to N/4).
