@@ -90,7 +90,9 @@ def format_table(table: Any) -> str:
     return "\n".join(line.rstrip() for line in lines)
 
 
-def _write_figures(ds: Any, verdicts: dict[str, Any], directory: Path) -> list[Path]:
+def _write_figures(
+    ds: Any, verdicts: dict[str, Any], directory: Path, measures: dict[str, Any] | None = None
+) -> list[Path]:
     """One PNG per figure and variable; returns the paths written."""
     import matplotlib
 
@@ -133,6 +135,10 @@ def _write_figures(ds: Any, verdicts: dict[str, Any], directory: Path) -> list[P
                     lambda ax, v=verdict: plot.false_nearest_neighbors(v, ax=ax),
                 )
             )
+        if measures and name in measures:
+            from ._measures import measure_figures
+
+            figures += [(kind, draw) for kind, _, draw in measure_figures(measures[name])]
         for kind, draw in figures:
             fig, ax = plt.subplots(figsize=(5.0, 4.0), layout="constrained")
             try:
@@ -155,11 +161,14 @@ def _run_analysis(
     phase_variable: str | None,
     seed: int,
     progress: bool,
+    measures: str | None = None,
 ) -> None:
     from ._io import load_trajectory
+    from ._measures import measures_for_verdicts, measures_text, parse_measures
     from .classify import classify_variables, verdict_table
 
     try:
+        names = parse_measures(measures)
         ds = load_trajectory(path)
         verdicts = classify_variables(
             ds,
@@ -181,8 +190,12 @@ def _run_analysis(
     typer.echo("")
     for name, verdict in verdicts.items():
         typer.echo(f"{name}: {verdict.reason}")
+    results = measures_for_verdicts(ds, verdicts, names, rng=seed) if names else None
+    if results:
+        typer.echo("")
+        typer.echo(measures_text(results))
     if figures is not None:
-        written = _write_figures(ds, verdicts, figures)
+        written = _write_figures(ds, verdicts, figures, results)
         typer.echo(f"\n{len(written)} figure(s) written to {figures}")
 
 
@@ -202,6 +215,13 @@ def analyze(
         None, "--phase-variable", help="Drive angle variable, rad (stroboscopic section)."
     ),
     seed: int = typer.Option(0, "--seed", help="Seed of the 0-1 test and the surrogates."),
+    measures: str | None = typer.Option(
+        None,
+        "--measures",
+        help="Further measures, comma-separated: d2 (correlation dimension), rqa (recurrence "
+        "quantification), spectrum (Lyapunov spectrum), sampen (sample entropy), dfa, hurst; "
+        "or all.",
+    ),
 ) -> None:
     """Classify each variable of a trajectory and print the evidence table."""
     _run_analysis(
@@ -212,6 +232,7 @@ def analyze(
         phase_variable=phase_variable,
         seed=seed,
         progress=True,
+        measures=measures,
     )
 
 
@@ -290,6 +311,12 @@ def report(
         False, "--embed-figures", help="Embed the figures in the Markdown twin too."
     ),
     seed: int = typer.Option(0, "--seed", help="Seed of the 0-1 test and the surrogates."),
+    measures: str | None = typer.Option(
+        None,
+        "--measures",
+        help="Further measures in a section of their own, comma-separated: d2, rqa, "
+        "spectrum, sampen, dfa, hurst; or all.",
+    ),
 ) -> None:
     """Analyse trajectories and write an HTML report with its Markdown twin."""
     import shlex
@@ -313,6 +340,7 @@ def report(
             reference_name=reference_name,
             title=title,
             command=shlex.join(["chaoskit", *sys.argv[1:]]),
+            measures=measures or (),
             progress=True,
         )
         written = rep.write(output, markdown_figures="embed" if embed_figures else "files")

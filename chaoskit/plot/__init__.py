@@ -29,6 +29,6 @@ __all__ = [
 ]
 
 # --- measures toolbox: add imports and names below this line only ---
-from ._measures import local_slopes, recurrence_plot
+from ._measures import local_slopes, lyapunov_spectrum, recurrence_plot
 
-__all__ += ["local_slopes", "recurrence_plot"]
+__all__ += ["local_slopes", "lyapunov_spectrum", "recurrence_plot"]

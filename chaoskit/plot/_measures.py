@@ -9,7 +9,7 @@ import numpy as np
 
 from ._figures import _axes
 
-__all__ = ["local_slopes", "recurrence_plot"]
+__all__ = ["local_slopes", "lyapunov_spectrum", "recurrence_plot"]
 
 
 def local_slopes(result: Any, *, ax: Any = None) -> Any:
@@ -64,4 +64,26 @@ def recurrence_plot(result: Any, *, ax: Any = None, max_pixels: int = 1000) -> A
         f"recurrence plot (RR = {result.recurrence_rate:.3g}, DET = {result.determinism:.3g})",
         fontsize=9,
     )
+    return ax
+
+
+def lyapunov_spectrum(result: Any, *, ax: Any = None) -> Any:
+    """Running estimate of every exponent of a :class:`chaoskit.LyapunovSpectrumResult`.
+
+    Exponents the spurious-exponent check flags are drawn dashed.
+    """
+    ax = _axes(ax)
+    steps = np.arange(1, result.running.shape[0] + 1)
+    for k in range(result.embedding_dim):
+        style = "--" if result.spurious[k] else "-"
+        label = f"λ{k + 1} = {result.exponents[k]:.3g}" + (
+            " (spurious)" if result.spurious[k] else ""
+        )
+        ax.plot(steps, result.running[:, k], style, lw=1.0, label=label)
+    ax.axhline(0.0, color="0.5", lw=0.6)
+    ax.set_xscale("log")
+    ax.set_xlabel("local maps accumulated")
+    ax.set_ylabel("exponent (natural log per unit of dt)")
+    ax.set_title("Lyapunov spectrum", fontsize=9)
+    ax.legend(fontsize=7)
     return ax

@@ -829,6 +829,7 @@ def report(
     sweep_maps: Sequence[SweepMap] = (),
     bifurcations: Any = None,
     figures: Sequence[ReportFigure] = (),
+    measures: Sequence[str] | str = (),
     parameters: Mapping[str, Any] | None = None,
     title: str = "chaoskit report",
     command: str | None = None,
@@ -916,6 +917,10 @@ def report(
         Datasets from :func:`chaoskit.bifurcation_diagram`, or ``{caption: Dataset}``.
     figures
         Further :class:`ReportFigure` objects, placed in their ``section``.
+    measures
+        Further measures for every state and variable, in a section of their own (table and
+        figures): a subset of ``"d2"``, ``"rqa"``, ``"spectrum"``, ``"sampen"``, ``"dfa"``,
+        ``"hurst"`` (a sequence or a comma-separated string, or ``"all"``).
     parameters
         Run parameters to list in the provenance (values: numbers, text, JSON-able).
     title
@@ -967,6 +972,9 @@ def report(
         if not isinstance(f, ReportFigure):
             raise ValueError(f"figures must hold ReportFigure objects; got {type(f).__name__}.")
     phase = parse_variable(phase_variable) if phase_variable is not None else None
+    from .._measures import parse_measures
+
+    measure_names = parse_measures(measures)
 
     streams = as_generator(rng).spawn(len(pairs)) if pairs else []
     states: list[_State] = []
@@ -1012,6 +1020,11 @@ def report(
             reference_name=reference_name,
             chaos_notes=chaos_notes,
         )
+        if measure_names:
+            from ._measures import measure_items
+
+            seed = int(rng) if isinstance(rng, (int, np.integer)) else 0
+            measure_items(states, specs, measure_names, put, _draw, rng=seed)
         analysis = xr.concat(
             [verdict_table(st.verdicts) for st in states],
             dim=pd.Index([st.label for st in states], name="state"),
