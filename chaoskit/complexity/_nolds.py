@@ -136,6 +136,22 @@ def _windows(windows: Any, n: int) -> list[int] | None:
     return sorted({int(v) for v in w})
 
 
+def _fitted(
+    measure: str, value: float, log_n: Any, log_y: Any, poly: Any, params: dict, n: int
+) -> ComplexityResult:
+    """A result from nolds' debug data ``(ln n, ln y, [slope, intercept])``."""
+    return ComplexityResult(
+        measure=measure,
+        value=float(value),
+        units="1",
+        scale=np.rint(np.exp(np.asarray(log_n, dtype=np.float64))),
+        curve=np.exp(np.asarray(log_y, dtype=np.float64)),
+        fit=(float(poly[0]), float(poly[1])),
+        params=params,
+        n_samples=n,
+    )
+
+
 def sample_entropy(
     x: Any, *, embedding_dim: int = 2, tolerance: float | None = None, lag: int = 1
 ) -> ComplexityResult:
@@ -265,16 +281,8 @@ def detrended_fluctuation(
     value, (log_n, log_f, poly) = nolds.dfa(
         arr, nvals=nvals, overlap=bool(overlap), order=order, fit_exp="poly", debug_data=True
     )
-    return ComplexityResult(
-        measure="dfa",
-        value=float(value),
-        units="1",
-        scale=np.rint(np.exp(log_n)),
-        curve=np.exp(np.asarray(log_f, dtype=np.float64)),
-        fit=(float(poly[0]), float(poly[1])),
-        params={"order": order, "overlap": int(bool(overlap))},
-        n_samples=arr.size,
-    )
+    params = {"order": order, "overlap": int(bool(overlap))}
+    return _fitted("dfa", value, log_n, log_f, poly, params, arr.size)
 
 
 def hurst_exponent(x: Any, *, windows: Any = None) -> ComplexityResult:
@@ -316,13 +324,4 @@ def hurst_exponent(x: Any, *, windows: Any = None) -> ComplexityResult:
     arr = _series(x, "hurst_rs")
     nvals = _windows(windows, arr.size)
     value, (log_n, log_rs, poly) = nolds.hurst_rs(arr, nvals=nvals, fit="poly", debug_data=True)
-    return ComplexityResult(
-        measure="hurst_rs",
-        value=float(value),
-        units="1",
-        scale=np.rint(np.exp(log_n)),
-        curve=np.exp(np.asarray(log_rs, dtype=np.float64)),
-        fit=(float(poly[0]), float(poly[1])),
-        params={"corrected": 1},
-        n_samples=arr.size,
-    )
+    return _fitted("hurst_rs", value, log_n, log_rs, poly, {"corrected": 1}, arr.size)

@@ -10,7 +10,7 @@ import xarray as xr
 
 from .._neighbors import default_theiler_window
 from .._validate import as_series, check_choice, check_int, check_positive
-from ..embedding._delay import estimate_delay
+from ..embedding._delay import lag_or_estimate
 from ..embedding._embed import min_length
 from ._pairs import count_pairs
 
@@ -309,11 +309,7 @@ def correlation_dimension(
         pairs_per_radius = check_int(pairs_per_radius, name="pairs_per_radius", minimum=100)
     arr = as_series(x, min_length=16)
     n = arr.size
-    if lag is None:
-        delay = estimate_delay(arr, method="auto", max_lag=max(1, min(n // 4, 1000)))
-        lag_used, lag_rule = delay.lag, f"estimated: {delay.rule}"
-    else:
-        lag_used, lag_rule = check_int(lag, name="lag", minimum=1), "given"
+    lag_used, lag_rule = lag_or_estimate(arr, lag)
     n_points = n - (int(dims[-1]) - 1) * lag_used
     if theiler_window is None:
         w = default_theiler_window(arr, max(n_points, 1))

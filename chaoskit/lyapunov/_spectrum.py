@@ -12,7 +12,7 @@ from scipy.spatial import cKDTree
 
 from .._neighbors import default_theiler_window
 from .._validate import as_series, check_choice, check_int, check_positive
-from ..embedding._delay import estimate_delay
+from ..embedding._delay import lag_or_estimate
 from ..embedding._embed import embed, standardize
 from . import _spectrum_kernels as _k
 
@@ -246,11 +246,7 @@ def lyapunov_spectrum(
     k = check_int(k, name="n_neighbors", minimum=m + 1, maximum=200)
     arr = standardize(as_series(x, min_length=100))
     n = arr.size
-    if lag is None:
-        delay = estimate_delay(arr, method="auto", max_lag=max(1, min(n // 4, 1000)))
-        lag_used, lag_rule = delay.lag, f"estimated: {delay.rule}"
-    else:
-        lag_used, lag_rule = check_int(lag, name="lag", minimum=1), "given"
+    lag_used, lag_rule = lag_or_estimate(arr, lag)
     n_points = n - (m - 1) * lag_used
     if theiler_window is None:
         w = default_theiler_window(arr, max(n_points, 1))
