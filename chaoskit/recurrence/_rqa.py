@@ -160,14 +160,11 @@ class RecurrenceResult:
 
 def _run_lengths(keys: np.ndarray, n: int) -> np.ndarray:
     """Histogram (index l − 1) of runs of consecutive integers in sorted ``keys``."""
-    hist = np.zeros(n, dtype=np.int64)
     if keys.size == 0:
-        return hist
+        return np.zeros(n, dtype=np.int64)
     starts = np.flatnonzero(np.diff(keys) != 1) + 1
-    bounds = np.concatenate(([0], starts, [keys.size]))
-    lengths = np.diff(bounds)
-    np.add.at(hist, lengths - 1, 1)
-    return hist
+    lengths = np.diff(np.concatenate(([0], starts, [keys.size])))
+    return np.bincount(lengths - 1, minlength=n).astype(np.int64)
 
 
 def _line_measures(hist: np.ndarray, min_line: int) -> tuple[float, float, int, float]:
@@ -310,17 +307,20 @@ def recurrence_analysis(
     tau = np.bincount(offset, minlength=n).astype(np.float64)
     tau[1:] /= n - np.arange(1, n)
     tau[: w + 1] = 0.0
-    # diagonal lines: runs of consecutive i on one diagonal (the stride n + 1 keeps
-    # neighbouring diagonals from touching); both triangles
-    order = np.argsort(offset * (n + 1) + i, kind="stable")
-    diag = 2 * _run_lengths((offset * (n + 1) + i)[order], n)
+    # runs of consecutive keys are lines; the stride n + 1 keeps neighbouring diagonals
+    # (and rows) from touching. Diagonal lines in one triangle, counted for both.
+    diag = 2 * _run_lengths(np.sort(offset * (n + 1) + i), n)
+    del offset
+    cells = np.sort(np.concatenate([i * (n + 1) + j, j * (n + 1) + i]))  # row-major order
+    del i, j
+    vert = _run_lengths(cells, n)  # runs along a row = along a column (symmetric)
+    rows, cols = np.divmod(cells, n + 1)
+    del cells
+    indptr = np.zeros(n + 1, dtype=np.int64)
+    np.cumsum(np.bincount(rows, minlength=n), out=indptr[1:])
     matrix = sparse.csr_array(
-        (np.ones(2 * i.size, dtype=bool), (np.concatenate([i, j]), np.concatenate([j, i]))),
-        shape=(n, n),
+        (np.ones(cols.size, dtype=bool), cols.astype(np.int32), indptr), shape=(n, n)
     )
-    matrix.sort_indices()
-    rows = np.repeat(np.arange(n, dtype=np.int64), np.diff(matrix.indptr))
-    vert = _run_lengths(rows * (n + 1) + matrix.indices, n)  # columns = rows (symmetric)
     det, mean_l, max_l, entr = _line_measures(diag, min_line)
     lam, tt, max_v, _ = _line_measures(vert, min_line)
     return RecurrenceResult(
