@@ -89,7 +89,7 @@ def compute_measures(
             units=units,
             rng=rng,
         ),
-        "spectrum": lambda: lyapunov_spectrum(arr, embedding_dim=m, lag=lag, dt=dt, step=lag or 1),
+        "spectrum": lambda: lyapunov_spectrum(arr, embedding_dim=m, lag=lag, dt=dt),
         "sampen": lambda: sample_entropy(_tail(arr, MAX_SAMPLES["sample_entropy"])),
         "dfa": lambda: detrended_fluctuation(_tail(arr, MAX_SAMPLES["dfa"])),
         "hurst": lambda: hurst_exponent(_tail(arr, MAX_SAMPLES["hurst_rs"])),

@@ -174,7 +174,7 @@ def lyapunov_spectrum(
     embedding_dim: int,
     lag: int | None = None,
     dt: float = 1.0,
-    step: int = 1,
+    step: int | None = None,
     n_neighbors: int | None = None,
     theiler_window: int | None = None,
     spurious_check: SpuriousCheck = "embedding",
@@ -206,7 +206,8 @@ def lyapunov_spectrum(
     dt
         Sampling interval (units of the caller; 1 for maps).
     step
-        Evolution time of each local map, samples (≥ 1).
+        Evolution time of each local map, samples (≥ 1; default: the lag). Maps need 1; for
+        flows one-sample maps are nearly the identity and their fits noisy.
     n_neighbors
         Neighbours per fit (default ``2·m + 4``, at least ``m + 1``).
     theiler_window
@@ -241,12 +242,12 @@ def lyapunov_spectrum(
     """
     m = check_int(embedding_dim, name="embedding_dim", minimum=2, maximum=12)
     dt = check_positive(dt, name="dt")
-    step = check_int(step, name="step", minimum=1)
     k = 2 * m + 4 if n_neighbors is None else n_neighbors
     k = check_int(k, name="n_neighbors", minimum=m + 1, maximum=200)
     arr = standardize(as_series(x, min_length=100))
     n = arr.size
     lag_used, lag_rule = lag_or_estimate(arr, lag)
+    step = lag_used if step is None else check_int(step, name="step", minimum=1)
     n_points = n - (m - 1) * lag_used
     if theiler_window is None:
         w = default_theiler_window(arr, max(n_points, 1))
