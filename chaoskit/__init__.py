@@ -117,4 +117,28 @@ _report: list[str] = [
     "report",
 ]
 
-__all__ = _foundation + _estimators + _views + _report
+# --- measures toolbox: add imports and names below this line only ---
+from .complexity import (  # noqa: E402
+    ComplexityResult,
+    detrended_fluctuation,
+    hurst_exponent,
+    sample_entropy,
+)
+from .dimension import CorrelationDimensionResult, correlation_dimension  # noqa: E402
+from .lyapunov import LyapunovSpectrumResult, lyapunov_spectrum  # noqa: E402
+from .recurrence import RecurrenceResult, recurrence_analysis  # noqa: E402
+
+_measures: list[str] = [
+    "ComplexityResult",
+    "CorrelationDimensionResult",
+    "LyapunovSpectrumResult",
+    "RecurrenceResult",
+    "correlation_dimension",
+    "detrended_fluctuation",
+    "hurst_exponent",
+    "lyapunov_spectrum",
+    "recurrence_analysis",
+    "sample_entropy",
+]
+
+__all__ = _foundation + _estimators + _views + _report + _measures

@@ -15,6 +15,7 @@ import typer
 
 from . import plot
 from ._io import load_trajectory
+from ._measures import measure_figures, measures_for_verdicts, measures_text, parse_measures
 from ._paths import unique_filename
 from ._portraits import phase_portrait
 from ._samples import sample_path
@@ -115,7 +116,9 @@ def format_table(table: Any) -> str:
     return "\n".join(line.rstrip() for line in lines)
 
 
-def _write_figures(ds: Any, verdicts: dict[str, Any], directory: Path) -> list[Path]:
+def _write_figures(
+    ds: Any, verdicts: dict[str, Any], directory: Path, measures: dict[str, Any] | None = None
+) -> list[Path]:
     """One PNG per figure and variable; returns the paths written."""
     import matplotlib
 
@@ -156,6 +159,8 @@ def _write_figures(ds: Any, verdicts: dict[str, Any], directory: Path) -> list[P
                     lambda ax, v=verdict: plot.false_nearest_neighbors(v, ax=ax),
                 )
             )
+        if measures and name in measures:
+            figures += [(kind, draw) for kind, _, draw in measure_figures(measures[name])]
         for kind, draw in figures:
             fig, ax = plt.subplots(figsize=(5.0, 4.0), layout="constrained")
             try:
@@ -181,8 +186,10 @@ def _run_analysis(
     time: str | None = None,
     dt: float | None = None,
     step: str | None = None,
+    measures: str | None = None,
 ) -> None:
     with _user_errors():
+        names = parse_measures(measures)
         ds = load_trajectory(path, time=time, dt=dt, step=step)
         verdicts = classify_variables(
             ds,
@@ -201,9 +208,14 @@ def _run_analysis(
     typer.echo("")
     for name, verdict in verdicts.items():
         typer.echo(f"{name}: {verdict.reason}")
+    with _user_errors():
+        results = measures_for_verdicts(ds, verdicts, names, rng=seed) if names else None
+    if results:
+        typer.echo("")
+        typer.echo(measures_text(results))
     if figures is not None:
         with _user_errors():
-            written = _write_figures(ds, verdicts, figures)
+            written = _write_figures(ds, verdicts, figures, results)
         typer.echo(f"\n{len(written)} figure(s) written to {figures}")
     failed = [name for name, v in verdicts.items() if "classify" in v.errors]
     if failed and len(failed) == len(verdicts):
@@ -243,6 +255,13 @@ def analyze(
         "--step",
         help="Map data: the integer iteration column ('--step step' numbers the rows).",
     ),
+    measures: str | None = typer.Option(
+        None,
+        "--measures",
+        help="Further measures, comma-separated: d2 (correlation dimension), rqa (recurrence "
+        "quantification), spectrum (Lyapunov spectrum), sampen (sample entropy), dfa, hurst; "
+        "or all.",
+    ),
 ) -> None:
     """Classify each variable of a trajectory and print the evidence table.
 
@@ -260,6 +279,7 @@ def analyze(
         time=time,
         dt=dt,
         step=step,
+        measures=measures,
     )
 
 
@@ -356,6 +376,12 @@ def report(
         False, "--embed-figures", help="Embed the figures in the Markdown twin too."
     ),
     seed: int = typer.Option(0, "--seed", help="Seed of the 0-1 test and the surrogates."),
+    measures: str | None = typer.Option(
+        None,
+        "--measures",
+        help="Further measures in a section of their own, comma-separated: d2, rqa, "
+        "spectrum, sampen, dfa, hurst; or all.",
+    ),
 ) -> None:
     """Analyse trajectories and write an HTML report with its Markdown twin."""
     with _user_errors():
@@ -375,6 +401,7 @@ def report(
             reference_name=reference_name,
             title=title,
             command=shlex.join(["chaoskit", *sys.argv[1:]]),
+            measures=measures or (),
             progress=True,
         )
         written = rep.write(output, markdown_figures="embed" if embed_figures else "files")

@@ -34,6 +34,7 @@ LAZY_IMPORTS = {
     "distributed": "dask is the optional parallel backend of sweeps",
     "dask": "the scheduler is configured only where a write may run inside a dask worker",
     "tqdm": "progress bars are opt-in",
+    "nolds": "only sample entropy, DFA and the Hurst exponent call it; its import is slow",
     "scipy": "scipy.stats/integrate/interpolate load only on the paths that use them",
 }
 

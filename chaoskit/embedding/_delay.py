@@ -381,3 +381,11 @@ def _mi_choice(curve: np.ndarray) -> tuple[int, str, bool]:
         )
     lag = int(np.argmin(curve[1:])) + 1
     return lag, "no MI minimum or 1/e crossing up to max_lag; used the smallest MI", False
+
+
+def lag_or_estimate(arr: np.ndarray, lag: Any) -> tuple[int, str]:
+    """A given lag, validated, or the ``"auto"`` estimate; with the rule in words."""
+    if lag is None:
+        delay = estimate_delay(arr, method="auto", max_lag=max(1, min(arr.size // 4, 1000)))
+        return delay.lag, f"estimated: {delay.rule}"
+    return check_int(lag, name="lag", minimum=1), "given"

@@ -4,6 +4,13 @@ from __future__ import annotations
 
 from ._result import LyapunovResult
 from ._rosenstein import lyapunov_rosenstein
+from ._spectrum import LyapunovSpectrumResult, lyapunov_spectrum
 from ._wolf import lyapunov_wolf
 
-__all__ = ["LyapunovResult", "lyapunov_rosenstein", "lyapunov_wolf"]
+__all__ = [
+    "LyapunovResult",
+    "LyapunovSpectrumResult",
+    "lyapunov_rosenstein",
+    "lyapunov_spectrum",
+    "lyapunov_wolf",
+]

@@ -9,7 +9,7 @@ import numpy as np
 
 from .._neighbors import default_theiler_window, mean_period
 from .._validate import as_series, check_int, check_positive
-from ..embedding._delay import estimate_delay
+from ..embedding._delay import lag_or_estimate
 from ..embedding._dimension import DEFAULT_FNN_THRESHOLD, fnn_curve
 from ..embedding._embed import embed, standardize
 
@@ -57,11 +57,7 @@ def prepare(
     scale = float((arr / peak).std()) * peak
     arr = standardize(arr)
     n = arr.size
-    if lag is None:
-        delay = estimate_delay(arr, method="auto", max_lag=max(1, min(n // 4, 1000)))
-        lag, lag_rule = delay.lag, f"estimated: {delay.rule}"
-    else:
-        lag, lag_rule = check_int(lag, name="lag", minimum=1), "given"
+    lag, lag_rule = lag_or_estimate(arr, lag)
     if embedding_dim is None:
         max_dim = min(10, (n - 10) // lag - 1)
         if max_dim < 1:

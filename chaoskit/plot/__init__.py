@@ -26,3 +26,8 @@ __all__ = [
     "phase_portrait",
     "poincare",
 ]
+
+# --- measures toolbox: add imports and names below this line only ---
+from ._measures import local_slopes, lyapunov_spectrum, recurrence_plot
+
+__all__ += ["local_slopes", "lyapunov_spectrum", "recurrence_plot"]

@@ -30,6 +30,7 @@ import xarray as xr
 
 from .. import plot
 from .._io import _atomic_write, load_trajectory
+from .._measures import parse_measures
 from .._paths import safe_filename
 from .._portraits import DERIVATIVE_NAMES, phase_portrait
 from .._selection import VariableSpec, parse_variable, select_series
@@ -38,6 +39,7 @@ from ..sections import poincare_section, stroboscopic_map
 from ..verdict import classify_variables, verdict_table
 from ..verdict._rng import as_generator
 from ._items import MISSING, ReportCode, ReportFigure, ReportSection, ReportTable, format_number
+from ._measures import measure_items
 from ._render import render_html, render_markdown
 
 __all__ = ["Report", "SweepMap", "VariableSpec", "parse_variable", "report", "select_series"]
@@ -696,6 +698,7 @@ def report(
     sweep_maps: Sequence[SweepMap] = (),
     bifurcations: Any = None,
     figures: Sequence[ReportFigure] = (),
+    measures: Sequence[str] | str = (),
     parameters: Mapping[str, Any] | None = None,
     title: str = "chaoskit report",
     command: str | None = None,
@@ -778,6 +781,10 @@ def report(
         Datasets from :func:`chaoskit.bifurcation_diagram`, or ``{caption: Dataset}``.
     figures
         Further :class:`ReportFigure` objects, placed in their ``section``.
+    measures
+        Further measures for every state and variable, in a section of their own (table and
+        figures): a subset of ``"d2"``, ``"rqa"``, ``"spectrum"``, ``"sampen"``, ``"dfa"``,
+        ``"hurst"`` (a sequence or a comma-separated string, or ``"all"``).
     parameters
         Run parameters to list in the provenance (values: numbers, text, JSON-able).
     title
@@ -829,6 +836,7 @@ def report(
         if not isinstance(f, ReportFigure):
             raise ValueError(f"figures must hold ReportFigure objects; got {type(f).__name__}.")
     phase = parse_variable(phase_variable) if phase_variable is not None else None
+    measure_names = parse_measures(measures)
 
     streams = as_generator(rng).spawn(len(pairs)) if pairs else []
     states: list[_State] = []
@@ -874,6 +882,9 @@ def report(
             reference_name=reference_name,
             chaos_notes=chaos_notes,
         )
+        if measure_names:
+            seed = int(rng) if isinstance(rng, (int, np.integer)) else 0
+            measure_items(states, specs, measure_names, put, _draw, rng=seed)
         analysis = xr.concat(
             [verdict_table(st.verdicts) for st in states],
             dim=pd.Index([st.label for st in states], name="state"),

@@ -30,7 +30,7 @@ import annotated_types as at
 import numpy as np
 from pydantic import Discriminator, Strict, Tag, TypeAdapter, ValidationError, with_config
 
-from chaoskit._io import _atomic_write
+from chaoskit.contract import atomic_write
 
 from ._model import (
     _CONFIG,
@@ -216,7 +216,7 @@ def save_scene(scene: Scene, path: str | Path) -> Path:
     )
     text = header + scene_to_toml(scene)
     # atomic: a failed write (a full disk) leaves the old scene file, never half a TOML
-    _atomic_write(path, lambda p: p.write_text(text, encoding="utf-8"), nbytes=len(text))
+    atomic_write(path, lambda p: p.write_text(text, encoding="utf-8"), nbytes=len(text))
     return path
 
 
