@@ -164,6 +164,23 @@ def _auto_horizon(pts: np.ndarray, w: int, period: float, plateau: float, cap: i
         h = min(cap, 2 * h)
 
 
+def parse_fit_range(fit_range: Any, max_horizon: int | None) -> tuple[int, int] | None:
+    """``None`` for ``"auto"``, else the validated pair ``(first, last)`` of horizons."""
+    if isinstance(fit_range, str) and fit_range == "auto":
+        return None
+    try:
+        first, last = (int(v) for v in fit_range)
+    except (TypeError, ValueError):
+        raise ValueError(
+            f"fit_range must be 'auto' or a pair (first, last) of horizons; got {fit_range!r}."
+        ) from None
+    if not 0 <= first < last:
+        raise ValueError(f"fit_range must satisfy 0 <= first < last; got {fit_range!r}.")
+    if max_horizon is not None and last > max_horizon:
+        raise ValueError(f"fit_range ends at {last}, beyond max_horizon={max_horizon}.")
+    return first, last
+
+
 def lyapunov_rosenstein(
     x: Any,
     *,
@@ -294,20 +311,7 @@ def lyapunov_rosenstein(
     check_choice(neighbor, name="neighbor", choices=("auto", "sample", "orbit", "mean"))
     if max_horizon is not None:
         max_horizon = check_int(max_horizon, name="max_horizon", minimum=2)
-    if not (isinstance(fit_range, str) and fit_range == "auto"):
-        try:
-            first, last = (int(v) for v in fit_range)
-        except (TypeError, ValueError):
-            raise ValueError(
-                f"fit_range must be 'auto' or a pair (first, last) of horizons; got {fit_range!r}."
-            ) from None
-        if not 0 <= first < last:
-            raise ValueError(f"fit_range must satisfy 0 <= first < last; got {fit_range!r}.")
-        if max_horizon is not None and last > max_horizon:
-            raise ValueError(f"fit_range ends at {last}, beyond max_horizon={max_horizon}.")
-        fixed: tuple[int, int] | None = (first, last)
-    else:
-        fixed = None
+    fixed = parse_fit_range(fit_range, max_horizon)
     min_future = max_horizon if max_horizon is not None else (fixed[1] if fixed else _MIN_HORIZON)
     prep = prepare(
         x,
