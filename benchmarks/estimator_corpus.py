@@ -148,6 +148,11 @@ def _map_task(args: tuple[str, int]) -> list[dict]:
     return _rows_for(series, corpus_flows.map_exponent(name))
 
 
+def _run_task(task: tuple) -> list[dict]:
+    func, arg = task
+    return func(arg)
+
+
 def _summary(rows: list[dict]) -> list[dict]:
     """Per reference, method, length and kind: median |relative error|, shares, coverage."""
     out = []
@@ -212,22 +217,27 @@ def main(argv: list[str] | None = None) -> int:
     names = corpus_flows.dysts_flow_names()
     if args.quick:
         names = [n for n in names if n in QUICK_FLOWS]
-    tasks: list = [(_flow_task, (n, args.cache_dir)) for n in names]
-    tasks += [(_map_task, (m, n)) for m in corpus_flows.MAP_REFERENCES for n in (SHORT, LONG)]
+    cached = {n for n in names if (Path(args.cache_dir) / f"{n}-tangent-200.npy").exists()}
+    names.sort(key=lambda n: n not in cached)  # cached reference exponents first
+    tasks: list = [(_map_task, (m, n)) for m in corpus_flows.MAP_REFERENCES for n in (SHORT, LONG)]
+    tasks += [(_flow_task, (n, args.cache_dir)) for n in names]
     t0 = time.perf_counter()
     rows: list[dict] = []
+    out = Path(args.out)
+    suffix = "-quick" if args.quick else ""
+    summary: list[dict] = []
     with mp.get_context("spawn").Pool(args.processes, maxtasksperchild=10) as pool:
-        results = [pool.apply_async(func, (a,)) for func, a in tasks]
-        for i, res in enumerate(results, 1):
-            rows.extend(res.get())
+        # results are written after every finished group, so an interrupted run leaves
+        # consistent tables of the groups done so far
+        for i, group in enumerate(pool.imap_unordered(_run_task, tasks), 1):
+            rows.extend(group)
+            _write_csv(out / f"estimator-corpus{suffix}.csv", rows, FIELDS)
+            summary = _summary(rows)
+            if summary:
+                _write_csv(out / f"estimator-corpus{suffix}-summary.csv", summary, list(summary[0]))
             print(f"\r{i}/{len(tasks)} series groups done", end="", file=sys.stderr)
     wall = time.perf_counter() - t0
     print(file=sys.stderr)
-    out = Path(args.out)
-    suffix = "-quick" if args.quick else ""
-    _write_csv(out / f"estimator-corpus{suffix}.csv", rows, FIELDS)
-    summary = _summary(rows)
-    _write_csv(out / f"estimator-corpus{suffix}-summary.csv", summary, list(summary[0]))
     failed = [r for r in rows if r["method"] == "integration"]
     broken = [r for r in rows if r["method"] in METHODS and r.get("note")]
     for r in failed + broken:

@@ -11,16 +11,15 @@ import xarray as xr
 from .._neighbors import nearest_neighbors
 from .._validate import check_choice, check_int
 from . import _kantz_kernels as _kk
-from ._common import batch_means_ci, prepare, references
+from ._common import batch_means_ci, references, result_fields
 from ._result import LyapunovResult
 from ._rosenstein import (
-    _MIN_HORIZON,
     SPAN_PERIODS,
     WEAK_CHAOS,
-    _auto_horizon,
     _plateau,
     _window_spread,
-    parse_fit_range,
+    horizon_for,
+    prepare_curve,
 )
 from ._scaling import TOLERANCES, saturation_index, scaling_region
 
@@ -296,35 +295,19 @@ def lyapunov_kantz(
     max_points = check_int(max_points, name="max_points", minimum=10)
     max_neighbors = check_int(max_neighbors, name="max_neighbors", minimum=1)
     check_choice(distance, name="distance", choices=("auto", "euclidean", "transverse"))
-    if max_horizon is not None:
-        max_horizon = check_int(max_horizon, name="max_horizon", minimum=2)
-    fixed = parse_fit_range(fit_range, max_horizon)
     eps_given = None
     if epsilon is not None:
         eps_given = np.sort(np.atleast_1d(np.asarray(epsilon, dtype=np.float64)))
         if eps_given.ndim != 1 or not (np.isfinite(eps_given).all() and (eps_given > 0).all()):
             raise ValueError(f"epsilon must be positive finite radii; got {epsilon!r}.")
-    min_future = max_horizon if max_horizon is not None else (fixed[1] if fixed else _MIN_HORIZON)
-    prep = prepare(
-        x,
-        embedding_dim=embedding_dim,
-        lag=lag,
-        dt=dt,
-        theiler_window=theiler_window,
-        min_future=min_future,
+    prep, fixed, max_horizon, min_future = prepare_curve(
+        x, embedding_dim, lag, dt, theiler_window, max_horizon, fit_range
     )
     pts, w = prep.pts, prep.theiler_window
     n_pts = pts.shape[0]
     rng = np.random.default_rng(12345)
-    if max_horizon is not None:
-        horizon_max = max_horizon
-    else:
-        cap = int(min((n_pts - 2 * w - 2) // 2, max(64, np.ceil(20 * prep.period))))
-        cap = max(cap, min_future)
-        plateau_log = _plateau(pts, w, rng, False)
-        horizon_max = _auto_horizon(pts, w, prep.period, plateau_log, cap)
-        if fixed:
-            horizon_max = max(horizon_max, fixed[1])
+    plateau_log = _plateau(pts, w, rng, False) if max_horizon is None else np.nan
+    horizon_max = horizon_for(prep, plateau_log, min_future, max_horizon, fixed)
     usable = n_pts - horizon_max
     ks = _grid(horizon_max)
     if fixed:
@@ -410,19 +393,13 @@ def lyapunov_kantz(
         mle_bits_per_sample=slope / _LN2,
         ci=ci,
         ci_method=ci_method,
-        dt=prep.dt,
-        embedding_dim=prep.embedding_dim,
-        lag=prep.lag,
-        theiler_window=w,
-        lag_rule=prep.lag_rule,
-        dim_rule=prep.dim_rule,
+        **result_fields(prep),
         fit_range=(int(ks[a]), int(ks[b])),
         fit_found=bool(fit["found"]),
         r2=float(fit["r2"]),
         horizon=ks,
         curve=fit["curve"],
         n_points=int(have[e_star]),
-        n_samples=int(prep.arr.size),
         subsampled=bool(ref.size < usable),
         params={
             "max_horizon": int(horizon_max),
