@@ -45,6 +45,7 @@ LONG, SHORT = 20_000, 2_000
 PTS_LONG, DECIMATE = 100, 5
 METHODS = ("rosenstein", "kantz", "wolf", "nolds")
 NOLDS_MAX_N = 2_000
+AGREE = 0.2  # dysts' published and the tangent exponent within 20 %: a trusted reference
 QUICK_FLOWS = ("Lorenz", "Rossler", "Chua", "Duffing", "Halvorsen", "SprottB")
 FIELDS = [
     "name",
@@ -157,9 +158,16 @@ def _summary(rows: list[dict]) -> list[dict]:
     """Per reference, method, length and kind: median |relative error|, shares, coverage."""
     out = []
     done = [r for r in rows if r["method"] in METHODS and r.get("note") == ""]
+    for r in done:
+        # series whose two references agree within 20 %: the tangent value, else excluded
+        agree = (
+            abs(float(r["true"]) / float(r["tangent"]) - 1.0) <= AGREE if r["tangent"] else False
+        )
+        r["agreed"] = float(r["tangent"]) if agree else np.nan
     for ref, err_key, cov_key, ref_key in (
         ("dysts", "rel_error", "covered", "true"),
         ("tangent", "rel_error_tangent", "covered_tangent", "tangent"),
+        ("agreed", "rel_error_tangent", "covered_tangent", "agreed"),
     ):
         for method in METHODS:
             for n in (SHORT, LONG):
@@ -203,6 +211,38 @@ def _write_csv(path: Path, rows: list[dict], fields: list[str]) -> None:
     os.replace(tmp, path)
 
 
+def _print_summary(summary: list[dict]) -> None:
+    print(
+        "| reference | method | N | kind | series | median abs rel. error | within 20 % "
+        "| within 5 % | 95 % CI coverage |"
+    )
+    print("|---|---|---|---|---|---|---|---|---|")
+    for s in summary:
+        cov = "—" if np.isnan(s["ci_coverage"]) else f"{100 * s['ci_coverage']:.0f} %"
+        print(
+            f"| {s['reference']} | {s['method']} | {s['n']} | {s['kind']} | {s['series']} | "
+            f"{100 * s['median_abs_rel_error']:.1f} % | {100 * s['within_20pct']:.0f} % | "
+            f"{100 * s['within_5pct']:.0f} % | {cov} |"
+        )
+
+
+def _resummarize(path: Path) -> int:
+    with path.open() as fh:
+        rows: list[dict] = []
+        for r in csv.DictReader(fh):
+            for key in ("n",):
+                r[key] = int(r[key])
+            for key in ("true", "tangent", "rel_error", "rel_error_tangent"):
+                r[key] = float(r[key]) if r.get(key) not in (None, "") else np.nan
+            for key in ("covered", "covered_tangent"):
+                r[key] = int(r[key]) if r.get(key) not in (None, "") else ""
+            rows.append(r)
+    summary = _summary(rows)
+    _write_csv(path.with_name(path.stem + "-summary.csv"), summary, list(summary[0]))
+    _print_summary(summary)
+    return 0
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--processes", type=int, default=2, help="worker processes (default 2)")
@@ -211,7 +251,12 @@ def main(argv: list[str] | None = None) -> int:
         "--cache-dir", default=str(corpus_flows.DEFAULT_CACHE), help="integrated-series cache"
     )
     parser.add_argument("--out", default=str(OUT), help="output folder for the CSV files")
+    parser.add_argument(
+        "--summarize", metavar="CSV", help="only rewrite the summary of an existing results CSV"
+    )
     args = parser.parse_args(argv)
+    if args.summarize:
+        return _resummarize(Path(args.summarize))
     if args.processes < 1:
         parser.error("--processes must be >= 1")
     names = corpus_flows.dysts_flow_names()
@@ -243,18 +288,7 @@ def main(argv: list[str] | None = None) -> int:
     for r in failed + broken:
         print(f"not used: {r['name']} N={r['n']} {r['method']}: {r['note']}")
     print(f"{len(names) - len(failed)} of {len(names)} flows integrated cleanly; wall {wall:.0f} s")
-    print(
-        "| reference | method | N | kind | series | median abs rel. error | within 20 % "
-        "| within 5 % | 95 % CI coverage |"
-    )
-    print("|---|---|---|---|---|---|---|---|---|")
-    for s in summary:
-        cov = "—" if np.isnan(s["ci_coverage"]) else f"{100 * s['ci_coverage']:.0f} %"
-        print(
-            f"| {s['reference']} | {s['method']} | {s['n']} | {s['kind']} | {s['series']} | "
-            f"{100 * s['median_abs_rel_error']:.1f} % | {100 * s['within_20pct']:.0f} % | "
-            f"{100 * s['within_5pct']:.0f} % | {cov} |"
-        )
+    _print_summary(summary)
     return 0
 
 
