@@ -38,12 +38,19 @@ from .embedding import (  # noqa: E402
     false_nearest_neighbors,
     mutual_information,
 )
-from .lyapunov import LyapunovResult, lyapunov_rosenstein, lyapunov_wolf  # noqa: E402
+from .lyapunov import (  # noqa: E402
+    KantzResult,
+    LyapunovResult,
+    lyapunov_kantz,
+    lyapunov_rosenstein,
+    lyapunov_wolf,
+)
 
 _estimators: list[str] = [
     "DelayCurve",
     "DelayResult",
     "DimensionResult",
+    "KantzResult",
     "LyapunovResult",
     "autocorrelation",
     "cao",
@@ -51,6 +58,7 @@ _estimators: list[str] = [
     "estimate_delay",
     "estimate_embedding_dim",
     "false_nearest_neighbors",
+    "lyapunov_kantz",
     "lyapunov_rosenstein",
     "lyapunov_wolf",
     "mutual_information",

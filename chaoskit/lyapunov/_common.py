@@ -98,6 +98,19 @@ def prepare(
     )
 
 
+def result_fields(prep: Prepared) -> dict[str, Any]:
+    """The :class:`LyapunovResult` fields every estimator takes from its prepared input."""
+    return {
+        "dt": prep.dt,
+        "embedding_dim": prep.embedding_dim,
+        "lag": prep.lag,
+        "theiler_window": prep.theiler_window,
+        "lag_rule": prep.lag_rule,
+        "dim_rule": prep.dim_rule,
+        "n_samples": int(prep.arr.size),
+    }
+
+
 def references(n: int, max_points: int) -> np.ndarray:
     """All of ``0 … n−1`` or ``max_points`` of them evenly spaced."""
     if n <= max_points:

@@ -19,7 +19,7 @@ class LyapunovResult:
     Attributes
     ----------
     method
-        ``"rosenstein"`` or ``"wolf"``.
+        ``"rosenstein"``, ``"kantz"`` or ``"wolf"``.
     mle
         Largest Lyapunov exponent, natural log, per unit of ``dt`` (per second when ``dt``
         is in seconds; per iteration for maps with ``dt = 1``).
@@ -88,7 +88,7 @@ class LyapunovResult:
 
     def to_dataset(self) -> xr.Dataset:
         """Curve over ``horizon`` with every scalar in the attributes (netCDF-safe types)."""
-        if self.method == "rosenstein":
+        if self.method in ("rosenstein", "kantz"):
             name, long, units = "log_divergence", "mean natural-log divergence <ln d(k)>", "1"
             hlong = "divergence horizon in samples"
         else:

@@ -10,7 +10,7 @@ from .._neighbors import build_tree, nearest_neighbors
 from .._progress import stage
 from .._validate import check_choice, check_int
 from . import _kernels as _k
-from ._common import batch_means_ci, prepare, references
+from ._common import Prepared, batch_means_ci, prepare, references, result_fields
 from ._result import LyapunovResult
 from ._scaling import TOLERANCES, saturation_index, scaling_region
 
@@ -165,6 +165,69 @@ def _auto_horizon(pts: np.ndarray, w: int, period: float, plateau: float, cap: i
         h = min(cap, 2 * h)
 
 
+def horizon_for(
+    prep: Prepared,
+    plateau: float,
+    min_future: int,
+    max_horizon: int | None,
+    fixed: tuple[int, int] | None,
+) -> int:
+    """``max_horizon`` if given, else the automatic horizon (capped at 20 mean periods, at
+    least 64, and half the usable points), never short of a given fit range."""
+    if max_horizon is not None:
+        return max_horizon
+    pts, w = prep.pts, prep.theiler_window
+    cap = int(min((pts.shape[0] - 2 * w - 2) // 2, max(64, np.ceil(20 * prep.period))))
+    horizon = _auto_horizon(pts, w, prep.period, plateau, max(cap, min_future))
+    return max(horizon, fixed[1]) if fixed else horizon
+
+
+def prepare_curve(
+    x: Any,
+    embedding_dim: Any,
+    lag: Any,
+    dt: Any,
+    theiler_window: Any,
+    max_horizon: Any,
+    fit_range: Any,
+) -> tuple[Prepared, tuple[int, int] | None, int | None, int]:
+    """Validate the options of a divergence-curve estimator and prepare the input.
+
+    Returns the prepared input, the given fit range (``None`` for ``"auto"``), the validated
+    ``max_horizon`` and the number of samples each reference point needs ahead of it.
+    """
+    if max_horizon is not None:
+        max_horizon = check_int(max_horizon, name="max_horizon", minimum=2)
+    fixed = _parse_fit_range(fit_range, max_horizon)
+    min_future = max_horizon if max_horizon is not None else (fixed[1] if fixed else _MIN_HORIZON)
+    prep = prepare(
+        x,
+        embedding_dim=embedding_dim,
+        lag=lag,
+        dt=dt,
+        theiler_window=theiler_window,
+        min_future=min_future,
+    )
+    return prep, fixed, max_horizon, min_future
+
+
+def _parse_fit_range(fit_range: Any, max_horizon: int | None) -> tuple[int, int] | None:
+    """``None`` for ``"auto"``, else the validated pair ``(first, last)`` of horizons."""
+    if isinstance(fit_range, str) and fit_range == "auto":
+        return None
+    try:
+        first, last = (int(v) for v in fit_range)
+    except (TypeError, ValueError):
+        raise ValueError(
+            f"fit_range must be 'auto' or a pair (first, last) of horizons; got {fit_range!r}."
+        ) from None
+    if not 0 <= first < last:
+        raise ValueError(f"fit_range must satisfy 0 <= first < last; got {fit_range!r}.")
+    if max_horizon is not None and last > max_horizon:
+        raise ValueError(f"fit_range ends at {last}, beyond max_horizon={max_horizon}.")
+    return first, last
+
+
 def lyapunov_rosenstein(
     x: Any,
     *,
@@ -265,42 +328,13 @@ def lyapunov_rosenstein(
     max_points = check_int(max_points, name="max_points", minimum=10)
     check_choice(distance, name="distance", choices=("auto", "euclidean", "transverse"))
     check_choice(neighbor, name="neighbor", choices=("auto", "sample", "orbit", "mean"))
-    if max_horizon is not None:
-        max_horizon = check_int(max_horizon, name="max_horizon", minimum=2)
-    if not (isinstance(fit_range, str) and fit_range == "auto"):
-        try:
-            first, last = (int(v) for v in fit_range)
-        except (TypeError, ValueError):
-            raise ValueError(
-                f"fit_range must be 'auto' or a pair (first, last) of horizons; got {fit_range!r}."
-            ) from None
-        if not 0 <= first < last:
-            raise ValueError(f"fit_range must satisfy 0 <= first < last; got {fit_range!r}.")
-        if max_horizon is not None and last > max_horizon:
-            raise ValueError(f"fit_range ends at {last}, beyond max_horizon={max_horizon}.")
-        fixed: tuple[int, int] | None = (first, last)
-    else:
-        fixed = None
-    min_future = max_horizon if max_horizon is not None else (fixed[1] if fixed else _MIN_HORIZON)
-    prep = prepare(
-        x,
-        embedding_dim=embedding_dim,
-        lag=lag,
-        dt=dt,
-        theiler_window=theiler_window,
-        min_future=min_future,
+    prep, fixed, max_horizon, min_future = prepare_curve(
+        x, embedding_dim, lag, dt, theiler_window, max_horizon, fit_range
     )
     pts, w = prep.pts, prep.theiler_window
     n_pts = pts.shape[0]
     plateau = _plateau(pts, w, np.random.default_rng(12345), False)
-    if max_horizon is not None:
-        horizon_max = max_horizon
-    else:
-        cap = int(min((n_pts - 2 * w - 2) // 2, max(64, np.ceil(20 * prep.period))))
-        cap = max(cap, min_future)
-        horizon_max = _auto_horizon(pts, w, prep.period, plateau, cap)
-        if fixed:
-            horizon_max = max(horizon_max, fixed[1])
+    horizon_max = horizon_for(prep, plateau, min_future, max_horizon, fixed)
     usable = n_pts - horizon_max
     ks = _grid(horizon_max)
     if fixed:
@@ -361,19 +395,13 @@ def lyapunov_rosenstein(
         mle_bits_per_sample=slope / _LN2,
         ci=ci,
         ci_method=ci_method,
-        dt=prep.dt,
-        embedding_dim=prep.embedding_dim,
-        lag=prep.lag,
-        theiler_window=w,
-        lag_rule=prep.lag_rule,
-        dim_rule=prep.dim_rule,
+        **result_fields(prep),
         fit_range=(int(ks[a]), int(ks[b])),
         fit_found=bool(fit["found"]),
         r2=float(fit["r2"]),
         horizon=ks,
         curve=curve,
         n_points=int(ref.size),
-        n_samples=int(prep.arr.size),
         subsampled=bool(ref.size < usable),
         params={
             "max_horizon": int(horizon_max),
