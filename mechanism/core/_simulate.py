@@ -170,9 +170,9 @@ def simulate(
         ideal mechanism (``max_displacement_error``, ``max_speed_error``; nothing else is
         stored), default the drive period / 1000. The grid does not bound the step: the
         maximum step is ``scene.solver.max_step``, else unlimited for the error-controlled
-        methods, whose step control and rejection of steps entering contact deeper than
-        1 % of the clearance resolve every impact, and the scene's default output step for
-        the fixed-step generalized-α.
+        methods, whose step control (and, for generalized-α, the rejection of steps
+        entering contact deeper than 1 % of the clearance) resolves every impact, and the
+        scene's default output step for the fixed-step generalized-α.
     record : {"full", "metrics", "sections"}
         ``"full"``: the trajectory on the output grid (below). ``"metrics"``: the response
         metrics of ``mechanism._metrics.METRICS`` over the time after ``discard``

@@ -379,11 +379,14 @@ class Dopri5(Integrator):
     Parameters
     ----------
     contact_entry_depth : float
-        A step that passes the error test but takes a separated clearance joint deeper
-        than this fraction of its radial clearance is retried with the step at which the
-        penetration, interpolated from the start of the step, is half of it (as in
-        :class:`GeneralizedAlpha`), so no impact is stepped over whatever the step bound;
-        0 disables the check.
+        With a value > 0, a step that passes the error test but takes a separated clearance
+        joint deeper than this fraction of its radial clearance is retried with the step
+        at which the penetration, interpolated from the start of the step, is half of it
+        (as in :class:`GeneralizedAlpha`). Off by default: the error test already sees the
+        contact force in the stages of a step that enters contact, and on the hard cases
+        the check changed the latched impact velocity more than it helped (the peak force
+        of the 1 µm slider-crank moved by 0.65 % between step caps T/4000 and T/8000 with
+        it, 0.02 % without).
     max_steps : int
         Upper bound on attempted steps (accepted + rejected).
 
@@ -395,7 +398,7 @@ class Dopri5(Integrator):
     G. Wanner, *Solving Ordinary Differential Equations I*, §II.5–6.
     """
 
-    contact_entry_depth: float = 0.01
+    contact_entry_depth: float = 0.0
     max_steps: int = 200_000_000
     name: str = field(default="dopri5", init=False)
 

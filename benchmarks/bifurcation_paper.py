@@ -1,0 +1,86 @@
+"""Orbit diagrams of the rigid ``paper`` scene over crank speed and over clearance.
+
+The speed diagram is the performance target of the bifurcation study: 60 speeds from 30 to
+300 rpm, 100 revolutions kept after 20 discarded, on the 2-core machine in ≤ 10 min (≤ 20
+min with the exponent at every value). The clearance diagram spans 0.05–0.5 mm at 150 rpm.
+Each run writes its Dataset and figure into ``docs/benchmarks/`` and prints wall time and
+the CPU time of the points (each point's ``wall_time`` in its summary is the time its worker
+spent on it). Run with
+
+    python benchmarks/bifurcation_paper.py speed [--values 30:300:60] [--workers 2]
+    python benchmarks/bifurcation_paper.py clearance [--values 5e-5:5e-4:46]
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+from pathlib import Path
+
+import matplotlib
+import xarray as xr
+
+import mechanism
+from mechanism.studies._sweep_store import write_netcdf
+
+OUT = Path(__file__).resolve().parents[1] / "docs" / "benchmarks"
+KEYS = {"speed": "drive.speed_rpm", "clearance": "joints.C.clearance"}
+DEFAULT_VALUES = {"speed": "30:300:60", "clearance": "5e-5:5e-4:46"}
+
+
+def _point_seconds(store: Path) -> float:
+    total = 0.0
+    for path in (store / "points").glob("*.summary.nc"):
+        with xr.open_dataset(path, engine="h5netcdf") as summary:
+            total += float(summary.attrs.get("wall_time", 0.0))
+    return total
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("sweep", choices=sorted(KEYS))
+    parser.add_argument("--values", default=None)
+    parser.add_argument("--revolutions", type=float, default=120.0)
+    parser.add_argument("--discard", type=float, default=20.0)
+    parser.add_argument("--workers", type=int, default=2)
+    parser.add_argument("--store", type=Path, default=None)
+    args = parser.parse_args()
+    from mechanism.studies._bifurcation import parse_values
+
+    values = parse_values(args.values or DEFAULT_VALUES[args.sweep])
+    store = args.store or Path(f"bifurcation-{args.sweep}-store")
+    scene = mechanism.load_scene("paper").replace({"effects.flexibility": False})
+    start = time.perf_counter()
+    ds = mechanism.bifurcation(
+        scene,
+        parameter=KEYS[args.sweep],
+        values=values,
+        revolutions=args.revolutions,
+        discard=args.discard,
+        n_workers=args.workers,
+        store=store,
+        progress=True,
+    )
+    wall = time.perf_counter() - start
+    busy = _point_seconds(store)
+    ok = int((ds.status.values == "ok").sum())
+    print(
+        f"{len(values)} values ({ok} ok), {args.revolutions:g} revolutions each "
+        f"({args.discard:g} discarded): wall {wall:.0f} s, point time {busy:.0f} s "
+        f"({busy / len(values) / args.revolutions:.3f} s per revolution)"
+    )
+    OUT.mkdir(parents=True, exist_ok=True)
+    write_netcdf(ds, OUT / f"bifurcation-{args.sweep}.nc")
+    matplotlib.use("Agg")
+    axes = mechanism.plot_bifurcation(ds)
+    axes[0].set_title(
+        f"rigid paper scene, {len(values)} values × {args.revolutions - args.discard:g} "
+        f"revolutions after {args.discard:g}; wall {wall / 60:.1f} min on {args.workers} workers",
+        fontsize=9,
+    )
+    axes[0].figure.savefig(OUT / f"bifurcation-{args.sweep}.png", dpi=160, bbox_inches="tight")
+    print(f"written: {OUT / f'bifurcation-{args.sweep}.png'}")
+
+
+if __name__ == "__main__":
+    main()
