@@ -152,11 +152,26 @@ def simulate_command(
     rtol: float | None = typer.Option(None, "--rtol", help="Relative tolerance."),
     atol: float | None = typer.Option(None, "--atol", help="Absolute tolerance."),
     output_step: float | None = typer.Option(
-        None, "--output-step", help="Output spacing in s (default drive period / 10000)."
+        None,
+        "--output-step",
+        help="Output spacing in s (default drive period / 10000; / 1000 for metrics and "
+        "sections, where it only sets the grid of the slider errors).",
+    ),
+    record: str = typer.Option(
+        "full",
+        "--record",
+        help="full (the trajectory), metrics (response metrics only) or sections "
+        "(stroboscopic points and the metrics).",
+    ),
+    discard: float = typer.Option(
+        0.0, "--discard", help="Revolutions treated as transient by metrics and sections."
     ),
     progress: bool = typer.Option(True, "--progress/--no-progress", help="Show a progress bar."),
 ) -> None:
-    """Simulate a scene and write its trajectory (netCDF by default)."""
+    """Simulate a scene and write its trajectory, metrics or sections (netCDF by default)."""
+    if record != "full" and not output.endswith(".nc"):
+        typer.echo(f"Error: record={record!r} is written as netCDF (.nc); got {output}", err=True)
+        raise typer.Exit(code=2)
     resolved = load_scene_option(scene, set_options)
     try:
         ds = simulate(
@@ -167,11 +182,26 @@ def simulate_command(
             rtol=rtol,
             atol=atol,
             output_step=output_step,
+            record=record,  # type: ignore[arg-type]
+            discard=discard,
             progress=progress,
         )
     except (ValueError, SimulationError) as exc:
         typer.echo(f"Error: {exc}", err=True)
         raise typer.Exit(code=1) from None
+    if record != "full":
+        if not output.endswith(".nc"):
+            typer.echo(
+                f"Error: record={record!r} is written as netCDF (.nc); got {output}", err=True
+            )
+            raise typer.Exit(code=2)
+        write_netcdf(ds, output)
+        what = f"{ds.sizes['crossing']} sections, " if record == "sections" else ""
+        typer.echo(
+            f"{output}: {what}peak contact force {float(ds['peak_contact_force']):.6g} N, "
+            f"{ds.attrs['solver_steps']} steps ({ds.attrs['solver_rejected_steps']} rejected)"
+        )
+        return
     path = chaoskit.save_trajectory(ds, output)
     typer.echo(
         f"{path}: {ds.sizes['time']} samples, t_end = {ds.attrs['t_end']:.6g} s, "

@@ -84,7 +84,7 @@ def plot_bifurcation(
         fig.subplots_adjust(hspace=0.08)
     axes = list(axes)
     p = np.asarray(ds[parameter].values, dtype=np.float64)
-    groups = [(None, var)]
+    groups: list[tuple[str | None, xr.DataArray]] = [(None, var)]
     if "joint" in var.dims:
         groups = [(str(j), var.sel(joint=j)) for j in var["joint"].values]
     total = sum(int(np.isfinite(g.values).sum()) for _, g in groups)

@@ -455,7 +455,7 @@ def _run_point(task: _PointTask) -> tuple[str, str]:
             _store.write_netcdf(traj, target)
             trajectory_file = target.relative_to(store).as_posix()
             if status == "ok":
-                parts.append({k: v for k, v in traj.data_vars.items() if v.ndim == 0})
+                parts.append({str(k): v for k, v in traj.data_vars.items() if v.ndim == 0})
         elif status == "ok":
             chaoskit.save_trajectory(traj, target)
             trajectory_file = target.relative_to(store).as_posix()

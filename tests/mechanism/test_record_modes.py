@@ -11,9 +11,12 @@ import math
 
 import numpy as np
 import pytest
+import xarray as xr
+from typer.testing import CliRunner
 
 import chaoskit
 import mechanism
+from mechanism.cli import app
 from mechanism.core.record._metrics import METRICS, response_metrics
 from tests.mechanism.scenes import rigid_paper
 
@@ -149,3 +152,16 @@ def test_the_initial_state_is_a_section_without_discard(scene) -> None:
 def test_bad_record_settings_raise(scene, kwargs, match) -> None:
     with pytest.raises(ValueError, match=match):
         mechanism.simulate(scene, revolutions=2, **kwargs)
+
+
+def test_command_line_records_sections(tmp_path) -> None:
+    out = tmp_path / "strobe.nc"
+    args = ["simulate", "slider-crank-clearance", "-o", str(out), "--revolutions", "3",
+            "--record", "sections", "--discard", "1", "--no-progress"]  # fmt: skip
+    result = CliRunner().invoke(app, args)
+    assert result.exit_code == 0, result.output
+    assert "3 sections" in result.output
+    with xr.open_dataset(out, engine="h5netcdf") as ds:
+        assert ds.drive_cycle.values.tolist() == [1, 2, 3]
+    bad = CliRunner().invoke(app, [*args[:3], str(tmp_path / "strobe.csv"), *args[4:]])
+    assert bad.exit_code == 2 and "netCDF" in bad.output
