@@ -14,6 +14,7 @@ spent on it). Run with
 from __future__ import annotations
 
 import argparse
+import json
 import time
 from pathlib import Path
 
@@ -28,12 +29,14 @@ KEYS = {"speed": "drive.speed_rpm", "clearance": "joints.C.clearance"}
 DEFAULT_VALUES = {"speed": "30:300:60", "clearance": "5e-5:5e-4:46"}
 
 
-def _point_seconds(store: Path) -> float:
-    total = 0.0
+def _point_cpu_seconds(store: Path) -> dict[float, float]:
+    """CPU seconds of each value's simulation (``solver_cpu_time`` of its summary)."""
+    out = {}
     for path in (store / "points").glob("*.summary.nc"):
         with xr.open_dataset(path, engine="h5netcdf") as summary:
-            total += float(summary.attrs.get("wall_time", 0.0))
-    return total
+            value = float(next(iter(json.loads(summary.attrs["params"]).values())))
+            out[value] = float(summary.attrs.get("solver_cpu_time", float("nan")))
+    return out
 
 
 def main() -> None:
@@ -62,13 +65,17 @@ def main() -> None:
         progress=True,
     )
     wall = time.perf_counter() - start
-    busy = _point_seconds(store)
+    cpu = _point_cpu_seconds(store)
+    busy = sum(cpu.values())
     ok = int((ds.status.values == "ok").sum())
     print(
         f"{len(values)} values ({ok} ok), {args.revolutions:g} revolutions each "
-        f"({args.discard:g} discarded): wall {wall:.0f} s, point time {busy:.0f} s "
-        f"({busy / len(values) / args.revolutions:.3f} s per revolution)"
+        f"({args.discard:g} discarded): wall {wall:.0f} s, CPU of the points {busy:.0f} s "
+        f"({busy / len(values) / args.revolutions:.3f} s per revolution; on 2 free cores "
+        f"{busy / 2 / 60:.1f} min)"
     )
+    for value in sorted(cpu):
+        print(f"  {value:10.4g}  {cpu[value] / args.revolutions:.3f} s CPU per revolution")
     OUT.mkdir(parents=True, exist_ok=True)
     write_netcdf(ds, OUT / f"bifurcation-{args.sweep}.nc")
     matplotlib.use("Agg")

@@ -343,6 +343,21 @@ def parse_grid_options(options: Sequence[str]) -> dict[str, list[Any]]:
     return grid
 
 
+def _scheduler_option() -> Any:
+    return typer.Option(
+        None,
+        "--scheduler",
+        metavar="ADDRESS",
+        help="dask scheduler address (tcp://host:8786); 'serial' runs in this process.",
+    )
+
+
+def _workers_option() -> Any:
+    return typer.Option(
+        None, "--workers", min=1, help="Workers of the local dask cluster (default: CPU count)."
+    )
+
+
 @app.command("sweep")
 def sweep_command(
     scene: str = typer.Argument(..., help="Built-in scene name or path of a TOML scene."),
@@ -351,15 +366,8 @@ def sweep_command(
         ..., "--store", help="Folder for the point files and summary.nc; a re-run resumes."
     ),
     revolutions: float = typer.Option(3.0, "--revolutions", help="Crank revolutions per point."),
-    scheduler: str | None = typer.Option(
-        None,
-        "--scheduler",
-        metavar="ADDRESS",
-        help="dask scheduler address (tcp://host:8786); 'serial' runs in this process.",
-    ),
-    workers: int | None = typer.Option(
-        None, "--workers", min=1, help="Workers of the local dask cluster (default: CPU count)."
-    ),
+    scheduler: str | None = _scheduler_option(),
+    workers: int | None = _workers_option(),
     set_options: list[str] | None = typer.Option(None, "--set", metavar="KEY=VALUE", help=SET_HELP),
     variables: list[str] | None = typer.Option(
         None, "--var", help="Variable for chaoskit.analyze (default: eccentricity_x and _y)."
@@ -430,15 +438,8 @@ def bifurcation_command(
     figure: Path | None = typer.Option(
         None, "--figure", help="Draw the orbit diagram (.png, .pdf, .svg)."
     ),
-    scheduler: str | None = typer.Option(
-        None,
-        "--scheduler",
-        metavar="ADDRESS",
-        help="dask scheduler address (tcp://host:8786); 'serial' runs in this process.",
-    ),
-    workers: int | None = typer.Option(
-        None, "--workers", min=1, help="Workers of the local dask cluster (default: CPU count)."
-    ),
+    scheduler: str | None = _scheduler_option(),
+    workers: int | None = _workers_option(),
     set_options: list[str] | None = typer.Option(None, "--set", metavar="KEY=VALUE", help=SET_HELP),
     progress: bool = typer.Option(True, "--progress/--no-progress", help="Progress bar."),
 ) -> None:

@@ -18,18 +18,18 @@ SCENE = "slider-crank-clearance"
 SPEEDS = [3000.0, 5000.0]
 
 
+def _speeds(store, **kwargs):
+    """The slider-crank's orbit diagram over crank speed, in this process."""
+    settings = {"values": SPEEDS, "revolutions": 5, "discard": 2, **kwargs}
+    return mechanism.bifurcation(
+        SCENE, parameter="drive.speed_rpm", client="serial", store=store, **settings
+    )
+
+
 @pytest.fixture(scope="module")
 def diagram(tmp_path_factory):
     store = tmp_path_factory.mktemp("bifurcation")
-    return mechanism.bifurcation(
-        SCENE,
-        parameter="drive.speed_rpm",
-        values=SPEEDS,
-        revolutions=5,
-        discard=2,
-        client="serial",
-        store=store,
-    ), store
+    return _speeds(store), store
 
 
 def test_points_are_those_of_a_sections_run(diagram) -> None:
@@ -52,27 +52,11 @@ def test_points_are_those_of_a_sections_run(diagram) -> None:
 
 def test_a_rerun_resumes_from_the_store(diagram) -> None:
     ds, store = diagram
-    again = mechanism.bifurcation(
-        SCENE,
-        parameter="drive.speed_rpm",
-        values=SPEEDS,
-        revolutions=5,
-        discard=2,
-        client="serial",
-        store=store,
-    )
+    again = _speeds(store)
     assert "0 to run, 2 already done" in again.attrs["history"]
     np.testing.assert_array_equal(again.eccentricity.values, ds.eccentricity.values)
     with pytest.raises(mechanism.SweepStoreMismatch):
-        mechanism.bifurcation(
-            SCENE,
-            parameter="drive.speed_rpm",
-            values=SPEEDS,
-            revolutions=5,
-            discard=1,
-            client="serial",
-            store=store,
-        )
+        _speeds(store, discard=1)
 
 
 def test_a_failing_value_is_data(tmp_path, monkeypatch) -> None:
@@ -82,16 +66,10 @@ def test_a_failing_value_is_data(tmp_path, monkeypatch) -> None:
         return mechanism.simulate(scene, **kwargs)
 
     monkeypatch.setattr(bif, "simulate", diverging)
-    ds = mechanism.bifurcation(
-        SCENE,
-        parameter="drive.speed_rpm",
-        values=[-4000.0, 4000.0],
-        revolutions=3,
-        discard=1,
-        client="serial",
-        store=tmp_path,
+    ds = _speeds(
+        tmp_path, values=[-4000.0, 4000.0], revolutions=3, discard=1,
         variables=("eccentricity_x", "contact_force"),
-    )
+    )  # fmt: skip
     assert ds.status.values.tolist() == ["failed", "ok"]
     assert "non-finite" in str(ds.message.values[0])
     assert np.isnan(ds.eccentricity_x.values[0]).all()
@@ -103,20 +81,14 @@ def test_a_failing_value_is_data(tmp_path, monkeypatch) -> None:
 
 def test_the_exponent_hook_fills_the_lower_panel(tmp_path, monkeypatch) -> None:
     with pytest.raises(ValueError, match="not available"):
-        mechanism.bifurcation(
-            SCENE, parameter="drive.speed_rpm", values=SPEEDS, revolutions=3, discard=1,
-            client="serial", store=tmp_path / "none", exponent=True,
-        )  # fmt: skip
+        _speeds(tmp_path / "none", revolutions=3, discard=1, exponent=True)
 
     def stand_in(scene, *, revolutions, discard):
         speed = scene.drive.speed_rpm
         return speed / 1000.0 - 4.0, speed / 1000.0 - 4.5, speed / 1000.0 - 3.5
 
     monkeypatch.setattr(bif, "largest_exponent", stand_in)
-    ds = mechanism.bifurcation(
-        SCENE, parameter="drive.speed_rpm", values=SPEEDS, revolutions=3, discard=1,
-        client="serial", store=tmp_path / "with", exponent=True,
-    )  # fmt: skip
+    ds = _speeds(tmp_path / "with", revolutions=3, discard=1, exponent=True)
     np.testing.assert_allclose(ds.lyapunov_exponent.values, [-1.0, 1.0])
     np.testing.assert_allclose(ds.lyapunov_exponent_high.values, [-0.5, 1.5])
     assert ds.lyapunov_exponent.attrs["units"] == "s-1"
