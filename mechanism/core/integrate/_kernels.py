@@ -427,15 +427,16 @@ def _initial_step(model, ws, t, y, f0, vimp, counters, rtol, atol, max_step):
 
 
 @njit(cache=True)
-def dopri5_start(model, ws, t, y, k1, vimp, step, counters, rtol, atol, max_step):
-    """Evaluate k1 = f(t, y) and the starting step into ``step`` (a ``LoopState.step``);
-    returns a status. (Positional, as the tangent integration also calls it.)"""
-    status = rhs(model, ws, t, y, vimp, k1, counters)
+def dopri5_start(model, ws, t, loop, ctl):
+    """Evaluate f = f(t, y) and the starting step; returns a status."""
+    status = rhs(model, ws, t, loop.y, loop.vimp, loop.f, loop.counters)
     if status != STATUS_OK:
         return status
+    step = loop.step
     step[0] = t
     if step[1] <= 0.0:
-        step[1] = _initial_step(model, ws, t, y, k1, vimp, counters, rtol, atol, max_step)
+        step[1] = _initial_step(model, ws, t, loop.y, loop.f, loop.vimp, loop.counters,
+                                ctl.rtol, ctl.atol, ctl.max_step)  # fmt: skip
     step[2] = 1e-4
     step[3] = 0.0
     return STATUS_RUNNING

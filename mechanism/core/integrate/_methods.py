@@ -441,8 +441,7 @@ class Dopri5(Integrator):
                        projection=projection)  # fmt: skip
         out = _output(model, ws, y, vimp, t_out, record)
         start = time.perf_counter()
-        status = ik.dopri5_start(km, ws, t0, y, loop.f, vimp, loop.step, counters, rtol, atol,
-                                 ctl.max_step)  # fmt: skip
+        status = ik.dopri5_start(km, ws, t0, loop, ctl)
         if status == ik.STATUS_RUNNING:
             bar = _Progress(progress, t0, t_end, label)
             try:
