@@ -81,8 +81,9 @@ def main() -> None:
     matplotlib.use("Agg")
     axes = mechanism.plot_bifurcation(ds)
     axes[0].set_title(
-        f"rigid paper scene, {len(values)} values × {args.revolutions - args.discard:g} "
-        f"revolutions after {args.discard:g}; wall {wall / 60:.1f} min on {args.workers} workers",
+        f"rigid paper scene, {len(values)} values, strobes at revolutions "
+        f"{args.discard:g}–{args.revolutions:g}; {busy:.0f} s CPU "
+        f"({busy / len(values) / args.revolutions:.3f} s per revolution)",
         fontsize=9,
     )
     axes[0].figure.savefig(OUT / f"bifurcation-{args.sweep}.png", dpi=160, bbox_inches="tight")

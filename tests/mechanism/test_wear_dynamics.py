@@ -196,9 +196,17 @@ def test_predict_wear_rejects_bad_settings(paper):
 
 @pytest.fixture(scope="module")
 def paper_prediction(paper):
-    """Quick variant: one update of 3000 cycles after one settling revolution."""
+    """Quick variant: one update of 3000 cycles after one settling revolution.
+
+    Its single-revolution peaks were calibrated with the step capped at the output step
+    (T/10000), the default before the grid stopped bounding the step; the cap is kept
+    here so the quick variant follows the same sample path (uncapped, the one-revolution
+    peak after wear came out 3679 N against 3830 N before: one revolution of a chaotic
+    response is too short a window for the comparison).
+    """
+    capped = paper.replace({"solver.max_step": 0.4 / 10000})
     return mechanism.predict_wear(
-        paper, updates=1, cycles_per_update=3000.0, settle_revolutions=1.0
+        capped, updates=1, cycles_per_update=3000.0, settle_revolutions=1.0
     )
 
 

@@ -86,7 +86,7 @@ MET_DELTA = 1  # largest δ = |e| − c
 MET_TORQUE_MAX = 2  # driving torque −λ_drive, largest and smallest
 MET_TORQUE_MIN = 3
 MET_COLUMNS = 4
-PEAK_SAMPLES = 8  # a contact step's force is also sampled at k/8 of the step, k = 1…7
+PEAK_SAMPLES = 8  # a long contact step is also sampled at up to 7 interior points
 
 # columns of Output.strobe
 STROBE_TARGET = 0  # next crank angle phase + 2πk to record
@@ -139,6 +139,7 @@ class Output(NamedTuple):
     strobe: np.ndarray  # float64[STROBE_COLUMNS]
     metrics: np.ndarray  # float64[MET_COLUMNS]
     t_window: float  # metrics count from this time on
+    peak_step: float  # contact steps longer than this are also sampled inside (metrics)
     drive_row: int  # row of the drive constraint in λ, −1 without a drive
 
 
@@ -349,12 +350,16 @@ def _after_step(model, ws, out, kind, dense, told, t, h, vimp, contact, scratch,
         touching = False
         for j in range(ws.cj.shape[0]):
             touching = touching or ws.cj[j, CJ_DELTA] > 0.0 or contact[j] != 0
-        if touching:
+        if touching and h > out.peak_step:
             # an impact peaks between accepted states: the equations of motion (for the
-            # multipliers) on the dense output at PEAK_SAMPLES − 1 interior points
+            # multipliers) on the dense output at interior points no farther apart than
+            # peak_step, at most PEAK_SAMPLES − 1 of them
             n = model.n_dof
-            for s in range(1, PEAK_SAMPLES):
-                th = s / PEAK_SAMPLES
+            parts = PEAK_SAMPLES
+            if out.peak_step > 0.0:
+                parts = min(PEAK_SAMPLES, math.ceil(h / out.peak_step))
+            for s in range(1, parts):
+                th = s / parts
                 _dense_eval(kind, dense, th, h, yout)
                 accelerations(model, ws, told + th * h, yout[:n], yout[n:], vimp, scratch[n:],
                               counters)  # fmt: skip

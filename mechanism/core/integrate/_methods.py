@@ -157,6 +157,10 @@ class RecordPlan:
     metrics_from : float or None
         Time (s) from which running extremes (peak contact force, deepest penetration,
         driving torque) are taken at every accepted state; None: none.
+    peak_step : float
+        A step during which a clearance joint touches is also evaluated at interior
+        points of its dense output no farther apart than this (at most 7), since an
+        impact peaks between accepted states (s; default: every such step, 7 points).
     """
 
     grid: Literal["full", "light"] = "full"
@@ -164,6 +168,7 @@ class RecordPlan:
     phase: float = 0.0
     discard: float = 0.0
     metrics_from: float | None = None
+    peak_step: float = 0.0
 
 
 FULL = RecordPlan()
@@ -211,6 +216,7 @@ def _output(
         strobe=strobe,
         metrics=metrics,
         t_window=math.inf if plan.metrics_from is None else float(plan.metrics_from),
+        peak_step=float(plan.peak_step),
         drive_row=drive_row,
     )
     y = np.ascontiguousarray(y0, dtype=np.float64)
