@@ -62,17 +62,10 @@ def warn_if_large(models: Any, n_out: int, output_step: float, *, stacklevel: in
 def warn_if_deep_penetration(ds: Any, scene: Any, *, stacklevel: int = 3) -> None:
     """Warn when a joint's largest penetration exceeds
     :data:`PENETRATION_WARNING_FRACTION` of its clearance."""
-    if "penetration" in ds and "joint" in ds["penetration"].dims:
-        names = [str(name) for name in ds["joint"].values]
-        deepest = np.asarray(ds["penetration"].max("time").values, dtype=np.float64)
-    elif "max_penetration" in ds:  # metrics or sections only: the deepest over all joints
-        joints = [name for name, joint in scene.joints.items() if hasattr(joint, "clearance")]
-        if not joints:
-            return
-        names = [min(joints, key=lambda name: float(scene.joints[name].clearance))]
-        deepest = np.array([float(ds["max_penetration"])])
-    else:
+    if "penetration" not in ds or "joint" not in ds["penetration"].dims:
         return
+    names = [str(name) for name in ds["joint"].values]
+    deepest = np.asarray(ds["penetration"].max("time").values, dtype=np.float64)
     for name, depth in zip(names, deepest, strict=True):
         clearance = float(scene.joints[str(name)].clearance)
         if np.isfinite(depth) and depth > PENETRATION_WARNING_FRACTION * clearance:

@@ -74,7 +74,7 @@ def test_results_stack_over_a_parameter_grid() -> None:
 
 
 def test_failure_is_recorded_and_the_rest_analysed(monkeypatch: pytest.MonkeyPatch) -> None:
-    from chaoskit.classify import _analyze
+    from chaoskit.verdict import _analyze
 
     def classify(data, *, variable, **kwargs):
         if variable == "y":

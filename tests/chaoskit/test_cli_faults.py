@@ -191,7 +191,7 @@ def test_analyze_expands_or_selects_multi_dimensional_variables(tmp_path: Path) 
 def test_report_refuses_a_bad_output_before_analysing(tmp_path: Path, monkeypatch) -> None:
     import sys
 
-    report_pkg = sys.modules["chaoskit.report"]  # the name chaoskit.report is the function
+    report_pkg = sys.modules["chaoskit.reporting"]
 
     def refuse(*args, **kwargs):
         raise AssertionError("the output should have been refused before the analysis")

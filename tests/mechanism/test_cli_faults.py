@@ -11,7 +11,7 @@ import xarray as xr
 from typer.testing import CliRunner
 
 import chaoskit
-import mechanism
+from mechanism import cli as mechanism_cli
 from mechanism.cli import app
 
 runner = CliRunner()
@@ -22,8 +22,8 @@ def no_simulation(monkeypatch: pytest.MonkeyPatch) -> None:
     def refuse(*args, **kwargs):
         raise AssertionError("the output should have been refused before simulating")
 
-    monkeypatch.setattr(mechanism, "simulate", refuse)
-    monkeypatch.setattr(mechanism, "predict_wear", refuse)
+    monkeypatch.setattr(mechanism_cli, "simulate", refuse)
+    monkeypatch.setattr(mechanism_cli, "predict_wear", refuse)
 
 
 def _bad_outputs(tmp_path: Path) -> dict[str, tuple[str, str]]:
@@ -74,7 +74,7 @@ def _fake_run() -> xr.Dataset:
 def test_simulate_write_failure_is_one_line_and_exit_1(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    monkeypatch.setattr(mechanism, "simulate", lambda *a, **k: _fake_run())
+    monkeypatch.setattr(mechanism_cli, "simulate", lambda *a, **k: _fake_run())
 
     def full(ds, path):
         raise OSError(errno.ENOSPC, "not enough free space")
@@ -84,7 +84,7 @@ def test_simulate_write_failure_is_one_line_and_exit_1(
     assert out.exit_code == 1, out.output
     assert out.stderr.count("\n") == 1 and "not enough free space" in out.stderr
     monkeypatch.undo()
-    monkeypatch.setattr(mechanism, "simulate", lambda *a, **k: _fake_run())
+    monkeypatch.setattr(mechanism_cli, "simulate", lambda *a, **k: _fake_run())
     out = runner.invoke(app, ["simulate", "slider-crank", "-o", str(tmp_path / "new" / "run.nc")])
     assert out.exit_code == 0, out.output
     assert chaoskit.load_trajectory(tmp_path / "new" / "run.nc").sizes["time"] == 10
