@@ -152,12 +152,12 @@ def _strongest_line(
     else:
         f = near
     f = min(max(f, 0.0), 0.5)
-    lo, hi = max(f - half, 0.0), min(f + half, 0.5)
-    if hi <= lo:
+    left, right = max(f - half, 0.0), min(f + half, 0.5)
+    if right <= left:
         return f
     res = minimize_scalar(
         lambda g: -_dtft_power(r, window, g),
-        bounds=(lo, hi),
+        bounds=(left, right),
         method="bounded",
         options={"xatol": 1e-7 / n},
     )
