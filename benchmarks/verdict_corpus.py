@@ -200,6 +200,12 @@ def main(argv: list[str] | None = None) -> int:
         type=Path,
         help="re-classify only the undetermined and failed rows of this CSV, keep the rest",
     )
+    parser.add_argument(
+        "--rerun-unbacked",
+        type=Path,
+        help="re-classify the rows of this CSV whose label the line analysis does not back "
+        "(undetermined, failed, regular from the section alone) and the forced series",
+    )
     args = parser.parse_args(argv)
     if args.summarize is not None:
         with open(args.summarize, encoding="utf-8") as fh:
@@ -214,6 +220,20 @@ def main(argv: list[str] | None = None) -> int:
         with open(args.rerun_undetermined, encoding="utf-8") as fh:
             old = list(csv.DictReader(fh))
         redo = {(r["name"], int(r["n"])) for r in old if r["label"] in ("undetermined", "")}
+        kept = [r for r in old if (r["name"], int(r["n"])) not in redo]
+        cases = [c for c in cases if (c.name, c.n) in redo]
+    if args.rerun_unbacked is not None:
+        with open(args.rerun_unbacked, encoding="utf-8") as fh:
+            old = list(csv.DictReader(fh))
+        forced = {(c.name, c.n) for c in cases if "drive_period" in c.classify_kwargs}
+
+        def backed(r: dict[str, Any]) -> bool:
+            lab, lines = r["label"], r["lines"]
+            return (lab == lines or (lab == "chaotic" and lines in ("broadband", "unresolved"))
+                    or (lab == "noise-like" and lines == "broadband"))  # fmt: skip
+
+        redo = {(r["name"], int(r["n"])) for r in old
+                if not backed(r) or (r["name"], int(r["n"])) in forced}  # fmt: skip
         kept = [r for r in old if (r["name"], int(r["n"])) not in redo]
         cases = [c for c in cases if (c.name, c.n) in redo]
     # the series generated here first, then the dysts flows, shorter before longer: a run

@@ -152,12 +152,12 @@ def _strongest_line(
     else:
         f = near
     f = min(max(f, 0.0), 0.5)
-    lo, hi = max(f - half, 0.0), min(f + half, 0.5)
-    if hi <= lo:
+    left, right = max(f - half, 0.0), min(f + half, 0.5)
+    if right <= left:
         return f
     res = minimize_scalar(
         lambda g: -_dtft_power(r, window, g),
-        bounds=(lo, hi),
+        bounds=(left, right),
         method="bounded",
         options={"xatol": 1e-7 / n},
     )
@@ -359,7 +359,7 @@ def _independent(bases: list[float], crlb: list[float], n: int, limit: int) -> b
 def _drive_harmonics(
     x0: np.ndarray, freqs: np.ndarray, f_drive: float, max_period: int, max_residual: float
 ) -> tuple[int, float, float, np.ndarray, np.ndarray] | None:
-    """Smallest k for which every harmonic of f_drive / k (up to 12 drive harmonics) fits
+    """Smallest k for which every harmonic of f_drive / k (up to 24 drive harmonics) fits
     the series to white noise or nothing; tried only where the extracted lines sit within
     a bin of such harmonics. Returns k, residual fraction, Ljung–Box p, frequencies and
     their (cos, sin) amplitudes."""
@@ -371,7 +371,7 @@ def _drive_harmonics(
             break
         if np.any(_harmonic_distance(freqs, f0)[1] > 1.0 / n):
             continue
-        top = max(1, min(int(0.5 / f0), 12 * k))
+        top = max(1, min(int(0.5 / f0), 24 * k))
         hf = f0 * np.arange(1, top + 1)
         basis = _basis(hf, n)
         if basis.shape[1] > n // 2:
@@ -421,7 +421,7 @@ def line_spectrum(
     analysis), and removed by least squares; this repeats until the residual is white or
     exactly zero (at most ``max_lines`` lines). All frequencies are then refined jointly by
     Gauss–Newton. For a forced series whose extracted lines all lie within a bin of the
-    harmonics of a subharmonic :math:`f_d/k` of the drive, those harmonics (up to twelve
+    harmonics of a subharmonic :math:`f_d/k` of the drive, those harmonics (up to 24
     drive harmonics) are fitted at once by least squares — exact where refinement one line
     at a time is not, on a few drive periods. Lines whose periodogram height does not beat
     what white noise of the residual's level would give (false-alarm probability about

@@ -533,13 +533,15 @@ def combine(
     both_positive = rosenstein_positive is True and wolf_positive is True
     long_enough = n_cycles >= rule.min_cycles
     section = "none" if structure is None else structure.kind
+    # a spectrum that is not lines, over enough cycles, outweighs a regular-looking section
+    broadband_decides = lines == "broadband" and long_enough
     period: int | None = None
     label: Label
     needs: list[str] = []
     if lines == "periodic":
         label, period = "periodic", lines_period
         reason = "the series repeats: what is left after its period is white noise or nothing"
-    elif section == "clusters":
+    elif section == "clusters" and not broadband_decides:
         assert structure is not None
         label, period = "periodic", structure.n_clusters
         reason = f"the section is {period} tight cluster(s) visited in a fixed cyclic order"
@@ -549,7 +551,7 @@ def combine(
             "the spectrum is lines at integer combinations of two or three incommensurate "
             "frequencies, and what is left is white noise or nothing"
         )
-    elif section == "closed-curve" and not both_positive:
+    elif section == "closed-curve" and not both_positive and not broadband_decides:
         label = "quasi-periodic"
         reason = "the section fills a closed curve and not both exponents are clearly positive"
     elif lines == "broadband" and long_enough and surrogates_rejected is False:
@@ -578,7 +580,12 @@ def combine(
                 needs.append(
                     f"≥ {rule.min_cycles} section points; the section has {structure.n_points}"
                 )
-            if section == "closed-curve":
+            if section in ("clusters", "closed-curve") and broadband_decides:
+                needs.append(
+                    f"a longer series: the section looks regular ({section}) but the "
+                    "spectrum is not lines"
+                )
+            elif section == "closed-curve":
                 needs.append(
                     "a longer series to tell a torus from a thin chaotic band (the section "
                     "is a closed curve but both exponents are clearly positive)"
@@ -722,6 +729,8 @@ def classify(
     * else *quasi-periodic* if the line spectrum is two or three incommensurate base
       frequencies and their combinations (white residual), or if the section fills a
       closed curve and not both exponents are clearly positive;
+    * a regular-looking section (clusters, closed curve) does not count when the spectrum
+      is broadband over at least ``rule.min_cycles`` characteristic times;
     * else *noise-like* if the spectrum is broadband, the series spans at least
       ``rule.min_cycles`` characteristic times and the surrogate test cannot reject linear
       Gaussian noise;

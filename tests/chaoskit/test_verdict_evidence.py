@@ -216,3 +216,16 @@ def test_chaotic_flows_are_not_lines(make, dt: float) -> None:
     g = np.random.default_rng(1)
     noisy = x + np.sqrt(0.1) * np.std(x) * g.standard_normal(x.size)  # 10 dB
     assert line_spectrum(noisy, dt=dt).kind == "broadband"
+
+
+def test_a_broadband_spectrum_outweighs_a_regular_looking_section() -> None:
+    args = {"rosenstein_positive": False, "wolf_positive": True, "zero_one_k": 0.5,
+            "surrogates_rejected": True, "rule": RULE}  # fmt: skip
+    for kind, label in (("clusters", "periodic"), ("closed-curve", "quasi-periodic")):
+        assert combine(structure=_structure(kind, 1), lines="unresolved", **args)[0] == label
+        assert combine(structure=_structure(kind, 1), lines="broadband", n_cycles=8,
+                       **args)[0] == label  # fmt: skip
+        out, *_, needs = combine(structure=_structure(kind, 1), lines="broadband", **args)
+        assert out == "undetermined"
+        assert needs[0] == (f"a longer series: the section looks regular ({kind}) but the "
+                            "spectrum is not lines")  # fmt: skip
