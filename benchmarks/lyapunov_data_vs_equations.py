@@ -121,7 +121,7 @@ def main() -> None:
             )
             rows.append({"state": state, **row})
         if args.only in (None, f"data-{tag}"):
-            for tol in (1e-5, 1e-8):
+            for tol in (1e-8,):
                 path = args.work / f"eccentricity-{tag}-{tol:g}.nc"
                 for row in data_driven(scene, path, args.revolutions, args.discard, tol):
                     rows.append({"state": state, **row})

@@ -174,18 +174,20 @@ def test_double_pendulum_matches_closed_form_variational_equations() -> None:
     result = mechanism.lyapunov_exponent(scene, t_end=horizon, perturbation=1e-9)
     reference = benettin_closed_form(THETA0, _joint_angle_deviation(scene), horizon)
     assert reference > 1.0  # chaotic: ≥ 8 nats over the horizon
-    np.testing.assert_allclose(result.exponent, reference, rtol=0.01)
+    np.testing.assert_allclose(result.exponent, reference, rtol=1e-3)  # measured 1.7e-4
     assert result.drive_period is None
     assert result.settings["time_scale"] == 1.0
 
 
 @pytest.mark.slow
 def test_double_pendulum_converged_exponent_within_5_percent() -> None:
-    """Long runs (chaotic sea, trajectories long decorrelated) agree within 5 %."""
+    """1200 s runs (trajectories decorrelated after about 15 s, so the two estimates are
+    independent time averages over the chaotic sea) agree within 5 % (measured 1.7 %)."""
     scene = double_pendulum(*THETA0, tol=1e-9)
-    t_end = 600.0
+    t_end = 1200.0
     result = mechanism.lyapunov_exponent(scene, t_end=t_end, discard=20.0)
-    reference = benettin_closed_form(THETA0, _joint_angle_deviation(scene), t_end)
+    first = _joint_angle_deviation(scene)
+    reference = benettin_closed_form(THETA0, first, t_end, interval=1.0, tol=1e-9)
     np.testing.assert_allclose(result.exponent, reference, rtol=0.05)
 
 

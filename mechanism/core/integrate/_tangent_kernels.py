@@ -30,9 +30,14 @@ from numba import njit
 from mechanism.core.joints._kernels import update_points
 from mechanism.core.model._kernels import (
     CF_FLOOR,
+    CJ_PHI_B,
+    CJ_PHI_J,
     CNT_CONTACT_EVENTS,
     CNT_REJECTED,
     CNT_STEPS,
+    CW_B_N,
+    CW_J_N,
+    CW_WORN,
     STATUS_OK,
     _cholesky_solve,
     _clearance_state,
@@ -41,6 +46,7 @@ from mechanism.core.model._kernels import (
     project,
     rhs,
 )
+from mechanism.core.wear._kernels import region_index
 
 from ._kernels import (
     A21,
@@ -198,12 +204,61 @@ def latch_pair(model, ws, ws2, y, yp, vimp, vimp_p, contact, counters):
 
 
 @njit(cache=True)
-def _deviation_rate(model, ws, t, ys, ds, f_ref, vimp_p, yp, fp, kd, counters_p):
-    """kd = f(t, ys + ds) − f_ref (f_ref = f(t, ys) already evaluated)."""
+def has_worn(model):
+    """Whether any clearance joint of the model carries a worn profile."""
+    for j in range(model.cw_i.shape[0]):
+        if model.cw_i[j, CW_WORN] != 0:
+            return True
+    return False
+
+
+@njit(cache=True)
+def _same_regions(model, ws, phi):
+    """Whether the contact directions in ``ws.cj`` fall in the same worn-profile regions as
+    ``phi`` (n_cj, 2) on every worn surface."""
+    cw_i = model.cw_i
+    for j in range(cw_i.shape[0]):
+        if cw_i[j, CW_WORN] == 0:
+            continue
+        nb = cw_i[j, CW_B_N]
+        if nb > 0 and region_index(ws.cj[j, CJ_PHI_B], nb) != region_index(phi[j, 0], nb):
+            return False
+        nj = cw_i[j, CW_J_N]
+        if nj > 0 and region_index(ws.cj[j, CJ_PHI_J], nj) != region_index(phi[j, 1], nj):
+            return False
+    return True
+
+
+@njit(cache=True)
+def _deviation_rate(model, ws, t, ys, ds, f_ref, vimp, vimp_p, yp, fp, kd, phi, worn, fresh,
+                    counters_p):  # fmt: skip
+    """kd = f(t, ys + ds) − f_ref, f_ref = f(t, ys).
+
+    With ``fresh`` the last evaluation in ``ws`` was f(t, ys) and its contact directions are
+    copied to ``phi``; otherwise ``phi`` already holds them.
+
+    On a worn profile (``worn``) the depths are tabulated per region, so the clearance jumps
+    where the contact direction crosses a region boundary. When the perturbed state lies in
+    another region than the reference, the difference is taken on the reference's side,
+    kd = f_ref − f(t, ys − ds): the deviation sees the profile's slope, never the jump of
+    its tabulation.
+    """
     n2 = ys.shape[0]
+    if worn and fresh:
+        for j in range(phi.shape[0]):
+            phi[j, 0] = ws.cj[j, CJ_PHI_B]
+            phi[j, 1] = ws.cj[j, CJ_PHI_J]
     for i in range(n2):
         yp[i] = ys[i] + ds[i]
     st = rhs(model, ws, t, yp, vimp_p, fp, counters_p)
+    if worn and not _same_regions(model, ws, phi):
+        for i in range(n2):
+            yp[i] = ys[i] - ds[i]
+        # the mirrored copy's latch: the perturbed one reflected through the reference's
+        st = rhs(model, ws, t, yp, 2.0 * vimp - vimp_p, fp, counters_p)
+        for i in range(n2):
+            kd[i] = f_ref[i] - fp[i]
+        return st
     for i in range(n2):
         kd[i] = fp[i] - f_ref[i]
     return st
@@ -217,7 +272,11 @@ def tangent_start(model, ws, t, y, d, k1, kd1, vimp, vimp_p, counters, counters_
         return st
     yp = np.empty_like(y)
     fp = np.empty_like(y)
-    st = _deviation_rate(model, ws, t, y, d, k1, vimp_p, yp, fp, kd1, counters_p)
+    phi = np.empty((model.cj_i.shape[0], 2))
+    st = _deviation_rate(
+        model, ws, t, y, d, k1, vimp, vimp_p, yp, fp, kd1, phi, has_worn(model), True,
+        counters_p,
+    )  # fmt: skip
     return STATUS_RUNNING if st == STATUS_OK else st
 
 
@@ -299,6 +358,8 @@ def tangent_advance(
     fp = np.empty(n2)
     err = np.empty(n2)
     scratch = np.empty(n2)
+    phi = np.empty((model.cj_i.shape[0], 2))
+    worn = has_worn(model)
     beta = 0.04
     expo1 = 0.2 - beta * 0.75
     t = state[0]
@@ -328,26 +389,34 @@ def tangent_advance(
             ytmp[i] = y[i] + h * A21 * k1[i]
             dtmp[i] = d[i] + h * A21 * kd1[i]
         st |= rhs(model, ws, t + C2 * h, ytmp, vimp, k2, counters)
-        st |= _deviation_rate(model, ws, t + C2 * h, ytmp, dtmp, k2, vimp_p, yp, fp, kd2,
-                              counters_p)  # fmt: skip
+        st |= _deviation_rate(
+            model, ws, t + C2 * h, ytmp, dtmp, k2, vimp, vimp_p, yp, fp, kd2, phi,
+            worn, True, counters_p,
+        )  # fmt: skip
         for i in range(n2):
             ytmp[i] = y[i] + h * (A31 * k1[i] + A32 * k2[i])
             dtmp[i] = d[i] + h * (A31 * kd1[i] + A32 * kd2[i])
         st |= rhs(model, ws, t + C3 * h, ytmp, vimp, k3, counters)
-        st |= _deviation_rate(model, ws, t + C3 * h, ytmp, dtmp, k3, vimp_p, yp, fp, kd3,
-                              counters_p)  # fmt: skip
+        st |= _deviation_rate(
+            model, ws, t + C3 * h, ytmp, dtmp, k3, vimp, vimp_p, yp, fp, kd3, phi,
+            worn, True, counters_p,
+        )  # fmt: skip
         for i in range(n2):
             ytmp[i] = y[i] + h * (A41 * k1[i] + A42 * k2[i] + A43 * k3[i])
             dtmp[i] = d[i] + h * (A41 * kd1[i] + A42 * kd2[i] + A43 * kd3[i])
         st |= rhs(model, ws, t + C4 * h, ytmp, vimp, k4, counters)
-        st |= _deviation_rate(model, ws, t + C4 * h, ytmp, dtmp, k4, vimp_p, yp, fp, kd4,
-                              counters_p)  # fmt: skip
+        st |= _deviation_rate(
+            model, ws, t + C4 * h, ytmp, dtmp, k4, vimp, vimp_p, yp, fp, kd4, phi,
+            worn, True, counters_p,
+        )  # fmt: skip
         for i in range(n2):
             ytmp[i] = y[i] + h * (A51 * k1[i] + A52 * k2[i] + A53 * k3[i] + A54 * k4[i])
             dtmp[i] = d[i] + h * (A51 * kd1[i] + A52 * kd2[i] + A53 * kd3[i] + A54 * kd4[i])
         st |= rhs(model, ws, t + C5 * h, ytmp, vimp, k5, counters)
-        st |= _deviation_rate(model, ws, t + C5 * h, ytmp, dtmp, k5, vimp_p, yp, fp, kd5,
-                              counters_p)  # fmt: skip
+        st |= _deviation_rate(
+            model, ws, t + C5 * h, ytmp, dtmp, k5, vimp, vimp_p, yp, fp, kd5, phi,
+            worn, True, counters_p,
+        )  # fmt: skip
         for i in range(n2):
             ytmp[i] = y[i] + h * (
                 A61 * k1[i] + A62 * k2[i] + A63 * k3[i] + A64 * k4[i] + A65 * k5[i]
@@ -356,8 +425,10 @@ def tangent_advance(
                 A61 * kd1[i] + A62 * kd2[i] + A63 * kd3[i] + A64 * kd4[i] + A65 * kd5[i]
             )
         st |= rhs(model, ws, t + h, ytmp, vimp, k6, counters)
-        st |= _deviation_rate(model, ws, t + h, ytmp, dtmp, k6, vimp_p, yp, fp, kd6,
-                              counters_p)  # fmt: skip
+        st |= _deviation_rate(
+            model, ws, t + h, ytmp, dtmp, k6, vimp, vimp_p, yp, fp, kd6, phi,
+            worn, True, counters_p,
+        )  # fmt: skip
         for i in range(n2):
             ynew[i] = y[i] + h * (
                 A71 * k1[i] + A73 * k3[i] + A74 * k4[i] + A75 * k5[i] + A76 * k6[i]
@@ -366,8 +437,10 @@ def tangent_advance(
                 A71 * kd1[i] + A73 * kd3[i] + A74 * kd4[i] + A75 * kd5[i] + A76 * kd6[i]
             )
         st |= rhs(model, ws, t + h, ynew, vimp, k7, counters)
-        st |= _deviation_rate(model, ws, t + h, ynew, dnew, k7, vimp_p, yp, fp, kd7,
-                              counters_p)  # fmt: skip
+        st |= _deviation_rate(
+            model, ws, t + h, ynew, dnew, k7, vimp, vimp_p, yp, fp, kd7, phi,
+            worn, True, counters_p,
+        )  # fmt: skip
         if st != STATUS_OK:
             status = STATUS_SINGULAR
             break
@@ -407,7 +480,12 @@ def tangent_advance(
                     break
                 since = 0
             # the perturbed copy's latch (or the rescaling) may have changed its rate
-            st = _deviation_rate(model, ws, t, y, d, k1, vimp_p, yp, fp, kd1, counters_p)
+            # phi holds the reference's contact directions at y from the last stage (or
+            # from the evaluation after a projection)
+            st = _deviation_rate(
+                model, ws, t, y, d, k1, vimp, vimp_p, yp, fp, kd1, phi, worn, projection,
+                counters_p,
+            )  # fmt: skip
             if st != STATUS_OK:
                 status = STATUS_SINGULAR
                 break
