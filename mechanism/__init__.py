@@ -119,9 +119,21 @@ from .studies import bifurcation, plot_bifurcation  # noqa: E402
 _bifurcations: list[str] = ["bifurcation", "plot_bifurcation"]
 
 # --- paper study (issue 8): add imports and names below this line only ---
-from .studies import PaperStudy, StudySettings, paper_tables, run_paper_study  # noqa: E402
+from .studies import (  # noqa: E402
+    PaperStudy,
+    StudySettings,
+    paper_claims,
+    paper_tables,
+    run_paper_study,
+)
 
-_paper_study: list[str] = ["PaperStudy", "StudySettings", "paper_tables", "run_paper_study"]
+_paper_study: list[str] = [
+    "PaperStudy",
+    "StudySettings",
+    "paper_claims",
+    "paper_tables",
+    "run_paper_study",
+]
 
 # --- chaos from the equations (issue 16): add imports and names below this line only ---
 from .studies import SceneLyapunov, lyapunov_exponent  # noqa: E402
