@@ -56,6 +56,7 @@ from .studies import (
     grid_transforms,
     load_sweep,
     lyapunov_exponent,
+    paper_claims,
     paper_tables,
     plot_bifurcation,
     plot_wear_profile,
@@ -113,7 +114,7 @@ _sweeps = [
     "sweep",
 ]
 _bifurcations = ["bifurcation", "plot_bifurcation"]
-_paper_study = ["PaperStudy", "StudySettings", "paper_tables", "run_paper_study"]
+_paper_study = ["PaperStudy", "StudySettings", "paper_claims", "paper_tables", "run_paper_study"]
 _chaos = ["SceneLyapunov", "lyapunov_exponent"]
 
 __all__ = (

@@ -436,7 +436,7 @@ def sweep_command(
     ),
     progress: bool = typer.Option(True, "--progress/--no-progress", help="Progress bar."),
 ) -> None:
-    """Simulate and analyse a scene over a grid, one dask task per point (issue 8)."""
+    """Simulate and analyse a scene over a grid, one dask task per point."""
     if scheduler is not None and workers is not None:
         raise typer.BadParameter("give --scheduler or --workers, not both", param_hint="--workers")
     parsed = parse_grid_options(grid)
@@ -551,7 +551,7 @@ def bifurcation_command(
 def paper_command(
     output: Path = typer.Option(..., "-o", "--output", help="Folder for the report and runs."),
     quick: bool = typer.Option(
-        False, "--quick", help="Documented reductions (docs/paper-study.md); ~10 min on 2 cores."
+        False, "--quick", help="Documented reductions (docs/paper-study.md)."
     ),
     workers: int | None = typer.Option(
         None, "--workers", min=1, help="Workers of the local dask cluster (default: CPU count)."
@@ -562,9 +562,16 @@ def paper_command(
         metavar="ADDRESS",
         help="dask scheduler address (tcp://host:8786); 'serial' runs in this process.",
     ),
-    progress: bool = typer.Option(True, "--progress/--no-progress", help="Progress bars."),
+    progress: bool = typer.Option(
+        True, "--progress/--no-progress", help="Print each stage with the time left."
+    ),
+    keep_trajectories: bool = typer.Option(
+        False,
+        "--keep-trajectories",
+        help="Keep the simulated trajectories (hundreds of MB); default: metrics only.",
+    ),
 ) -> None:
-    """Reproduce the seed paper's study (all tables, the chaos table) and write the report."""
+    """Is the press chaotic before and after wear? Reproduce the paper's study and report."""
     if scheduler is not None and workers is not None:
         raise typer.BadParameter("give --scheduler or --workers, not both", param_hint="--workers")
     study = run_paper_study(
@@ -573,6 +580,7 @@ def paper_command(
         client=scheduler,
         n_workers=workers,
         progress=progress,
+        keep_trajectories=keep_trajectories,
         command="mechanism " + " ".join(shlex.quote(a) for a in sys.argv[1:]),
     )
     for line in study.unavailable:
@@ -580,7 +588,7 @@ def paper_command(
     typer.echo(f"report: {study.report_html}")
     if study.report_markdown is not None:
         typer.echo(f"markdown: {study.report_markdown}")
-    typer.echo(f"wall time: {study.wall_time:.1f} s")
+    typer.echo(f"wall time: {study.wall_time:.1f} s; output: {study.output_size / 1e6:.1f} MB")
 
 
 # --- chaos from the equations (issue 16): commands below this line only ---

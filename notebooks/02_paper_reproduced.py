@@ -93,7 +93,7 @@ else:
     print("mechanism.predict_wear is not available in this version: before wear only")
 
 # %% [markdown]
-# ## Response metrics (paper-model §2.10) beside the paper's table
+# ## Response metrics (docs/paper-model.md §7) beside the paper's table
 #
 # After one revolution of transient: peak contact force, maximum penetration, largest
 # slider displacement and speed errors against the ideal mechanism, and the extreme

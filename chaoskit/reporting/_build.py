@@ -58,6 +58,8 @@ SECTION_ORDER = (
     "Sweeps",
 )
 PROVENANCE = "Parameters and provenance"
+#: The evidence behind the verdicts: after the results, before the provenance.
+APPENDIX = "Appendix: evidence behind the verdicts"
 
 #: Columns of the chaos table (see :func:`report`); the reference table uses these names.
 CHAOS_COLUMNS = (
@@ -233,8 +235,9 @@ class Report:
         """A copy with ``sections`` inserted before the section titled ``before`` or after
         the one titled ``after``.
 
-        When neither names a section of this report, they go before the provenance section
-        of :func:`report`, or last if there is none. Tables and figures are renumbered.
+        When neither names a section of this report, they go before the appendix and the
+        provenance section of :func:`report`, or last if there are none. Tables and figures
+        are renumbered.
 
         Examples
         --------
@@ -253,7 +256,8 @@ class Report:
         elif after in titles:
             at = titles.index(after) + 1
         else:
-            at = titles.index(PROVENANCE) if PROVENANCE in titles else len(titles)
+            tail = [k for k, t in enumerate(titles) if t in (APPENDIX, PROVENANCE)]
+            at = tail[0] if tail else len(titles)
         merged = (*self.sections[:at], *sections, *self.sections[at:])
         return dataclasses.replace(self, sections=merged)
 
@@ -914,7 +918,10 @@ def report(
         parameters=parameters,
     )
     sections.pop(PROVENANCE, None)
+    appendix = sections.pop(APPENDIX, [])
     ordered = [(name, items) for name, items in sections.items() if items]
+    if appendix:
+        ordered.append((APPENDIX, appendix))
     ordered.append((PROVENANCE, prov))
     rep = Report(
         title=title,
@@ -1008,6 +1015,8 @@ def _analysis_items(
             reference_name=reference_name,
             intervals=_chaos_intervals(),
             labels=_chaos_labels(kind),
+            # beside a reference, one row per quantity keeps the table at five columns
+            layout="long" if ref is not None else "wide",
             notes=chaos_notes,
             section="Chaos identification",
         )
@@ -1021,7 +1030,8 @@ def _analysis_items(
             ),
             data=_evidence_frame(states, specs),
             labels=_EVIDENCE_LABELS,
-            section="Chaos identification",
+            layout="long",
+            section=APPENDIX,
         )
     )
     n = len(states)

@@ -71,12 +71,17 @@ def _is_number(value: Any) -> bool:
 
 
 def _difference(ours: Any, theirs: Any) -> str:
-    """100 (ours − theirs)/|theirs| for numbers; same/differs for text."""
+    """100 (|ours| − |theirs|)/|theirs| for numbers; same/differs for text.
+
+    Magnitudes are compared, so a torque of −184.6 against −478.5 reads −61.4 (ours is
+    smaller), not +61.4; when the signs differ the text says so.
+    """
     if _is_number(ours) and _is_number(theirs):
         a, b = float(ours), float(theirs)
         if not (math.isfinite(a) and math.isfinite(b)) or b == 0.0:
             return MISSING
-        return f"{100.0 * (a - b) / abs(b):+.1f}"
+        text = f"{100.0 * (abs(a) - abs(b)) / abs(b):+.1f}"
+        return text if a * b >= 0.0 else f"{text}, opposite sign"
     if theirs is None or (isinstance(theirs, float) and math.isnan(theirs)):
         return MISSING
     if ours is None or (isinstance(ours, float) and math.isnan(ours)):
@@ -101,9 +106,9 @@ class ReportTable:
     reference
         Values to compare with, labelled like ``data`` (same row and column labels; rows
         or columns it lacks show a dash). Each compared column is shown as
-        "ours | <reference_name> | difference (%)", the difference being
-        :math:`100\\,(x_\\text{ours} - x_\\text{ref})/|x_\\text{ref}|` (for text: same or
-        differs).
+        "ours | <reference_name> | difference (%)", the difference of magnitudes
+        :math:`100\\,(|x_\\text{ours}| - |x_\\text{ref}|)/|x_\\text{ref}|` ("opposite sign"
+        added when the signs differ; for text: same or differs).
     reference_name
         Header of the reference values, e.g. ``"paper"`` or ``"reference"``.
     ratio

@@ -138,7 +138,7 @@ def simulate(
     The scene is assembled once (:func:`mechanism.core.model._assemble.assemble`); the initial state
     is the ideal-mechanism configuration at t = 0 with the journals at their
     ``initial_eccentricity``, at rest relative to their bearings. The equations of motion
-    [M Φqᵀ; Φq 0][q̈; λ] = [Q; γ − 2αΦ̇ − β²Φ] (paper-model §2.8) are integrated with the
+    [M Φqᵀ; Φq 0][q̈; λ] = [Q; γ − 2αΦ̇ − β²Φ] (docs/paper-model.md §7) are integrated with the
     chosen method; the same scene with every clearance joint ideal is integrated alongside
     (in a second thread: the compiled integrators release the GIL, so the companion adds
     no wall time when a core is free) to give the ``*_ideal`` outputs and the errors.

@@ -10,7 +10,7 @@ from __future__ import annotations
 from ._bifurcation import bifurcation
 from ._convergence import ElementConvergence, element_convergence
 from ._lyapunov import SceneLyapunov, lyapunov_exponent
-from ._paper import PaperStudy, StudySettings, paper_tables, run_paper_study
+from ._paper import PaperStudy, StudySettings, paper_claims, paper_tables, run_paper_study
 from ._plot import plot_bifurcation
 from ._sweep import (
     Analysis,
@@ -47,6 +47,7 @@ __all__ = [
     "grid_transforms",
     "load_sweep",
     "lyapunov_exponent",
+    "paper_claims",
     "paper_tables",
     "plot_bifurcation",
     "plot_wear_profile",

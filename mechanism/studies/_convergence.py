@@ -1,4 +1,4 @@
-"""Element-convergence study of flexible rods (issue 6; the paper's convergence table).
+"""Element-convergence study of flexible rods.
 
 Jia et al. (Lubricants 2025, 13(3), 130) report the extreme axial strains of rods 3 and 4
 for 4…24 ANCF elements per rod and settle on 16. :func:`element_convergence` repeats that

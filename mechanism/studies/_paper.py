@@ -1,23 +1,27 @@
-"""The seed paper's study by one call: wear, clearance, speed, element convergence, chaos.
+"""The paper's study by one call: is the press chaotic before and after wear, and the tables.
 
-:func:`run_paper_study` reproduces every table of Jia, Meng, Jiang, Kang (Lubricants 2025,
-13(3), 130) with the reconstructed ``paper`` scene (``paper-model.md``) and writes a report
-(HTML + Markdown, :func:`chaoskit.report`) with each published table beside ours. The
-published numbers are data (``mechanism/studies/data/paper_tables.toml``, :func:`paper_tables`).
+:func:`run_paper_study` answers the question of Jia, Meng, Jiang, Kang (Lubricants 2025,
+13(3), 130) with the reconstructed ``paper`` scene (docs/paper-model.md) and writes a
+report (HTML + Markdown, :func:`chaoskit.report`) that opens with the answer — the verdict
+of each state with its confidence and the largest Lyapunov exponent from the equations and
+from the data, beside the paper's values and claims — followed by every published table
+beside ours. The published numbers are data (``mechanism/studies/data/paper_tables.toml``,
+:func:`paper_tables`, :func:`paper_claims`).
 
 The study is built from the public pieces, nothing is computed a second way:
 
-* two sweeps (:func:`mechanism.sweep`) give every response row — clearance × speed before
-  wear, and speed after wear on the worn scene — with the paper-model §2.10 metrics the
-  sweep computes (``peak_contact_force``, ``max_penetration``, ...);
-* :func:`mechanism.predict_wear` (issue 7) gives the worn scene at 150 rpm;
-* :func:`mechanism.element_convergence` (issue 6) gives the rod-strain convergence table;
+* sweeps (:func:`mechanism.sweep`) give every response row — clearance × speed before
+  wear, and each speed after wear on the scene worn at that speed — with the metrics of
+  docs/paper-model.md §7 (``peak_contact_force``, ``max_penetration``, ...);
+* :func:`mechanism.predict_wear` gives the worn scene at 30, 90 and 150 rpm;
+* :func:`mechanism.element_convergence` gives the rod-strain convergence table;
+* :func:`mechanism.lyapunov_exponent` gives the exponent from the equations (rigid rods);
+* :func:`mechanism.bifurcation` gives the orbit diagrams over crank speed;
 * :func:`chaoskit.report` analyses the journal-centre motion before and after wear (the
   chaos table) and assembles the page.
 
-A piece that this version of the package does not have is reported in the page as "not
-available in this version" (a table note and a line under "Parameters"), never skipped in
-silence. See ``docs/paper-study.md``.
+A part that fails is reported in the page as "not available", never skipped in silence.
+See ``docs/paper-study.md``.
 """
 
 from __future__ import annotations
@@ -27,12 +31,15 @@ import dataclasses
 import hashlib
 import json
 import math
+import os
 import shlex
 import sys
 import time
 import tomllib
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
+from concurrent.futures import Future, ProcessPoolExecutor
 from dataclasses import dataclass, field
+from multiprocessing import get_context
 from pathlib import Path
 from typing import Any
 
@@ -41,16 +48,19 @@ import pandas as pd
 import xarray as xr
 
 import chaoskit
-from mechanism.core import WornProfile, load_scene
+from mechanism.core import WornProfile, load_scene, simulate
 from mechanism.core.scene import ClearanceRevolute
 
+from ._bifurcation import bifurcation
 from ._convergence import element_convergence
-from ._sweep import Analysis, dask_client, register_grid_transform, stroboscopic_points, sweep
-from ._sweep_store import point_file
-from ._wear_prediction import compare_wear, predict_wear
+from ._lyapunov import lyapunov_exponent
+from ._paper_summary import Stages, strobe_figure, summary_section
+from ._plot import plot_bifurcation
+from ._sweep import Analysis, dask_client, register_grid_transform, sweep
+from ._wear_prediction import predict_wear
 from ._wear_report import wear_profile_section
 
-__all__ = ["PaperStudy", "StudySettings", "paper_tables", "run_paper_study"]
+__all__ = ["PaperStudy", "StudySettings", "paper_claims", "paper_tables", "run_paper_study"]
 
 _DATA = Path(__file__).parent / "data" / "paper_tables.toml"
 
@@ -86,7 +96,7 @@ _MICRO = 1e6
 _CLEARANCES = (1e-4, 2e-4, 5e-4)
 _SPEEDS = (30, 90, 150)
 _DEFAULT_CLEARANCE = 2e-4
-_PAPER_SAMPLES = 10_000  # the paper's output step is T/10000 (seed-paper.txt parameter table)
+_PAPER_SAMPLES = 10_000  # the paper's step is T/10000 (its parameter table)
 _SPR = "samples_per_revolution"
 _NOT_AVAILABLE = "NOT AVAILABLE IN THIS VERSION"
 
@@ -138,6 +148,20 @@ def paper_tables() -> dict[str, pd.DataFrame]:
     return out
 
 
+def paper_claims() -> dict[str, dict[str, str]]:
+    """The paper's claim about the motion of each state (before, after wear).
+
+    ``{state: {"motion": "chaotic" | "not chaotic", "text": one line}}``, read from the
+    ``[claims]`` table of ``mechanism/studies/data/paper_tables.toml``.
+    """
+    with _DATA.open("rb") as fh:
+        raw = tomllib.load(fh)["claims"]
+    return {
+        state: {"motion": str(motion), "text": str(text)}
+        for state, motion, text in zip(raw["states"], raw["motion"], raw["text"], strict=True)
+    }
+
+
 def paper_wear_zones() -> list[tuple[float, float]]:
     """The paper's concentrated wear arcs in degrees: [(75, 132), (252, 310)]."""
     with _DATA.open("rb") as fh:
@@ -155,24 +179,37 @@ class StudySettings:
     Parameters
     ----------
     revolutions
-        Crank revolutions simulated per response point (paper-model A12: ≥ 3 for peaks,
-        ≥ 10 after the first for the chaos analysis).
+        Crank revolutions simulated per response point (peaks need ≥ 3; the paper's
+        simulation length is not printed: docs/paper-model.md, “Simulation length”).
     discard_revolutions
         Transient dropped before metrics and chaos analysis (revolutions).
     samples_per_revolution
-        Output samples per crank revolution; the output step (and, unset, the largest
-        step) is T / this. The paper: 10 000.
+        Output samples per crank revolution of the response points; the output step is
+        T / this. The paper: 10 000.
     flexible_rods
-        Rods 3 and 4 as ANCF beams (the paper) or rigid bars (much cheaper; no strains).
+        Rods 3 and 4 as ANCF beams (the paper, and the default everywhere) or rigid bars.
     wear_updates, wear_cycles_per_update, wear_max_depth_increment, wear_settle_revolutions
-        Cycle extrapolation of :func:`mechanism.predict_wear` (paper-model §2.7, A8): the
-        number of profile updates, the crank cycles ΔN per update, the cap on one update's
-        depth increment (fraction of the clearance) and the revolutions settled before the
-        measured cycle.
+        Cycle extrapolation of :func:`mechanism.predict_wear` (docs/paper-model.md §6): the
+        number of profile updates and the crank cycles per update set the amount of wear
+        (the cycle count is stated in the report); the cap on one update's depth increment
+        (fraction of the clearance) is a safety limit only; the revolutions settled before
+        the measured cycle. Each speed of the speed table is worn at its own speed.
     elements
         ANCF elements per rod for the convergence table (paper: 4 … 24).
     convergence_revolutions
         Revolutions per run of the convergence table.
+    chaos_revolutions
+        Revolutions analysed per state (before, after wear) after the transient, ≥ 200:
+        fewer drive periods cannot separate periodic, quasi-periodic and chaotic motion.
+    chaos_samples_per_revolution
+        Output samples per revolution of the analysed series; the integration step stays
+        the paper's T/10000.
+    exponent_revolutions
+        Revolutions of :func:`mechanism.lyapunov_exponent` per state (rigid-rod model).
+    orbit_speeds, orbit_revolutions, orbit_discard_revolutions, orbit_flexible_rods
+        The orbit diagrams over crank speed before and after wear
+        (:func:`mechanism.bifurcation`): speeds (rpm), revolutions per speed, transient,
+        and whether the rods are flexible there.
     n_surrogates
         Surrogates per series of the verdict's surrogate test.
     max_samples
@@ -185,12 +222,19 @@ class StudySettings:
     flexible_rods: bool = True
     wear_updates: int = 5
     wear_cycles_per_update: float = 1.0e4
-    wear_max_depth_increment: float = 0.25
+    wear_max_depth_increment: float = 1.0
     wear_settle_revolutions: float = 2.0
     elements: tuple[int, ...] = (4, 8, 12, 16, 20, 24)
     convergence_revolutions: float = 1.0
+    chaos_revolutions: float = 200.0
+    chaos_samples_per_revolution: int = 2000
+    exponent_revolutions: float = 100.0
+    orbit_speeds: tuple[float, ...] = tuple(float(v) for v in range(30, 151, 15))
+    orbit_revolutions: float = 30.0
+    orbit_discard_revolutions: float = 15.0
+    orbit_flexible_rods: bool = True
     n_surrogates: int = 19
-    max_samples: int | None = None
+    max_samples: int | None = 400_000
 
     def __post_init__(self) -> None:
         def number(name: str, low: float, *, integer: bool = False) -> None:
@@ -208,47 +252,78 @@ class StudySettings:
         number("wear_settle_revolutions", 0.0)
         number("wear_max_depth_increment", 1e-6)
         number("convergence_revolutions", 0.01)
+        number("chaos_revolutions", 1.0)
+        number("chaos_samples_per_revolution", 100, integer=True)
+        number("exponent_revolutions", 1.0)
+        number("orbit_revolutions", 1.0)
+        number("orbit_discard_revolutions", 0.0)
         number("n_surrogates", 0, integer=True)
         if self.revolutions <= self.discard_revolutions:
             raise ValueError(
                 f"StudySettings.revolutions ({self.revolutions:g}) must exceed "
                 f"discard_revolutions ({self.discard_revolutions:g})."
             )
+        if self.orbit_revolutions <= self.orbit_discard_revolutions:
+            raise ValueError(
+                f"StudySettings.orbit_revolutions ({self.orbit_revolutions:g}) must exceed "
+                f"orbit_discard_revolutions ({self.orbit_discard_revolutions:g})."
+            )
         if self.max_samples is not None:
             number("max_samples", 200, integer=True)
         elements = tuple(int(e) for e in self.elements)
         if not elements or any(e < 1 for e in elements):
             raise ValueError(f"StudySettings.elements must be integers >= 1; got {self.elements}.")
+        speeds = tuple(float(v) for v in self.orbit_speeds)
+        if any(not math.isfinite(v) or v <= 0 for v in speeds):
+            raise ValueError(
+                f"StudySettings.orbit_speeds must be positive speeds in rpm; got {speeds}."
+            )
         object.__setattr__(self, "elements", elements)
+        object.__setattr__(self, "orbit_speeds", speeds)
         object.__setattr__(self, "flexible_rods", bool(self.flexible_rods))
+        object.__setattr__(self, "orbit_flexible_rods", bool(self.orbit_flexible_rods))
 
     @classmethod
     def paper(cls) -> StudySettings:
-        """The paper's settings (T/10000 output, flexible rods, 4 … 24 elements)."""
+        """The paper's settings (T/10000, flexible rods, 4 … 24 elements, 200 revolutions)."""
         return cls()
 
     @classmethod
     def quick(cls) -> StudySettings:
-        """The documented reductions of ``mechanism paper --quick`` (``docs/paper-study.md``)."""
+        """The documented reductions of ``mechanism paper --quick`` (``docs/paper-study.md``).
+
+        Flexible rods and the 200 analysed revolutions per state are kept; the response
+        points run 4 revolutions at T/2500, the wear 2 updates, the convergence table 3
+        meshes over the first impact, the analysed series at most 100 000 samples, and the
+        orbit diagrams rigid rods at 7 speeds.
+        """
         return cls(
-            revolutions=7.0,
+            revolutions=4.0,
             discard_revolutions=1.0,
             samples_per_revolution=2500,
-            flexible_rods=False,
+            flexible_rods=True,
             wear_updates=2,
             wear_cycles_per_update=1.0e4,
-            wear_max_depth_increment=0.25,
+            wear_max_depth_increment=1.0,
             wear_settle_revolutions=1.0,
             elements=(4, 8, 16),
             convergence_revolutions=0.15,
+            chaos_revolutions=200.0,
+            chaos_samples_per_revolution=1000,
+            exponent_revolutions=30.0,
+            orbit_speeds=(30.0, 50.0, 70.0, 90.0, 110.0, 130.0, 150.0),
+            orbit_revolutions=30.0,
+            orbit_discard_revolutions=10.0,
+            orbit_flexible_rods=False,
             n_surrogates=19,
-            max_samples=8000,
+            max_samples=100_000,
         )
 
     def to_dict(self) -> dict[str, Any]:
         """Plain JSON-ready form (listed in the report's parameters)."""
         d = dataclasses.asdict(self)
         d["elements"] = list(self.elements)
+        d["orbit_speeds"] = list(self.orbit_speeds)
         return d
 
 
@@ -294,6 +369,8 @@ class PaperStudy:
         One line per part this version could not run (empty when complete).
     wall_time
         Wall time of the whole study, s.
+    output_size
+        Bytes in the output folder at the end.
     """
 
     tables: Mapping[str, pd.DataFrame]
@@ -305,6 +382,7 @@ class PaperStudy:
     quick: bool
     unavailable: tuple[str, ...] = ()
     wall_time: float = 0.0
+    output_size: int = 0
     sweeps: Mapping[str, xr.Dataset] = field(default_factory=dict, repr=False)
 
     @property
@@ -390,34 +468,8 @@ def _store_name(kind: str, settings: StudySettings, quick: bool) -> str:
     return f"{kind}-{'quick' if quick else 'paper'}-{digest[:8]}"
 
 
-def _trajectory(ds: xr.Dataset, store: Path, **sel: Any) -> Path | None:
-    point = _point(ds, **sel)
-    if str(point["status"].values) != "ok":
-        return None
-    return point_file(store, str(point["trajectory_file"].values))
-
-
-def _wear_table(before: Path, after: Path, discard_revolutions: float) -> pd.DataFrame:
-    """Rows "before wear"/"after wear" from :func:`mechanism.compare_wear`, in the paper's units."""
-    with (
-        xr.open_dataset(before, engine="h5netcdf") as b,
-        xr.open_dataset(after, engine="h5netcdf") as a,
-    ):
-        table = compare_wear(b.load(), a.load(), discard_revolutions=discard_revolutions).table
-    rows: dict[str, dict[str, float]] = {"before wear": {}, "after wear": {}}
-    for col in COLUMNS:
-        if col in _FROM_SWEEP:
-            name, factor = _FROM_SWEEP[col]
-        else:
-            name, factor = f"rod_strain_extreme[{_RODS[col]}]", _MICRO
-        for state, key in (("before wear", "before"), ("after wear", "after")):
-            value = table.at[name, key] if name in table.index else math.nan
-            rows[state][col] = float(value) * factor
-    return _frame(rows, "state")
-
-
 def _predict_worn(scene: Any, settings: StudySettings) -> tuple[Any, xr.Dataset | None, str]:
-    """The worn scene from :func:`mechanism.predict_wear` (module level: runs on a worker)."""
+    """The worn scene from :func:`mechanism.predict_wear` (module level: runs in a pool)."""
     prediction = predict_wear(
         scene,
         updates=settings.wear_updates,
@@ -428,29 +480,62 @@ def _predict_worn(scene: Any, settings: StudySettings) -> tuple[Any, xr.Dataset 
     )
     worn = prediction.worn_scene
     profile = None
+    rpm = float(scene.drive.speed_rpm)
     info = ""
     try:
         joint = worn.joints["C"]
         if not isinstance(joint, ClearanceRevolute):
             raise TypeError("the paper scene's joint C must be a clearance_revolute joint")
         profile = WornProfile.from_joint(joint).to_dataset()
+        capped = (
+            f"; {prediction.reduced_updates} update(s) shortened by the safety cap"
+            if prediction.reduced_updates
+            else ""
+        )
         info = (
-            f"{prediction.updates} updates, {float(prediction.cycles[-1]):.4g} cycles "
-            f"({prediction.reduced_updates} blocks shortened by max_depth_increment); largest "
-            f"wear depth: bearing {float(np.max(joint.wear.bearing_profile)) * 1e6:.3g} µm, "
-            f"journal {float(np.max(joint.wear.journal_profile or [0.0])) * 1e6:.3g} µm"
+            f"{rpm:g} rpm: {float(prediction.cycles[-1]):,.0f} crank cycles in "
+            f"{prediction.updates} update(s){capped}; largest wear depth: bearing "
+            f"{float(np.max(joint.wear.bearing_profile)) * 1e6:.3g} µm, journal "
+            f"{float(np.max(joint.wear.journal_profile or [0.0])) * 1e6:.3g} µm"
         )
     except Exception as exc:  # the profile is a figure; the study goes on without it
-        info = f"wear profile unavailable: {type(exc).__name__}: {exc}"
+        info = f"{rpm:g} rpm: wear profile unavailable: {type(exc).__name__}: {exc}"
     return worn, profile, info
 
 
+def _chaos_run(scene: Any, settings: StudySettings) -> xr.Dataset:
+    """The analysed series of one state: ≥ 200 revolutions after the transient at the
+    paper's step T/10000, output every T/``chaos_samples_per_revolution`` (runs in a pool).
+
+    Only the journal-centre eccentricity and the crank angle are returned, so the long
+    run does not keep the full state in memory after it ends.
+    """
+    period = 60.0 / abs(float(scene.drive.speed_rpm))
+    step = min(scene.solver.max_step or math.inf, period / _PAPER_SAMPLES)
+    traj = simulate(
+        scene.replace({"solver.max_step": step}),
+        revolutions=settings.discard_revolutions + settings.chaos_revolutions,
+        output_step=period / settings.chaos_samples_per_revolution,
+    )
+    keep = [v for v in ("eccentricity_x", "eccentricity_y", "crank_angle") if v in traj]
+    return traj[keep].load()
+
+
+def _equation_exponent(scene: Any, settings: StudySettings) -> Any:
+    """:func:`mechanism.lyapunov_exponent` of the rigid-rod model of a state (pool task)."""
+    rigid = scene.replace({"effects.flexibility": False})
+    return lyapunov_exponent(
+        rigid,
+        revolutions=settings.discard_revolutions + settings.exponent_revolutions,
+        discard=settings.discard_revolutions,
+    )
+
+
 def _convergence_run(scene: Any, elements: int, settings: StudySettings) -> list[float]:
-    """Extreme strains (µε) of rods 3 and 4 with ``elements`` per rod (runs on a worker)."""
+    """Extreme strains (µε) of rods 3 and 4 with ``elements`` per rod."""
     period = 60.0 / abs(float(scene.drive.speed_rpm))
     # the scene's "auto" method runs flexible rods with the fixed-step generalized-α at
     # max_step: keep that step at the paper's T/10000 even when the output grid is coarser
-    # (quick settings), where the step would otherwise follow the output step
     step = min(scene.solver.max_step or math.inf, period / _PAPER_SAMPLES)
     result = element_convergence(
         scene.replace({"solver.max_step": step}),
@@ -468,10 +553,68 @@ def _convergence_run(scene: Any, elements: int, settings: StudySettings) -> list
 
 
 def _session_client(client: Any, n_workers: int | None, n_tasks: int) -> Any:
-    """A context manager giving the backend for both sweeps (one cluster for the study)."""
+    """A context manager giving the backend of the sweeps (one cluster for the study)."""
     if client == "serial":
         return contextlib.nullcontext("serial")
     return dask_client(client, n_workers, n_tasks)
+
+
+def _pool(client: Any, n_workers: int | None) -> Any:
+    """Processes for the long compiled runs (wear, chaos, exponents), or this process.
+
+    A long compiled run holds the GIL, so on a dask worker it misses the heartbeats and is
+    restarted; separate processes run them in parallel without that limit.
+    """
+    if client == "serial":
+        return contextlib.nullcontext(None)
+    workers = n_workers or min(os.cpu_count() or 1, 2)
+    return ProcessPoolExecutor(max_workers=max(1, workers), mp_context=get_context("spawn"))
+
+
+def _submit(pool: Any, fn: Any, *args: Any) -> Any:
+    if pool is None:
+        done: Future[Any] = Future()
+        try:
+            done.set_result(fn(*args))
+        except Exception as exc:
+            done.set_exception(exc)
+        return done
+    return pool.submit(fn, *args)
+
+
+def _folder_size(folder: Path) -> int:
+    return sum(p.stat().st_size for p in folder.rglob("*") if p.is_file())
+
+
+def _drop_trajectories(store: Path) -> None:
+    """Remove a sweep store's point trajectories, keep its summaries (the metrics)."""
+    for path in (store / "points").glob("*.nc"):
+        if not path.name.endswith(".summary.nc"):
+            path.unlink(missing_ok=True)
+
+
+def _stage_weights(settings: StudySettings, n_conv: int) -> dict[str, float]:
+    """Prior cost of each stage in revolutions of flexible-rod work (for time left)."""
+    flex = 1.0 if settings.flexible_rods else 0.15
+    orbit = 1.0 if settings.orbit_flexible_rods else 0.15
+    return {
+        "before-wear sweep": 9 * settings.revolutions * flex / 2,
+        "wear prediction at 30, 90, 150 rpm": 3
+        * settings.wear_updates
+        * (settings.wear_settle_revolutions + 1)
+        * flex
+        / 2,
+        "after-wear sweeps": 3 * settings.revolutions * flex / 2,
+        "long runs for the chaos analysis and exponents": (
+            settings.discard_revolutions + settings.chaos_revolutions
+        )
+        * flex,
+        "element convergence": n_conv * settings.convergence_revolutions * 3.0,
+        "orbit diagrams over speed": len(settings.orbit_speeds)
+        * settings.orbit_revolutions
+        * orbit,
+        "chaos analysis and report": 0.1 * settings.chaos_revolutions,
+    }
 
 
 # --------------------------------------------------------------------------- the study
@@ -485,45 +628,53 @@ def run_paper_study(
     n_workers: int | None = None,
     scene: Any = "paper",
     progress: bool = False,
+    keep_trajectories: bool = False,
     command: str | None = None,
     _settings: StudySettings | Mapping[str, Any] | None = None,
 ) -> PaperStudy:
-    """Run the whole study of the seed paper and write its report beside the paper's tables.
+    """Run the whole study of the paper and write its report, the answer first.
 
-    What runs (paper-model §4; the reconstruction's ambiguities A1–A20 in §5):
+    What runs (the model: docs/paper-model.md; the stages: docs/paper-study.md):
 
     1. **before wear**: a sweep of the ``paper`` scene over clearance c ∈ {0.1, 0.2, 0.5} mm
-       × crank speed {30, 90, 150} rpm — the clearance table (150 rpm; 90 rpm as the A3
-       alternative), the MLE/verdict map and a bifurcation line;
-    2. **wear**: :func:`mechanism.predict_wear` at 150 rpm, c = 0.2 mm (Archard, cycle
-       extrapolation of paper-model §2.7) gives the worn scene;
-    3. **after wear**: a sweep of the worn scene over {30, 90, 150} rpm — the speed table
-       and, with point (0.2 mm, 150 rpm) of step 1, the before/after table with its ratios;
-    4. **element convergence**: :func:`mechanism.element_convergence` with
-       ``settings.elements`` ANCF elements per rod;
-    5. **chaos**: :func:`chaoskit.report` of the journal-centre eccentricity x, y (A15)
-       before and after wear at 150 rpm — delay, embedding dimension and MLE in 1/s and
-       bits per sample beside the paper's 24/5, 24/6, 10/11, 12/10.
+       × crank speed {30, 90, 150} rpm — the clearance table (150 rpm, and 90 rpm because
+       the paper does not print that table's conditions: docs/paper-model.md, “Clearance
+       size”) and the before-wear row;
+    2. **wear**: :func:`mechanism.predict_wear` at 30, 90 and 150 rpm, c = 0.2 mm, each
+       speed worn at its own speed as the paper did; the amount is set by the cycles;
+    3. **after wear**: each worn scene at its speed — the speed table and the after-wear
+       row (150 rpm);
+    4. **chaos**: per state (before, after wear at 150 rpm) a run of
+       ``chaos_revolutions`` revolutions after the transient at T/10000 with flexible rods,
+       analysed by :func:`chaoskit.report` (verdict, delay, embedding, Wolf and Rosenstein
+       exponents), beside :func:`mechanism.lyapunov_exponent` of the rigid-rod model;
+    5. **element convergence**: :func:`mechanism.element_convergence`;
+    6. **orbit diagrams** over crank speed before and after wear
+       (:func:`mechanism.bifurcation`).
 
-    Response metrics are those of the sweep (paper-model §2.10) converted to the paper's
-    units: displacement error mm, speed error m/s, contact force kN, embedding depth mm,
-    rod strains µε, torque N m.
+    The report opens with a summary: the verdict of each state with its confidence, the
+    exponents in 1/s and bits per sample, and the paper's values and claims beside ours.
 
     Parameters
     ----------
     output
         Folder for ``report.html``, ``report.md`` (+ figures) and the sweep stores
-        (``runs/``; a re-run with the same settings resumes them).
+        (``runs/``).
     quick
-        Use :meth:`StudySettings.quick` (documented reductions; ≤ 10 min on 2 cores)
-        instead of :meth:`StudySettings.paper`.
+        Use :meth:`StudySettings.quick` (documented reductions) instead of
+        :meth:`StudySettings.paper`.
     client, n_workers
-        Backend of the sweeps, as in :func:`mechanism.sweep` (``"serial"``, None → a
-        ``LocalCluster`` shared by both sweeps, an address or a ``Client``).
+        Backend of the sweeps, as in :func:`mechanism.sweep` (``"serial"`` runs everything
+        in this process; None: a ``LocalCluster``); ``n_workers`` also sizes the process
+        pool of the long runs.
     scene
-        Base scene (default the built-in ``paper``: geometry G-a, clearance at C).
+        Base scene (default the built-in ``paper``: reconstructed geometry, clearance at C).
     progress
-        Progress bars over sweep points.
+        Print each stage with the elapsed time and an estimate of the time left.
+    keep_trajectories
+        Keep the trajectories of the sweep points and of the chaos runs (``runs/`` and
+        ``trajectories/``, hundreds of MB); by default only their metrics are kept and a
+        re-run recomputes the points.
     command
         Command line recorded in the report's provenance.
 
@@ -554,72 +705,118 @@ def run_paper_study(
         {"effects.flexibility": settings.flexible_rods, "joints.C.clearance": _DEFAULT_CLEARANCE}
     )
     paper = paper_tables()
+    claims = paper_claims()
     unavailable: list[str] = []
-    analysis = Analysis(
-        discard_revolutions=settings.discard_revolutions,
-        max_samples=settings.max_samples,
-        options={"n_surrogates": settings.n_surrogates},
-    )
+    stages = Stages(_stage_weights(settings, len(settings.elements)), enabled=progress)
+    analysis = Analysis(variables=(), discard_revolutions=settings.discard_revolutions)
     spr = [settings.samples_per_revolution]
-
-    worn_scene = None
-    profile = None
-    wear_info = ""
+    period = 60.0 / 150.0
     before_store = runs / _store_name("before", settings, quick)
-    after_store = runs / _store_name("after", settings, quick)
-    wear_scene = base_scene.replace({"drive.speed_rpm": 150})
+    stores = [before_store]
+
     with _session_client(client, n_workers, len(_CLEARANCES) * len(_SPEEDS)) as backend:
-        pending = None
-        conv_scene = wear_scene.replace({"effects.flexibility": True})
-        if backend != "serial" and not settings.flexible_rods:
-            # the wear prediction runs on one worker while the before-wear points fill the
-            # rest (flexible runs hold the GIL too long for a worker's heartbeat: in-process)
-            pending = backend.submit(_predict_worn, wear_scene, settings, pure=False, priority=10)
-        before_raw = sweep(
-            base_scene,
-            grid={
-                "joints.C.clearance": list(_CLEARANCES),
-                "drive.speed_rpm": list(_SPEEDS),
-                _SPR: spr,
-            },
-            revolutions=settings.revolutions,
-            analysis=analysis,
-            client=backend,
-            store=before_store,
-            progress=progress,
-        )
-        before = before_raw.isel({_SPR: 0}, drop=True)
-        wear_error = ""
-        try:
-            if pending is not None:
-                worn_scene, profile, wear_info = pending.result()
-            else:
-                worn_scene, profile, wear_info = _predict_worn(wear_scene, settings)
-        except Exception as exc:
-            wear_error = f"{type(exc).__name__}: {exc}"
-            worn_scene = None
-        after = None
-        if worn_scene is not None:
-            after = sweep(
-                worn_scene,
-                grid={"drive.speed_rpm": list(_SPEEDS), _SPR: spr},
+        with stages.stage("before-wear sweep"):
+            before = sweep(
+                base_scene,
+                grid={
+                    "joints.C.clearance": list(_CLEARANCES),
+                    "drive.speed_rpm": list(_SPEEDS),
+                    _SPR: spr,
+                },
                 revolutions=settings.revolutions,
                 analysis=analysis,
                 client=backend,
-                store=after_store,
-                progress=progress,
+                store=before_store,
+                progress=False,
             ).isel({_SPR: 0}, drop=True)
+        worn: dict[float, Any] = {}
+        profiles: dict[str, xr.Dataset] = {}
+        wear_info: list[str] = []
+        with _pool(client, n_workers) as pool:
+            with stages.stage("wear prediction at 30, 90, 150 rpm"):
+                pending = {
+                    rpm: _submit(
+                        pool, _predict_worn, base_scene.replace({"drive.speed_rpm": rpm}), settings
+                    )
+                    for rpm in _SPEEDS
+                }
+                for rpm, future in pending.items():
+                    try:
+                        worn[rpm], profile, info = future.result()
+                    except Exception as exc:
+                        unavailable.append(
+                            f"wear prediction at {rpm} rpm failed: {type(exc).__name__}: {exc}"
+                        )
+                        continue
+                    wear_info.append(info)
+                    if profile is not None:
+                        profiles[f"worn at {rpm} rpm"] = profile
+            after: dict[float, xr.Dataset] = {}
+            with stages.stage("after-wear sweeps"):
+                for speed, worn_scene in worn.items():
+                    store = runs / _store_name(f"after-{speed:g}rpm", settings, quick)
+                    stores.append(store)
+                    after[speed] = sweep(
+                        worn_scene,
+                        grid={"drive.speed_rpm": [speed], _SPR: spr},
+                        revolutions=settings.revolutions,
+                        analysis=analysis,
+                        client=backend,
+                        store=store,
+                        progress=False,
+                    ).isel({_SPR: 0, "drive.speed_rpm": 0}, drop=True)
+            state_scenes = {"before wear": wear_scene_of(base_scene)}
+            if 150 in worn:
+                state_scenes["after wear"] = worn[150]
+            with stages.stage("long runs for the chaos analysis and exponents"):
+                runs_pending = {
+                    state: (
+                        _submit(pool, _chaos_run, sc, settings),
+                        _submit(pool, _equation_exponent, sc, settings),
+                    )
+                    for state, sc in state_scenes.items()
+                }
+                trajectories: dict[str, xr.Dataset] = {}
+                equations: dict[str, Any] = {}
+                for state, (chaos_future, exponent_future) in runs_pending.items():
+                    try:
+                        trajectories[state] = chaos_future.result()
+                    except Exception as exc:
+                        unavailable.append(f"chaos run {state} failed: {type(exc).__name__}: {exc}")
+                    try:
+                        equations[state] = exponent_future.result()
+                    except Exception as exc:
+                        equations[state] = None
+                        unavailable.append(
+                            f"exponent from the equations, {state}: {type(exc).__name__}: {exc}"
+                        )
         conv_rows: dict[int, list[float]] = {}
         conv_errors: list[str] = []
-        for n in settings.elements:
-            # in this process: a long compiled run holds the GIL, and a dask worker that
-            # misses its heartbeats for minutes is declared dead and restarted
-            try:
-                conv_rows[n] = _convergence_run(conv_scene, n, settings)
-            except Exception as exc:
-                conv_errors.append(f"{n} elements: {type(exc).__name__}: {exc}")
-    if worn_scene is None:
-        unavailable.append(f"wear prediction failed: {wear_error}")
+        with stages.stage("element convergence"):
+            conv_scene = wear_scene_of(base_scene).replace({"effects.flexibility": True})
+            for n in settings.elements:
+                try:
+                    conv_rows[n] = _convergence_run(conv_scene, n, settings)
+                except Exception as exc:
+                    conv_errors.append(f"{n} elements: {type(exc).__name__}: {exc}")
+        orbits: dict[str, xr.Dataset] = {}
+        with stages.stage("orbit diagrams over speed"):
+            for state, sc in state_scenes.items():
+                store = runs / _store_name(f"orbit-{state.replace(' ', '-')}", settings, quick)
+                stores.append(store)
+                try:
+                    orbits[state] = bifurcation(
+                        sc.replace({"effects.flexibility": settings.orbit_flexible_rods}),
+                        parameter="drive.speed_rpm",
+                        values=list(settings.orbit_speeds),
+                        revolutions=settings.orbit_revolutions,
+                        discard=settings.orbit_discard_revolutions,
+                        variables=("eccentricity_x",),
+                        client=backend,
+                        store=store,
+                    )
+                except Exception as exc:
+                    unavailable.append(f"orbit diagram {state}: {type(exc).__name__}: {exc}")
 
     # ---- tables (ours, in the paper's units)
     c0 = _DEFAULT_CLEARANCE
@@ -629,18 +826,9 @@ def run_paper_study(
             _point(before, **{"joints.C.clearance": c0, "drive.speed_rpm": 150})
         )
     }
-    if after is not None:
-        rows["after wear"] = _metrics_row(_point(after, **{"drive.speed_rpm": 150}))
+    if 150 in after:
+        rows["after wear"] = _metrics_row(after[150])
     tables["wear"] = _frame(rows, "state")
-    before_path = _trajectory(
-        before, before_store, **{"joints.C.clearance": c0, "drive.speed_rpm": 150}
-    )
-    after_path = (
-        None if after is None else _trajectory(after, after_store, **{"drive.speed_rpm": 150})
-    )
-    if before_path is not None and after_path is not None:
-        # the before/after table is mechanism.compare_wear's (same definitions as the sweep's)
-        tables["wear"] = _wear_table(before_path, after_path, settings.discard_revolutions)
     for rpm, key in ((150, "clearance"), (90, "clearance_90rpm")):
         tables[key] = _frame(
             {
@@ -651,15 +839,15 @@ def run_paper_study(
             },
             "clearance",
         )
-    speed_source = after if after is not None else before.sel({"joints.C.clearance": c0})
     tables["speed"] = _frame(
         {
-            _speed_label(v): _metrics_row(_point(speed_source, **{"drive.speed_rpm": v}))
+            _speed_label(v): _metrics_row(after[v])
+            if v in after
+            else dict.fromkeys(COLUMNS, math.nan)
             for v in _SPEEDS
         },
         "speed",
     )
-    # every published row is shown, ours NaN where not run
     elements = sorted(set(settings.elements) | {int(e) for e in paper["convergence"].index})
     tables["convergence"] = pd.DataFrame(
         [conv_rows.get(n, [math.nan] * len(_RODS)) for n in elements],
@@ -670,73 +858,101 @@ def run_paper_study(
         unavailable.append("element convergence failed: " + "; ".join(conv_errors))
 
     # ---- chaos analysis and the report
-    trajectories = {}
-    if before_path is not None:
-        trajectories["before wear"] = before_path
-    if after_path is not None:
-        trajectories["after wear"] = after_path
-    period = 60.0 / 150.0
-    chaos_ref = paper["chaos"].copy()
-    # the paper's sampling is T/10000; lag time and MLE in 1/s compare whatever our stride
-    dt_paper = period / _PAPER_SAMPLES
-    chaos_ref["lag_time"] = chaos_ref["lag"] * dt_paper
-    chaos_ref["mle_wolf"] = chaos_ref["mle_wolf_bits"] * math.log(2.0) / dt_paper
-    chaos_ref = chaos_ref[[s in trajectories for s in chaos_ref.index.get_level_values("state")]]
-
-    notes = _table_notes(settings, unavailable, has_wear=after is not None)
-    report_tables = _report_tables(tables, paper, notes, has_after=after is not None)
-    sweep_maps = [
-        chaoskit.SweepMap(
-            data=before,
-            x="drive.speed_rpm",
-            y="joints.C.clearance",
-            caption="Largest Lyapunov exponent (Rosenstein, 1/s) and verdict of the journal-centre "
-            "x motion before wear over clearance and crank speed.",
+    with stages.stage("chaos analysis and report"):
+        dt_paper = period / _PAPER_SAMPLES
+        chaos_ref = paper["chaos"].copy()
+        chaos_ref["lag_time"] = chaos_ref["lag"] * dt_paper
+        chaos_ref["mle_wolf"] = chaos_ref["mle_wolf_bits"] * math.log(2.0) / dt_paper
+        chaos_ref = chaos_ref[
+            [s in trajectories for s in chaos_ref.index.get_level_values("state")]
+        ]
+        notes = _table_notes(settings, unavailable, has_wear=150 in after, wear_info=wear_info)
+        report_tables = _report_tables(tables, paper, notes, has_after=150 in after)
+        if command is None:
+            command = " ".join(shlex.quote(a) for a in sys.argv) if sys.argv else "run_paper_study"
+        rep = chaoskit.report(
+            trajectories or None,
+            variables={"X": "eccentricity_x[joint=C]", "Y": "eccentricity_y[joint=C]"}
+            if trajectories
+            else None,
+            phase_variable="crank_angle" if trajectories else None,
+            discard=settings.discard_revolutions * period,
+            max_samples=settings.max_samples,
+            n_surrogates=settings.n_surrogates,
+            rng=0,
+            chaos_reference=chaos_ref if trajectories else None,
+            reference_name="paper",
+            chaos_notes=notes["chaos"],
+            tables=report_tables,
+            parameters={"quick": quick, "settings": settings.to_dict()},
+            title="Is the six-bar press with a worn clearance joint chaotic? Jia et al. (2025) "
+            "reproduced" + (" (quick settings)" if quick else ""),
+            command=command,
         )
-    ]
-    bifurcations = _bifurcations(before_raw, before_store)
-    parameters: dict[str, Any] = {
-        "quick": quick,
-        "settings": settings.to_dict(),
-        "scene": getattr(base_scene, "name", "scene"),
-        "sweep stores": [str(before_store), str(after_store) if after is not None else "—"],
-        "wear prediction": wear_info or ("not run" if worn_scene is None else ""),
-    }
-    for i, line in enumerate(unavailable, 1):
-        parameters[f"{_NOT_AVAILABLE} ({i})"] = line
-    if command is None:
-        command = " ".join(shlex.quote(a) for a in sys.argv) if sys.argv else "run_paper_study"
-    rep = chaoskit.report(
-        trajectories or None,
-        variables={"X": "eccentricity_x[joint=C]", "Y": "eccentricity_y[joint=C]"}
-        if trajectories
-        else None,
-        phase_variable="crank_angle" if trajectories else None,
-        discard=settings.discard_revolutions * period,
-        max_samples=settings.max_samples,
-        n_surrogates=settings.n_surrogates,
-        rng=0,
-        chaos_reference=chaos_ref if trajectories else None,
-        reference_name="paper",
-        chaos_notes=notes["chaos"],
-        tables=report_tables,
-        sweep_maps=sweep_maps,
-        bifurcations=bifurcations,
-        parameters=parameters,
-        title="Jia et al. (2025) reproduced: wear prediction and chaos identification of the "
-        "rigid-flexible six-bar with clearance" + (" (quick)" if quick else ""),
-        command=command,
-    )
-    if profile is not None:
-        wear_section = wear_profile_section(
-            {"after wear (predicted)": profile},
-            sectors=paper_wear_zones(),
-            sector_label="paper's wear zones",
+        chaos = rep.table("Chaos table").data if trajectories else pd.DataFrame()
+        tables["chaos"] = chaos
+        headline: list[chaoskit.ReportFigure] = []
+        if trajectories:
+            fig = strobe_figure(trajectories)
+            headline.append(
+                chaoskit.ReportFigure.from_matplotlib(
+                    fig,
+                    caption="Stroboscopic maps of the journal centre of joint C (once per crank "
+                    f"revolution, {settings.chaos_revolutions:g} revolutions after the "
+                    f"transient, {'flexible' if settings.flexible_rods else 'rigid'} rods, "
+                    "150 rpm, c = 0.2 mm): before and after wear.",
+                    name="strobe-before-after",
+                    section="Summary",
+                )
+            )
+        if orbits:
+            headline.append(_orbit_figure(orbits, settings))
+        wall_so_far = time.perf_counter() - t0
+        settings_text = (
+            f"Settings: {'quick' if quick else 'paper'}; chaos from "
+            f"{settings.chaos_revolutions:g} revolutions per state after "
+            f"{settings.discard_revolutions:g} of transient, integration step T/{_PAPER_SAMPLES} "
+            f"(T = {period:g} s at 150 rpm), series sampled at T/"
+            f"{settings.chaos_samples_per_revolution}; rods "
+            f"{'flexible (ANCF)' if settings.flexible_rods else 'rigid'}; wear worn at each "
+            f"speed for {settings.wear_updates * settings.wear_cycles_per_update:,.0f} crank "
+            f"cycles. Wall time {wall_so_far / 60:.1f} min until the report. The model and "
+            "every reconstruction choice: docs/paper-model.md."
         )
-        rep = rep.with_sections(wear_section, after="Divergence curves")
-    rep.write(out / "report.html")
-    chaos = rep.table("Chaos table").data if trajectories else pd.DataFrame()
-    tables["chaos"] = chaos
+        summary = summary_section(
+            states=[s for s in ("before wear", "after wear") if s in state_scenes],
+            verdicts=rep.verdicts,
+            chaos=chaos,
+            paper_chaos=paper["chaos"],
+            claims=claims,
+            equations=equations,
+            paper_step=dt_paper,
+            settings_text=settings_text,
+            figures=headline,
+        )
+        sections = [summary]
+        if profiles:
+            sections.append(
+                wear_profile_section(
+                    profiles, sectors=paper_wear_zones(), sector_label="paper's wear zones"
+                )
+            )
+        rep = dataclasses.replace(rep, sections=(*sections, *rep.sections))
+        if keep_trajectories:
+            folder = out / "trajectories"
+            folder.mkdir(exist_ok=True)
+            for state, traj in trajectories.items():
+                chaoskit.save_trajectory(traj, folder / f"{state.replace(' ', '-')}.nc")
+        else:
+            for store in stores:
+                _drop_trajectories(store)
+        rep.write(out / "report.html")
+        wall = time.perf_counter() - t0
+        size = _folder_size(out)
+        rep = _with_run_facts(
+            rep, wall=wall, size=size, wear_info=wear_info, unavailable=unavailable
+        )
+        rep.write(out / "report.html")
     return PaperStudy(
         tables=tables,
         paper=paper,
@@ -747,82 +963,140 @@ def run_paper_study(
         quick=quick,
         unavailable=tuple(unavailable),
         wall_time=time.perf_counter() - t0,
-        sweeps={"before": before, **({"after": after} if after is not None else {})},
+        output_size=_folder_size(out),
+        sweeps={"before": before, **{f"after {k:g} rpm": v for k, v in after.items()}},
     )
 
 
-def _bifurcations(before: xr.Dataset, store: Path) -> dict[str, xr.Dataset] | None:
-    try:
-        points = stroboscopic_points(before, store=store)
-    except ValueError:
-        return None  # no successful point to sample
-    line = points.sel({"joints.C.clearance": _DEFAULT_CLEARANCE})
-    if _SPR in line.dims:
-        line = line.isel({_SPR: 0}, drop=True)
-    diagram = chaoskit.bifurcation_diagram(
-        line, parameter="drive.speed_rpm", variable="eccentricity_x"
+def wear_scene_of(scene: Any) -> Any:
+    """The before-wear state of the chaos analysis: 150 rpm, c = 0.2 mm."""
+    return scene.replace({"drive.speed_rpm": 150, "joints.C.clearance": _DEFAULT_CLEARANCE})
+
+
+def _orbit_figure(orbits: Mapping[str, xr.Dataset], settings: StudySettings) -> Any:
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(5.0 * len(orbits), 4.0), layout="constrained")
+    axes = fig.subplots(1, len(orbits), squeeze=False)[0]
+    for ax, (state, ds) in zip(axes, orbits.items(), strict=False):
+        plot_bifurcation(ds, axes=[ax])
+        ax.set_title(state, fontsize=10)
+    rods = "flexible" if settings.orbit_flexible_rods else "rigid (a reduction of --quick)"
+    return chaoskit.ReportFigure.from_matplotlib(
+        fig,
+        caption="Orbit diagrams over crank speed before and after wear (worn at 150 rpm): "
+        "journal-centre e_x once per revolution, "
+        f"{settings.orbit_revolutions - settings.orbit_discard_revolutions:g} revolutions "
+        f"per speed after {settings.orbit_discard_revolutions:g} of transient, rods {rods}. "
+        "A period-k motion gives k points above its speed, chaos a band.",
+        name="orbit-before-after",
+        section="Summary",
     )
-    return {
-        "Stroboscopic journal-centre x (once per crank revolution) against crank speed, "
-        "c = 0.2 mm, before wear.": diagram
-    }
+
+
+def _with_run_facts(
+    rep: Any, *, wall: float, size: int, wear_info: list[str], unavailable: list[str]
+) -> Any:
+    """The summary's opening paragraph with the wall time and the output size."""
+    first = rep.sections[0]
+    facts = (
+        f"Run: wall time {wall / 60:.1f} min, output {size / 1e6:.1f} MB. Wear: "
+        + ("; ".join(wear_info) or "not run")
+        + "."
+    )
+    if unavailable:
+        facts += " NOT AVAILABLE: " + "; ".join(unavailable) + "."
+    first = dataclasses.replace(first, text=facts + " " + first.text)
+    return dataclasses.replace(rep, sections=(first, *rep.sections[1:]))
 
 
 def _table_notes(
-    settings: StudySettings, unavailable: list[str], *, has_wear: bool
+    settings: StudySettings,
+    unavailable: list[str],
+    *,
+    has_wear: bool,
+    wear_info: Sequence[str] = (),
 ) -> dict[str, str]:
     rigid = (
         "Rods 3 and 4 are rigid bars in this run (StudySettings.flexible_rods = false), so "
-        "there are no rod strains and the rod elasticity that the paper's ANCF rods add to "
-        "impacts is missing. "
+        "there are no rod strains. "
         if not settings.flexible_rods
         else ""
     )
     common = (
-        "Why ours differs: the geometry is a reconstruction (A1: layout G-a; A2: clearance at "
-        "C), the contact stiffness is the value the paper's own numbers imply (A6, K = 1.31e10 "
-        "N/m^1.5), v0/v1 of the friction law are assumed (A10), and the paper's displacement "
-        "error is about 10× larger than the geometric bound of a 0.5 mm clearance (A13). "
+        "Why ours differs (docs/paper-model.md, “Reconstruction choices”): the geometry is a "
+        "reconstruction with the clearance at C; the contact stiffness is the value the "
+        "paper's own numbers imply (K = 1.31e10 N/m^1.5); v0/v1 of the friction law are "
+        "assumed; the paper's displacement error is about 10× larger than the geometric "
+        "bound of a 0.5 mm clearance. "
         + rigid
-        + f"Metrics over revolutions {settings.discard_revolutions:g}–{settings.revolutions:g} "
-        f"(A12), output step T/{settings.samples_per_revolution}."
+        + f"Metrics over revolutions {settings.discard_revolutions:g}–{settings.revolutions:g}, "
+        f"output step T/{settings.samples_per_revolution}."
     )
     missing_wear = (
         f"{_NOT_AVAILABLE}: the wear prediction (mechanism.predict_wear) — no after-wear row. "
         if not has_wear
         else ""
     )
+    cycles = settings.wear_updates * settings.wear_cycles_per_update
+    worn = (
+        f"Each speed is worn at its own speed for {cycles:,.0f} crank cycles "
+        f"({settings.wear_updates} update(s) × {settings.wear_cycles_per_update:,.0f}; the paper "
+        "gives no cycle count: docs/paper-model.md, “Amount of wear”). "
+        + ("; ".join(wear_info) + ". " if wear_info else "")
+    )
     return {
-        "wear": missing_wear + "150 rpm, c = 0.2 mm (A3). The after-wear scene comes from "
-        f"{settings.wear_updates} wear updates × {settings.wear_cycles_per_update:g} "
-        "cycles (A8: the paper does not give the amount of wear; it was meant to be "
-        "calibrated to its after-wear contact force). " + common,
-        "clearance": "Before wear, 150 rpm: the table's conditions are not printed (A3). " + common,
-        "clearance_90rpm": "Before wear, 90 rpm: the A3 alternative reading (the paper's 0.2 "
-        "mm row is close to its 90 rpm row). " + common,
+        "wear": missing_wear + "150 rpm, c = 0.2 mm. Ratios compare magnitudes (|after| / "
+        "|before|). " + worn + common,
+        "clearance": "Before wear, 150 rpm: the table's conditions are not printed "
+        "(docs/paper-model.md, “Clearance size”). The difference compares magnitudes. " + common,
+        "clearance_90rpm": "Before wear, 90 rpm: the other reading of the table's unprinted "
+        "conditions (the paper's 0.2 mm row is close to its 90 rpm row). " + common,
         "speed": (
-            "After wear (worn scene from the 150 rpm prediction), c = 0.2 mm. "
+            "After wear, c = 0.2 mm. " + worn
             if has_wear
-            else f"{_NOT_AVAILABLE}: wear prediction; these rows are BEFORE wear, c = 0.2 mm. "
+            else f"{_NOT_AVAILABLE}: wear prediction; no after-wear rows. "
         )
         + common,
-        "convergence": "Signed extreme axial strain (µε, A14) over the nodes and element "
+        "convergence": "Signed extreme axial strain (µε) over the nodes and element "
         "mid-points of each rod (mechanism.element_convergence), flexible rods, before wear, "
         f"150 rpm, c = 0.2 mm, over the first {settings.convergence_revolutions:g} "
         "revolution(s) (the first impact of the concentric start is the largest of a "
         f"revolution), output step T/{settings.samples_per_revolution}. Our strain follows "
-        "our contact force (rod 3 carries the joint force axially, paper-model §1.3), so "
-        "it inherits the force differences of the response tables. "
+        "our contact force (rod 3 carries the joint force axially, docs/paper-model.md, "
+        "“Clearance joint location”). "
         + next((f"{_NOT_AVAILABLE}: {u}." for u in unavailable if "convergence" in u), ""),
-        "chaos": "Series: journal-centre eccentricity x (X) and y (Y) of joint C (A15), "
-        "150 rpm, c = 0.2 mm, after the first "
-        f"{settings.discard_revolutions:g} revolution(s). The paper samples at T/10000 "
-        "(4e-5 s): its lag and bits per sample refer to that step; our lag (samples) and "
-        "bits per sample refer to the analysed step stated in the caption, so compare lag "
-        "time (s) and the MLE in 1/s (the paper's values converted with λ = bits·ln2/Δt). "
-        "Only the sign of the MLE is physically meaningful (paper-model §3, A16)."
+        "chaos": "Series: journal-centre eccentricity x (X) and y (Y) of joint C "
+        "(docs/paper-model.md, “Analysed series”), 150 rpm, c = 0.2 mm, "
+        f"{settings.chaos_revolutions:g} revolutions after the first "
+        f"{settings.discard_revolutions:g}, flexible rods, integration step T/10000. The "
+        "paper samples at T/10000 (4e-5 s): its lag and bits per sample refer to that step; "
+        "ours refer to the analysed step stated in the caption, so compare lag time (s) and "
+        "the MLE in 1/s (the paper's values converted with λ = bits·ln2/Δt). Only the sign "
+        "of the MLE is physically meaningful (docs/paper-model.md §8)."
         + ("" if has_wear else f" {_NOT_AVAILABLE}: wear prediction — no after-wear rows."),
     }
+
+
+def _magnitude_ratio(a: float, b: float) -> float:
+    return abs(a) / abs(b) if math.isfinite(a) and math.isfinite(b) and b != 0.0 else math.nan
+
+
+def _wear_comparison(ours: pd.DataFrame, paper: pd.DataFrame) -> pd.DataFrame:
+    """Before | after | ratio for ours and the paper, one row per quantity."""
+    rows = {}
+    for col in COLUMNS:
+        row: dict[str, float] = {}
+        for name, frame in (("ours", ours), ("paper", paper)):
+            before = (
+                float(frame.at["before wear", col]) if "before wear" in frame.index else math.nan
+            )
+            after = float(frame.at["after wear", col]) if "after wear" in frame.index else math.nan
+            row[f"{name}_before"] = before
+            row[f"{name}_after"] = after
+            row[f"{name}_ratio"] = _magnitude_ratio(after, before)
+        rows[LABELS[col]] = row
+    return pd.DataFrame.from_dict(rows, orient="index").rename_axis("quantity")
 
 
 def _report_tables(
@@ -844,13 +1118,16 @@ def _report_tables(
             **options,
         )
 
+    side = {"before": "before", "after": "after", "ratio": "ratio after/before"}
+    wear = chaoskit.ReportTable(
+        caption="Before and after wear, 150 rpm (paper Table: before/after wear): ours and "
+        "the paper's, each with the ratio after / before.",
+        data=_wear_comparison(tables["wear"], paper["wear"]),
+        labels={f"{who}_{k}": f"{who} {v}" for who in ("ours", "paper") for k, v in side.items()},
+        notes=notes["wear"],
+    )
     return [
-        table(
-            "wear",
-            "Before and after wear, 150 rpm (paper Table: before/after wear).",
-            ratio=("after wear", "before wear") if has_after else None,
-            layout="long",
-        ),
+        wear,
         table(
             "clearance",
             "Clearance size, before wear, 150 rpm (paper Table: clearance size).",
@@ -858,16 +1135,17 @@ def _report_tables(
         ),
         table(
             "clearance_90rpm",
-            "Clearance size, before wear, 90 rpm (A3 alternative; paper Table: clearance size).",
+            "Clearance size, before wear, 90 rpm (the other reading; paper Table: clearance size).",
             reference="clearance",
             layout="long",
         ),
         table(
             "speed",
-            "Driving speed, after wear (paper Table: driving speed)."
+            "Driving speed, after wear, each speed worn at its own speed (paper Table: "
+            "driving speed)."
             if has_after
-            else "Driving speed, BEFORE wear — wear prediction not available (paper "
-            "Table: driving speed, after wear).",
+            else "Driving speed — wear prediction not available (paper Table: driving speed, "
+            "after wear).",
             layout="long",
         ),
         table(

@@ -719,7 +719,7 @@ def sweep(
     replaced (``scene.replace``) and then the special keys applied (registered with
     :func:`register_grid_transform`; built in: ``"wear"``), simulated for ``revolutions``
     crank revolutions. Each point writes ``STORE/points/<id>.nc`` (its trajectory) and
-    ``<id>.summary.nc``: its status, the response metrics of paper-model §2.10 over the
+    ``<id>.summary.nc``: its status, the response metrics of docs/paper-model.md §7 over the
     revolutions after ``analysis.discard_revolutions``,
 
     * ``peak_contact_force`` :math:`\\max F_n` (N), ``max_penetration`` :math:`\\max\\delta` (m),

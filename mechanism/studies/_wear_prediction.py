@@ -3,10 +3,10 @@
 The wear of one run (:func:`mechanism.core.wear.run_wear`) is part of the core; this study
 builds on it:
 
-* :func:`predict_wear` — the update loop of paper-model §2.7 (Flores 2009; Mukras 2010):
+* :func:`predict_wear` — the update loop of docs/paper-model.md §6 (Flores 2009; Mukras 2010):
   settle, accumulate one cycle's wear, extrapolate over a block of cycles with the depth
   increment limited relative to the clearance, smooth, update the profile, repeat.
-* :func:`compare_wear` — the response metrics of paper-model §2.10 before and after wear, side
+* :func:`compare_wear` — the response metrics of docs/paper-model.md §7 before and after wear, side
   by side with their ratios (metric definitions shared with sweeps, ``_metrics.py``).
 
 See ``docs/wear.md``.
@@ -99,7 +99,7 @@ def predict_wear(
 ) -> WearPrediction:
     """Predict the worn profile of every clearance joint by cycle extrapolation.
 
-    For each update u = 0 … ``updates`` − 1 (paper-model §2.7, Flores 2009, Mukras 2010):
+    For each update u = 0 … ``updates`` − 1 (docs/paper-model.md §6, Flores 2009, Mukras 2010):
 
     1. simulate ``settle_revolutions`` + 1 crank revolutions with the current profiles
        (the worn geometry shapes the contact) and take the response metrics and the
@@ -361,7 +361,7 @@ def compare_wear(
 
     Displacement error, speed error, peak contact force, maximum penetration, signed
     extreme driving torque and (when recorded) the signed extreme rod strains, each over
-    the samples after ``discard_revolutions`` (paper-model §2.10; the same definitions as
+    the samples after ``discard_revolutions`` (docs/paper-model.md §7; the same definitions as
     the sweep's metrics). ratio = after/before (signed metrics keep their sign, so a
     torque extreme that grows in magnitude has a ratio > 1 when the sign is unchanged).
 

@@ -280,8 +280,8 @@ EXPECTED_TABLES = [
     "Verdict per variable and state",
     "Response metrics before and after wear",
     "Chaos table",
-    "Evidence behind each verdict",
     "Values behind the map",
+    "Evidence behind each verdict",
     "Provenance",
     "Inputs",
     "Analysis settings",
@@ -364,23 +364,30 @@ def test_chaos_table_numbers_are_those_of_an_independent_analysis(built, traject
             [float(row["mle_wolf_low"]) * to_bits, float(row["mle_wolf_high"]) * to_bits],
             rtol=1e-12,
         )
-        cells = shown.loc[("X", state)]
         wolf_label = "MLE Wolf (bit/sample) [95% CI]"
+
+        def cells(label: str, column: str, state: str = state) -> str:
+            # beside a reference the chaos table is long: one row per quantity
+            return str(shown.loc[("X", state, label), (column, "")])
+
         expected = (
             f"{format_number(float(ours['mle_wolf_bits']))} "
             f"[{format_number(float(row['mle_wolf_low']) * to_bits)}, "
             f"{format_number(float(row['mle_wolf_high']) * to_bits)}]"
         )
-        assert cells[(wolf_label, "ours")] == expected
+        assert cells(wolf_label, "ours") == expected
         paper = float(CHAOS_PAPER.loc[("X", state), "mle_wolf_bits"])
-        diff = 100 * (float(ours["mle_wolf_bits"]) - paper) / paper
-        assert cells[(wolf_label, "paper")] == format_number(paper, 6)
-        assert cells[(wolf_label, "difference (%)")] == f"{diff:+.1f}"
-        assert cells[("lag (samples)", "ours")] == format_number(float(row["lag"]))
+        mine = float(ours["mle_wolf_bits"])
+        diff = f"{100 * (abs(mine) - abs(paper)) / abs(paper):+.1f}"
+        if mine * paper < 0:
+            diff += ", opposite sign"
+        assert cells(wolf_label, "paper") == format_number(paper, 6)
+        assert cells(wolf_label, "difference (%)") == diff
+        assert cells("lag (samples)", "ours") == format_number(float(row["lag"]))
     # joint C (Duffing) was analysed, not joint A (a sine): the verdicts say so
     assert table.data.loc[("X", "before wear"), "verdict"] == "periodic"
     assert table.data.loc[("X", "after wear"), "verdict"] == "chaotic"
-    assert shown.loc[("X", "after wear")][("verdict", "difference (%)")] == "same"
+    assert shown.loc[("X", "after wear", "verdict"), ("difference (%)", "")] == "same"
 
 
 def test_response_metrics_beside_the_paper_with_ratios_and_differences(built) -> None:
@@ -562,3 +569,13 @@ def test_format_number() -> None:
     assert format_number(float("nan")) == "—" and format_number(None) == "—"
     assert format_number(float("inf")) == "∞"
     assert format_number(True) == "yes" and format_number("chaotic") == "chaotic"
+
+
+def test_difference_compares_magnitudes_so_negative_quantities_read_right() -> None:
+    from chaoskit.reporting._items import _difference
+
+    # a torque of -184.6 N m against the paper's -478.5: ours is 61.4 % smaller
+    assert _difference(-184.6, -478.5) == "-61.4"
+    assert _difference(478.5 * 1.1, 478.5) == "+10.0"
+    assert _difference(173.7, -799.7) == f"{100 * (173.7 - 799.7) / 799.7:+.1f}, opposite sign"
+    assert _difference(1.0, 0.0) == "—"

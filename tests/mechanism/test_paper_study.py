@@ -11,6 +11,7 @@ from __future__ import annotations
 import math
 import os
 import re
+import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -20,6 +21,7 @@ import pandas as pd
 import pytest
 import xarray as xr
 
+import chaoskit
 import mechanism
 from mechanism.studies._paper import COLUMNS, StudySettings, paper_wear_zones
 
@@ -134,13 +136,22 @@ TINY = {
     "convergence_revolutions": 0.02,
     "n_surrogates": 0,
     "max_samples": 500,
+    "chaos_revolutions": 2.0,
+    "chaos_samples_per_revolution": 400,
+    "exponent_revolutions": 1.0,
+    "orbit_speeds": (150.0,),
+    "orbit_revolutions": 2.0,
+    "orbit_discard_revolutions": 1.0,
+    "orbit_flexible_rods": False,
 }
 
 
 @pytest.fixture(scope="module")
 def tiny_study(tmp_path_factory):
     out = tmp_path_factory.mktemp("paper")
-    return mechanism.run_paper_study(out, client="serial", _settings=TINY, command="test")
+    return mechanism.run_paper_study(
+        out, client="serial", _settings=TINY, command="test", keep_trajectories=True
+    )
 
 
 def _report_tables(md: str) -> list[str]:
@@ -173,7 +184,7 @@ def test_report_files_hold_every_paper_table_with_ours_beside(tiny_study):
             assert f"| {text} |" in md, (name, text)
     for value in paper["chaos"]["mle_wolf_bits"]:
         assert f"{value:.6g}" in md
-    assert "ratio after wear / before wear" in md
+    assert "ours ratio after/before" in md and "paper ratio after/before" in md
     # parts this version lacks are said so, not skipped
     for line in study.unavailable:
         assert "NOT AVAILABLE IN THIS VERSION" in md
@@ -202,7 +213,7 @@ def test_our_numbers_are_reductions_of_the_stored_trajectories(tiny_study):
     pd.testing.assert_series_equal(study.tables["clearance"].loc["0.2 mm"], row, check_names=False)
     # rigid rods: no strains
     assert np.isnan(row["rod3_strain"])
-    if "after" in study.sweeps:
+    if "after 150 rpm" in study.sweeps:
         after = study.tables["wear"].loc["after wear"]
         speed = study.tables["speed"].loc["150 rpm"]
         np.testing.assert_allclose(after.to_numpy(float), speed.to_numpy(float), rtol=1e-12)
@@ -232,3 +243,126 @@ def test_quick_command_runs_end_to_end(tmp_path):
     assert done.returncode == 0, done.stderr[-2000:]
     md = (out / "report.md").read_text(encoding="utf-8")
     assert "Chaos table" in md and "Before and after wear" in md
+
+
+def test_report_opens_with_the_answer_and_cites_nothing_outside_the_repository(tiny_study):
+    md = tiny_study.report_markdown.read_text(encoding="utf-8")
+    html = tiny_study.report_html.read_text(encoding="utf-8")
+    headings = re.findall(r"^## (.+)$", md, flags=re.M)
+    assert headings[0] == "Summary", headings
+    summary = md.split("\n## ", 2)[1]
+    for needle in ("The answer", "our verdict", "paper's claim", "agreement", "Rosenstein"):
+        assert needle in summary, needle
+    for state, claim in mechanism.paper_claims().items():
+        assert state in summary and claim["motion"] in summary
+    # the run states its settings, wall time, output size and the per-speed wear
+    assert re.search(r"wall time \d+\.\d min, output \d+\.\d MB", summary)
+    for rpm in (30, 90, 150):
+        assert f"{rpm} rpm:" in summary and "crank cycles" in summary
+    assert "worn at its own speed" in md
+    # user-facing text points to the repository's own model description only
+    for text in (md, html):
+        assert "seed-paper" not in text and "paper-model §" not in text
+        assert not re.search(r"\bA1?\d\b[:)]|\(S\d\)|\bG-a\b|issue \d", text)
+        assert "docs/paper-model.md" in text
+    # result tables stay narrow: at most 8 columns (the provenance's input list is wider)
+    results = md.split("\n## Parameters and provenance")[0]
+    for line in results.splitlines():
+        if line.startswith("|"):
+            assert line.count("|") - 1 <= 8, line
+
+
+def test_speed_table_uses_a_profile_worn_at_each_speed(tiny_study):
+    sweeps = tiny_study.sweeps
+    assert {"after 30 rpm", "after 90 rpm", "after 150 rpm"} <= set(sweeps)
+    speed = tiny_study.tables["speed"]
+    for rpm in (30, 90, 150):
+        point = sweeps[f"after {rpm} rpm"]
+        force = float(point["peak_contact_force"].values) * 1e-3
+        np.testing.assert_allclose(speed.loc[f"{rpm} rpm", "contact_force"], force, rtol=1e-12)
+
+
+def test_default_output_keeps_metrics_and_drops_trajectories(tiny_study, tmp_path):
+    from mechanism.studies._paper import _drop_trajectories
+
+    store = Path(tiny_study.sweeps["before"].attrs["store"])
+    copy = tmp_path / "store"
+    shutil.copytree(store, copy)
+    names = {p.name for p in (copy / "points").iterdir()}
+    assert any(n.endswith(".summary.nc") for n in names)
+    assert any(not n.endswith(".summary.nc") for n in names if n.endswith(".nc"))
+    _drop_trajectories(copy)
+    left = {p.name for p in (copy / "points").iterdir()}
+    assert left == {n for n in names if not n.endswith(".nc") or n.endswith(".summary.nc")}
+    assert (tiny_study.output / "trajectories" / "before-wear.nc").is_file()  # kept on request
+
+
+@pytest.mark.slow
+def test_report_first_screen_in_headless_chromium(tiny_study, tmp_path):
+    """The report as a page: the summary is on the first screen (docs/paper-study.md)."""
+    browser = shutil.which("chromium") or shutil.which("chromium-browser")
+    if browser is None:
+        pytest.skip("chromium is not installed (apt-get install chromium)")
+    png = tmp_path / "first-screen.png"
+    done = subprocess.run(
+        [
+            browser,
+            "--headless",
+            "--no-sandbox",
+            "--disable-gpu",
+            "--disable-background-networking",
+            "--disable-component-update",
+            "--disable-sync",
+            "--no-first-run",
+            f"--screenshot={png}",
+            "--window-size=1280,1000",
+            tiny_study.report_html.as_uri(),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=120,
+        check=False,
+    )
+    assert done.returncode == 0, done.stderr[-2000:]
+    assert png.read_bytes().startswith(b"\x89PNG")
+    # what the first screen holds: the title, then the summary section and its first table
+    html = tiny_study.report_html.read_text(encoding="utf-8")
+    body = html[html.index("<body") :]
+    first_h2 = re.search(r"<h2[^>]*>(.*?)</h2>", body, flags=re.S)
+    assert first_h2 is not None and "Summary" in first_h2.group(1)
+    assert body.index("The answer") < body.index("Before and after wear")
+
+
+@pytest.mark.slow
+def test_quick_settings_reach_the_verdict_of_the_paper_settings_before_wear():
+    """One state (before wear, 150 rpm, flexible rods, 200 revolutions at T/10000): the
+    analysis reductions of --quick give the verdict of the paper settings. Long: the run is
+    the chaos run of the study (several minutes on 2 cores)."""
+    from mechanism.studies._paper import _chaos_run, wear_scene_of
+    from mechanism.studies._paper_summary import motion_verdict
+
+    quick, full = StudySettings.quick(), StudySettings.paper()
+    assert quick.flexible_rods and full.flexible_rods
+    assert quick.chaos_revolutions == full.chaos_revolutions >= 200
+    scene = wear_scene_of(mechanism.load_scene("paper"))
+    traj = _chaos_run(scene, full)  # sampled at the finer of the two output grids
+    period = 60.0 / 150.0
+    assert traj.sizes["time"] >= 200 * full.chaos_samples_per_revolution
+    coarse = traj.isel(
+        time=slice(
+            None, None, full.chaos_samples_per_revolution // quick.chaos_samples_per_revolution
+        )
+    )
+    verdicts = {}
+    for name, settings, data in (("quick", quick, coarse), ("paper", full, traj)):
+        rep = chaoskit.report(
+            {"before wear": data},
+            variables={"X": "eccentricity_x[joint=C]", "Y": "eccentricity_y[joint=C]"},
+            phase_variable="crank_angle",
+            discard=settings.discard_revolutions * period,
+            max_samples=settings.max_samples,
+            n_surrogates=settings.n_surrogates,
+            rng=0,
+        )
+        verdicts[name] = motion_verdict(rep.verdicts["before wear"])
+    assert verdicts["quick"].label == verdicts["paper"].label, verdicts

@@ -1,4 +1,4 @@
-"""Bodies of a mechanism: rigid bodies (reference-point coordinates) and, with issue 6,
+"""Bodies of a mechanism: rigid bodies (reference-point coordinates) and, with
 flexible ANCF beams. Assembly uses their layouts; users describe bodies in scenes."""
 
 from ._rigid import RigidLayout, rigid_bar_from_beam

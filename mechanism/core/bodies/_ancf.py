@@ -765,7 +765,7 @@ def euler_bernoulli_frequencies(
 # --- assembly layout for the multibody core ------------------------------------------------
 @dataclass(frozen=True, kw_only=True)
 class AncfLayout:
-    """Assembly layout of a flexible :class:`~mechanism.core.scene.AncfBeam` body (issue 6).
+    """Assembly layout of a flexible :class:`~mechanism.core.scene.AncfBeam` body .
 
     Provides what :class:`~mechanism.core.bodies.RigidLayout` provides (``n_dof``,
     ``coordinate_names``, ``mass_block``, ``gravity_block``, ``initial_coordinates``,

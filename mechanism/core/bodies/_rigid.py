@@ -1,6 +1,6 @@
 """Rigid bodies: reference-point coordinates (x, y, θ) at the centre of mass.
 
-paper-model §2.1: a point P of body i is r_P = R_i + A(θ_i) s̄_P with
+docs/paper-model.md §3: a point P of body i is r_P = R_i + A(θ_i) s̄_P with
 A(θ) = [[cos θ, −sin θ], [sin θ, cos θ]]; with the reference point at the centre of mass the
 mass matrix is diag(m, m, J) and there is no velocity-quadratic inertia term in 2-D;
 gravity gives Q_g = [m g_x, m g_y, 0].
@@ -8,7 +8,7 @@ gravity gives Q_g = [m g_x, m g_y, 0].
 A body *layout* tells assembly how many coordinates a body has, its constant mass block,
 its constant generalised gravity, its initial coordinates and how to express its named
 points in the flat point table of ``mechanism.core.joints._kernels``. Flexible bodies (ANCF
-beams, issue 6) provide the same five things.
+beams) provide the same five things.
 """
 
 from __future__ import annotations

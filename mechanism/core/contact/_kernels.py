@@ -7,7 +7,7 @@ codes below; ``_laws.law_code`` / ``_laws.friction_code`` map the scene names to
 law code may carry the flag :data:`APPROACH_BOUNDED` (``law | APPROACH_BOUNDED``), which
 selects the bounded approach speed of :func:`normal_force`; ``law & LAW_MASK`` is the law.
 
-Sign conventions (paper-model §2.4): ``delta`` is the penetration |e| − c (> 0 in contact),
+Sign conventions (docs/paper-model.md §5): ``delta`` is the penetration |e| − c (> 0 in contact),
 ``delta_dot`` its rate (> 0 while penetration grows), ``tangential_velocity`` the relative
 sliding speed of the journal contact point with respect to the bearing along the tangent t.
 """

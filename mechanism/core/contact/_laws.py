@@ -188,7 +188,7 @@ def effective_radius(
 
     ``"conformal"``: R* = R_b R_j/(R_b − R_j), the internal (conforming) contact of
     [J85] §4.2. ``"sum-of-radii"``: R* = R_b R_j/(R_b + R_j), the external-contact form that
-    the paper's tables imply (paper-model §2.5, A6).
+    the paper's tables imply (docs/paper-model.md §5, "Contact stiffness").
 
     Examples
     --------
@@ -339,7 +339,8 @@ class ContactParameters:
         E*, Pa.
     effective_radius : float
         R* (m) consistent with K: from the radii for a named form, else (3K/(4E*))², so the
-        Hertz half-width of the wear model uses the same R* as the force law (paper A7).
+        Hertz half-width of the wear model uses the same R* as the force law
+        (docs/paper-model.md, "Contact stiffness").
     """
 
     law: str

@@ -12,7 +12,7 @@ output arrays (``Recording``) and :class:`SolverStats`.
 * :class:`GeneralizedAlpha` — implicit generalized-α (Chung & Hulbert 1993) with Newton
   iterations on a hybrid (finite-difference + analytic ANCF) Jacobian whose clearance-contact
   columns are re-linearised at every iterate (semi-smooth Newton), and step rejection on
-  deep contact entry, for stiff contact and (issue 6) stiff axial modes.
+  deep contact entry, for stiff contact and  stiff axial modes.
 """
 
 from __future__ import annotations

@@ -8,7 +8,7 @@ Points (``pt_i``: int64 (n_points, 8), ``pt_f``: float64 (n_points, 6))
 
     * ``kind = POINT_GROUND``: a fixed global point (sx, sy).
     * ``kind = POINT_RIGID``: r = R + A(θ) s̄ on a rigid body whose (x, y, θ) are
-      q[base], q[base + 1], q[base + 2] (paper-model §2.1); nonlinear in θ.
+      q[base], q[base + 1], q[base + 2] (docs/paper-model.md §3); nonlinear in θ.
     * ``kind = POINT_LINEAR``: r = Σᵢ wᵢ (q[dᵢ], q[dᵢ + 1]) over the dᵢ ≥ 0, e.g. an ANCF
       node (one entry, weight 1) or a point inside an ANCF element (shape-function
       weights); linear in q, so it has no velocity-quadratic acceleration term.
@@ -32,7 +32,7 @@ Constraint primitives (``con_i``: int64 (n_con, 4) = [type, a, b, row], ``con_f`
     * ``CON_DRIVE`` (1 row): Φ = θ_b − θ_a − con_f[0] − f(t), f from the drive tables.
 
 Rows follow the acceleration equation Φq q̈ = γ, γ = −(Φq q̇)_q q̇ − 2Φqt q̇ − Φtt
-(paper-model §2.3); each point and angle contributes its velocity-quadratic term.
+(docs/paper-model.md §4); each point and angle contributes its velocity-quadratic term.
 """
 
 from __future__ import annotations
@@ -210,8 +210,8 @@ def apply_point_force(gen, fx, fy, moment, pci, pcf, k):
     """gen += J_pᵀ f + moment ∂θ_p/∂q for a force f at cached point ``k``.
 
     For a rigid body J_pᵀ f puts f on (x, y) and the moment (A s̄) × f of f about the
-    reference point on θ (paper-model §2.6); for a slope angle the moment is mapped by
-    ∂θ/∂r,ₓ = [−r,ₓ,y, r,ₓ,x]/|r,ₓ|² (paper-model A20).
+    reference point on θ (docs/paper-model.md §5); for a slope angle the moment is mapped by
+    ∂θ/∂r,ₓ = [−r,ₓ,y, r,ₓ,x]/|r,ₓ|² (docs/paper-model.md §5).
     """
     for e in range(pci[k, PCI_JN]):
         d = pci[k, PCI_JDOF + e]
@@ -339,7 +339,7 @@ def _wrap(a):
 
 @njit(cache=True)
 def clearance_kinematics(pcf, bearing, journal, r_bearing, r_journal, clearance):
-    """Kinematics of a journal in a bearing from the point cache (paper-model §2.4).
+    """Kinematics of a journal in a bearing from the point cache (docs/paper-model.md §5).
 
     Returns ``(ex, ey, nx, ny, delta, delta_dot, v_t, phi_b, phi_j)``: the eccentricity
     e = r_j − r_b (m), the unit normal n = e/|e| (x axis when e = 0), the penetration
@@ -372,7 +372,7 @@ def clearance_kinematics(pcf, bearing, journal, r_bearing, r_journal, clearance)
 
 @njit(cache=True)
 def clearance_force_add(gen, pci, pcf, bearing, journal, r_bearing, r_journal, nx, ny, f_n, f_t):
-    """Apply the contact pair to both bodies (paper-model §2.6).
+    """Apply the contact pair to both bodies (docs/paper-model.md §5).
 
     On the journal f_j = −Fₙ n + F_t t at its contact point r_j + R_j n, i.e. f_j at the
     journal point plus the friction moment R_j F_t (n × t = 1); on the bearing −f_j at

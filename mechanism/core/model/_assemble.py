@@ -4,7 +4,7 @@ The time loop never sees the scene; it evaluates the kernels of ``mechanism.core
 the :class:`KernelModel` tables built here:
 
 * **coordinates** — each body owns a contiguous slice of q starting at its offset: a rigid
-  body (x, y, θ) of its centre of mass (paper-model §2.1); an ANCF beam (issue 6) 4 DOF
+  body (x, y, θ) of its centre of mass (docs/paper-model.md §3); an ANCF beam  4 DOF
   per node. Everything else addresses coordinates through *points*.
 * **points** — ground points, rigid-body points (offset + local vector, nonlinear in θ)
   and linear points (weighted node positions of a flexible body); see
@@ -96,7 +96,7 @@ class KernelModel(NamedTuple):
     spline_c: np.ndarray
     cj_i: np.ndarray  # (n_cj, 4) [bearing point, journal point, law code, friction code]
     cj_f: np.ndarray  # (n_cj, CF_COLUMNS)
-    cw_i: np.ndarray  # (n_cj, CW_COLUMNS) worn-profile layout (issue 7; CW_WORN = 0: unworn)
+    cw_i: np.ndarray  # (n_cj, CW_COLUMNS) worn-profile layout
     cw_f: np.ndarray  # (n_cj, 2) [E*, radius ratio limit]
     cw_h: np.ndarray  # flat wear depths (m) of all worn surfaces
     cw_k: np.ndarray  # flat tabulated curvatures (1/m) of the same regions
@@ -107,7 +107,7 @@ class KernelModel(NamedTuple):
     jt_f: np.ndarray  # (n_ideal, 2) prismatic guide normal in the guide body's frame
     alpha: float
     beta: float
-    # flexible bodies (issue 6): one row per ANCF beam, see ``beams_force_add``
+    # flexible bodies : one row per ANCF beam, see ``beams_force_add``
     beam_i: np.ndarray  # (n_beams, BEAM_I_COLUMNS) int64
     beam_f: np.ndarray  # (n_beams, BEAM_F_COLUMNS) float64
 

@@ -4,7 +4,7 @@ The model tables come from :func:`mechanism.core.model._assemble.assemble` as a 
 named tuple (contiguous int64/float64 arrays and scalars); scratch arrays come in a
 ``Workspace`` named tuple allocated once per run, so nothing here allocates.
 
-Equations of motion (paper-model §2.8), with the constant mass matrix M::
+Equations of motion (docs/paper-model.md §7), with the constant mass matrix M::
 
     [ M   Φqᵀ ] [ q̈ ]   [ Q                  ]
     [ Φq  0   ] [ λ  ] = [ γ − 2αΦ̇ − β²Φ ]
@@ -140,7 +140,7 @@ def worn_contact(cw_i, cw_f, cw_h, cw_k, j, r_bearing, r_journal, clearance, sti
 
     Unworn joints return (c₀, K). A worn one reads the local clearance
     c₀ + h_b(φ_b) + h_j(φ_j) and K_n = (4/3)E*√R*_n from the curvatures tabulated once per
-    profile (paper-model §2.7); the damping of the force laws scales with K, so it follows.
+    profile (docs/paper-model.md §6); the damping of the force laws scales with K, so it follows.
     """
     if cw_i[j, CW_WORN] == 0:
         return clearance, stiffness

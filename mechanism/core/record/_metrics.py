@@ -1,4 +1,5 @@
-"""Response metrics of a trajectory (paper-model §2.10), shared by sweeps and ``compare_wear``.
+"""Response metrics of a trajectory (docs/paper-model.md §7), shared by sweeps and
+``compare_wear``.
 
 One definition of each metric: ``sweep`` stores them per grid point, ``compare_wear`` and
 ``predict_wear`` put them side by side before and after wear.
@@ -62,7 +63,7 @@ def reduce_values(values: np.ndarray, how: str) -> float:
 
 
 def response_metrics(traj: xr.Dataset, start: int = 0) -> dict[str, xr.DataArray]:
-    """Paper-model §2.10 output definitions over ``time[start:]``; NaN where not simulated.
+    """docs/paper-model.md §7 output definitions over ``time[start:]``; NaN where not simulated.
 
     Peak contact force and maximum penetration over all clearance joints, maximum
     displacement and speed error of the slider, signed extreme of the driving torque, and

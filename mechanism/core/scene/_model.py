@@ -160,7 +160,7 @@ class RigidBody:
 @with_config(_CONFIG)
 @dataclass(frozen=True, kw_only=True)
 class AncfBeam:
-    """A 2-D gradient-deficient ANCF beam (issue 6) between two named end points.
+    """A 2-D gradient-deficient ANCF beam  between two named end points.
 
     The beam is straight and unstressed at t = 0 from ``start`` to ``end`` (global, m);
     its points are ``"start"`` (node 1) and ``"end"`` (last node). ``length`` is the
@@ -284,7 +284,7 @@ class FrictionLaw:
 @with_config(_CONFIG)
 @dataclass(frozen=True, kw_only=True)
 class WearSettings:
-    """Archard wear of a clearance joint (issue 7).
+    """Archard wear of a clearance joint .
 
     A non-empty profile always shapes the contact (local clearance and stiffness); wear is
     accumulated during a simulation only when ``effects.wear`` is on.

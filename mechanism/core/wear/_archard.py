@@ -1,6 +1,6 @@
 """Archard wear of a clearance joint's surfaces from a history of contact samples.
 
-Per contact sample with normal force Fₙ and slip Δs = |v_t| Δt (paper-model §2.7):
+Per contact sample with normal force Fₙ and slip Δs = |v_t| Δt (docs/paper-model.md §6):
 
 * Hertz line-contact half-width a = √(4 Fₙ R*/(π L E*)), R* the local effective radius;
 * mean pressure p = Fₙ/(2 a L), Archard depth Δh = k p Δs, volume ΔV = k Fₙ Δs;
@@ -157,7 +157,7 @@ def archard_wear(
         ``profile.surfaces == "both"``.
     form : {"sum-of-radii", "conformal"}
         How the local R* of the half-width combines the curvatures; use the form of the
-        stiffness (paper A7).
+        stiffness (docs/paper-model.md "Contact stiffness").
     spread : bool
         Spread each increment over ±a/R with the Hertz pressure profile (else the touched
         region takes it all). Either way the volume is conserved.

@@ -3,7 +3,7 @@
 The bearing (and optionally the journal) surface is a ring of ``regions`` equal angular
 regions, each holding a wear depth (m). From it follow the local clearance, a smoothed
 local curvature radius, the local effective radius R* and the local contact stiffness that
-the contact law uses wherever the journal touches (paper-model §2.7).
+the contact law uses wherever the journal touches (docs/paper-model.md §6).
 
 References
 ----------
@@ -106,7 +106,7 @@ class WornProfile:
         Which surfaces wear during :func:`~mechanism.core.wear.archard_wear`.
     smoothing_regions : int
         Width of the centred moving average applied before the curvature is computed
-        (1 = none; [F09] and paper-model §2.7 use 3–5).
+        (1 = none; [F09] and docs/paper-model.md §6 use 3–5).
 
     Examples
     --------

@@ -87,7 +87,8 @@ def run_wear(
 
     Per output sample i in contact: slip Δsᵢ = |v_t,i| wᵢ with wᵢ the trapezoidal weight of
     the sample, Hertz half-width from the local R* of the scene's profile (same stiffness
-    form as K, paper A7), ΔV = k Fₙ Δs to the region containing the contact angle (spread
+    form as K, docs/paper-model.md "Contact stiffness"), ΔV = k Fₙ Δs to the region
+    containing the contact angle (spread
     over ±a/R when ``spread_over_contact_width``). The volume Σ ΔV is therefore
     k ∫ Fₙ |v_t| dt by the trapezoidal rule on the output grid, which by default is also
     the largest step the integrator takes while clearance joints are active.

@@ -2,12 +2,13 @@
 
 The TOML files are the source of truth; this script only records how their coordinates
 were computed: the positions of the six-bar of Jia et al. (Lubricants 2025, 13(3), 130)
-at crank angle 0 from the link lengths, as in ``paper-model.md`` §1.6 (geometry G-a, and
-the alternative G-c). Run it from the repository root after changing a length::
+at crank angle 0 from the link lengths, as in `docs/paper-model.md` §2 (the reconstructed
+geometry, and the alternative plate reading). Run it from the repository root after
+changing a length::
 
     python mechanism/core/scene/builtin/_make_paper.py
 
-Conventions (paper-model §1.6): O = (0, 0), C = (Hx, Hy); the rocker end B above the O–C
+Conventions (§1–2): O = (0, 0), C = (Hx, Hy); the rocker end B above the O–C
 line; D to the right of A→B (the far side of the crank pin); slider E on the vertical
 guide x = Hx, below D. Every rigid body starts at angle 0, so its body-frame point
 coordinates are the global offsets from its centre of mass at crank angle 0.
@@ -20,21 +21,21 @@ from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
 
-# Paper table [S] (mm → m) and reconstruction defaults [I]/[A] of paper-model.md.
+# Paper table [S] (mm → m) and reconstruction defaults [I]/[A] of docs/paper-model.md.
 L1 = 0.075  # crank O–A
 L21, L22, L23 = 0.55514, 0.985, 0.47366  # plate sides as printed
 L3 = 0.584  # rod 3 (rocker) C–B
 L4 = 0.450  # rod 4 (connecting rod) D–E
 HX, HY = 0.350, 0.060  # frame: rocker pivot C relative to O
 M1, M2, M3, M4, M5 = 0.738, 21.483, 4.708, 3.663, 0.922  # kg
-J1_ABOUT_O = 1.977e-3  # kg m2, printed 1.977e-9 "kg m3" (A5)
-J2 = 1.349  # kg m2 about the plate centroid (A5)
+J1_ABOUT_O = 1.977e-3  # kg m2, printed 1.977e-9 "kg m3" ("Units of the printed inertias")
+J2 = 1.349  # kg m2 about the plate centroid ("Units of the printed inertias")
 J5 = 1.059e-3  # kg m2 (unused: the slider does not rotate)
 
-# §1.6 table (mm) for a sanity check of the construction, rounded to 0.01 mm
+# §2 table (mm) for a sanity check of the construction, rounded to 0.01 mm
 TABLE = {
-    "G-a": {"B": (38.41, 553.93), "D": (362.99, -376.05), "E": (350.00, -825.87)},
-    "G-c": {"B": (38.41, 553.93), "D": (274.44, 964.60), "E": (350.00, 520.99)},
+    "reconstructed": {"B": (38.41, 553.93), "D": (362.99, -376.05), "E": (350.00, -825.87)},
+    "alternative": {"B": (38.41, 553.93), "D": (274.44, 964.60), "E": (350.00, 520.99)},
 }
 
 
@@ -53,8 +54,8 @@ def _cross(o, p, q):
 
 
 def geometry(variant: str) -> dict[str, tuple[float, float]]:
-    """Joint positions (m) at crank angle 0 for geometry "G-a" or "G-c"."""
-    ab, bd, ad = (L21, L22, L23) if variant == "G-a" else (L21, L23, L22)
+    """Joint positions (m) at crank angle 0 for geometry "reconstructed" or "alternative"."""
+    ab, bd, ad = (L21, L22, L23) if variant == "reconstructed" else (L21, L23, L22)
     o, a, c = (0.0, 0.0), (L1, 0.0), (HX, HY)
     b = next(p for p in _circles(a, ab, c, L3) if _cross(o, c, p) > 0)
     d = next(p for p in _circles(a, ad, b, bd) if _cross(a, b, p) < 0)
@@ -76,6 +77,9 @@ def _sub(p, q):
 
 def scene_toml(*, name: str, variant: str, clearance_at: str, description: str) -> str:
     pts = geometry(variant)
+    variant_text = (
+        "reconstructed geometry" if variant == "reconstructed" else "alternative plate reading"
+    )
     o, a, b, c, d, e = (pts[k] for k in "OABCDE")
     crank_cm = (L1 / 2, 0.0)
     j1 = round(J1_ABOUT_O - M1 * (L1 / 2) ** 2, 15)  # drop float noise: 9.391875e-4
@@ -85,9 +89,9 @@ def scene_toml(*, name: str, variant: str, clearance_at: str, description: str) 
     clearance_joint = f"""[joints.{clearance_at}]
 type = "clearance_revolute"
 {
-        'bearing = ["ground", "C"]      # the bearing is fixed in the frame (A2)'
+        'bearing = ["ground", "C"]      # bearing in the frame ("Clearance joint location")'
         if clearance_at == "C"
-        else 'bearing = ["plate", "B"]       # the bearing is in the plate (A2 alternative)'
+        else 'bearing = ["plate", "B"]       # bearing in the plate (the alternative location)'
     }
 {
         'journal = ["rod3", "start"]    # pin at the frame end of rod 3 (node 1)'
@@ -95,30 +99,30 @@ type = "clearance_revolute"
         else 'journal = ["rod3", "end"]      # pin at the plate end of rod 3 (last node)'
     }
 bearing_radius = 0.015          # R1 = 15 mm [S]
-clearance = 0.0002              # c = 0.2 mm, the paper's default is not printed (A3)
+clearance = 0.0002              # c = 0.2 mm, the paper's default is not printed ("Clearance size")
 length = 0.011                  # axial contact length L = 11 mm [S]
 restitution = 0.9               # c_e [S]
-initial_eccentricity = [0.0, 0.0]  # journal concentric at t = 0 (§2.9)
+initial_eccentricity = [0.0, 0.0]  # journal concentric at t = 0 (§7)
 bearing_material = {{ youngs_modulus = 207.0e9, poisson_ratio = 0.3 }}  # E, nu [S]
 journal_material = {{ youngs_modulus = 207.0e9, poisson_ratio = 0.3 }}
 
 [joints.{clearance_at}.contact]
 law = "lankarani-nikravesh"     # [L]
-stiffness = "sum-of-radii"      # K = 1.31e10 N/m^1.5 reproduces the tables (A6)
+stiffness = "sum-of-radii"      # K = 1.31e10 N/m^1.5 reproduces the tables ("Contact stiffness")
 exponent = 1.5
 
 [joints.{clearance_at}.friction]
 law = "ambrosio"                # modified Coulomb, dynamic correction c_d [L]
 coefficient = 0.15              # c_f [S]
-v0 = 1.0e-4                     # (A10)
-v1 = 2.0e-4                     # (A10)
+v0 = 1.0e-4                     # ("Friction band")
+v1 = 2.0e-4                     # ("Friction band")
 
 [joints.{clearance_at}.wear]
-coefficient = 1.827e-13         # Archard k, m2/N (A11) [S]
-regions = 360                   # 1 degree per region (A9)
-surfaces = "both"               # bearing and journal wear (A9)
+coefficient = 1.827e-13         # Archard k, m2/N (§6) [S]
+regions = 360                   # 1 degree per region ("Worn surfaces")
+surfaces = "both"               # bearing and journal wear ("Worn surfaces")
 spread_over_contact_width = true
-smoothing_regions = 5           # moving average before the curvature (§2.7)
+smoothing_regions = 5           # moving average before the curvature (§6)
 """
     ideal_joint = (
         '[joints.C]\ntype = "revolute"\nbodies = ["ground", "rod3"]\npoints = ["C", "start"]\n'
@@ -131,14 +135,15 @@ smoothing_regions = 5           # moving average before the curvature (§2.7)
     return f"""# Built-in scene "{name}": the six-bar press mechanism of Jia, Meng, Jiang, Kang,
 # "Wear Prediction and Chaos Identification of Rigid Flexible Coupling Multi-Link
 # Mechanisms with Clearance", Lubricants 2025, 13(3), 130, as reconstructed in
-# paper-model.md: geometry {variant} (§1.6), clearance at {clearance_at}.
-# Tags: [S] stated in the paper, [I] inferred, [A] assumed, (A#) paper-model §5 entry.
-# Coordinates are those of §1.6 at crank angle 0, computed by _make_paper.py; assembly
+# docs/paper-model.md: {variant_text} (§2), clearance at {clearance_at}.
+# Tags: [S] stated in the paper, [I] inferred, [A] assumed; quoted names are entries of
+# "Reconstruction choices" in docs/paper-model.md.
+# Coordinates are those of §2 at crank angle 0, computed by _make_paper.py; assembly
 # refines them. This file is the source of truth; docs/scenes.md explains every choice.
 
 name = "{name}"
 description = "{description}"
-gravity = [0.0, -9.81]          # along -y (A18)
+gravity = [0.0, -9.81]          # along -y (§4)
 
 [effects]
 clearance = true
@@ -149,15 +154,16 @@ flexibility = true              # rods 3 and 4 flexible [S], 16 ANCF elements ea
 wear = false
 
 [ground_points]
-# O: crank pivot; C: rocker pivot at (Hx, Hy) [S] (§1.2); guide: a point of the vertical
-# slider guide x = Hx (A1)
+# O: crank pivot; C: rocker pivot at (Hx, Hy) [S] (§2); guide: a point of the vertical
+# slider guide x = Hx ("Geometry")
 O = {_v(o)}
 C = {_v(c)}
 guide = {_v(guide)}
 
 [bodies.crank]                  # crank 1, L1 = 75 mm [S]
 type = "rigid"
-# CoM at mid-length [A]; inertia = 1.977e-3 kg m2 about O minus m (L1/2)^2 (A5)
+# CoM at mid-length [A]; inertia = 1.977e-3 kg m2 about O minus m (L1/2)^2
+# ("Units of the printed inertias")
 mass = {M1!r}
 inertia = {j1!r}
 position = {_v(crank_cm)}
@@ -166,7 +172,7 @@ points = {{ O = {_v(_sub(o, crank_cm))}, A = {_v(_sub(a, crank_cm))} }}
 
 [bodies.plate]                  # triangle plate 2 [S]
 # CoM at the centroid of A, B, D [A]; printed inertia 1348.94e-9 "kg m3" read as
-# 1.349 kg m2 about the centroid (A5)
+# 1.349 kg m2 about the centroid ("Units of the printed inertias")
 type = "rigid"
 mass = {M2!r}
 inertia = {J2!r}
@@ -185,7 +191,7 @@ elements = 16                   # [I] (convergence table)
 area = 1.0e-3                   # 0.05 x 0.02 m [S]
 second_moment = 3.33e-8         # [S]
 youngs_modulus = 207.0e9        # as the joint steel [A]
-density = 7800.0                # printed 780 (A4); switch: docs/scenes.md
+density = 7800.0                # printed 780 ("Rod density"); switch: docs/scenes.md
 mass = {M3!r}                   # [S]; the rigid fallback uses m L^2/12 about the centre
 # node 1 at C, last node at B
 start = {_v(c)}
@@ -207,7 +213,7 @@ end = {_v(e)}
 [bodies.slider]                 # slider 5 [S]
 type = "rigid"
 mass = {M5!r}
-inertia = {J5!r}                # printed 1.059e-9 "kg m3", read as kg m2 (A5); no rotation
+inertia = {J5!r}                # printed 1.059e-9 "kg m3" read as kg m2; no rotation
 position = {_v(e)}
 angle = 0.0
 points = {{ E = [0.0, 0.0] }}
@@ -234,25 +240,25 @@ type = "revolute"
 bodies = ["rod4", "slider"]
 points = ["end", "E"]
 
-[joints.P]                      # ideal prismatic guide, vertical through C (A1)
+[joints.P]                      # ideal prismatic guide, vertical through C ("Geometry")
 type = "prismatic"
 bodies = ["ground", "slider"]
 points = ["guide", "E"]
 axis = [0.0, 1.0]
 
-[drive]                         # crank at constant speed, counter-clockwise from 0 (§1.5)
+[drive]                         # crank at constant speed, counter-clockwise from 0 (§4)
 type = "constant_speed"
 joint = "O"
 speed_rpm = 150.0               # [S]; 30 and 90 rpm in the speed study
 initial_angle = 0.0
 
 # output_step unset: (2 pi/omega)/10000 [S], follows drive.speed_rpm; max_step unset:
-# the output step (§2.9). method "auto": with flexible rods the fixed-step generalized-
+# the output step (§7). method "auto": with flexible rods the fixed-step generalized-
 # alpha at max_step (the axial modes stall error-controlled methods, docs/ancf.md §8) [A];
-# with rigid rods Dormand-Prince "dopri5", as the paper's MATLAB ode45 (§2.9) [S]
+# with rigid rods Dormand-Prince "dopri5", as the paper's MATLAB ode45 (§7) [S]
 [solver]
 method = "auto"
-rtol = 1.0e-5                   # [S] (A17)
+rtol = 1.0e-5                   # [S] (§7)
 atol = 1.0e-5
 baumgarte_alpha = 50.0          # [S]
 baumgarte_beta = 50.0           # [S]
@@ -269,27 +275,28 @@ crank_joint = "O"
 
 SCENES = {
     "paper": dict(
-        variant="G-a",
+        variant="reconstructed",
         clearance_at="C",
         description=(
-            "Jia et al. 2025 six-bar press (paper-model G-a), dry clearance at C, "
+            "Jia et al. 2025 six-bar press (reconstructed geometry, docs/paper-model.md), "
+            "dry clearance at C, "
             "rods 3 and 4 as 16-element ANCF beams (rigid bars with effects.flexibility "
             "= false), 150 rpm"
         ),
     ),
     "paper-gc": dict(
-        variant="G-c",
+        variant="alternative",
         clearance_at="C",
         description=(
-            "The paper six-bar with the alternative plate reading G-c "
+            "The paper six-bar with the alternative plate reading "
             "(AD = 985, BD = 473.66 mm), clearance at C"
         ),
     ),
     "paper-clearance-b": dict(
-        variant="G-a",
+        variant="reconstructed",
         clearance_at="B",
         description=(
-            "The paper six-bar (G-a) with the clearance at B (bearing in the plate) instead of C"
+            "The paper six-bar with the clearance at B (bearing in the plate) instead of C"
         ),
     ),
 }

@@ -1,0 +1,327 @@
+"""The answer first: the paper study's summary, headline figures and stage progress.
+
+:func:`summary_section` turns the per-state verdicts, the exponents from the data (Wolf,
+Rosenstein) and from the equations (:func:`mechanism.lyapunov_exponent`, rigid model) and
+the paper's values and claims into the report's opening section; :class:`Stages` prints
+progress for every stage of the study with an estimate of the time left. The model and its
+reconstruction choices are described in ``docs/paper-model.md``.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import math
+import sys
+import time
+from collections.abc import Iterator, Mapping, Sequence
+from dataclasses import dataclass
+from typing import Any, TextIO
+
+import numpy as np
+import pandas as pd
+import xarray as xr
+
+import chaoskit
+
+__all__ = ["MotionVerdict", "Stages", "motion_verdict", "summary_section"]
+
+_LN2 = math.log(2.0)
+#: Verdict labels that mean "regular" when a claim says "not chaotic".
+_REGULAR = ("periodic", "quasi-periodic", "equilibrium")
+
+
+# --------------------------------------------------------------------------- progress
+
+
+class Stages:
+    """Progress of a multi-stage job: each stage's start with elapsed time and time left.
+
+    The estimate of the time left scales the prior costs (``weights``, any unit) of the
+    stages still to run by the measured cost of the stages done so far, so it improves as
+    the job goes on.
+
+    Parameters
+    ----------
+    weights
+        ``{stage name: prior cost}`` in run order.
+    enabled
+        Print (to ``stream``) or stay silent.
+    """
+
+    def __init__(
+        self, weights: Mapping[str, float], *, enabled: bool = True, stream: TextIO | None = None
+    ) -> None:
+        self._weights = {str(k): max(float(v), 0.0) for k, v in weights.items()}
+        self._enabled = bool(enabled)
+        self._stream = stream
+        self._t0 = time.perf_counter()
+        self._done_weight = 0.0
+        self._done_time = 0.0
+        self.times: dict[str, float] = {}
+
+    def _left(self, name: str) -> float | None:
+        names = list(self._weights)
+        rest = sum(self._weights[n] for n in names[names.index(name) :] if n not in self.times)
+        if self._done_weight <= 0.0:
+            return None
+        return rest * self._done_time / self._done_weight
+
+    @staticmethod
+    def _clock(seconds: float) -> str:
+        minutes, s = divmod(round(seconds), 60)
+        return f"{minutes} min {s:02d} s" if minutes else f"{s} s"
+
+    @contextlib.contextmanager
+    def stage(self, name: str) -> Iterator[None]:
+        """Time one stage (a name of ``weights``) and print its start line."""
+        if name not in self._weights:
+            raise ValueError(f"unknown stage {name!r}; stages: {list(self._weights)}.")
+        if self._enabled:
+            k = list(self._weights).index(name) + 1
+            left = self._left(name)
+            eta = "estimating time left" if left is None else f"about {self._clock(left)} left"
+            elapsed = self._clock(time.perf_counter() - self._t0)
+            print(
+                f"[{k}/{len(self._weights)}] {name} (elapsed {elapsed}, {eta})",
+                file=self._stream or sys.stderr,
+                flush=True,
+            )
+        t = time.perf_counter()
+        try:
+            yield
+        finally:
+            spent = time.perf_counter() - t
+            self.times[name] = spent
+            self._done_time += spent
+            self._done_weight += self._weights[name]
+
+
+# --------------------------------------------------------------------------- verdicts
+
+
+@dataclass(frozen=True, kw_only=True)
+class MotionVerdict:
+    """One verdict for the motion of one state, from the verdicts of its series.
+
+    Attributes
+    ----------
+    label
+        The verdict (a :class:`chaoskit.Verdict` label; ``"undetermined"`` when the
+        series disagree).
+    confidence
+        The smallest confidence of the series' verdicts, in [0, 1].
+    reason
+        One line: which series said what and why.
+    """
+
+    label: str
+    confidence: float
+    reason: str
+
+
+def motion_verdict(verdicts: Mapping[str, Any]) -> MotionVerdict:
+    """The motion's verdict from per-series :class:`chaoskit.Verdict` objects.
+
+    The series must agree for a verdict to be stated; when they do not, the motion is
+    ``"undetermined"`` and the reason names each series' verdict. This is the one place
+    the study decides a state's verdict, so a multi-variable classifier can replace it.
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace as V
+    >>> motion_verdict({"X": V(label="chaotic", confidence=0.9, reason="λ > 0"),
+    ...                 "Y": V(label="chaotic", confidence=0.7, reason="λ > 0")}).label
+    'chaotic'
+    """
+    if not verdicts:
+        raise ValueError("verdicts must hold at least one series' verdict.")
+    labels = {name: str(v.label) for name, v in verdicts.items()}
+    confidence = float(min(float(v.confidence) for v in verdicts.values()))
+    if len(set(labels.values())) == 1:
+        name, first = next(iter(verdicts.items()))
+        label = labels[name]
+        reason = f"every series says {label}; {name}: {first.reason}"
+        return MotionVerdict(label=label, confidence=confidence, reason=reason)
+    said = ", ".join(f"{n}: {lab}" for n, lab in labels.items())
+    return MotionVerdict(
+        label="undetermined", confidence=0.0, reason=f"the series disagree ({said})"
+    )
+
+
+def _agrees(ours: str, claim: str) -> str:
+    if ours in ("undetermined", "noise-like"):
+        return "cannot tell"
+    if claim == "chaotic":
+        return "agree" if ours == "chaotic" else "disagree"
+    return "agree" if ours in _REGULAR else "disagree"
+
+
+# --------------------------------------------------------------------------- the section
+
+
+def _ci(result: Any) -> tuple[float, float, float]:
+    if result is None:
+        return (math.nan, math.nan, math.nan)
+    lo, hi = result.ci
+    return (float(result.exponent), float(lo), float(hi))
+
+
+def summary_section(
+    *,
+    states: Sequence[str],
+    verdicts: Mapping[str, Mapping[str, Any]],
+    chaos: pd.DataFrame,
+    paper_chaos: pd.DataFrame,
+    claims: Mapping[str, Mapping[str, str]],
+    equations: Mapping[str, Any],
+    paper_step: float,
+    settings_text: str,
+    figures: Sequence[chaoskit.ReportFigure] = (),
+) -> chaoskit.ReportSection:
+    """The report's opening section: verdict per state, exponents, the paper beside ours.
+
+    Parameters
+    ----------
+    states
+        State labels in print order (``"before wear"``, ``"after wear"``).
+    verdicts
+        ``{state: {series: Verdict}}`` (``chaoskit.Report.verdicts``).
+    chaos
+        Our chaos table (index ``(variable, state)``; ``mle_wolf``, ``mle_rosenstein`` and
+        their ``_low``/``_high`` bounds in 1/s).
+    paper_chaos
+        The paper's chaos table (``mle_wolf_bits`` in bits per sample of ``paper_step``).
+    claims
+        ``{state: {"motion": "chaotic" | "not chaotic", "text": ...}}``: the paper's claim.
+    equations
+        ``{state: LyapunovResult or None}`` from :func:`mechanism.lyapunov_exponent`.
+    paper_step
+        The paper's sampling step (s): bits per sample are λ·Δt/ln 2 at this Δt.
+    settings_text
+        One sentence on what was simulated (revolutions, step, rods).
+    figures
+        Headline figures shown under the tables.
+    """
+    to_bits = paper_step / _LN2
+    answer_rows = []
+    for state in states:
+        mv = motion_verdict(verdicts.get(state, {})) if verdicts.get(state) else None
+        claim = claims.get(state, {})
+        ours = mv.label if mv is not None else "not run"
+        agree = _agrees(ours, claim.get("motion", "")) if mv is not None else "—"
+        why = mv.reason if mv is not None else "this state was not simulated"
+        answer_rows.append(
+            {
+                "verdict": ours,
+                "confidence": mv.confidence if mv is not None else math.nan,
+                "paper": claim.get("motion", "—"),
+                "agreement": agree,
+                "why": f"ours: {why}; paper: {claim.get('text', '—')}",
+            }
+        )
+    answer = pd.DataFrame(answer_rows, index=pd.Index(list(states), name="state"))
+
+    exp_rows, keys = [], []
+    series = sorted({str(v) for v in chaos.index.get_level_values("variable")})
+    for state in states:
+        eq, eq_lo, eq_hi = _ci(equations.get(state))
+        for name in series:
+            key = (name, state)
+            row: dict[str, Any] = {
+                "equations": eq,
+                "equations_low": eq_lo,
+                "equations_high": eq_hi,
+            }
+            for method in ("wolf", "rosenstein"):
+                for suffix in ("", "_low", "_high"):
+                    col = f"mle_{method}{suffix}"
+                    row[f"{method}{suffix}"] = (
+                        float(chaos.at[key, col]) if key in chaos.index else math.nan
+                    )
+            row["wolf_bits"] = row["wolf"] * to_bits
+            theirs = (
+                float(paper_chaos.at[key, "mle_wolf_bits"])
+                if key in paper_chaos.index
+                else math.nan
+            )
+            row["paper_bits"] = theirs
+            signs = (np.sign(row["wolf_bits"]), np.sign(theirs))
+            row["sign"] = (
+                "—"
+                if not all(np.isfinite(signs))
+                else ("agree" if signs[0] == signs[1] else "disagree")
+            )
+            exp_rows.append(row)
+            keys.append(key)
+    exponents = pd.DataFrame(
+        exp_rows, index=pd.MultiIndex.from_tuples(keys, names=["series", "state"])
+    ).astype({"sign": object})
+
+    tables = (
+        chaoskit.ReportTable(
+            caption="The answer: the motion of the journal centre before and after wear, our "
+            "verdict and its confidence beside the paper's claim.",
+            data=answer,
+            labels={
+                "verdict": "our verdict",
+                "confidence": "confidence",
+                "paper": "paper's claim",
+                "agreement": "agreement",
+                "why": "why",
+            },
+            digits=2,
+            section="Summary",
+        ),
+        chaoskit.ReportTable(
+            caption="Largest Lyapunov exponent [95 % interval]: from the equations of motion "
+            "(rigid-rod model of the same state), and from the data by Wolf's and "
+            "Rosenstein's methods (flexible rods), in 1/s; Wolf's also in bits per sample of "
+            f"the paper's step Δt = {paper_step:.3g} s beside the paper's.",
+            data=exponents,
+            labels={
+                "equations": "equations, rigid (1/s)",
+                "wolf": "Wolf (1/s)",
+                "rosenstein": "Rosenstein (1/s)",
+                "wolf_bits": "Wolf (bit/sample)",
+                "paper_bits": "paper (bit/sample)",
+                "sign": "sign vs paper",
+            },
+            intervals={
+                "equations": ("equations_low", "equations_high"),
+                "wolf": ("wolf_low", "wolf_high"),
+                "rosenstein": ("rosenstein_low", "rosenstein_high"),
+            },
+            digits=3,
+            notes="The exponent from the equations is computed on the rigid-rod model of the "
+            "same state (the tangent integration does not support flexible rods); the data "
+            "estimators run on the flexible-rod trajectories. Only the sign is compared with "
+            "the paper: our step, series length and model differ (docs/paper-model.md).",
+            section="Summary",
+        ),
+    )
+    return chaoskit.ReportSection(title="Summary", items=(*tables, *figures), text=settings_text)
+
+
+def strobe_figure(trajectories: Mapping[str, xr.Dataset], *, joint: str = "C") -> Any:
+    """Stroboscopic maps (e_x, e_y once per crank revolution) of each state, side by side."""
+    from matplotlib.figure import Figure
+
+    n = max(len(trajectories), 1)
+    fig = Figure(figsize=(4.2 * n, 4.0), layout="constrained")
+    axes = fig.subplots(1, n, squeeze=False)[0]
+    for ax, (state, traj) in zip(axes, trajectories.items(), strict=False):
+        view = traj[["eccentricity_x", "eccentricity_y", "crank_angle"]]
+        if "joint" in view.dims:
+            view = view.sel(joint=joint, drop=True)
+        points = chaoskit.stroboscopic_map(
+            view, phase_variable="crank_angle", coords=["eccentricity_x", "eccentricity_y"]
+        )
+        x = np.asarray(points["eccentricity_x"].values) * 1e3
+        y = np.asarray(points["eccentricity_y"].values) * 1e3
+        ax.plot(x, y, ".", ms=3, color="C0" if "before" in state else "C3", rasterized=True)
+        ax.set_title(f"{state}: {x.size} points", fontsize=10)
+        ax.set_xlabel("journal-centre e_x (mm)")
+        ax.set_ylabel("e_y (mm)")
+        ax.set_aspect("equal", adjustable="datalim")
+        ax.grid(alpha=0.3)
+    return fig

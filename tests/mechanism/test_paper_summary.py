@@ -1,0 +1,113 @@
+"""The paper study's summary pieces: one verdict per state, stage progress, wear ratios."""
+
+from __future__ import annotations
+
+import io
+import math
+import re
+from types import SimpleNamespace
+
+import numpy as np
+import pandas as pd
+import pytest
+
+import mechanism
+from mechanism.studies._paper import COLUMNS, _wear_comparison
+from mechanism.studies._paper_summary import Stages, motion_verdict, summary_section
+
+
+def _verdict(label: str, confidence: float) -> SimpleNamespace:
+    return SimpleNamespace(label=label, confidence=confidence, reason=f"because {label}")
+
+
+def test_motion_verdict_states_a_label_only_when_the_series_agree() -> None:
+    agree = motion_verdict({"X": _verdict("chaotic", 0.9), "Y": _verdict("chaotic", 0.6)})
+    assert agree.label == "chaotic" and agree.confidence == 0.6
+    split = motion_verdict({"X": _verdict("chaotic", 0.9), "Y": _verdict("periodic", 0.8)})
+    assert split.label == "undetermined" and split.confidence == 0.0
+    assert "X: chaotic" in split.reason and "Y: periodic" in split.reason
+    with pytest.raises(ValueError, match="verdicts"):
+        motion_verdict({})
+
+
+def test_stages_print_each_stage_with_the_time_left_scaled_by_measured_cost() -> None:
+    stream = io.StringIO()
+    stages = Stages({"a": 1.0, "b": 3.0}, stream=stream)
+    with stages.stage("a"):
+        pass
+    stages._done_time = 10.0  # a took 10 s for a weight of 1: b (weight 3) needs 30 s
+    with stages.stage("b"):
+        pass
+    lines = stream.getvalue().splitlines()
+    assert lines[0].startswith("[1/2] a") and "estimating time left" in lines[0]
+    assert lines[1].startswith("[2/2] b") and "about 30 s left" in lines[1]
+    with pytest.raises(ValueError, match="unknown stage"):
+        with stages.stage("c"):
+            pass
+    silent = io.StringIO()
+    with Stages({"a": 1.0}, enabled=False, stream=silent).stage("a"):
+        pass
+    assert silent.getvalue() == ""
+
+
+def test_wear_table_ratios_compare_magnitudes_of_negative_quantities() -> None:
+    paper = mechanism.paper_tables()["wear"]
+    ours = paper.copy()
+    ours.loc["before wear", "driving_torque"] = -184.6
+    ours.loc["after wear", "driving_torque"] = -562.6
+    table = _wear_comparison(ours, paper)
+    torque = table.loc["driving torque (N m)"]
+    np.testing.assert_allclose(torque["ours_ratio"], 562.6 / 184.6, rtol=1e-12)
+    np.testing.assert_allclose(torque["paper_ratio"], 799.7 / 478.5, rtol=1e-12)
+    np.testing.assert_allclose(
+        table.loc["contact force (kN)", "paper_ratio"], 23.33 / 9.182, rtol=1e-12
+    )
+    assert len(table) == len(COLUMNS) and table.shape[1] == 6
+
+
+def test_summary_section_puts_the_paper_beside_ours_with_agreement() -> None:
+    states = ["before wear", "after wear"]
+    verdicts = {
+        "before wear": {"X": _verdict("periodic", 0.9), "Y": _verdict("periodic", 0.8)},
+        "after wear": {"X": _verdict("periodic", 0.7), "Y": _verdict("periodic", 0.7)},
+    }
+    index = pd.MultiIndex.from_product([["X", "Y"], states], names=["variable", "state"])
+    chaos = pd.DataFrame(
+        {
+            "mle_wolf": [-1.0, 2.0, -1.0, 2.0],
+            "mle_wolf_low": [-2.0, 1.0, -2.0, 1.0],
+            "mle_wolf_high": [0.0, 3.0, 0.0, 3.0],
+            "mle_rosenstein": [0.1, 0.2, 0.1, 0.2],
+            "mle_rosenstein_low": [0.0, 0.1, 0.0, 0.1],
+            "mle_rosenstein_high": [0.2, 0.3, 0.2, 0.3],
+        },
+        index=index,
+    )
+    eq = SimpleNamespace(exponent=-3.0, ci=(-4.0, -2.0))
+    section = summary_section(
+        states=states,
+        verdicts=verdicts,
+        chaos=chaos,
+        paper_chaos=mechanism.paper_tables()["chaos"],
+        claims=mechanism.paper_claims(),
+        equations={"before wear": eq, "after wear": None},
+        paper_step=0.4 / 10_000,
+        settings_text="Settings: test.",
+    )
+    answer, exponents = section.items
+    data = answer.data
+    assert data.at["before wear", "agreement"] == "agree"  # paper: not chaotic
+    assert data.at["after wear", "agreement"] == "disagree"  # paper: chaotic
+    shown = exponents.display()
+    assert shown.shape[1] <= 8
+    bits = exponents.data.at[("X", "after wear"), "wolf_bits"]
+    np.testing.assert_allclose(bits, 2.0 * 0.4 / 10_000 / math.log(2.0), rtol=1e-12)
+    assert exponents.data.at[("Y", "before wear"), "sign"] == "agree"  # both negative
+    assert exponents.data.at[("X", "before wear"), "sign"] == "disagree"
+    assert exponents.data.at[("X", "before wear"), "equations"] == -3.0
+    assert math.isnan(exponents.data.at[("X", "after wear"), "equations"])
+    assert re.match(
+        r"ours: every series says periodic; X: because periodic; paper: chaotic",
+        data.at["after wear", "why"],
+    )
+    assert section.text == "Settings: test."
