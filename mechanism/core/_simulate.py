@@ -172,10 +172,8 @@ def simulate(
         ``"metrics"`` and ``"sections"``: the grid on which the slider is compared with the
         ideal mechanism (``max_displacement_error``, ``max_speed_error``; nothing else is
         stored), default the drive period / 1000. The grid does not bound the step: the
-        maximum step is ``scene.solver.max_step``, else unlimited for the error-controlled
-        methods, whose step control (and, for generalized-α, the rejection of steps
-        entering contact deeper than 1 % of the clearance) resolves every impact, and the
-        scene's default output step for the fixed-step generalized-α.
+        maximum step is ``scene.solver.max_step``, else the scene's default output step
+        (``solver.output_step`` or the drive period / 10000), whatever grid is asked for.
     record : {"full", "metrics", "sections"}
         ``"full"``: the trajectory on the output grid (below). ``"metrics"``: the response
         metrics of ``mechanism._metrics.METRICS`` over the time after ``discard``

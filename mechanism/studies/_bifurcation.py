@@ -23,6 +23,7 @@ import xarray as xr
 from chaoskit.contract import __version__, stamp
 from mechanism.core import simulate
 
+from ._lyapunov import lyapunov_exponent
 from ._sweep import Analysis, _resolve_scene, sweep
 
 __all__ = ["EXPONENT_VARIABLES", "bifurcation", "parse_values"]
@@ -33,17 +34,19 @@ EXPONENT_VARIABLES = ("lyapunov_exponent", "lyapunov_exponent_low", "lyapunov_ex
 _SOURCE = f"mechanism (chaoskit {__version__})"
 
 
-def _no_exponent(scene: Any, *, revolutions: float, discard: float) -> tuple[float, float, float]:
-    raise ValueError(
-        "the largest Lyapunov exponent from the equations of motion is not available in this "
-        "version; run the bifurcation without exponent=True."
-    )
+def _scene_exponent(
+    scene: Any, *, revolutions: float, discard: float
+) -> tuple[float, float, float]:
+    """λ₁ of one value from the equations of motion (:func:`lyapunov_exponent`), with its
+    95 % interval, in 1/s."""
+    result = lyapunov_exponent(scene, revolutions=revolutions, discard=discard)
+    low, high = result.ci
+    return float(result.exponent), float(low), float(high)
 
 
 # Hook for the exponent of one value: (scene, revolutions=, discard=) -> (λ, low, high) in
-# 1/s. The simulator's own estimator (two nearby trajectories of the full state) plugs in
-# here; until it does, asking for the exponent is a clear error.
-largest_exponent: Callable[..., tuple[float, float, float]] = _no_exponent
+# 1/s; tests replace it with a stand-in.
+largest_exponent: Callable[..., tuple[float, float, float]] = _scene_exponent
 
 
 @dataclass(frozen=True)
@@ -225,8 +228,6 @@ def bifurcation(
         raise ValueError("variables must name at least one section variable.")
     if isinstance(discard, bool) or not isinstance(discard, int | float) or discard < 0:
         raise ValueError(f"discard must be a number >= 0 (revolutions); got {discard!r}.")
-    if exponent and largest_exponent is _no_exponent:
-        _no_exponent(scene, revolutions=revolutions, discard=discard)
     simulator = _SectionPoint(discard=float(discard), phase=float(phase), exponent=bool(exponent))
     with _store_folder(store) as folder:
         summary = sweep(

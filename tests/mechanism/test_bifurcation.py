@@ -79,10 +79,16 @@ def test_a_failing_value_is_data(tmp_path, monkeypatch) -> None:
     assert len(axes) == 1 and "1 failed" in axes[0].get_title()
 
 
-def test_the_exponent_hook_fills_the_lower_panel(tmp_path, monkeypatch) -> None:
-    with pytest.raises(ValueError, match="not available"):
-        _speeds(tmp_path / "none", revolutions=3, discard=1, exponent=True)
+def test_the_exponent_is_the_one_from_the_equations(tmp_path) -> None:
+    ds = _speeds(tmp_path, values=[3000.0], revolutions=3, discard=1, exponent=True)
+    scene = mechanism.load_scene(SCENE).replace({"drive.speed_rpm": 3000.0})
+    direct = mechanism.lyapunov_exponent(scene, revolutions=3, discard=1)
+    np.testing.assert_allclose(ds.lyapunov_exponent.values, [direct.exponent], rtol=1e-12)
+    np.testing.assert_allclose(ds.lyapunov_exponent_low.values, [direct.ci[0]], rtol=1e-12)
+    np.testing.assert_allclose(ds.lyapunov_exponent_high.values, [direct.ci[1]], rtol=1e-12)
 
+
+def test_the_exponent_hook_fills_the_lower_panel(tmp_path, monkeypatch) -> None:
     def stand_in(scene, *, revolutions, discard):
         speed = scene.drive.speed_rpm
         return speed / 1000.0 - 4.0, speed / 1000.0 - 4.5, speed / 1000.0 - 3.5
