@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from typing import Any, Literal
 
@@ -12,6 +13,8 @@ from .._progress import stage
 from .._validate import as_series, check_choice, check_int
 from . import _kernels as _k
 from ._embed import standardize
+
+_INV_E = 1.0 / math.e  # the 1/e level of the autocorrelation rules
 
 __all__ = [
     "DelayCurve",
@@ -297,7 +300,7 @@ def estimate_delay(
     # the MI-only method skips the autocorrelation; "auto" caps the MI curve at its 1/e time
     acf = np.empty(0) if method == "mi_first_minimum" else _acf(arr, max_lag)
     if method in ("mi_first_minimum", "auto"):
-        lag_e = _first_below(acf, 1.0 / np.e) if acf.size else -1
+        lag_e = _first_below(acf, _INV_E) if acf.size else -1
         curve = _mi_until_minimum(arr, bins, max_lag, None if lag_e < 0 else lag_e + 1)
         lag, rule, found = _mi_choice(curve)
         if lag_e > 0 and (lag_e < lag or not found):
@@ -318,12 +321,12 @@ def estimate_delay(
             acf=acf[: curve.size],
         )
     lags = np.arange(max_lag + 1)
-    level = 0.0 if method == "acf_first_zero" else 1.0 / np.e
+    level = 0.0 if method == "acf_first_zero" else _INV_E
     lag = _first_below(acf, level)
     found = lag > 0
     rule = f"first lag with autocorrelation <= {level:.4g}"
     if not found and method == "acf_first_zero":
-        lag = _first_below(acf, 1.0 / np.e)
+        lag = _first_below(acf, _INV_E)
         rule = "no zero crossing up to max_lag; fell back to the 1/e time"
     if lag < 1:
         lag = max_lag
