@@ -16,7 +16,7 @@ from mechanism.core.model._assemble import Model, assemble, initial_state
 from mechanism.core.record._record import metrics_dataset, sections_dataset, to_dataset
 
 from ._run_checks import warn_if_deep_penetration, warn_if_large
-from .integrate import Integration, Integrator, RecordPlan, resolve_method
+from .integrate import GeneralizedAlpha, Integration, Integrator, RecordPlan, resolve_method
 from .scene import AngleProfileDrive, ConstantSpeedDrive, Scene
 from .wear import add_run_wear
 
@@ -77,17 +77,20 @@ def _duration(scene: Scene, revolutions: float | None, t_end: float | None) -> f
 
 
 def _max_step(model: Model, integrator: Integrator, default_step: float) -> float:
-    """Largest step of a run: ``solver.max_step`` if set, else the scene's default output
-    step (``solver.output_step``, or a ten-thousandth of a drive period). The output grid a
-    caller asks for never sets it, so a coarse grid or a record mode without a grid does not
-    change the physics. Without this bound Dormand–Prince steps across impacts on worn
-    profiles (slider-crank with clearance after wear: peak force 165 kN instead of 26 kN,
-    penetration 73 µm instead of 23 µm), because its error estimate does not see a contact
-    it has stepped over."""
+    """Largest step of the main run: ``solver.max_step`` if set; else, while clearance
+    joints are active (so that no impact is stepped over) or for the fixed-step
+    generalized-α (its step), the scene's default output step (``solver.output_step``, or a
+    ten-thousandth of a drive period); otherwise unlimited. The output grid a caller asks
+    for never sets it, so a coarse grid or a record mode without a grid does not change the
+    physics. Without the bound Dormand–Prince steps across impacts on worn profiles
+    (slider-crank with clearance after wear: peak force 165 kN instead of 26 kN,
+    penetration 73 µm instead of 23 µm): its error estimate does not see a contact it has
+    stepped over."""
     given = model.scene.solver.max_step
     if given is not None:
         return float(given)
-    return float(default_step)
+    fixed = isinstance(integrator, GeneralizedAlpha) and integrator.step == "max_step"
+    return float(default_step) if model.clearance_joints or fixed else math.inf
 
 
 def _run(
@@ -295,9 +298,10 @@ def simulate(
     if model.clearance_joints:
         ideal_model = assemble(scene, ideal=True)
         iq0, iv0 = initial_state(ideal_model, eccentricity=False)
-        # the companion takes the main run's step limit, so it equals a run of the ideal
-        # mechanism on its own (the slider errors compare like with like)
-        ideal_max_step = max_step
+        # the companion has no impacts: its step is the error control's (the fixed-step
+        # generalized-α keeps the main run's step), as for an ideal mechanism on its own
+        fixed = isinstance(integrator, GeneralizedAlpha) and integrator.step == "max_step"
+        ideal_max_step = max_step if fixed else math.inf
         # The ideal companion does not depend on the main run: it runs in a second
         # thread (the compiled integrators release the GIL), so on a machine with a
         # free core it adds no wall time.

@@ -69,7 +69,7 @@ def test_report_command_writes_html_and_markdown(files) -> None:
     # the reference values sit beside ours in both files
     for text in (html, md):
         assert "0.0042" in text and "difference (%)" in text
-    assert re.search(r"\| X \| after wear \| \d+ \| 24 \| ", md)
+    assert re.search(r"\| X \| after wear \| lag \(samples\) \| \d+ \| 24 \| ", md)
 
 
 def test_report_command_selects_with_sel_and_embeds_figures(files) -> None:
