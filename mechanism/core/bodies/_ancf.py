@@ -262,7 +262,7 @@ class AncfMesh:
         n = (−sin angle, cos angle) is the left normal of a beam at ``angle``; nodal
         positions get w(s_j) n and slopes w'(s_j) n. Being linear, this serves for
         displacements (m) and for velocities (m/s), e.g. Simeon's elastic initial
-        velocities of the flexible slider-crank (validation-targets S6).
+        velocities of the flexible slider-crank (docs/ancf.md).
         """
         a = np.asarray(amplitudes, dtype=np.float64).reshape(-1)
         s = self.node_positions()
