@@ -89,8 +89,14 @@ def _max_step(model: Model, integrator: Integrator, default_step: float) -> floa
     given = model.scene.solver.max_step
     if given is not None:
         return float(given)
-    fixed = isinstance(integrator, GeneralizedAlpha) and integrator.step == "max_step"
-    return float(default_step) if model.clearance_joints or fixed else math.inf
+    if model.clearance_joints or _fixed_step(integrator):
+        return float(default_step)
+    return math.inf
+
+
+def _fixed_step(integrator: Integrator) -> bool:
+    """True for the fixed-step generalized-α, whose step is the largest step."""
+    return isinstance(integrator, GeneralizedAlpha) and integrator.step == "max_step"
 
 
 def _run(
@@ -300,8 +306,7 @@ def simulate(
         iq0, iv0 = initial_state(ideal_model, eccentricity=False)
         # the companion has no impacts: its step is the error control's (the fixed-step
         # generalized-α keeps the main run's step), as for an ideal mechanism on its own
-        fixed = isinstance(integrator, GeneralizedAlpha) and integrator.step == "max_step"
-        ideal_max_step = max_step if fixed else math.inf
+        ideal_max_step = max_step if _fixed_step(integrator) else math.inf
         # The ideal companion does not depend on the main run: it runs in a second
         # thread (the compiled integrators release the GIL), so on a machine with a
         # free core it adds no wall time.
