@@ -76,15 +76,11 @@ def _safe(name: str) -> str:
     return "".join(c if c.isalnum() or c in "-_" else "_" for c in name)
 
 
-def dysts_flow(
-    name: str,
-    n: int,
-    *,
-    pts_per_period: int,
-    cache_dir: Path | None = DEFAULT_CACHE,
-    max_seconds: float = 60.0,
-) -> Series:
-    """First coordinate of dysts flow ``name``: ``n`` samples, ``pts_per_period`` per period.
+def dysts_states(
+    name: str, n: int, *, pts_per_period: int, max_seconds: float = 60.0
+) -> tuple[np.ndarray, float, float]:
+    """Every coordinate of dysts flow ``name``: an ``(n, d)`` array at ``pts_per_period``
+    samples per period, its sampling interval and dysts' published exponent.
 
     Raises :class:`IntegrationFailed` when the flow does not integrate cleanly, including
     when the integration takes longer than ``max_seconds`` of wall time (stiff systems).
@@ -96,11 +92,6 @@ def dysts_flow(
     period = float(model.period)
     dt = period / pts_per_period
     lam = float(model.maximum_lyapunov_estimated)
-    path = None
-    if cache_dir is not None:
-        path = Path(cache_dir) / f"{_safe(name)}-{n}-{pts_per_period}.npy"
-        if path.exists():
-            return Series(name, "flow", np.load(path), dt, lam, n / pts_per_period)
     ic = np.asarray(model.ic, dtype=np.float64).ravel()
     t0 = TRANSIENT_PERIODS * period
     t_eval = t0 + dt * np.arange(n)
@@ -133,12 +124,37 @@ def dysts_flow(
     if sol.status != 0 or sol.y.shape[1] != n:
         why = "too stiff (wall-time limit)" if time.monotonic() > deadline else sol.message
         raise IntegrationFailed(f"{name}: solver stopped ({why})")
-    x = np.ascontiguousarray(sol.y[0], dtype=np.float64)
-    if not np.isfinite(x).all():
+    states = np.ascontiguousarray(sol.y.T, dtype=np.float64)
+    if not np.isfinite(states).all():
         raise IntegrationFailed(f"{name}: non-finite samples")
-    half = x[n // 2 :]
+    half = states[n // 2 :, 0]
     if not half.std() > 1e-6 * (np.abs(half).max() + 1e-300):
         raise IntegrationFailed(f"{name}: decays to a fixed point")
+    return states, dt, lam
+
+
+def dysts_flow(
+    name: str,
+    n: int,
+    *,
+    pts_per_period: int,
+    cache_dir: Path | None = DEFAULT_CACHE,
+    max_seconds: float = 60.0,
+) -> Series:
+    """First coordinate of dysts flow ``name``: ``n`` samples, ``pts_per_period`` per period
+    (:func:`dysts_states`), cached."""
+    import dysts.flows as flows
+
+    model = getattr(flows, name)()
+    dt = float(model.period) / pts_per_period
+    lam = float(model.maximum_lyapunov_estimated)
+    path = None
+    if cache_dir is not None:
+        path = Path(cache_dir) / f"{_safe(name)}-{n}-{pts_per_period}.npy"
+        if path.exists():
+            return Series(name, "flow", np.load(path), dt, lam, n / pts_per_period)
+    states, dt, lam = dysts_states(name, n, pts_per_period=pts_per_period, max_seconds=max_seconds)
+    x = np.ascontiguousarray(states[:, 0])
     if path is not None:
         _atomic_save(path, x)
     return Series(name, "flow", x, dt, lam, n / pts_per_period)

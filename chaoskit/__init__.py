@@ -70,6 +70,7 @@ from ._bifurcation import bifurcation_diagram  # noqa: E402
 from ._portraits import phase_portrait  # noqa: E402
 from .sections import poincare_section, stroboscopic_map  # noqa: E402
 from .verdict import (  # noqa: E402
+    MotionVerdict,
     SectionStructure,
     SurrogateResult,
     Verdict,
@@ -77,6 +78,7 @@ from .verdict import (  # noqa: E402
     ZeroOneResult,
     analyze,
     classify,
+    classify_motion,
     classify_variables,
     iaaft_surrogates,
     section_structure,
@@ -86,6 +88,7 @@ from .verdict import (  # noqa: E402
 )
 
 _views: list[str] = [
+    "MotionVerdict",
     "SectionStructure",
     "SurrogateResult",
     "Verdict",
@@ -94,6 +97,7 @@ _views: list[str] = [
     "analyze",
     "bifurcation_diagram",
     "classify",
+    "classify_motion",
     "classify_variables",
     "iaaft_surrogates",
     "phase_portrait",

@@ -98,6 +98,57 @@ def prepare(
     )
 
 
+def prepare_vectors(
+    points: Any, *, embedding_dim: Any, lag: Any, dt: Any, theiler_window: Any, min_future: int
+) -> Prepared:
+    """Validate state vectors (rows in time order) given instead of a scalar series.
+
+    Each column is standardised (zero mean, unit standard deviation) and no embedding is
+    made. ``lag`` (samples) only tells a flow (``lag > 1``) from a map; by default it is
+    estimated on the first column. The mean period and the default Theiler window are
+    taken over the columns (the longest mean period).
+    """
+    dt = check_positive(dt, name="dt")
+    pts = np.asarray(getattr(points, "values", points))
+    if pts.dtype.kind not in "fiu" or pts.ndim != 2:
+        raise ValueError(f"state vectors must be a numeric (n, d) array; got shape {pts.shape}.")
+    if not np.all(np.isfinite(pts)):
+        raise ValueError("state vectors contain NaN or inf values.")
+    n, d = pts.shape
+    if embedding_dim is not None and check_int(embedding_dim, name="embedding_dim", minimum=1) != d:
+        raise ValueError(
+            f"embedding_dim={embedding_dim} but the state vectors have {d} coordinates; "
+            "leave embedding_dim=None for state vectors."
+        )
+    if n < MIN_SAMPLES:
+        raise _too_short(n, MIN_SAMPLES, "a set of state vectors")
+    columns = [as_series(pts[:, j], name=f"column {j} of the state vectors") for j in range(d)]
+    arr = standardize(columns[0])
+    lag, lag_rule = lag_or_estimate(arr, lag)
+    period = max(mean_period(standardize(c)) for c in columns)
+    if theiler_window is None:
+        w = int(max(1, min(np.ceil(period), max(n - min_future, 1) // 10)))
+    else:
+        w = check_int(theiler_window, name="theiler_window", minimum=0)
+    need = min_future + 2 * w + 2
+    if n < need:
+        raise _too_short(
+            n, need, f"a horizon of {min_future} samples and theiler_window={w} (state vectors)"
+        )
+    return Prepared(
+        arr=arr,
+        pts=np.ascontiguousarray(np.column_stack([standardize(c) for c in columns])),
+        dt=dt,
+        lag=lag,
+        embedding_dim=d,
+        theiler_window=w,
+        lag_rule=lag_rule,
+        dim_rule=f"given: {d} coordinates of state vectors",
+        period=period,
+        scale=1.0,
+    )
+
+
 def result_fields(prep: Prepared) -> dict[str, Any]:
     """The :class:`LyapunovResult` fields every estimator takes from its prepared input."""
     return {

@@ -10,7 +10,14 @@ from .._neighbors import build_tree, nearest_neighbors
 from .._progress import stage
 from .._validate import check_choice, check_int
 from . import _kernels as _k
-from ._common import Prepared, batch_means_ci, prepare, references, result_fields
+from ._common import (
+    Prepared,
+    batch_means_ci,
+    prepare,
+    prepare_vectors,
+    references,
+    result_fields,
+)
 from ._result import LyapunovResult
 from ._scaling import TOLERANCES, saturation_index, scaling_region
 
@@ -190,8 +197,11 @@ def prepare_curve(
     theiler_window: Any,
     max_horizon: Any,
     fit_range: Any,
+    *,
+    vectors: bool = False,
 ) -> tuple[Prepared, tuple[int, int] | None, int | None, int]:
-    """Validate the options of a divergence-curve estimator and prepare the input.
+    """Validate the options of a divergence-curve estimator and prepare the input
+    (``vectors``: ``x`` is an (n, d) array of state vectors, see :func:`prepare_vectors`).
 
     Returns the prepared input, the given fit range (``None`` for ``"auto"``), the validated
     ``max_horizon`` and the number of samples each reference point needs ahead of it.
@@ -200,7 +210,8 @@ def prepare_curve(
         max_horizon = check_int(max_horizon, name="max_horizon", minimum=2)
     fixed = _parse_fit_range(fit_range, max_horizon)
     min_future = max_horizon if max_horizon is not None else (fixed[1] if fixed else _MIN_HORIZON)
-    prep = prepare(
+    prepare_input = prepare_vectors if vectors else prepare
+    prep = prepare_input(
         x,
         embedding_dim=embedding_dim,
         lag=lag,
@@ -276,11 +287,18 @@ def lyapunov_rosenstein(
     two neighbour curves; it does not cover the choice of embedding. The rules, their bias
     on Lorenz and Rössler and the interval's coverage are measured in ``docs/estimators.md``.
 
+    **State vectors.** ``x`` may instead be an ``(n, d)`` array whose rows are the states
+    in time order (measured coordinates of a multivariate trajectory, or a mixed delay
+    embedding built by the caller; Cao, Mees & Judd 1998). Each column is standardised and
+    no embedding is made; ``embedding_dim`` must be None (or ``d``) and ``lag`` only tells
+    a flow (``lag > 1``) from a map (default: estimated on the first column); the default
+    Theiler window is the longest mean period of the columns.
+
     Parameters
     ----------
     x
         Scalar series (numpy, pandas or 1-D xarray), at least 100 samples, finite and not
-        constant.
+        constant; or an ``(n, d)`` array of state vectors (see above).
     embedding_dim, lag
         Embedding dimension and delay (samples); estimated when ``None``.
     dt
@@ -315,7 +333,9 @@ def lyapunov_rosenstein(
     References
     ----------
     M. T. Rosenstein, J. J. Collins, C. J. De Luca, "A practical method for calculating
-    largest Lyapunov exponents from small data sets", Physica D 65 (1993) 117–134.
+    largest Lyapunov exponents from small data sets", Physica D 65 (1993) 117–134;
+    L. Cao, A. Mees, K. Judd, "Dynamics from multivariate time series", Physica D 121
+    (1998) 75–88 (mixed embeddings).
 
     Examples
     --------
@@ -328,8 +348,9 @@ def lyapunov_rosenstein(
     max_points = check_int(max_points, name="max_points", minimum=10)
     check_choice(distance, name="distance", choices=("auto", "euclidean", "transverse"))
     check_choice(neighbor, name="neighbor", choices=("auto", "sample", "orbit", "mean"))
+    vectors = np.ndim(getattr(x, "values", x)) == 2 and min(np.shape(x)) > 1
     prep, fixed, max_horizon, min_future = prepare_curve(
-        x, embedding_dim, lag, dt, theiler_window, max_horizon, fit_range
+        x, embedding_dim, lag, dt, theiler_window, max_horizon, fit_range, vectors=vectors
     )
     pts, w = prep.pts, prep.theiler_window
     n_pts = pts.shape[0]

@@ -8,12 +8,14 @@ from __future__ import annotations
 
 from ._analyze import analyze, classify_variables, verdict_table
 from ._clusters import SectionStructure, section_structure
+from ._motion import MotionVerdict, classify_motion
 from ._surrogates import SurrogateResult, iaaft_surrogates, prediction_error, surrogate_test
 from ._verdict import LABELS, Verdict, VerdictRule, classify
 from ._zero_one import ZeroOneResult, zero_one_test
 
 __all__ = [
     "LABELS",
+    "MotionVerdict",
     "SectionStructure",
     "SurrogateResult",
     "Verdict",
@@ -21,6 +23,7 @@ __all__ = [
     "ZeroOneResult",
     "analyze",
     "classify",
+    "classify_motion",
     "classify_variables",
     "iaaft_surrogates",
     "prediction_error",

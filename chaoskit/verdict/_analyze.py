@@ -51,18 +51,8 @@ def classify_variables(
     :func:`analyze`; the verdicts are keyed by selection (``"eccentricity_x[joint=C]"`` for
     one joint of a multi-dimensional variable).
     """
-    ds = load_trajectory(data)
+    ds, variables = series_dataset(data, variables=variables, phase_variable=phase_variable)
     index = "time" if "time" in ds.coords else "step"
-    phase = None if phase_variable is None else variable_spec(ds, phase_variable)
-    exclude = [] if phase is None else [phase.name]
-    specs = expand_variables(ds, variables, exclude=exclude)
-    if not specs:
-        raise ValueError("no variable to analyse.")
-    columns = {spec.alias: select_series(ds, spec) for spec in specs}
-    if phase is not None and phase_variable is not None:
-        columns[phase_variable] = select_series(ds, phase).rename(phase_variable)
-    ds = xr.Dataset(columns, attrs=ds.attrs)
-    variables = list(dict.fromkeys(spec.alias for spec in specs))
     streams = as_generator(rng).spawn(len(variables))
     with contextlib.ExitStack() as stack:
         bar = stack.enter_context(stage_bar(len(variables), desc="analyze")) if progress else None
@@ -76,6 +66,24 @@ def classify_variables(
         if bar is not None:
             finish_item(bar, len(variables), "analyze")
     return verdicts
+
+
+def series_dataset(
+    data: Any, *, variables: Sequence[str] | None, phase_variable: str | None
+) -> tuple[xr.Dataset, list[str]]:
+    """The 1-D series selected by ``variables`` (expanded by label, see
+    :func:`~chaoskit._selection.expand_variables`) and the phase variable, as one Dataset
+    keyed by selection; and the selections in order."""
+    ds = load_trajectory(data)
+    phase = None if phase_variable is None else variable_spec(ds, phase_variable)
+    exclude = [] if phase is None else [phase.name]
+    specs = expand_variables(ds, variables, exclude=exclude)
+    if not specs:
+        raise ValueError("no variable to analyse.")
+    columns = {spec.alias: select_series(ds, spec) for spec in specs}
+    if phase is not None and phase_variable is not None:
+        columns[phase_variable] = select_series(ds, phase).rename(phase_variable)
+    return xr.Dataset(columns, attrs=ds.attrs), list(dict.fromkeys(s.alias for s in specs))
 
 
 def _classify_one(

@@ -1,0 +1,244 @@
+"""One verdict per motion: coordinates that disagree are reconciled by the joint evidence."""
+
+from __future__ import annotations
+
+import math
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+import xarray as xr
+
+import chaoskit
+from chaoskit import MotionVerdict, VerdictRule, classify_motion, lyapunov_rosenstein, systems
+from chaoskit.verdict._clusters import SectionStructure
+from chaoskit.verdict._motion import combine_motion
+
+OMEGA = 1.2
+DRIVE = 2 * np.pi / OMEGA
+
+
+@pytest.fixture(scope="module")
+def duffing_with_phase() -> tuple[np.ndarray, float]:
+    """Chaotic forced Duffing position beside its forcing cos(ωt) (periodic by construction)."""
+    t, s = systems.duffing(4000, gamma=0.5, samples_per_period=40)
+    return np.column_stack([s[:, 0], np.cos(OMEGA * t)]), float(t[1] - t[0])
+
+
+def test_duffing_position_beside_its_forcing_phase_is_chaotic(duffing_with_phase) -> None:
+    data, dt = duffing_with_phase
+    mv = classify_motion(data, dt=dt, drive_period=DRIVE, rng=0)
+    assert isinstance(mv, MotionVerdict)
+    assert mv.label == "chaotic"
+    assert mv.confidence >= 0.5
+    assert mv.drive_variables == ("x2",)  # found: one strobe point to round-off
+    assert mv.voting == ("x1",)
+    assert mv.variables["x2"].label == "periodic"  # the per-variable verdict is kept
+    assert any("following the drive" in r and "x2" in r for r in mv.reasons)
+
+
+def test_forcing_phase_without_the_drive_period_is_outweighed_by_the_joint_evidence(
+    duffing_with_phase,
+) -> None:
+    data, dt = duffing_with_phase
+    mv = classify_motion(data, dt=dt, rng=0)  # an autonomous reading: nothing set aside
+    assert mv.drive_variables == ()
+    assert {v.label for v in mv.variables.values()} == {"chaotic", "periodic"}
+    assert mv.label == "chaotic"
+    assert mv.structure is not None and mv.structure.kind == "scattered"
+    assert mv.exponent_positive is True
+    assert mv.votes["variable x2"] == "opposes"
+    assert mv.confidence < 1.0  # the periodic coordinate's vote is counted against
+
+
+def test_drive_variables_may_be_named(duffing_with_phase) -> None:
+    data, dt = duffing_with_phase
+    ds = chaoskit.load_trajectory(data, dt=dt, variables=["x", "forcing"])
+    mv = classify_motion(ds, drive_variables=["forcing"], rng=0)
+    assert mv.drive_variables == ("forcing",) and mv.label == "chaotic"
+    with pytest.raises(ValueError, match="drive_variables"):
+        classify_motion(ds, drive_variables=["nope"], rng=0)
+
+
+def test_rossler_seen_through_a_nearly_periodic_coordinate_is_never_confidently_regular() -> None:
+    s = systems.rossler(4000, dt=0.1)
+    phase = np.cos(np.arctan2(s[:, 1], s[:, 0]))  # the phase of a phase-coherent flow
+    mv = classify_motion(np.column_stack([s[:, 0], phase]), dt=0.1, rng=0)
+    assert mv.label in ("chaotic", "undetermined")
+    if mv.label == "undetermined":
+        assert mv.needs and math.isnan(mv.confidence)
+
+
+def test_periodic_two_variable_orbit_has_the_right_period() -> None:
+    t, s = systems.duffing(4000, gamma=0.28, samples_per_period=40)  # period 2 (drive periods)
+    mv = classify_motion(s, dt=float(t[1] - t[0]), drive_period=DRIVE, rng=0)
+    assert (mv.label, mv.period) == ("periodic", 2)
+    assert mv.structure is not None and mv.structure.n_clusters == 2
+    assert mv.confidence >= 0.75
+
+
+def test_two_frequency_torus_is_quasi_periodic() -> None:
+    t = np.arange(4000) * 0.05
+    w2 = np.pi * (np.sqrt(5) - 1)
+    data = np.column_stack(
+        [np.sin(2 * np.pi * t) + 0.6 * np.sin(w2 * t), np.cos(2 * np.pi * t) + 0.6 * np.cos(w2 * t)]
+    )
+    mv = classify_motion(data, dt=0.05, rng=0)
+    assert mv.label == "quasi-periodic"
+    assert mv.structure is not None and mv.structure.kind == "closed-curve"
+
+
+def test_map_with_both_coordinates() -> None:
+    mv = classify_motion(systems.henon(2000), rng=0)  # an array without dt: a map
+    assert mv.kind == "map" and mv.label == "chaotic"
+    assert mv.exponent is not None
+    assert mv.exponent.mle == pytest.approx(0.419, rel=0.15)  # Hénon λ₁ = 0.419 / iteration
+
+
+# ---------------------------------------------------------------- the rule on its own
+
+
+def _verdict(label: str, period: int | None = None) -> SimpleNamespace:
+    return SimpleNamespace(label=label, period=period, needs=(), lines=None, surrogates=None)
+
+
+def _structure(kind: str, n_clusters: int = 0, n_points: int = 100) -> SectionStructure:
+    nan = float("nan")
+    return SectionStructure(
+        kind=kind, n_clusters=n_clusters, labels=np.zeros(n_points, dtype=np.int64),
+        cluster_radius=nan, cyclic_fraction=nan, curve_closure=nan, curve_coverage=nan,
+        curve_thickness=nan, n_points=n_points, scale=1.0,
+    )  # fmt: skip
+
+
+def _combine(voters, structure, positive, say, n_cycles=100.0):
+    return combine_motion(
+        voters,
+        structure=structure,
+        positive=positive,
+        say=say,
+        n_cycles=n_cycles,
+        cycle_unit="drive periods",
+        rule=VerdictRule(),
+    )
+
+
+def test_unresolved_disagreement_is_undetermined_with_needs() -> None:
+    voters = {"x": _verdict("periodic", 1), "y": _verdict("chaotic")}
+    label, period, confidence, reason, votes, needs = _combine(
+        voters, _structure("scattered"), False, None
+    )
+    assert label == "undetermined" and period is None and math.isnan(confidence)
+    assert votes == {}
+    assert any("clearly positive exponent" in n for n in needs)
+    assert "x: periodic, y: chaotic" in reason
+
+
+def test_clusters_with_a_chaotic_variable_and_too_few_periods_asks_for_more() -> None:
+    voters = {"x": _verdict("periodic", 2), "y": _verdict("chaotic")}
+    label, *_, needs = _combine(voters, _structure("too-few-points", n_points=8), True, None, 8)
+    assert label == "undetermined"
+    assert any("≥ 20 drive periods; the series has 8" in n for n in needs)
+    assert any("joint section has 8" in n for n in needs)
+
+
+def test_equations_decide_between_a_scattered_section_and_a_flat_exponent() -> None:
+    voters = {"x": _verdict("periodic", 1), "y": _verdict("chaotic")}
+    label, _, confidence, *_ = _combine(voters, _structure("scattered"), False, "chaotic")
+    assert label == "chaotic"
+    assert 0.5 <= confidence < 1.0  # exponent and x oppose; section, equations and y support
+
+
+def test_equations_against_agreeing_variables_without_a_deciding_section() -> None:
+    voters = {"x": _verdict("periodic", 1), "y": _verdict("periodic", 1)}
+    label, *_, needs = _combine(voters, _structure("too-few-points", n_points=10), False, "chaotic")
+    assert label == "undetermined"
+    assert any("the equations say chaotic" in n and "finer sampling" in n for n in needs)
+    # a joint section of tight clusters decides against the equations; the vote is counted
+    label, period, confidence, reason, votes, _ = _combine(
+        voters, _structure("clusters", n_clusters=1), False, "chaotic"
+    )
+    assert (label, period) == ("periodic", 1)
+    assert votes["equations"] == "opposes" and confidence < 1.0
+    assert "decides against the equations" in reason
+
+
+def test_agreeing_variables_against_the_joint_section() -> None:
+    voters = {"x": _verdict("chaotic"), "y": _verdict("chaotic")}
+    label, *_, needs = _combine(voters, _structure("clusters", n_clusters=3), True, None)
+    assert label == "undetermined"
+    assert any("joint section of all variables is clusters" in n for n in needs)
+
+
+# ---------------------------------------------------------------- the equations' exponent
+
+
+def test_exponent_from_the_equations_is_reported_beside_the_data(duffing_with_phase) -> None:
+    data, dt = duffing_with_phase
+    eq = SimpleNamespace(exponent=0.1, interval=(0.08, 0.12))  # 'interval' is accepted too
+    mv = classify_motion(data, dt=dt, drive_period=DRIVE, exponent=eq, rng=0)
+    assert mv.equations_say == "chaotic" and mv.votes["equations"] == "supports"
+    assert any(r.startswith("the equations say chaotic") for r in mv.reasons)
+    assert any(r.startswith("the data say") for r in mv.reasons)
+    regular = SimpleNamespace(exponent=0.001, ci=(-0.01, 0.012))
+    mv = classify_motion(data, dt=dt, drive_period=DRIVE, exponent=regular, rng=0)
+    assert mv.equations_say == "regular"
+    assert any("the equations and the data disagree" in r for r in mv.reasons)
+    assert mv.label == "chaotic"  # the scattered joint section with a positive exponent decides
+    assert mv.votes["equations"] == "opposes" and mv.confidence < 1.0
+
+
+@pytest.mark.parametrize(
+    "bad", [object(), SimpleNamespace(exponent=1.0), SimpleNamespace(exponent=1.0, ci=(2.0, 1.0))]
+)
+def test_exponent_without_an_interval_is_refused(bad, duffing_with_phase) -> None:
+    data, dt = duffing_with_phase
+    with pytest.raises(ValueError, match="exponent"):
+        classify_motion(data[:400], dt=dt, exponent=bad)
+
+
+# ---------------------------------------------------------------- output and input
+
+
+def test_to_dataset_holds_the_motion_and_the_variables(duffing_with_phase) -> None:
+    data, dt = duffing_with_phase
+    mv = classify_motion(data, dt=dt, drive_period=DRIVE, rng=0)
+    ds = mv.to_dataset()
+    assert str(ds["motion_label"].item()) == "chaotic"
+    assert list(ds["variable"].values) == ["x1", "x2"]
+    assert ds["motion_mle"].attrs["units"] == "s-1"
+    for name, var in ds.data_vars.items():
+        assert "long_name" in var.attrs, name
+        if var.dtype.kind == "f":
+            assert "units" in var.attrs, name
+    assert "x2" in ds.attrs["motion_reasons"]
+
+
+def test_dataset_with_a_multi_dimensional_variable_is_expanded_by_label() -> None:
+    s = systems.lorenz(2500, dt=0.03)
+    ds = xr.Dataset(
+        {"q": (("time", "axis"), s[:, :2])},
+        coords={"time": np.arange(2500) * 0.03, "axis": ["x", "y"]},
+    )
+    mv = classify_motion(ds, rng=0)
+    assert list(mv.variables) == ["q[axis=x]", "q[axis=y]"]
+    assert mv.label == "chaotic"
+
+
+def test_bad_input_is_refused() -> None:
+    with pytest.raises(ValueError, match="array"):
+        classify_motion(np.zeros(10))
+
+
+# ---------------------------------------------------------------- state vectors for Rosenstein
+
+
+def test_rosenstein_on_state_vectors_matches_the_lorenz_exponent() -> None:
+    s = systems.lorenz(5000, dt=0.02)
+    res = lyapunov_rosenstein(s, dt=0.02)
+    assert res.embedding_dim == 3
+    assert res.mle == pytest.approx(0.906, rel=0.15)  # Lorenz λ₁ = 0.906 (Sprott 2003)
+    scaled = lyapunov_rosenstein(s * np.array([1e3, 1.0, 1e-3]), dt=0.02, lag=res.lag)
+    assert scaled.mle == pytest.approx(res.mle, rel=1e-9)  # columns are standardised
+    with pytest.raises(ValueError, match="embedding_dim"):
+        lyapunov_rosenstein(s, dt=0.02, embedding_dim=2)
