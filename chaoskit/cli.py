@@ -22,7 +22,8 @@ from ._samples import sample_path
 from ._selection import select_series, variable_spec
 from ._version import __version__
 from .reporting import report as build_report
-from .verdict import classify_variables, verdict_table
+from .verdict import MotionVerdict, classify_motion, classify_variables, verdict_table
+from .verdict._analyze import series_dataset
 
 app = typer.Typer(
     name="chaoskit",
@@ -174,6 +175,30 @@ def _write_figures(
     return written
 
 
+def _split_specs(text: str) -> list[str]:
+    """``"x, e[joint=B,axis=0]"`` → ``["x", "e[joint=B,axis=0]"]``: commas inside brackets
+    belong to the selection."""
+    out, depth, cur = [], 0, ""
+    for ch in text:
+        depth += (ch == "[") - (ch == "]")
+        if ch == "," and depth == 0:
+            out.append(cur.strip())
+            cur = ""
+        else:
+            cur += ch
+    out.append(cur.strip())
+    return [p for p in out if p]
+
+
+def _motion_text(mv: MotionVerdict) -> str:
+    conf = "" if mv.label == "undetermined" else f" (confidence {mv.confidence:.2f})"
+    period = f", period {mv.period}" if mv.period is not None else ""
+    lines = [f"Motion ({', '.join(mv.variables)}): {mv.label}{period}{conf}"]
+    lines += [f"  {r}" for r in mv.reasons if not r.startswith(tuple(mv.variables))]
+    lines += [f"  needs: {n}" for n in mv.needs]
+    return "\n".join(lines)
+
+
 def _run_analysis(
     path: Path,
     variables: list[str] | None,
@@ -187,23 +212,52 @@ def _run_analysis(
     dt: float | None = None,
     step: str | None = None,
     measures: str | None = None,
+    motion: str | None = None,
+    drive_variables: list[str] | None = None,
 ) -> None:
     with _user_errors():
         names = parse_measures(measures)
         ds = load_trajectory(path, time=time, dt=dt, step=step)
-        verdicts = classify_variables(
-            ds,
-            variables=variables or None,
-            drive_period=drive_period,
-            phase_variable=phase_variable,
-            rng=seed,
-            progress=progress,
-        )
+        off = motion is not None and motion.strip().lower() == "none"
+        chosen = (_split_specs(motion) if motion else None) if not off else None
+        if motion is not None and not off and not chosen:
+            raise ValueError("--motion must name variables (x,y,...) or be 'none'.")
+        _, rows = series_dataset(ds, variables=variables or None, phase_variable=phase_variable)
+        motion_names = rows
+        if chosen is not None:
+            _, motion_names = series_dataset(ds, variables=chosen, phase_variable=phase_variable)
+        mv = None
+        if not off and len(motion_names) >= 2:
+            mv = classify_motion(
+                ds,
+                variables=motion_names,
+                drive_period=drive_period,
+                phase_variable=phase_variable,
+                drive_variables=drive_variables or (),
+                rng=seed,
+                progress=progress,
+            )
+        elif drive_variables:
+            raise ValueError("--drive-variable needs a motion of two or more variables.")
+        if mv is not None and set(rows) <= set(mv.variables):
+            verdicts = {name: mv.variables[name] for name in rows}
+        else:
+            verdicts = classify_variables(
+                ds,
+                variables=rows,
+                drive_period=drive_period,
+                phase_variable=phase_variable,
+                rng=seed,
+                progress=progress,
+            )
         table = verdict_table(verdicts)
     index = "time" if "time" in ds.coords else "step"
     typer.echo(f"{path}: {ds.attrs.get('title', '')}")
     typer.echo(f"  {ds.sizes[index]} samples along {index!r}")
     typer.echo("")
+    if mv is not None:
+        typer.echo(_motion_text(mv))
+        typer.echo("")
     typer.echo(format_table(table))
     typer.echo("")
     for name, verdict in verdicts.items():
@@ -262,8 +316,24 @@ def analyze(
         "quantification), spectrum (Lyapunov spectrum), sampen (sample entropy), dfa, hurst; "
         "or all.",
     ),
+    motion: str | None = typer.Option(
+        None,
+        "--motion",
+        help="Variables of the motion, comma-separated (e.g. x,y or "
+        "eccentricity_x[joint=C],eccentricity_y[joint=C]): one verdict for them all, shown "
+        "first. Default: the analysed variables (every time series of the file, "
+        "multi-dimensional ones by label); 'none' or a single variable: per-variable only.",
+    ),
+    drive_variable: list[str] = typer.Option(
+        None,
+        "--drive-variable",
+        help="A variable of the motion that follows the drive alone (e.g. a prescribed crank "
+        "angle): set aside from the motion verdict (repeat). Such variables are also found "
+        "by themselves when --drive-period or --phase-variable is given.",
+    ),
 ) -> None:
-    """Classify each variable of a trajectory and print the evidence table.
+    """Classify the motion of a trajectory (all its variables together) and each variable,
+    and print the motion verdict, then the evidence table.
 
     Exit status: 0 on success, 2 for bad input (nothing analysed), 1 when the analysis failed
     for every variable.
@@ -280,6 +350,8 @@ def analyze(
         dt=dt,
         step=step,
         measures=measures,
+        motion=motion,
+        drive_variables=list(drive_variable) if drive_variable else None,
     )
 
 

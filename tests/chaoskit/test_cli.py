@@ -74,3 +74,39 @@ def test_demo_analyses_the_sample_file_from_any_folder(tmp_path, monkeypatch) ->
 def test_version_still_works() -> None:
     out = runner.invoke(app, ["--version"])
     assert out.exit_code == 0 and chaoskit.__version__ in out.output
+
+
+def test_analyze_shows_the_motion_verdict_first(tmp_path) -> None:
+    out = runner.invoke(app, ["analyze", _henon_file(tmp_path)])  # default: x and y together
+    assert out.exit_code == 0, out.output
+    lines = out.output.splitlines()
+    motion = next(i for i, line in enumerate(lines) if line.startswith("Motion (x, y): "))
+    header = next(i for i, line in enumerate(lines) if line.startswith("variable"))
+    assert motion < header
+    assert lines[motion].startswith("Motion (x, y): chaotic (confidence ")
+
+
+def test_analyze_motion_none_or_one_variable_keeps_the_per_variable_table(tmp_path) -> None:
+    path = _henon_file(tmp_path)
+    for extra in (["--motion", "none"], ["--var", "x"], ["--motion", "x"]):
+        out = runner.invoke(app, ["analyze", path, *extra])
+        assert out.exit_code == 0, out.output
+        assert "Motion (" not in out.output
+    out = runner.invoke(app, ["analyze", path, "--motion", "x,nope"])
+    assert out.exit_code == 2 and "not found" in out.output
+    out = runner.invoke(app, ["analyze", path, "--motion", " , "])
+    assert out.exit_code == 2 and "--motion" in out.output
+
+
+def test_analyze_motion_sets_aside_a_drive_variable(tmp_path) -> None:
+    t, s = systems.duffing(3000, gamma=0.5, samples_per_period=40)
+    ds = chaoskit.load_trajectory(
+        np.column_stack([s[:, 0], np.cos(1.2 * t)]), dt=t[1] - t[0], variables=["x", "phase"]
+    )
+    path = tmp_path / "duffing.nc"
+    chaoskit.save_trajectory(ds, path)
+    out = runner.invoke(app, ["analyze", str(path), "--motion", "x,phase",
+                              "--drive-variable", "phase"])  # fmt: skip
+    assert out.exit_code == 0, out.output
+    assert "Motion (x, phase): chaotic" in out.output
+    assert "following the drive alone: phase" in out.output
