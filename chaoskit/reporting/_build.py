@@ -36,7 +36,7 @@ from .._portraits import DERIVATIVE_NAMES, phase_portrait
 from .._selection import VariableSpec, parse_variable, select_series
 from .._version import __version__
 from ..sections import poincare_section, stroboscopic_map
-from ..verdict import classify_variables, verdict_table
+from ..verdict import MotionVerdict, classify_motion, classify_variables, verdict_table
 from ..verdict._rng import as_generator
 from ._items import MISSING, ReportCode, ReportFigure, ReportSection, ReportTable, format_number
 from ._measures import measure_items
@@ -48,7 +48,9 @@ _LN2 = math.log(2.0)
 
 #: Section headings in the order they appear; other sections named by the caller's tables
 #: and figures come after "Sweeps", and the provenance always last.
+MOTION = "Motion verdict"
 SECTION_ORDER = (
+    MOTION,
     "Verdicts",
     "Response metrics",
     "Chaos identification",
@@ -103,10 +105,12 @@ class SweepMap:
     select
         Values of the other grid dimensions (e.g. ``{"wear": "before"}``).
     variable
-        Analysed variable (default: the first along ``variable``).
+        Analysed variable (default: the motion verdict of each point, ``motion_label`` with
+        the mixed-embedding exponent ``motion_mle``, when the sweep has it; else the first
+        along ``variable``).
     mle, verdict
-        Field names (default: ``mle`` or the first numeric field whose name starts with
-        ``mle``; ``verdict`` or ``label``).
+        Field names (default: as above, or ``mle`` or the first numeric field whose name
+        starts with ``mle``; ``verdict`` or ``label``).
     caption
         Figure caption (default: generated).
     """
@@ -126,13 +130,17 @@ class SweepMap:
         if not isinstance(ds, xr.Dataset):
             raise ValueError(f"SweepMap.data must be an xarray.Dataset; got {type(ds).__name__}.")
         variable = self.variable
+        motion = variable is None and self.verdict is None and "motion_label" in ds
+        if motion:
+            ds = ds[[k for k, v in ds.data_vars.items() if "variable" not in v.dims]]
+            variable = "motion"
         if "variable" in ds.dims:
             names = [str(v) for v in ds["variable"].values]
             variable = variable if variable is not None else names[0]
             if variable not in names:
                 raise ValueError(f"variable {variable!r} not in the sweep's variables {names}.")
             ds = ds.sel(variable=variable)
-        mle = self.mle
+        mle = "motion_mle" if motion and self.mle is None else self.mle
         if mle is None:
             numeric = [
                 str(k)
@@ -142,7 +150,9 @@ class SweepMap:
             mle = "mle" if "mle" in numeric else (numeric[0] if numeric else None)
         if mle is None or mle not in ds.data_vars:
             raise ValueError(f"no exponent field {mle!r}; fields: {list(ds.data_vars)}.")
-        verdict = self.verdict or next((v for v in ("verdict", "label") if v in ds), None)
+        verdict = self.verdict or next(
+            (v for v in ("verdict", "label", "motion_label") if v in ds), None
+        )
         dims = [str(d) for d in ds[mle].dims]
         for key in (self.x, self.y):
             if key not in dims:
@@ -201,6 +211,9 @@ class Report:
         variable)``, or None when no trajectory was analysed.
     verdicts
         ``{state: {variable: Verdict}}`` with all evidence (curves, section points).
+    motions
+        ``{state: MotionVerdict}``: one verdict per state from all its analysed variables
+        (states analysed through a single variable have none).
     """
 
     title: str
@@ -208,6 +221,7 @@ class Report:
     created: str = field(default_factory=lambda: _now())
     analysis: xr.Dataset | None = None
     verdicts: Mapping[str, Mapping[str, Any]] = field(default_factory=dict, repr=False)
+    motions: Mapping[str, MotionVerdict] = field(default_factory=dict, repr=False)
 
     def __post_init__(self) -> None:
         numbered: list[ReportSection] = []
@@ -340,6 +354,7 @@ class _State:
     source: str
     view: xr.Dataset
     verdicts: dict[str, Any]
+    motion: MotionVerdict | None
     original_samples: int
     stride: int
     scene: str | None
@@ -641,6 +656,57 @@ _EVIDENCE_LABELS = {
 }
 
 
+def _motion_table(states: list[_State], kind: str) -> ReportTable:
+    """One row per state: the motion verdict and the joint evidence it rests on."""
+    rows, index = [], []
+    for st in states:
+        mv = st.motion
+        if mv is None:
+            continue
+        row = mv.summary()
+        rows.append(
+            {
+                "verdict": mv.label if mv.period is None else f"{mv.label} (period {mv.period})",
+                "confidence": mv.confidence,
+                "section": f"{row['motion_section_structure']} "
+                f"({row['motion_section_points']:.0f} points)",
+                "mle": row["motion_mle"],
+                "mle_low": row["motion_mle_low"],
+                "mle_high": row["motion_mle_high"],
+                "equations": row["motion_mle_equations"],
+                "equations_low": row["motion_mle_equations_low"],
+                "equations_high": row["motion_mle_equations_high"],
+                "set_aside": ", ".join((*mv.drive_variables, *mv.constant_variables)) or "—",
+                "why": mv.reason,
+            }
+        )
+        index.append(st.label)
+    unit = "1/iteration" if kind == "map" else "1/s"
+    return ReportTable(
+        caption="The motion verdict: one label per state from all its analysed variables "
+        "together — their joint section, the largest exponent of their mixed delay "
+        "embedding, the exponent from the equations of motion when given, and each "
+        "variable's verdict (docs/verdict.md). Variables that follow the drive alone are set "
+        "aside.",
+        data=pd.DataFrame(rows, index=pd.Index(index, name="state")),
+        labels={
+            "verdict": "motion verdict",
+            "confidence": "confidence",
+            "section": "joint section",
+            "mle": f"joint MLE ({unit})",
+            "equations": f"equations MLE ({unit})",
+            "set_aside": "set aside",
+            "why": "why",
+        },
+        intervals={
+            "mle": ("mle_low", "mle_high"),
+            "equations": ("equations_low", "equations_high"),
+        },
+        digits=3,
+        section=MOTION,
+    )
+
+
 def _overview_frame(states: list[_State], specs: list[VariableSpec]) -> pd.DataFrame:
     data = {}
     for st in states:
@@ -693,6 +759,7 @@ def report(
     max_samples: int | None = None,
     drive_period: float | None = None,
     phase_variable: str | None = None,
+    exponents: Mapping[str, Any] | None = None,
     n_surrogates: int = 19,
     rng: Any = 0,
     chaos_reference: pd.DataFrame | None = None,
@@ -713,8 +780,13 @@ def report(
     r"""Analyse trajectories and assemble a captioned report (HTML page and Markdown twin).
 
     Each trajectory is one *state* of the system (e.g. "before wear", "after wear"). For
-    every state and variable the report runs :func:`chaoskit.classify_variables` and shows
+    every state the report runs :func:`chaoskit.classify_motion` on its variables (with
+    ``exponents`` from the equations when given; :func:`chaoskit.classify_variables` when
+    there is one variable) and shows
 
+    * first, the motion verdict: one label per state from all its variables together, with
+      the joint section, the exponent of the mixed embedding, the equations' exponent and
+      what would decide an undetermined motion;
     * the verdicts (one line per variable, one column per state);
     * the chaos table: delay :math:`\tau` (samples and s), embedding dimension :math:`m`,
       the largest Lyapunov exponent by Wolf's and Rosenstein's method with its 95 %
@@ -764,6 +836,10 @@ def report(
     drive_period, phase_variable
         Drive of a forced system (s, or an angle variable such as ``crank_angle``, which
         may also be a spec): used by the verdict's stroboscopic section and the maps.
+    exponents
+        ``{state label: exponent}``: the largest exponent from the equations of motion of
+        each state (e.g. :func:`mechanism.lyapunov_exponent`; any object with ``exponent``
+        in 1/s and a 95 % interval ``ci``), a vote in the motion verdict.
     n_surrogates, rng
         Passed to :func:`chaoskit.classify_variables`; each state gets its own stream
         spawned from ``rng``.
@@ -841,6 +917,14 @@ def report(
             raise ValueError(f"figures must hold ReportFigure objects; got {type(f).__name__}.")
     phase = parse_variable(phase_variable) if phase_variable is not None else None
     measure_names = parse_measures(measures)
+    if exponents is not None:
+        if not isinstance(exponents, Mapping):
+            raise ValueError("exponents must be a mapping {state label: exponent}.")
+        unknown = [k for k in exponents if k not in [lab for lab, _ in pairs]]
+        if unknown:
+            raise ValueError(
+                f"exponents names states {unknown} that are not among {[lab for lab, _ in pairs]}."
+            )
 
     streams = as_generator(rng).spawn(len(pairs)) if pairs else []
     states: list[_State] = []
@@ -854,16 +938,22 @@ def report(
             discard=discard,
             max_samples=max_samples,
         )
-        verdicts = classify_variables(
-            view,
-            variables=[s.alias for s in specs],
-            drive_period=drive_period,
-            phase_variable=None if phase is None else phase.alias,
-            n_surrogates=n_surrogates,
-            rng=stream,
-            progress=progress,
-        )
-        states.append(_State(label=label, view=view, verdicts=verdicts, **info))
+        common: dict[str, Any] = {
+            "variables": [s.alias for s in specs],
+            "drive_period": drive_period,
+            "phase_variable": None if phase is None else phase.alias,
+            "n_surrogates": n_surrogates,
+            "rng": stream,
+            "progress": progress,
+        }
+        motion = None
+        if len(specs) > 1:
+            exponent = None if exponents is None else exponents.get(label)
+            motion = classify_motion(view, exponent=exponent, **common)
+            verdicts = dict(motion.variables)
+        else:
+            verdicts = classify_variables(view, **common)
+        states.append(_State(label=label, view=view, verdicts=verdicts, motion=motion, **info))
 
     sections: dict[str, list[Any]] = {name: [] for name in SECTION_ORDER}
     texts: dict[str, str] = {}
@@ -932,6 +1022,7 @@ def report(
         created=created,
         analysis=analysis,
         verdicts={st.label: dict(st.verdicts) for st in states},
+        motions={st.label: st.motion for st in states if st.motion is not None},
     )
     if output is not None:
         rep.write(output, markdown_figures=markdown_figures)
@@ -967,6 +1058,8 @@ def _analysis_items(
 ) -> None:
     kinds = {v.kind for st in states for v in st.verdicts.values()}
     kind = "map" if kinds == {"map"} else "flow"
+    if any(st.motion is not None for st in states):
+        put(_motion_table(states, kind), MOTION)
     described = "; ".join(
         f"{s.alias} = {s.spec} ({states[0].view[s.alias].attrs.get('long_name', s.name)}, "
         f"{states[0].view[s.alias].attrs.get('units', '')})"

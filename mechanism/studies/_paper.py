@@ -876,6 +876,7 @@ def run_paper_study(
             if trajectories
             else None,
             phase_variable="crank_angle" if trajectories else None,
+            exponents={s: e for s, e in equations.items() if e is not None and s in trajectories},
             discard=settings.discard_revolutions * period,
             max_samples=settings.max_samples,
             n_surrogates=settings.n_surrogates,
@@ -921,7 +922,7 @@ def run_paper_study(
         )
         summary = summary_section(
             states=[s for s in ("before wear", "after wear") if s in state_scenes],
-            verdicts=rep.verdicts,
+            motions=rep.motions,
             chaos=chaos,
             paper_chaos=paper["chaos"],
             claims=claims,

@@ -14,7 +14,6 @@ import math
 import sys
 import time
 from collections.abc import Iterator, Mapping, Sequence
-from dataclasses import dataclass
 from typing import Any, TextIO
 
 import numpy as np
@@ -23,7 +22,7 @@ import xarray as xr
 
 import chaoskit
 
-__all__ = ["MotionVerdict", "Stages", "motion_verdict", "summary_section"]
+__all__ = ["Stages", "motion_verdict", "summary_section"]
 
 _LN2 = math.log(2.0)
 #: Verdict labels that mean "regular" when a claim says "not chaotic".
@@ -99,52 +98,33 @@ class Stages:
 # --------------------------------------------------------------------------- verdicts
 
 
-@dataclass(frozen=True, kw_only=True)
-class MotionVerdict:
-    """One verdict for the motion of one state, from the verdicts of its series.
+def motion_verdict(
+    series: xr.Dataset,
+    *,
+    variables: Sequence[str] | None = ("X", "Y"),
+    drive_period: float | None = None,
+    phase_variable: str | None = "crank_angle",
+    exponent: Any = None,
+    n_surrogates: int = 19,
+    rng: Any = 0,
+) -> chaoskit.MotionVerdict:
+    """The verdict of one state's motion: :func:`chaoskit.classify_motion` of its series.
 
-    Attributes
-    ----------
-    label
-        The verdict (a :class:`chaoskit.Verdict` label; ``"undetermined"`` when the
-        series disagree).
-    confidence
-        The smallest confidence of the series' verdicts, in [0, 1].
-    reason
-        One line: which series said what and why.
+    ``series`` holds the state's analysed series (by default ``X`` and ``Y``, the journal
+    centre of joint C, and the crank angle as the drive's phase); ``exponent`` is the
+    largest exponent from the equations of motion of the same state
+    (:func:`mechanism.lyapunov_exponent`), a vote beside the data. The study's report
+    computes the same verdict for every state (:func:`chaoskit.report` with
+    ``exponents=``) and its summary shows it.
     """
-
-    label: str
-    confidence: float
-    reason: str
-
-
-def motion_verdict(verdicts: Mapping[str, Any]) -> MotionVerdict:
-    """The motion's verdict from per-series :class:`chaoskit.Verdict` objects.
-
-    The series must agree for a verdict to be stated; when they do not, the motion is
-    ``"undetermined"`` and the reason names each series' verdict. This is the one place
-    the study decides a state's verdict, so a multi-variable classifier can replace it.
-
-    Examples
-    --------
-    >>> from types import SimpleNamespace as V
-    >>> motion_verdict({"X": V(label="chaotic", confidence=0.9, reason="λ > 0"),
-    ...                 "Y": V(label="chaotic", confidence=0.7, reason="λ > 0")}).label
-    'chaotic'
-    """
-    if not verdicts:
-        raise ValueError("verdicts must hold at least one series' verdict.")
-    labels = {name: str(v.label) for name, v in verdicts.items()}
-    confidence = float(min(float(v.confidence) for v in verdicts.values()))
-    if len(set(labels.values())) == 1:
-        name, first = next(iter(verdicts.items()))
-        label = labels[name]
-        reason = f"every series says {label}; {name}: {first.reason}"
-        return MotionVerdict(label=label, confidence=confidence, reason=reason)
-    said = ", ".join(f"{n}: {lab}" for n, lab in labels.items())
-    return MotionVerdict(
-        label="undetermined", confidence=0.0, reason=f"the series disagree ({said})"
+    return chaoskit.classify_motion(
+        series,
+        variables=variables,
+        drive_period=drive_period,
+        phase_variable=phase_variable,
+        exponent=exponent,
+        n_surrogates=n_surrogates,
+        rng=rng,
     )
 
 
@@ -169,7 +149,7 @@ def _ci(result: Any) -> tuple[float, float, float]:
 def summary_section(
     *,
     states: Sequence[str],
-    verdicts: Mapping[str, Mapping[str, Any]],
+    motions: Mapping[str, chaoskit.MotionVerdict],
     chaos: pd.DataFrame,
     paper_chaos: pd.DataFrame,
     claims: Mapping[str, Mapping[str, str]],
@@ -184,8 +164,9 @@ def summary_section(
     ----------
     states
         State labels in print order (``"before wear"``, ``"after wear"``).
-    verdicts
-        ``{state: {series: Verdict}}`` (``chaoskit.Report.verdicts``).
+    motions
+        ``{state: MotionVerdict}``: one verdict per state from all its series and the
+        equations' exponent (``chaoskit.Report.motions``, or :func:`motion_verdict`).
     chaos
         Our chaos table (index ``(variable, state)``; ``mle_wolf``, ``mle_rosenstein`` and
         their ``_low``/``_high`` bounds in 1/s).
@@ -205,11 +186,14 @@ def summary_section(
     to_bits = paper_step / _LN2
     answer_rows = []
     for state in states:
-        mv = motion_verdict(verdicts.get(state, {})) if verdicts.get(state) else None
+        mv = motions.get(state)
         claim = claims.get(state, {})
         ours = mv.label if mv is not None else "not run"
         agree = _agrees(ours, claim.get("motion", "")) if mv is not None else "—"
-        why = mv.reason if mv is not None else "this state was not simulated"
+        why = "this state was not simulated"
+        if mv is not None:
+            said = [r for r in mv.reasons if r.startswith(("the equations", "set aside"))]
+            why = "; ".join([mv.reason, *said])
         answer_rows.append(
             {
                 "verdict": ours,

@@ -80,9 +80,12 @@ class Analysis:
     variables
         Trajectory variables handed to :func:`chaoskit.analyze` (one row each in the
         result's ``variable`` dimension), each ``NAME`` or ``NAME[DIM=VALUE,...]`` as in
-        ``chaoskit analyze`` (e.g. ``"eccentricity_x[joint=C]"``). Default: the journal
-        eccentricity ``x`` and ``y`` of the clearance joint, the paper's "X and Y direction"
-        series. Empty: response metrics only.
+        ``chaoskit analyze`` (e.g. ``"eccentricity_x[joint=C]"``). With two or more, the
+        point's motion is classified as a whole (:func:`chaoskit.classify_motion`) and the
+        result gets one ``motion_label``, ``motion_confidence``, ``motion_period``, ... per
+        point beside the rows. Default: the journal eccentricity ``x`` and ``y`` of the
+        clearance joint, the paper's "X and Y direction" series. Empty: response metrics
+        only.
     joint
         Clearance joint for the variables with a ``joint`` dimension whose name selects none;
         default the first.
@@ -96,7 +99,8 @@ class Analysis:
         bound). The estimators cost grows faster than linearly with the length, and the
         default output step gives 10 000 samples per revolution.
     options
-        Extra keyword arguments for :func:`chaoskit.analyze` (e.g. ``n_surrogates``); must be
+        Extra keyword arguments for :func:`chaoskit.analyze` (e.g. ``n_surrogates``; with
+        several variables, those of :func:`chaoskit.classify_motion`); must be
         JSON-serialisable, since they are stored in the sweep manifest. By default the sweep
         passes ``phase_variable="crank_angle"`` (the stroboscopic evidence of the verdict).
     seed
@@ -388,13 +392,18 @@ def _analyze_point(traj: xr.Dataset, analysis: Analysis, start: int, pid: str) -
         extra = ("crank_angle",)
     kwargs.setdefault("rng", _point_seed(analysis.seed, pid))
     data = _analysis_input(traj, analysis, start, extra)
-    result = chaoskit.analyze(data, variables=list(analysis.variables), **kwargs)
+    if len(analysis.variables) > 1:
+        # one verdict for the point's motion (motion_* scalars) beside the per-variable rows
+        motion = chaoskit.classify_motion(data, variables=list(analysis.variables), **kwargs)
+        result = motion.to_dataset()
+    else:
+        result = chaoskit.analyze(data, variables=list(analysis.variables), **kwargs)
     result = result.assign_coords(variable=np.asarray(analysis.variables, dtype=str))
     result = result.drop_vars([c for c in result.coords if c != "variable"])
     out = xr.Dataset()
     for name, var in result.data_vars.items():
-        if var.dims != ("variable",):
-            continue  # the gathered sweep holds one scalar per (point, variable)
+        if var.dims not in (("variable",), ()):
+            continue  # the gathered sweep holds one scalar per (point, variable) or point
         if var.dtype.kind in "OUS":
             var = var.astype(str)
         out[f"{name}"] = var
@@ -1189,18 +1198,24 @@ def chaos_map(
         The two grid keys spanning the map (e.g. ``"drive.speed_rpm"`` and
         ``"joints.C.clearance"``).
     variable
-        Analysed variable (default: the first).
+        Analysed variable whose own verdict is mapped. Default: the motion verdict of each
+        point (``motion_label``, with the exponent of the mixed embedding ``motion_mle``
+        and ``motion_confidence``) when the sweep analysed several variables, else the
+        first variable.
     mle, verdict
-        Names of the analysis fields holding the MLE and the verdict label (default: the
-        first field whose name starts with ``mle`` and the field ``label`` or ``verdict``).
+        Names of the analysis fields holding the MLE and the verdict label (default: as
+        above, or the first field whose name starts with ``mle`` and the field ``label`` or
+        ``verdict``).
     select
         Values for the other grid keys (``{"wear": "before"}``); required when there are any.
 
     Returns
     -------
     xarray.Dataset
-        ``mle(y, x)``, ``verdict(y, x)`` (text) and ``status(y, x)``; plot with
-        ``ds["mle"].plot()`` or ``chaoskit.plot``.
+        ``mle(y, x)``, ``verdict(y, x)`` (text) and ``status(y, x)``, and
+        ``confidence(y, x)`` for the motion verdict; plot with ``ds["mle"].plot()`` or
+        ``chaoskit.plot``. The attribute ``variable`` says what was mapped (``"motion"``
+        for the motion verdict).
     """
     ds = _as_sweep(data)
     dims = _grid_dims(ds)
@@ -1216,8 +1231,13 @@ def chaos_map(
         raise ValueError(f"select a value for the other grid keys {missing} (select={{...}}).")
     if "variable" not in ds.dims:
         raise ValueError("this sweep has no analysis fields (it ran with Analysis(variables=())).")
-    variable = variable if variable is not None else str(ds["variable"].values[0])
+    motion = variable is None and verdict is None and "motion_label" in ds
     fields = [str(k) for k, v in ds.data_vars.items() if "variable" in v.dims]
+    if motion:
+        variable, verdict = "motion", "motion_label"
+        mle = "motion_mle" if mle is None else mle
+        fields = [str(k) for k, v in ds.data_vars.items() if str(k).startswith("motion_")]
+    variable = variable if variable is not None else str(ds["variable"].values[0])
     if mle is None:
         mle = next((f for f in fields if f.lower().startswith("mle")), None)
     if verdict is None:
@@ -1226,15 +1246,18 @@ def chaos_map(
         if name is None or name not in ds:
             raise ValueError(f"no {what} field found; pass {what}= one of {fields}.")
     assert mle is not None and verdict is not None
-    sel = {**{k: select[k] for k in others}, "variable": variable}
-    picked = ds.sel(sel)
-    out = xr.Dataset(
-        {
-            "mle": picked[mle].transpose(y, x),
-            "verdict": picked[verdict].transpose(y, x),
-            "status": picked["status"].transpose(y, x),
-        }
-    )
+    picked = ds.sel({k: select[k] for k in others})
+
+    def grid(name: str) -> xr.DataArray:
+        arr = picked[name]
+        if "variable" in arr.dims:
+            arr = arr.sel(variable=variable)
+        return arr.transpose(y, x)
+
+    maps = {"mle": grid(mle), "verdict": grid(verdict), "status": grid("status")}
+    if motion:
+        maps["confidence"] = grid("motion_confidence")
+    out = xr.Dataset(maps)
     return stamp(
         out,
         title=f"largest Lyapunov exponent and verdict of {variable} over ({y}, {x})",

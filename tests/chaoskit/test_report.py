@@ -579,3 +579,30 @@ def test_difference_compares_magnitudes_so_negative_quantities_read_right() -> N
     assert _difference(478.5 * 1.1, 478.5) == "+10.0"
     assert _difference(173.7, -799.7) == f"{100 * (173.7 - 799.7) / 799.7:+.1f}, opposite sign"
     assert _difference(1.0, 0.0) == "—"
+
+
+def test_motion_verdict_comes_first_one_per_state(trajectories) -> None:
+    from types import SimpleNamespace
+
+    eq = {"after wear": SimpleNamespace(exponent=0.1, ci=(0.05, 0.15))}
+    rep = chaoskit.report(
+        trajectories,
+        variables={"X": "eccentricity_x[joint=C]", "A": "eccentricity_x[joint=A]"},
+        phase_variable="crank_angle",
+        exponents=eq,
+        rng=0,
+    )
+    assert rep.sections[0].title == "Motion verdict"
+    assert set(rep.motions) == set(STATES)
+    after, before = rep.motions["after wear"], rep.motions["before wear"]
+    # joint A moves as a sine of the crank angle: it follows the drive and is set aside
+    assert after.drive_variables == ("A",) and before.drive_variables == ("A",)
+    assert after.label == "chaotic" and after.equations_say == "chaotic"
+    assert (before.label, before.period) == ("periodic", 2)
+    assert rep.verdicts["after wear"]["X"] is after.variables["X"]  # one analysis, not two
+    table = rep.table("The motion verdict").data
+    assert table.loc["after wear", "verdict"] == "chaotic"
+    assert table.loc["before wear", "set_aside"] == "A"
+    assert table.loc["after wear", "equations"] == pytest.approx(0.1)
+    with pytest.raises(ValueError, match="exponents names states"):
+        chaoskit.report(trajectories, variables=["crank_angle"], exponents={"nope": eq})

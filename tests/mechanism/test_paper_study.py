@@ -339,7 +339,6 @@ def test_quick_settings_reach_the_verdict_of_the_paper_settings_before_wear():
     analysis reductions of --quick give the verdict of the paper settings. Long: the run is
     the chaos run of the study (several minutes on 2 cores)."""
     from mechanism.studies._paper import _chaos_run, wear_scene_of
-    from mechanism.studies._paper_summary import motion_verdict
 
     quick, full = StudySettings.quick(), StudySettings.paper()
     assert quick.flexible_rods and full.flexible_rods
@@ -364,5 +363,5 @@ def test_quick_settings_reach_the_verdict_of_the_paper_settings_before_wear():
             n_surrogates=settings.n_surrogates,
             rng=0,
         )
-        verdicts[name] = motion_verdict(rep.verdicts["before wear"])
+        verdicts[name] = rep.motions["before wear"]
     assert verdicts["quick"].label == verdicts["paper"].label, verdicts

@@ -10,24 +10,35 @@ from types import SimpleNamespace
 import numpy as np
 import pandas as pd
 import pytest
+import xarray as xr
 
+import chaoskit
 import mechanism
 from mechanism.studies._paper import COLUMNS, _wear_comparison
 from mechanism.studies._paper_summary import Stages, motion_verdict, summary_section
 
 
-def _verdict(label: str, confidence: float) -> SimpleNamespace:
-    return SimpleNamespace(label=label, confidence=confidence, reason=f"because {label}")
+def _motion(label: str, confidence: float) -> SimpleNamespace:
+    return SimpleNamespace(
+        label=label,
+        confidence=confidence,
+        reason=f"every variable says {label}",
+        reasons=(f"every variable says {label}", "the equations say regular: λ₁ = -3"),
+    )
 
 
-def test_motion_verdict_states_a_label_only_when_the_series_agree() -> None:
-    agree = motion_verdict({"X": _verdict("chaotic", 0.9), "Y": _verdict("chaotic", 0.6)})
-    assert agree.label == "chaotic" and agree.confidence == 0.6
-    split = motion_verdict({"X": _verdict("chaotic", 0.9), "Y": _verdict("periodic", 0.8)})
-    assert split.label == "undetermined" and split.confidence == 0.0
-    assert "X: chaotic" in split.reason and "Y: periodic" in split.reason
-    with pytest.raises(ValueError, match="verdicts"):
-        motion_verdict({})
+def test_motion_verdict_is_the_motion_of_the_state_from_all_its_series() -> None:
+    t, s = chaoskit.systems.duffing(4000, gamma=0.5, samples_per_period=40)
+    crank = 1.2 * t  # the drive's phase, like the crank angle of a mechanism
+    series = xr.Dataset(
+        {"X": ("time", s[:, 0]), "Y": ("time", s[:, 1]), "crank_angle": ("time", crank)},
+        coords={"time": t},
+    )
+    eq = SimpleNamespace(exponent=0.1, ci=(0.07, 0.13))  # Duffing γ = 0.5: λ₁ ≈ 0.1 s⁻¹
+    mv = motion_verdict(series, exponent=eq)
+    assert isinstance(mv, chaoskit.MotionVerdict)
+    assert mv.label == "chaotic" and set(mv.variables) == {"X", "Y"}
+    assert mv.equations_say == "chaotic" and mv.votes["equations"] == "supports"
 
 
 def test_stages_print_each_stage_with_the_time_left_scaled_by_measured_cost() -> None:
@@ -67,10 +78,7 @@ def test_wear_table_ratios_compare_magnitudes_of_negative_quantities() -> None:
 
 def test_summary_section_puts_the_paper_beside_ours_with_agreement() -> None:
     states = ["before wear", "after wear"]
-    verdicts = {
-        "before wear": {"X": _verdict("periodic", 0.9), "Y": _verdict("periodic", 0.8)},
-        "after wear": {"X": _verdict("periodic", 0.7), "Y": _verdict("periodic", 0.7)},
-    }
+    motions = {"before wear": _motion("periodic", 0.9), "after wear": _motion("periodic", 0.7)}
     index = pd.MultiIndex.from_product([["X", "Y"], states], names=["variable", "state"])
     chaos = pd.DataFrame(
         {
@@ -86,7 +94,7 @@ def test_summary_section_puts_the_paper_beside_ours_with_agreement() -> None:
     eq = SimpleNamespace(exponent=-3.0, ci=(-4.0, -2.0))
     section = summary_section(
         states=states,
-        verdicts=verdicts,
+        motions=motions,
         chaos=chaos,
         paper_chaos=mechanism.paper_tables()["chaos"],
         claims=mechanism.paper_claims(),
@@ -107,7 +115,7 @@ def test_summary_section_puts_the_paper_beside_ours_with_agreement() -> None:
     assert exponents.data.at[("X", "before wear"), "equations"] == -3.0
     assert math.isnan(exponents.data.at[("X", "after wear"), "equations"])
     assert re.match(
-        r"ours: every series says periodic; X: because periodic; paper: chaotic",
+        r"ours: every variable says periodic; the equations say regular: λ₁ = -3; paper: chaotic",
         data.at["after wear", "why"],
     )
     assert section.text == "Settings: test."

@@ -7,6 +7,7 @@ import logging
 import math
 import os
 from pathlib import Path
+from types import SimpleNamespace
 
 import matplotlib.pyplot as plt
 import numpy as np
@@ -168,13 +169,20 @@ def test_dask_sweep_equals_serial_sweep(scene, tmp_path, dask_client):
         rtol=0,
     )
     assert float(point["peak_contact_force"]) > 100.0  # a real impact at c = 0.5 mm
-    # the real chaoskit.analyze fields give the (clearance, speed) maps
-    cmap = mechanism.chaos_map(serial, x="drive.speed_rpm", y=CLEARANCE)
-    assert cmap.attrs["mle_field"] == "mle_rosenstein"
-    assert cmap["verdict"].dims == (CLEARANCE, "drive.speed_rpm")
-    xr.testing.assert_equal(cmap["mle"], serial["mle_rosenstein"].sel(variable="eccentricity_x"))
+    # the real chaoskit fields give the (clearance, speed) maps: the motion verdict of each
+    # point (both eccentricities together) by default, one variable's on request
     labels = {"equilibrium", "periodic", "quasi-periodic", "chaotic", "noise-like", "undetermined"}
+    assert serial["motion_label"].dims == (CLEARANCE, "drive.speed_rpm")
+    cmap = mechanism.chaos_map(serial, x="drive.speed_rpm", y=CLEARANCE)
+    assert cmap.attrs["variable"] == "motion" and cmap.attrs["verdict_field"] == "motion_label"
+    xr.testing.assert_equal(cmap["verdict"], serial["motion_label"])
+    xr.testing.assert_equal(cmap["confidence"], serial["motion_confidence"])
     assert set(np.unique(cmap["verdict"].values)) <= labels
+    one = mechanism.chaos_map(serial, x="drive.speed_rpm", y=CLEARANCE, variable="eccentricity_x")
+    assert one.attrs["mle_field"] == "mle_rosenstein"
+    assert one["verdict"].dims == (CLEARANCE, "drive.speed_rpm")
+    xr.testing.assert_equal(one["mle"], serial["mle_rosenstein"].sel(variable="eccentricity_x"))
+    assert set(np.unique(one["verdict"].values)) <= labels
 
 
 # ----------------------------------------------------------------------------- failure as data
@@ -410,8 +418,17 @@ def _fake_analyze(data, *, variables, **options):
     )
 
 
+def _fake_motion(data, *, variables, **options):
+    """chaoskit.classify_motion stand-in: the rows of _fake_analyze and a motion verdict."""
+    table = _fake_analyze(data, variables=variables, **options)
+    table["motion_label"] = xr.DataArray(np.array("chaotic", dtype=object))
+    table["motion_confidence"] = xr.DataArray(0.75, attrs={"units": "1"})
+    return SimpleNamespace(to_dataset=lambda: table)
+
+
 def test_analysis_fields_are_gathered_with_a_variable_dim(scene, tmp_path, monkeypatch, transforms):
     monkeypatch.setattr(chaoskit, "analyze", _fake_analyze, raising=False)
+    monkeypatch.setattr(chaoskit, "classify_motion", _fake_motion, raising=False)
     analysis = mechanism.Analysis(max_samples=50, discard_revolutions=1.0)
     ds = _stand_in_sweep(
         scene,
@@ -441,6 +458,12 @@ def test_analysis_fields_are_gathered_with_a_variable_dim(scene, tmp_path, monke
     assert list(cmap["verdict"].sel(boom="no").values) == ["periodic", "periodic"]
     with pytest.raises(ValueError, match="not a grid key"):
         mechanism.chaos_map(ds, x="speed", y=CLEARANCE)
+    # one motion verdict per point, mapped by default
+    assert ds["motion_label"].dims == (CLEARANCE, "boom")
+    assert (ds["motion_label"].sel(boom="raise") == "").all()
+    motion = mechanism.chaos_map(ds, x="boom", y=CLEARANCE, mle="motion_confidence")
+    assert list(motion["verdict"].sel(boom="no").values) == ["chaotic", "chaotic"]
+    np.testing.assert_array_equal(motion["confidence"].sel(boom="no").values, [0.75, 0.75])
 
 
 def test_analysis_failure_keeps_the_metrics(scene, tmp_path, monkeypatch):
@@ -448,6 +471,7 @@ def test_analysis_failure_keeps_the_metrics(scene, tmp_path, monkeypatch):
         raise FloatingPointError("no neighbours")
 
     monkeypatch.setattr(chaoskit, "analyze", broken, raising=False)
+    monkeypatch.setattr(chaoskit, "classify_motion", broken, raising=False)
     ds = _stand_in_sweep(scene, tmp_path, grid={CLEARANCE: [1e-4]}, analysis=mechanism.Analysis())
     assert ds["status"].item() == "failed"
     assert ds["message"].item() == "analysis failed: FloatingPointError: no neighbours"
