@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import contextlib
 import math
+import os
 import sys
 import time
 from collections.abc import Iterator, Mapping, Sequence
@@ -23,7 +24,7 @@ import xarray as xr
 
 import chaoskit
 
-__all__ = ["MotionVerdict", "Stages", "motion_verdict", "summary_section"]
+__all__ = ["MotionVerdict", "Stages", "motion_verdict", "process_tree_cpu_time", "summary_section"]
 
 _LN2 = math.log(2.0)
 #: Verdict labels that mean "regular" when a claim says "not chaotic".
@@ -33,12 +34,33 @@ _REGULAR = ("periodic", "quasi-periodic", "equilibrium")
 # --------------------------------------------------------------------------- progress
 
 
+def process_tree_cpu_time() -> float:
+    """CPU seconds (user + system) used so far by this process and all its descendants.
+
+    Counts the live descendants (dask workers, process pools) and the children already
+    waited for. A descendant that ends and is reaped by a process other than this one or a
+    live descendant is lost, so the figure is a lower bound on a shared machine: unlike
+    wall time it does not grow when other jobs take the cores.
+    """
+    import psutil
+
+    own = os.times()
+    total = own.user + own.system + own.children_user + own.children_system
+    with contextlib.suppress(psutil.Error):
+        for child in psutil.Process().children(recursive=True):
+            with contextlib.suppress(psutil.Error):
+                t = child.cpu_times()
+                total += t.user + t.system + t.children_user + t.children_system
+    return float(total)
+
+
 class Stages:
     """Progress of a multi-stage job: each stage's start with elapsed time and time left.
 
     The estimate of the time left scales the prior costs (``weights``, any unit) of the
     stages still to run by the measured cost of the stages done so far, so it improves as
-    the job goes on.
+    the job goes on. Each stage's wall time (``times``) and CPU time of the process tree
+    (``cpu_times``, :func:`process_tree_cpu_time`) are kept; :meth:`summary` lists them.
 
     Parameters
     ----------
@@ -58,6 +80,7 @@ class Stages:
         self._done_weight = 0.0
         self._done_time = 0.0
         self.times: dict[str, float] = {}
+        self.cpu_times: dict[str, float] = {}
 
     def _left(self, name: str) -> float | None:
         names = list(self._weights)
@@ -87,13 +110,40 @@ class Stages:
                 flush=True,
             )
         t = time.perf_counter()
+        cpu = process_tree_cpu_time()
         try:
             yield
         finally:
             spent = time.perf_counter() - t
+            self.cpu_times[name] = process_tree_cpu_time() - cpu
             self.times[name] = spent
             self._done_time += spent
             self._done_weight += self._weights[name]
+
+    def summary(self) -> pd.DataFrame:
+        """Wall and CPU minutes of each stage run so far, with a total row."""
+        names = [n for n in self._weights if n in self.times]
+        frame = pd.DataFrame(
+            {
+                "wall_min": [self.times[n] / 60.0 for n in names],
+                "cpu_min": [self.cpu_times[n] / 60.0 for n in names],
+            },
+            index=pd.Index(names, name="stage"),
+        )
+        frame.loc["total"] = frame.sum()
+        return frame
+
+    def report(self) -> None:
+        """Print :meth:`summary` (when enabled), one line per stage."""
+        if not self._enabled:
+            return
+        stream = self._stream or sys.stderr
+        for name, row in self.summary().iterrows():
+            print(
+                f"  {name}: wall {row['wall_min']:.1f} min, CPU {row['cpu_min']:.1f} min",
+                file=stream,
+                flush=True,
+            )
 
 
 # --------------------------------------------------------------------------- verdicts
