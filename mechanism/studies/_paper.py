@@ -97,6 +97,13 @@ _CLEARANCES = (1e-4, 2e-4, 5e-4)
 _SPEEDS = (30, 90, 150)
 _DEFAULT_CLEARANCE = 2e-4
 _PAPER_SAMPLES = 10_000  # the paper's step is T/10000 (its parameter table)
+#: Largest integration step of every run of the study (s): the paper's T/10000 at 150 rpm,
+#: at every speed. The flexible rods run the fixed-step generalized-α at this step; T/10000
+#: at 30 rpm (2e-4 s) diverged on the profile worn at 30 rpm (penetration far beyond the
+#: clearance, singular constraint Jacobian after 0.99 s) where 1e-4 s ran, and the sweeps'
+#: output grid (T/2500 in --quick) must not become the step (docs/paper-model.md,
+#: "Integration step").
+_STEP = 0.4 / _PAPER_SAMPLES
 _SPR = "samples_per_revolution"
 _NOT_AVAILABLE = "NOT AVAILABLE IN THIS VERSION"
 
@@ -703,7 +710,11 @@ def run_paper_study(
     runs.mkdir(parents=True, exist_ok=True)
     base_scene = load_scene(scene)
     base_scene = base_scene.replace(
-        {"effects.flexibility": settings.flexible_rods, "joints.C.clearance": _DEFAULT_CLEARANCE}
+        {
+            "effects.flexibility": settings.flexible_rods,
+            "joints.C.clearance": _DEFAULT_CLEARANCE,
+            "solver.max_step": _STEP,
+        }
     )
     paper = paper_tables()
     claims = paper_claims()
@@ -948,12 +959,12 @@ def run_paper_study(
             for store in stores:
                 _drop_trajectories(store)
         rep.write(out / "report.html")
-        wall = time.perf_counter() - t0
-        size = _folder_size(out)
-        rep = _with_run_facts(
-            rep, wall=wall, size=size, wear_info=wear_info, unavailable=unavailable
-        )
-        rep.write(out / "report.html")
+    stages.report()
+    wall = time.perf_counter() - t0
+    size = _folder_size(out)
+    rep = _with_run_facts(rep, wall=wall, size=size, wear_info=wear_info, unavailable=unavailable)
+    rep = dataclasses.replace(rep, sections=(*rep.sections, _cost_section(stages)))
+    rep.write(out / "report.html")
     return PaperStudy(
         tables=tables,
         paper=paper,
@@ -992,6 +1003,27 @@ def _orbit_figure(orbits: Mapping[str, xr.Dataset], settings: StudySettings) -> 
         "A period-k motion gives k points above its speed, chaos a band.",
         name="orbit-before-after",
         section="Summary",
+    )
+
+
+def _cost_section(stages: Stages) -> chaoskit.ReportSection:
+    """Appendix: wall and CPU minutes of each stage of this run."""
+    load = os.getloadavg() if hasattr(os, "getloadavg") else (math.nan,) * 3
+    table = chaoskit.ReportTable(
+        caption="Cost of this run by stage: wall time and CPU time of the process and its "
+        "workers (minutes). CPU time does not grow when other jobs share the cores; the "
+        "wall time does.",
+        data=stages.summary(),
+        labels={"wall_min": "wall (min)", "cpu_min": "CPU (min)"},
+        digits=3,
+        section="Run: cost by stage",
+    )
+    return chaoskit.ReportSection(
+        title="Run: cost by stage",
+        items=(table,),
+        text=f"{os.cpu_count()} cores; load average at the end of the run "
+        f"{load[0]:.1f} (1 min), {load[2]:.1f} (15 min): a load above the core count means "
+        "the cores were shared and the wall time is longer than on an idle machine.",
     )
 
 
