@@ -962,7 +962,10 @@ def run_paper_study(
     stages.report()
     wall = time.perf_counter() - t0
     size = _folder_size(out)
-    rep = _with_run_facts(rep, wall=wall, size=size, wear_info=wear_info, unavailable=unavailable)
+    cpu = float(stages.summary().at["total", "cpu_min"]) * 60.0
+    rep = _with_run_facts(
+        rep, wall=wall, cpu=cpu, size=size, wear_info=wear_info, unavailable=unavailable
+    )
     rep = dataclasses.replace(rep, sections=(*rep.sections, _cost_section(stages)))
     rep.write(out / "report.html")
     return PaperStudy(
@@ -1028,12 +1031,19 @@ def _cost_section(stages: Stages) -> chaoskit.ReportSection:
 
 
 def _with_run_facts(
-    rep: Any, *, wall: float, size: int, wear_info: list[str], unavailable: list[str]
+    rep: Any,
+    *,
+    wall: float,
+    cpu: float,
+    size: int,
+    wear_info: list[str],
+    unavailable: list[str],
 ) -> Any:
-    """The summary's opening paragraph with the wall time and the output size."""
+    """The summary's opening paragraph with the wall and CPU time and the output size."""
     first = rep.sections[0]
     facts = (
-        f"Run: wall time {wall / 60:.1f} min, output {size / 1e6:.1f} MB. Wear: "
+        f"Run: wall time {wall / 60:.1f} min, output {size / 1e6:.1f} MB, CPU time "
+        f"{cpu / 60:.1f} min on {os.cpu_count()} cores (by stage at the end). Wear: "
         + ("; ".join(wear_info) or "not run")
         + "."
     )
