@@ -204,9 +204,11 @@ def simulate(
         samples, default ``scene.solver.output_step`` or the drive period / 10000.
         ``"metrics"`` and ``"sections"``: the grid on which the slider is compared with the
         ideal mechanism (``max_displacement_error``, ``max_speed_error``; nothing else is
-        stored), default the drive period / 1000. The grid does not bound the step: the
-        maximum step is ``scene.solver.max_step``, else the scene's default output step
-        (``solver.output_step`` or the drive period / 10000), whatever grid is asked for.
+        stored), default the drive period / 1000. The grid does not bound the step
+        (:func:`step_limits`: ``scene.solver.max_step`` if set, else with clearance joints
+        the journals' approach to their walls, never below the scene's default output
+        step ``solver.output_step`` or the drive period / 10000), whatever grid is asked
+        for.
     record : {"full", "metrics", "sections"}
         ``"full"``: the trajectory on the output grid (below). ``"metrics"``: the response
         metrics of ``mechanism._metrics.METRICS`` over the time after ``discard``
