@@ -47,11 +47,13 @@ def main() -> None:
     parser.add_argument("--discard", type=float, default=20.0)
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--store", type=Path, default=None)
+    parser.add_argument("--exponent", action="store_true", help="also the exponent at every value")
     args = parser.parse_args()
     from mechanism.studies._bifurcation import parse_values
 
     values = parse_values(args.values or DEFAULT_VALUES[args.sweep])
-    store = args.store or Path(f"bifurcation-{args.sweep}-store")
+    name = f"bifurcation-{args.sweep}" + ("-exponent" if args.exponent else "")
+    store = args.store or Path(f"{name}-store")
     scene = mechanism.load_scene("paper").replace({"effects.flexibility": False})
     start = time.perf_counter()
     ds = mechanism.bifurcation(
@@ -62,6 +64,7 @@ def main() -> None:
         discard=args.discard,
         n_workers=args.workers,
         store=store,
+        exponent=args.exponent,
         progress=True,
     )
     wall = time.perf_counter() - start
@@ -77,7 +80,7 @@ def main() -> None:
     for value in sorted(cpu):
         print(f"  {value:10.4g}  {cpu[value] / args.revolutions:.3f} s CPU per revolution")
     OUT.mkdir(parents=True, exist_ok=True)
-    write_netcdf(ds, OUT / f"bifurcation-{args.sweep}.nc")
+    write_netcdf(ds, OUT / f"{name}.nc")
     matplotlib.use("Agg")
     axes = mechanism.plot_bifurcation(ds)
     axes[0].set_title(
@@ -86,8 +89,8 @@ def main() -> None:
         f"({busy / len(values) / args.revolutions:.3f} s per revolution)",
         fontsize=9,
     )
-    axes[0].figure.savefig(OUT / f"bifurcation-{args.sweep}.png", dpi=160, bbox_inches="tight")
-    print(f"written: {OUT / f'bifurcation-{args.sweep}.png'}")
+    axes[0].figure.savefig(OUT / f"{name}.png", dpi=160, bbox_inches="tight")
+    print(f"written: {OUT / f'{name}.png'}")
 
 
 if __name__ == "__main__":

@@ -9,7 +9,14 @@ from __future__ import annotations
 
 from . import bodies, contact, integrate, joints, model, record, scene, wear
 from ._run_checks import SimulationWarning
-from ._simulate import SimulationError, drive_period, output_grid, simulate
+from ._simulate import (
+    SimulationError,
+    default_step,
+    drive_period,
+    output_grid,
+    simulate,
+    step_limits,
+)
 from .bodies._ancf import (
     AncfMesh,
     BeamModes,
@@ -36,6 +43,7 @@ __all__ = [
     "bodies",
     "contact",
     "contact_stiffness",
+    "default_step",
     "drive_period",
     "euler_bernoulli_frequencies",
     "hertz_stiffness",
@@ -51,5 +59,6 @@ __all__ = [
     "scene_from_json",
     "simulate",
     "solve_beam_static",
+    "step_limits",
     "wear",
 ]

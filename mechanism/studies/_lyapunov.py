@@ -15,8 +15,9 @@ import numpy as np
 import xarray as xr
 
 from chaoskit.contract import check_int, check_positive
-from mechanism.core import SimulationError, drive_period
+from mechanism.core import SimulationError, default_step, drive_period, step_limits
 from mechanism.core.integrate import (
+    Dopri5,
     SolverStats,
     initial_deviation,
     integrate_tangent,
@@ -204,9 +205,10 @@ def lyapunov_exponent(
         Tolerances of the reference; default 1e-8 (not ``scene.solver``'s: the exponent
         is tolerance-independent only well below the usual 1e-5).
     max_step : float, optional
-        Largest step (s); default ``scene.solver.max_step``, else T/10000 with active
-        clearance joints (the default of :func:`mechanism.simulate`) and unlimited
-        without.
+        Largest step (s), and then the only bound. Default: the step limits of
+        :func:`mechanism.simulate` (``scene.solver.max_step`` if set; else, with active
+        clearance joints, the bound by the journals' approach to their walls, never below
+        the scene's default output step; unlimited without).
     batches : int
         Batches of consecutive segments for the 95 % interval (≥ 2; fewer when there are
         fewer segments).
@@ -276,12 +278,10 @@ def lyapunov_exponent(
     atol = check_positive(DEFAULT_TOLERANCE if atol is None else atol, name="atol")
     model = assemble(scene)
     if max_step is None:
-        max_step = solver.max_step
-    if max_step is None:
-        max_step = (period or duration) / 10000.0 if model.clearance_joints else math.inf
-    max_step = float(max_step)
-    if not max_step > 0.0:
-        raise ValueError(f"max_step must be > 0 (s); got {max_step!r}.")
+        # the step limits of mechanism.simulate with Dormand–Prince: the same step rule
+        max_step, floor = step_limits(model, Dopri5(), default_step(scene, duration))
+    else:
+        max_step, floor = check_positive(max_step, name="max_step"), 0.0
 
     q0, v0 = initial_state(model)
     y0 = np.concatenate([q0, v0])
@@ -295,7 +295,8 @@ def lyapunov_exponent(
     stops = np.concatenate([[0.0], kept]) if t_discard > 0.0 else kept
     run = integrate_tangent(
         model, y0, d0, stops, rtol=rtol, atol=atol, max_step=max_step,
-        renormalize_every=every, time_scale=tau, projection=solver.projection,
+        renormalize_every=every, time_scale=tau, approach_floor=floor,
+        projection=solver.projection,
         progress=progress, label=f"{scene.name} (lyapunov)",
     )  # fmt: skip
     if not run.stats.success:
@@ -323,6 +324,7 @@ def lyapunov_exponent(
         "rtol": float(rtol),
         "atol": float(atol),
         "max_step": float(max_step),
+        "approach_floor": float(floor),
         "seed": int(seed),
     }
     return SceneLyapunov(

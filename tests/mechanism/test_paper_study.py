@@ -15,6 +15,7 @@ import re
 import shutil
 import subprocess
 import sys
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -150,9 +151,14 @@ TINY = {
 @pytest.fixture(scope="module")
 def tiny_study(tmp_path_factory):
     out = tmp_path_factory.mktemp("paper")
-    return mechanism.run_paper_study(
-        out, client="serial", _settings=TINY, command="test", keep_trajectories=True
-    )
+    # One worn update on 1.5 revolutions can leave a profile whose runs pass the
+    # penetration warning (57 % of the clearance after wear at 150 rpm, against 50 %):
+    # the study reports such warnings; here they must not abort its runs.
+    with warnings.catch_warnings():
+        warnings.simplefilter("always", mechanism.SimulationWarning)
+        return mechanism.run_paper_study(
+            out, client="serial", _settings=TINY, command="test", keep_trajectories=True
+        )
 
 
 def _report_tables(md: str) -> list[str]:

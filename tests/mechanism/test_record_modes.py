@@ -70,8 +70,10 @@ def test_peak_force_does_not_depend_on_the_output_step(scene, full_fine) -> None
 
 def test_full_record_does_not_depend_on_the_output_grid(scene, full_fine) -> None:
     coarse = mechanism.simulate(scene, revolutions=3, output_step=PERIOD / 100)
-    # the step limit is the scene's default output step, whatever grid is asked for
-    assert coarse.attrs["max_step"] == full_fine.attrs["max_step"] < math.inf
+    # the step limits (the approach floor is the scene's default output step) do not
+    # depend on the grid asked for
+    assert coarse.attrs["max_step"] == full_fine.attrs["max_step"] == math.inf
+    assert coarse.attrs["approach_floor"] == full_fine.attrs["approach_floor"] == PERIOD / 10000
     fine = full_fine.isel(time=slice(None, None, 100))
     # the grids agree to round-off in time (0.004 k against 0.00004 (100 k))
     np.testing.assert_allclose(coarse.time.values, fine.time.values, rtol=0, atol=1e-15)

@@ -188,6 +188,11 @@ def test_dask_sweep_equals_serial_sweep(scene, tmp_path, dask_client):
 # ----------------------------------------------------------------------------- failure as data
 
 
+# The worn state of a 2-revolution slider-crank after one predicted update is a chaotic
+# sample whose penetration passes the 50 % warning or not with the step sequence (fixed
+# limits T/500, T/1000 and T/2000 give 23, 272 and 41 µm of c = 200 µm): the warning is
+# not what this test is about, and as an error it would fail the point.
+@pytest.mark.filterwarnings("default::mechanism.SimulationWarning")
 def test_points_that_raise_are_recorded_and_the_rest_finish(scene, tmp_path, transforms):
     grid = {CLEARANCE: [2e-4, 5e-4], "wear": ["before", "after"], "boom": ["no", "raise"]}
     ds = mechanism.sweep(

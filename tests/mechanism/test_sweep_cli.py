@@ -29,6 +29,11 @@ def test_parse_grid_options_reads_toml_literals():
         parse_grid_options(["wear=before", "wear=after"])
 
 
+# The worn state of a 2-revolution slider-crank after one predicted update is a chaotic
+# sample whose penetration passes the 50 % warning or not with the step sequence (fixed
+# limits T/500, T/1000 and T/2000 give 23, 272 and 41 µm of c = 200 µm): the warning is
+# not what this test is about, and as an error it would fail the point.
+@pytest.mark.filterwarnings("default::mechanism.SimulationWarning")
 def test_serial_sweep_from_the_command_line_and_resume(tmp_path):
     store = tmp_path / "store"
     args = [

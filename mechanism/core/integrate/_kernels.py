@@ -53,6 +53,7 @@ from mechanism.core.model._kernels import (
     CNT_STEPS,
     _clearance_forces,
     accelerations,
+    approach_step,
     derived_outputs,
     entry_depth_ratio,
     light_outputs,
@@ -113,6 +114,8 @@ class StepControl(NamedTuple):
     rho_inf: float  # generalized-α only (spectral radius at infinity)
     max_newton: int  # generalized-α only
     fixed_step: float  # generalized-α only: > 0 for the fixed-step scheme
+    approach_floor: float  # > 0: steps bounded by the clearance joints' approach, not below this
+    approach_fraction: float  # share of a journal's gap it may travel in one step
 
 
 class LoopState(NamedTuple):
@@ -493,6 +496,9 @@ def dopri5_advance(model, ws, loop, out, ctl, t_stop):
             status = STATUS_MAX_STEPS
             break
         h = min(h, max_step)
+        if ctl.approach_floor > 0.0:
+            near = approach_step(model, ws, y, k1[n2 // 2 :], ctl.approach_fraction)
+            h = min(h, max(ctl.approach_floor, near))
         if t + 1.01 * h >= t_end:
             h = t_end - t
         if h < 10.0 * _EPS * max(abs(t), 1e-300) or h <= 0.0:
@@ -1058,6 +1064,9 @@ def genalpha_advance(model, ws, loop, out, ctl, jac, t_stop):
             status = STATUS_MAX_STEPS
             break
         h = min(h, max_step)
+        if ctl.approach_floor > 0.0:
+            near = approach_step(model, ws, y, acc, ctl.approach_fraction)
+            h = min(h, max(ctl.approach_floor, near))
         if t + 1.01 * h >= t_end:
             h = t_end - t
         if h < 10.0 * _EPS * max(abs(t), 1e-300) or h <= 0.0:

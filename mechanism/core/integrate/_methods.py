@@ -50,6 +50,11 @@ ScipyMethodName = Literal["RK45", "DOP853", "Radau", "BDF", "LSODA"]
 
 _MESSAGES = MESSAGES
 
+#: share of its gap to the bearing wall a separated journal may travel in one step (at
+#: its current speed and acceleration); the approach floor bounds the last steps before
+#: contact, so the value sets the cost of the approach, not how an impact is entered
+APPROACH_FRACTION = 1.0
+
 
 class Recording(NamedTuple):
     """Raw output arrays on the output grid (filled by the compiled loops)."""
@@ -337,6 +342,7 @@ def _control(
     max_step: float,
     projection: bool,
     fixed_step: float = 0.0,
+    approach_floor: float = 0.0,
 ) -> ik.StepControl:
     """The kernels' StepControl of ``method`` (a Dopri5 or GeneralizedAlpha) for a run."""
     entry = float(getattr(method, "contact_entry_depth", 0.0))
@@ -354,6 +360,8 @@ def _control(
         rho_inf=float(getattr(method, "rho_inf", 0.0)),
         max_newton=int(getattr(method, "max_newton", 1)),
         fixed_step=float(fixed_step),
+        approach_floor=float(approach_floor),
+        approach_fraction=APPROACH_FRACTION,
     )
 
 
@@ -371,11 +379,20 @@ class Integrator:
         rtol: float,
         atol: float,
         max_step: float,
+        approach_floor: float = 0.0,
         projection: bool = False,
         progress: bool = False,
         label: str = "simulate",
         record: RecordPlan = FULL,
     ) -> Integration:
+        """Integrate ``model`` from ``y0`` over the grid ``t_out``.
+
+        ``max_step`` (s) bounds every step. ``approach_floor`` (s) > 0 also bounds each
+        step by the approach of the clearance joints — no separated journal travels more
+        than ``APPROACH_FRACTION`` of its gap to the wall — but never below the floor
+        (:func:`mechanism.core.model._kernels.approach_step`); the scipy methods, whose
+        step control has no such hook, take the floor as their largest step.
+        """
         raise NotImplementedError
 
 
@@ -422,6 +439,7 @@ class Dopri5(Integrator):
         rtol: float,
         atol: float,
         max_step: float,
+        approach_floor: float = 0.0,
         projection: bool = False,
         progress: bool = False,
         label: str = "simulate",
@@ -439,7 +457,7 @@ class Dopri5(Integrator):
         t0 = float(t_out[0])
         t_end = float(t_out[-1])
         ctl = _control(self, t0, t_end, rtol=rtol, atol=atol, max_step=max_step,
-                       projection=projection)  # fmt: skip
+                       projection=projection, approach_floor=approach_floor)  # fmt: skip
         out = _output(model, ws, y, vimp, t_out, record)
         start = time.perf_counter()
         status = ik.dopri5_start(km, ws, t0, y, loop.f, vimp, loop.step, counters, rtol, atol,
@@ -569,6 +587,7 @@ class GeneralizedAlpha(Integrator):
         rtol: float,
         atol: float,
         max_step: float,
+        approach_floor: float = 0.0,
         projection: bool = False,
         progress: bool = False,
         label: str = "simulate",
@@ -606,7 +625,8 @@ class GeneralizedAlpha(Integrator):
             else:
                 h0 = min(max_step, 1e-3 * (t_end - t0), 1e-4)
             ctl = _control(self, t0, t_end, rtol=rtol, atol=atol, max_step=max_step,
-                           projection=projection, fixed_step=fixed)  # fmt: skip
+                           projection=projection, fixed_step=fixed,
+                           approach_floor=approach_floor)  # fmt: skip
             loop = ik.LoopState(
                 y=y, f=acc, apse=acc.copy(), step=np.array([t0, h0, 0.0, 0.0]), vimp=vimp,
                 contact=contact, counters=counters,
@@ -656,6 +676,7 @@ class ScipyIVP(Integrator):
         rtol: float,
         atol: float,
         max_step: float,
+        approach_floor: float = 0.0,
         projection: bool = False,
         progress: bool = False,
         label: str = "simulate",
@@ -687,6 +708,9 @@ class ScipyIVP(Integrator):
         t_end = float(t_out[-1])
         solver_cls = getattr(si, self.method)
         options: dict[str, Any] = {"rtol": rtol, "atol": atol}
+        if approach_floor > 0.0:
+            # scipy's step control has no approach bound: the floor is the largest step
+            max_step = min(max_step, approach_floor)
         if math.isfinite(max_step):
             options["max_step"] = max_step
         start = time.perf_counter()

@@ -20,7 +20,7 @@ from mechanism.core.model import _kernels as k
 
 from . import _kernels as ik
 from . import _tangent_kernels as tk
-from ._methods import SolverStats, _initial_latch, _Progress, _stats
+from ._methods import APPROACH_FRACTION, SolverStats, _initial_latch, _Progress, _stats
 
 if TYPE_CHECKING:
     from mechanism.core.model import Model
@@ -136,6 +136,7 @@ def integrate_tangent(
     max_step: float,
     renormalize_every: int,
     time_scale: float,
+    approach_floor: float = 0.0,
     projection: bool = False,
     max_steps: int = 200_000_000,
     progress: bool = False,
@@ -152,8 +153,10 @@ def integrate_tangent(
         every renormalisation).
     t_stops
         Increasing times (s); the first is the start. The growth is read at each.
-    rtol, atol, max_step
-        Step control of the reference, as :class:`~mechanism.integrate.Dopri5`.
+    rtol, atol, max_step, approach_floor
+        Step control of the reference, as :class:`~mechanism.integrate.Dopri5`
+        (``approach_floor`` > 0: the clearance joints' approach bounds the step, never
+        below it).
     renormalize_every
         Accepted steps between renormalisations (also done at every stop).
     time_scale
@@ -202,6 +205,7 @@ def integrate_tangent(
                 km, ws, ws2, y, d, k1, kd1, state, vimp, vimp_p, contact, counters,
                 counters_p, growth, float(t_stop), t_end, rtol, atol, max_step, projection,
                 max_steps, int(renormalize_every), size, tau2, inv_mass,
+                float(approach_floor), APPROACH_FRACTION,
             )  # fmt: skip
             if status in (ik.STATUS_RUNNING, 0):
                 times.append(float(state[0]))

@@ -42,6 +42,7 @@ from mechanism.core.model._kernels import (
     _cholesky_solve,
     _clearance_state,
     _schur,
+    approach_step,
     evaluate_constraints,
     project,
     rhs,
@@ -326,12 +327,15 @@ def tangent_advance(
     size,
     tau2,
     inv_mass,
+    approach_floor,
+    approach_fraction,
 ):
     """Advance reference and deviation to ``t_stop`` (≤ ``t_end``), landing on it, and
     renormalise there.
 
     The reference is stepped exactly as :func:`mechanism.core.integrate._kernels.dopri5_advance`
-    steps it (same controller, error norm, maximum step, latch and optional projection);
+    steps it (same controller, error norm, maximum step, approach bound of the clearance
+    joints, latch and optional projection);
     the deviation rides along. Every ``every`` accepted steps, and at the end, the
     deviation is renormalised (:func:`renormalize`). ``state`` = [t, h, facold, last step
     rejected, accepted steps since the last renormalisation]. Returns ``STATUS_RUNNING``
@@ -378,6 +382,9 @@ def tangent_advance(
             status = STATUS_MAX_STEPS
             break
         h = min(h, max_step)
+        if approach_floor > 0.0:
+            near = approach_step(model, ws, y, k1[n2 // 2 :], approach_fraction)
+            h = min(h, max(approach_floor, near))
         # land on the stop time, so segments are exact (e.g. drive periods)
         if t + 1.01 * h >= t_stop:
             h = t_stop - t

@@ -443,6 +443,56 @@ def entry_depth_ratio(model, ws, y, contact):
 
 
 @njit(cache=True)
+def approach_step(model, ws, y, acc, fraction):
+    """Longest step (s) in which no separated clearance joint's journal can travel more
+    than ``fraction`` of its gap to the bearing wall, at state ``y`` with accelerations
+    ``acc`` (q̈); inf when every joint is in contact (local δ > 0: the step is then the
+    error control's, which sees the contact force in its stages) on an unworn profile.
+
+    The gap is g = c₀ − |e| to the nominal clearance c₀, the smallest local clearance of
+    a worn profile (wear only deepens), so a journal moving over a worn bearing towards a
+    shallower region is never given a step that crosses its wall. With the relative
+    speed v = |ė| and acceleration a = |ë| of the journal centre, v h + ½ a h² = f g
+    (f = ``fraction``) gives h = 2 f g / (v + √(v² + 2 a f g)). A separated joint beyond
+    c₀ (in a worn groove, g ≤ 0), or a joint in contact on a worn profile (whose
+    tabulated depths step from one region to the next as the journal slides), returns 0:
+    the caller's floor applies.
+    """
+    ncj = model.cj_i.shape[0]
+    if ncj == 0:
+        return np.inf
+    n = model.n_dof
+    update_points(y[:n], y[n:], model.pt_i, model.pt_f, ws.pci, ws.pcf)
+    pcf = ws.pcf
+    limit = np.inf
+    for j in range(ncj):
+        delta, _, _ = _clearance_state(model, ws, y, j)
+        if delta > 0.0:
+            if model.cw_i[j, CW_WORN] != 0:
+                # sliding over a worn profile crosses the steps of its tabulated depths,
+                # which the error control sees only as they are crossed
+                return 0.0
+            continue
+        b = model.cj_i[j, 0]
+        jn = model.cj_i[j, 1]
+        ex = pcf[jn, PC_X] - pcf[b, PC_X]
+        ey = pcf[jn, PC_Y] - pcf[b, PC_Y]
+        gap = fraction * (model.cj_f[j, CF_C] - math.sqrt(ex * ex + ey * ey))
+        if not gap > 0.0:
+            return 0.0
+        vx = pcf[jn, PC_VX] - pcf[b, PC_VX]
+        vy = pcf[jn, PC_VY] - pcf[b, PC_VY]
+        ajx, ajy = point_acceleration(acc, ws.pci, pcf, jn)
+        abx, aby = point_acceleration(acc, ws.pci, pcf, b)
+        speed = math.sqrt(vx * vx + vy * vy)
+        accel = math.sqrt((ajx - abx) ** 2 + (ajy - aby) ** 2)
+        denom = speed + math.sqrt(speed * speed + 2.0 * accel * gap)
+        if denom > 0.0:
+            limit = min(limit, 2.0 * gap / denom)
+    return limit
+
+
+@njit(cache=True)
 def project(model, ws, t, y, tol, max_iter):
     """Project positions onto Φ(q, t) = 0 and velocities onto Φq q̇ + Φt = 0.
 

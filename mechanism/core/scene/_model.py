@@ -386,7 +386,7 @@ class SolverSettings:
     method: Name = "auto"
     rtol: Annotated[Real, Gt(0), Lt(1), Unit("1")] = 1e-5
     atol: Annotated[Real, Gt(0), Unit("")] = 1e-5
-    max_step: Annotated[Real, Gt(0), Unit("s")] | None = None  # default output_step
+    max_step: Annotated[Real, Gt(0), Unit("s")] | None = None  # unset: approach bound
     output_step: Annotated[Real, Gt(0), Unit("s")] | None = None  # default period / 10000
     baumgarte_alpha: Annotated[Real, Ge(0), Unit("s-1")] = 50.0
     baumgarte_beta: Annotated[Real, Ge(0), Unit("s-1")] = 50.0

@@ -253,9 +253,11 @@ speed_rpm = 150.0               # [S]; 30 and 90 rpm in the speed study
 initial_angle = 0.0
 
 # output_step unset: (2 pi/omega)/10000 [S], follows drive.speed_rpm; max_step unset:
-# the output step (§7). method "auto": with flexible rods the fixed-step generalized-
-# alpha at max_step (the axial modes stall error-controlled methods, docs/ancf.md §8) [A];
-# with rigid rods Dormand-Prince "dopri5", as the paper's MATLAB ode45 (§7) [S]
+# steps bounded by the journal's approach to the wall, never below the output step
+# (docs/simulator.md, "Step limits"). method "auto": with flexible rods the fixed-step
+# generalized-alpha at the output step (the axial modes stall error-controlled methods,
+# docs/ancf.md §8) [A]; with rigid rods Dormand-Prince "dopri5", as the paper's MATLAB
+# ode45 (§7) [S]
 [solver]
 method = "auto"
 rtol = 1.0e-5                   # [S] (§7)
