@@ -6,6 +6,11 @@ The public API is re-exported here; everything in ``_``-prefixed modules is priv
 
 from __future__ import annotations
 
+from ._jit_cache import refresh_jit_cache
+
+# before any kernel is compiled or loaded: cached kernels compiled from other sources go
+refresh_jit_cache(__file__)
+
 from . import contract, systems
 from ._contract import sampling_interval, validate_trajectory
 from ._io import load_trajectory, save_trajectory
@@ -26,7 +31,7 @@ _foundation = [
 ]
 
 # --- estimators (issue 3): add imports and names below this line only ---
-from .embedding import (  # noqa: E402
+from .embedding import (
     DelayCurve,
     DelayResult,
     DimensionResult,
@@ -38,7 +43,7 @@ from .embedding import (  # noqa: E402
     false_nearest_neighbors,
     mutual_information,
 )
-from .lyapunov import (  # noqa: E402
+from .lyapunov import (
     KantzResult,
     LyapunovResult,
     lyapunov_kantz,
@@ -65,11 +70,11 @@ _estimators: list[str] = [
 ]
 
 # --- views and verdict (issue 4): add imports and names below this line only ---
-from . import plot  # noqa: E402
-from ._bifurcation import bifurcation_diagram  # noqa: E402
-from ._portraits import phase_portrait  # noqa: E402
-from .sections import poincare_section, stroboscopic_map  # noqa: E402
-from .verdict import (  # noqa: E402
+from . import plot
+from ._bifurcation import bifurcation_diagram
+from ._portraits import phase_portrait
+from .sections import poincare_section, stroboscopic_map
+from .verdict import (
     MotionVerdict,
     SectionStructure,
     SurrogateResult,
@@ -111,7 +116,7 @@ _views: list[str] = [
 ]
 
 # --- report (issue 8): add imports and names below this line only ---
-from .reporting import (  # noqa: E402
+from .reporting import (
     Report,
     ReportFigure,
     ReportSection,
@@ -130,15 +135,15 @@ _report: list[str] = [
 ]
 
 # --- measures toolbox: add imports and names below this line only ---
-from .complexity import (  # noqa: E402
+from .complexity import (
     ComplexityResult,
     detrended_fluctuation,
     hurst_exponent,
     sample_entropy,
 )
-from .dimension import CorrelationDimensionResult, correlation_dimension  # noqa: E402
-from .lyapunov import LyapunovSpectrumResult, lyapunov_spectrum  # noqa: E402
-from .recurrence import RecurrenceResult, recurrence_analysis  # noqa: E402
+from .dimension import CorrelationDimensionResult, correlation_dimension
+from .lyapunov import LyapunovSpectrumResult, lyapunov_spectrum
+from .recurrence import RecurrenceResult, recurrence_analysis
 
 _measures: list[str] = [
     "ComplexityResult",

@@ -18,6 +18,9 @@ Files
     so a reader never sees a half-written file; :func:`write_netcdf` writes a Dataset that way
     after :func:`check_free_space`; :func:`safe_filename` and :func:`unique_filename` turn
     names from user data into file names that cannot leave their folder.
+Compiled kernels
+    :func:`refresh_jit_cache` deletes a package's cached compiled kernels when any of its
+    sources changed (numba keys its cache on one file, not on the modules a kernel calls).
 
 Examples
 --------
@@ -39,6 +42,7 @@ from ._contract import (
 )
 from ._io import _atomic_write as atomic_write
 from ._io import check_free_space, write_netcdf
+from ._jit_cache import refresh_jit_cache
 from ._paths import safe_filename, unique_filename
 from ._validate import as_series, check_choice, check_int, check_positive, check_probability
 from ._version import __version__
@@ -55,6 +59,7 @@ __all__ = [
     "check_int",
     "check_positive",
     "check_probability",
+    "refresh_jit_cache",
     "safe_filename",
     "sampling_interval",
     "stamp",

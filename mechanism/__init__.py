@@ -13,7 +13,10 @@ The names below are the public API of both.
 
 from __future__ import annotations
 
-from chaoskit.contract import __version__
+from chaoskit.contract import __version__, refresh_jit_cache
+
+# before any kernel is compiled or loaded: cached kernels compiled from other sources go
+refresh_jit_cache(__file__)
 
 from .core import (
     AncfMesh,
