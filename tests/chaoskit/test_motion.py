@@ -163,6 +163,22 @@ def test_equations_against_agreeing_variables_without_a_deciding_section() -> No
     assert "decides against the equations" in reason
 
 
+def test_without_a_joint_section_a_repeating_variable_stands_only_unopposed() -> None:
+    repeats = SimpleNamespace(
+        label="periodic", period=1, needs=(), surrogates=None,
+        lines=SimpleNamespace(kind="periodic", base_frequencies=np.array([1.0])),
+    )  # fmt: skip
+    voters = {"x": repeats, "y": _verdict("undetermined")}
+    label, period, *_ = _combine(voters, None, False, None)
+    assert (label, period) == ("periodic", 1)
+    assert _combine(voters, None, True, None)[0] == "undetermined"  # the exponent says no
+    assert _combine(voters, _structure("scattered"), False, None)[0] == "undetermined"
+    chaotic = {"x": _verdict("chaotic"), "y": _verdict("undetermined")}
+    assert _combine(chaotic, None, True, None)[0] == "chaotic"
+    assert _combine(chaotic, None, False, None)[0] == "undetermined"
+    assert _combine(chaotic, None, True, "regular")[0] == "undetermined"
+
+
 def test_agreeing_variables_against_the_joint_section() -> None:
     voters = {"x": _verdict("chaotic"), "y": _verdict("chaotic")}
     label, *_, needs = _combine(voters, _structure("clusters", n_clusters=3), True, None)
