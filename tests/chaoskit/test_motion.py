@@ -258,3 +258,14 @@ def test_rosenstein_on_state_vectors_matches_the_lorenz_exponent() -> None:
     assert scaled.mle == pytest.approx(res.mle, rel=1e-9)  # columns are standardised
     with pytest.raises(ValueError, match="embedding_dim"):
         lyapunov_rosenstein(s, dt=0.02, embedding_dim=2)
+
+
+def test_docs_state_the_same_motion_rule_as_the_docstring() -> None:
+    from tests.conftest import REPO
+
+    doc = classify_motion.__doc__ or ""
+    rule = doc[doc.index("**Rule.**") + len("**Rule.**") : doc.index("**Confidence**")]
+    page = (REPO / "docs" / "verdict.md").read_text(encoding="utf-8")
+    block = page[page.index("<!-- motion rule") : page.index("<!-- /motion rule -->")]
+    block = block[block.index("-->") + 3 :]
+    assert " ".join(rule.split()) == " ".join(block.split())
