@@ -660,3 +660,7 @@ def lyapunov_command(
     if output is not None:
         write_netcdf(result.to_dataset(), output)
         typer.echo(f"wrote {output}")
+
+
+if __name__ == "__main__":
+    app()

@@ -200,15 +200,18 @@ def _arbiter_values(obj: Any) -> tuple[float, float, float]:
             "exponent must have 'exponent' (1/s) and a 95 % interval 'ci' (or 'interval') "
             f"of two numbers; got {type(obj).__name__}."
         ) from None
-    if not (math.isfinite(value) and lo <= hi) or math.isnan(lo) or math.isnan(hi):
-        raise ValueError(
-            f"exponent must be finite with low <= high; got {value!r} [{lo!r}, {hi!r}]."
-        )
+    if lo > hi:
+        raise ValueError(f"exponent's interval must have low <= high; got [{lo!r}, {hi!r}].")
     return value, lo, hi
 
 
-def _arbiter(obj: Any) -> tuple[Arbiter, str]:
+def _arbiter(obj: Any) -> tuple[Arbiter | None, str]:
     value, lo, hi = _arbiter_values(obj)
+    if not (math.isfinite(value) and math.isfinite(lo) and math.isfinite(hi)):
+        return None, (
+            f"the equations' exponent λ₁ = {value:.4g} [{lo:.4g}, {hi:.4g}] has no finite 95 % "
+            "interval (too few renormalisation intervals); it is not used as evidence"
+        )
     say: Arbiter = "chaotic" if lo > 0.0 else "regular"
     why = "95 % interval above 0" if say == "chaotic" else "95 % interval not above 0"
     return say, f"the equations say {say}: λ₁ = {value:.4g} [{lo:.4g}, {hi:.4g}] ({why})"
@@ -837,6 +840,8 @@ def classify_motion(
                 if r is not None
             ]
             reasons.append(f"the data say ({n}): {', '.join(parts)} {t_unit}")
+    if say is None and say_text:
+        reasons.append(say_text)
     if say is not None:
         reasons.append(say_text)
         data_chaotic = positive is True

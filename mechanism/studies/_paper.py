@@ -97,6 +97,13 @@ _CLEARANCES = (1e-4, 2e-4, 5e-4)
 _SPEEDS = (30, 90, 150)
 _DEFAULT_CLEARANCE = 2e-4
 _PAPER_SAMPLES = 10_000  # the paper's step is T/10000 (its parameter table)
+#: Largest integration step of every run of the study (s): the paper's T/10000 at 150 rpm,
+#: at every speed. The flexible rods run the fixed-step generalized-α at this step; T/10000
+#: at 30 rpm (2e-4 s) diverged on the profile worn at 30 rpm (penetration far beyond the
+#: clearance, singular constraint Jacobian after 0.99 s) where 1e-4 s ran, and the sweeps'
+#: output grid (T/2500 in --quick) must not become the step (docs/paper-model.md,
+#: "Integration step").
+_STEP = 0.4 / _PAPER_SAMPLES
 _SPR = "samples_per_revolution"
 _NOT_AVAILABLE = "NOT AVAILABLE IN THIS VERSION"
 
@@ -507,18 +514,19 @@ def _chaos_run(scene: Any, settings: StudySettings) -> xr.Dataset:
     """The analysed series of one state: ≥ 200 revolutions after the transient at the
     paper's step T/10000, output every T/``chaos_samples_per_revolution`` (runs in a pool).
 
-    Only the journal-centre eccentricity and the crank angle are returned, so the long
-    run does not keep the full state in memory after it ends.
+    Only the journal-centre eccentricity and the crank angle are recorded (``simulate(...,
+    variables=...)``): no full state on the grid and no ideal companion, so the run holds
+    a few arrays of the grid's length and costs the integration of the worn mechanism
+    alone.
     """
     period = 60.0 / abs(float(scene.drive.speed_rpm))
     step = min(scene.solver.max_step or math.inf, period / _PAPER_SAMPLES)
-    traj = simulate(
+    return simulate(
         scene.replace({"solver.max_step": step}),
         revolutions=settings.discard_revolutions + settings.chaos_revolutions,
         output_step=period / settings.chaos_samples_per_revolution,
+        variables=("crank_angle", "eccentricity_x", "eccentricity_y"),
     )
-    keep = [v for v in ("eccentricity_x", "eccentricity_y", "crank_angle") if v in traj]
-    return traj[keep].load()
 
 
 def _equation_exponent(scene: Any, settings: StudySettings) -> Any:
@@ -702,7 +710,11 @@ def run_paper_study(
     runs.mkdir(parents=True, exist_ok=True)
     base_scene = load_scene(scene)
     base_scene = base_scene.replace(
-        {"effects.flexibility": settings.flexible_rods, "joints.C.clearance": _DEFAULT_CLEARANCE}
+        {
+            "effects.flexibility": settings.flexible_rods,
+            "joints.C.clearance": _DEFAULT_CLEARANCE,
+            "solver.max_step": _STEP,
+        }
     )
     paper = paper_tables()
     claims = paper_claims()
@@ -948,12 +960,15 @@ def run_paper_study(
             for store in stores:
                 _drop_trajectories(store)
         rep.write(out / "report.html")
-        wall = time.perf_counter() - t0
-        size = _folder_size(out)
-        rep = _with_run_facts(
-            rep, wall=wall, size=size, wear_info=wear_info, unavailable=unavailable
-        )
-        rep.write(out / "report.html")
+    stages.report()
+    wall = time.perf_counter() - t0
+    size = _folder_size(out)
+    cpu = float(stages.summary().at["total", "cpu_min"]) * 60.0
+    rep = _with_run_facts(
+        rep, wall=wall, cpu=cpu, size=size, wear_info=wear_info, unavailable=unavailable
+    )
+    rep = dataclasses.replace(rep, sections=(*rep.sections, _cost_section(stages)))
+    rep.write(out / "report.html")
     return PaperStudy(
         tables=tables,
         paper=paper,
@@ -995,13 +1010,41 @@ def _orbit_figure(orbits: Mapping[str, xr.Dataset], settings: StudySettings) -> 
     )
 
 
+def _cost_section(stages: Stages) -> chaoskit.ReportSection:
+    """Appendix: wall and CPU minutes of each stage of this run."""
+    load = os.getloadavg() if hasattr(os, "getloadavg") else (math.nan,) * 3
+    table = chaoskit.ReportTable(
+        caption="Cost of this run by stage: wall time and CPU time of the process and its "
+        "workers (minutes). CPU time does not grow when other jobs share the cores; the "
+        "wall time does.",
+        data=stages.summary(),
+        labels={"wall_min": "wall (min)", "cpu_min": "CPU (min)"},
+        digits=3,
+        section="Run: cost by stage",
+    )
+    return chaoskit.ReportSection(
+        title="Run: cost by stage",
+        items=(table,),
+        text=f"{os.cpu_count()} cores; load average at the end of the run "
+        f"{load[0]:.1f} (1 min), {load[2]:.1f} (15 min): a load above the core count means "
+        "the cores were shared and the wall time is longer than on an idle machine.",
+    )
+
+
 def _with_run_facts(
-    rep: Any, *, wall: float, size: int, wear_info: list[str], unavailable: list[str]
+    rep: Any,
+    *,
+    wall: float,
+    cpu: float,
+    size: int,
+    wear_info: list[str],
+    unavailable: list[str],
 ) -> Any:
-    """The summary's opening paragraph with the wall time and the output size."""
+    """The summary's opening paragraph with the wall and CPU time and the output size."""
     first = rep.sections[0]
     facts = (
-        f"Run: wall time {wall / 60:.1f} min, output {size / 1e6:.1f} MB. Wear: "
+        f"Run: wall time {wall / 60:.1f} min, output {size / 1e6:.1f} MB, CPU time "
+        f"{cpu / 60:.1f} min on {os.cpu_count()} cores (by stage at the end). Wear: "
         + ("; ".join(wear_info) or "not run")
         + "."
     )

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import contextlib
 import math
+import os
 import sys
 import time
 from collections.abc import Iterator, Mapping, Sequence
@@ -18,11 +19,12 @@ from typing import Any, TextIO
 
 import numpy as np
 import pandas as pd
+import psutil
 import xarray as xr
 
 import chaoskit
 
-__all__ = ["Stages", "motion_verdict", "summary_section"]
+__all__ = ["Stages", "motion_verdict", "process_tree_cpu_time", "summary_section"]
 
 _LN2 = math.log(2.0)
 #: Verdict labels that mean "regular" when a claim says "not chaotic".
@@ -32,12 +34,31 @@ _REGULAR = ("periodic", "quasi-periodic", "equilibrium")
 # --------------------------------------------------------------------------- progress
 
 
+def process_tree_cpu_time() -> float:
+    """CPU seconds (user + system) used so far by this process and all its descendants.
+
+    Counts the live descendants (dask workers, process pools) and the children already
+    waited for. A descendant that ends and is reaped by a process other than this one or a
+    live descendant is lost, so the figure is a lower bound on a shared machine: unlike
+    wall time it does not grow when other jobs take the cores.
+    """
+    own = os.times()
+    total = own.user + own.system + own.children_user + own.children_system
+    with contextlib.suppress(psutil.Error):
+        for child in psutil.Process().children(recursive=True):
+            with contextlib.suppress(psutil.Error):
+                t = child.cpu_times()
+                total += t.user + t.system + t.children_user + t.children_system
+    return float(total)
+
+
 class Stages:
     """Progress of a multi-stage job: each stage's start with elapsed time and time left.
 
     The estimate of the time left scales the prior costs (``weights``, any unit) of the
     stages still to run by the measured cost of the stages done so far, so it improves as
-    the job goes on.
+    the job goes on. Each stage's wall time (``times``) and CPU time of the process tree
+    (``cpu_times``, :func:`process_tree_cpu_time`) are kept; :meth:`summary` lists them.
 
     Parameters
     ----------
@@ -57,6 +78,7 @@ class Stages:
         self._done_weight = 0.0
         self._done_time = 0.0
         self.times: dict[str, float] = {}
+        self.cpu_times: dict[str, float] = {}
 
     def _left(self, name: str) -> float | None:
         names = list(self._weights)
@@ -86,13 +108,40 @@ class Stages:
                 flush=True,
             )
         t = time.perf_counter()
+        cpu = process_tree_cpu_time()
         try:
             yield
         finally:
             spent = time.perf_counter() - t
+            self.cpu_times[name] = process_tree_cpu_time() - cpu
             self.times[name] = spent
             self._done_time += spent
             self._done_weight += self._weights[name]
+
+    def summary(self) -> pd.DataFrame:
+        """Wall and CPU minutes of each stage run so far, with a total row."""
+        names = [n for n in self._weights if n in self.times]
+        frame = pd.DataFrame(
+            {
+                "wall_min": [self.times[n] / 60.0 for n in names],
+                "cpu_min": [self.cpu_times[n] / 60.0 for n in names],
+            },
+            index=pd.Index(names, name="stage"),
+        )
+        frame.loc["total"] = frame.sum()
+        return frame
+
+    def report(self) -> None:
+        """Print :meth:`summary` (when enabled), one line per stage."""
+        if not self._enabled:
+            return
+        stream = self._stream or sys.stderr
+        for name, row in self.summary().iterrows():
+            print(
+                f"  {name}: wall {row['wall_min']:.1f} min, CPU {row['cpu_min']:.1f} min",
+                file=stream,
+                flush=True,
+            )
 
 
 # --------------------------------------------------------------------------- verdicts
@@ -205,42 +254,14 @@ def summary_section(
         )
     answer = pd.DataFrame(answer_rows, index=pd.Index(list(states), name="state"))
 
-    exp_rows, keys = [], []
-    series = sorted({str(v) for v in chaos.index.get_level_values("variable")})
-    for state in states:
-        eq, eq_lo, eq_hi = _ci(equations.get(state))
-        for name in series:
-            key = (name, state)
-            row: dict[str, Any] = {
-                "equations": eq,
-                "equations_low": eq_lo,
-                "equations_high": eq_hi,
-            }
-            for method in ("wolf", "rosenstein"):
-                for suffix in ("", "_low", "_high"):
-                    col = f"mle_{method}{suffix}"
-                    row[f"{method}{suffix}"] = (
-                        float(chaos.at[key, col]) if key in chaos.index else math.nan
-                    )
-            row["wolf_bits"] = row["wolf"] * to_bits
-            theirs = (
-                float(paper_chaos.at[key, "mle_wolf_bits"])
-                if key in paper_chaos.index
-                else math.nan
-            )
-            row["paper_bits"] = theirs
-            signs = (np.sign(row["wolf_bits"]), np.sign(theirs))
-            row["sign"] = (
-                "—"
-                if not all(np.isfinite(signs))
-                else ("agree" if signs[0] == signs[1] else "disagree")
-            )
-            exp_rows.append(row)
-            keys.append(key)
-    exponents = pd.DataFrame(
-        exp_rows, index=pd.MultiIndex.from_tuples(keys, names=["series", "state"])
-    ).astype({"sign": object})
-
+    exponents = _exponent_rows(
+        states=states,
+        chaos=chaos,
+        paper_chaos=paper_chaos,
+        equations=equations,
+        claims=claims,
+        to_bits=to_bits,
+    )
     tables = (
         chaoskit.ReportTable(
             caption="The answer: the motion of the journal centre before and after wear, our "
@@ -257,33 +278,129 @@ def summary_section(
             section="Summary",
         ),
         chaoskit.ReportTable(
-            caption="Largest Lyapunov exponent [95 % interval]: from the equations of motion "
-            "(rigid-rod model of the same state), and from the data by Wolf's and "
-            "Rosenstein's methods (flexible rods), in 1/s; Wolf's also in bits per sample of "
-            f"the paper's step Δt = {paper_step:.3g} s beside the paper's.",
+            caption="Largest Lyapunov exponent [95 % interval] of each state: from the "
+            "equations of motion (rigid-rod model of the same state) and from the "
+            "journal-centre series X and Y by Wolf's and Rosenstein's methods (flexible "
+            "rods), in 1/s and in bits per sample of the paper's step "
+            f"Δt = {paper_step:.3g} s, beside the paper's Wolf values.",
             data=exponents,
             labels={
-                "equations": "equations, rigid (1/s)",
-                "wolf": "Wolf (1/s)",
-                "rosenstein": "Rosenstein (1/s)",
-                "wolf_bits": "Wolf (bit/sample)",
+                "per_s": "λ (1/s)",
+                "bits": "λ (bit/sample)",
                 "paper_bits": "paper (bit/sample)",
                 "sign": "sign vs paper",
             },
             intervals={
-                "equations": ("equations_low", "equations_high"),
-                "wolf": ("wolf_low", "wolf_high"),
-                "rosenstein": ("rosenstein_low", "rosenstein_high"),
+                "per_s": ("per_s_low", "per_s_high"),
+                "bits": ("bits_low", "bits_high"),
             },
             digits=3,
-            notes="The exponent from the equations is computed on the rigid-rod model of the "
-            "same state (the tangent integration does not support flexible rods); the data "
-            "estimators run on the flexible-rod trajectories. Only the sign is compared with "
-            "the paper: our step, series length and model differ (docs/paper-model.md).",
+            notes="Positive means nearby motions separate (chaos); an interval that "
+            "contains 0 does not decide. The exponent from the equations is computed on the "
+            "rigid-rod model of the same state (the tangent integration does not support "
+            "flexible rods) and compared with the paper's claim; the data estimators run on "
+            "the flexible-rod series and are compared with the paper's value of the same "
+            "series. Only signs are compared: our step, series length and model differ "
+            "(docs/paper-model.md).",
             section="Summary",
         ),
     )
     return chaoskit.ReportSection(title="Summary", items=(*tables, *figures), text=settings_text)
+
+
+def _claim_agreement(estimate: tuple[float, float, float], claim: str) -> str:
+    """Does λ (value, low, high) agree with the paper's claim ("chaotic": λ > 0)?"""
+    if not math.isfinite(estimate[0]) or claim not in ("chaotic", "not chaotic"):
+        return "—"
+    side = _sign_word(*estimate)
+    if claim == "chaotic":
+        return {1: "agrees with claim", 0: "cannot tell", -1: "contradicts claim"}[side]
+    return "contradicts claim" if side == 1 else "agrees with claim"
+
+
+def _sign_word(ours: float, low: float, high: float) -> int:
+    """+1 or −1 when the 95 % interval (or, without one, the value) lies on one side of
+    zero; 0 when it contains zero or is missing."""
+    if math.isfinite(low) and math.isfinite(high):
+        return 1 if low > 0.0 else (-1 if high < 0.0 else 0)
+    return int(np.sign(ours)) if math.isfinite(ours) else 0
+
+
+def _exponent_rows(
+    *,
+    states: Sequence[str],
+    chaos: pd.DataFrame,
+    paper_chaos: pd.DataFrame,
+    equations: Mapping[str, Any],
+    claims: Mapping[str, Mapping[str, str]],
+    to_bits: float,
+) -> pd.DataFrame:
+    """One row per (state, estimate): λ in 1/s and bits per sample with intervals, the
+    paper's Wolf value of the same series and whether the signs agree (for the equations'
+    exponent: whether its sign agrees with the paper's claim, chaotic meaning λ > 0)."""
+    series = sorted({str(v) for v in chaos.index.get_level_values("variable")}) or ["X", "Y"]
+    rows, keys = [], []
+    for state in states:
+        claim_sign = {
+            s: float(paper_chaos.at[(s, state), "mle_wolf_bits"])
+            for s in series
+            if (s, state) in paper_chaos.index
+        }
+        estimates: list[tuple[str, tuple[float, float, float], float]] = []
+        eq = _ci(equations.get(state))
+        rows.append(
+            {
+                "per_s": eq[0],
+                "per_s_low": eq[1],
+                "per_s_high": eq[2],
+                "bits": eq[0] * to_bits,
+                "bits_low": eq[1] * to_bits,
+                "bits_high": eq[2] * to_bits,
+                "paper_bits": math.nan,
+                "sign": _claim_agreement(eq, claims.get(state, {}).get("motion", "")),
+            }
+        )
+        keys.append((state, "equations (rigid rods)"))
+        for method in ("wolf", "rosenstein"):
+            for name in series:
+                key = (name, state)
+                values = tuple(
+                    float(chaos.at[key, f"mle_{method}{suffix}"])
+                    if key in chaos.index and f"mle_{method}{suffix}" in chaos.columns
+                    else math.nan
+                    for suffix in ("", "_low", "_high")
+                )
+                estimates.append(
+                    (
+                        f"{method.capitalize()}, {name}",
+                        (values[0], values[1], values[2]),
+                        claim_sign.get(name, math.nan),
+                    )
+                )
+        for label, (value, low, high), theirs in estimates:
+            ours = _sign_word(value, low, high)
+            if not math.isfinite(theirs) or not math.isfinite(value):
+                sign = "—"
+            elif ours == 0:
+                sign = "cannot tell"
+            else:
+                sign = "agree" if ours == int(np.sign(theirs)) else "disagree"
+            rows.append(
+                {
+                    "per_s": value,
+                    "per_s_low": low,
+                    "per_s_high": high,
+                    "bits": value * to_bits,
+                    "bits_low": low * to_bits,
+                    "bits_high": high * to_bits,
+                    "paper_bits": theirs,
+                    "sign": sign,
+                }
+            )
+            keys.append((state, label))
+    return pd.DataFrame(
+        rows, index=pd.MultiIndex.from_tuples(keys, names=["state", "estimate"])
+    ).astype({"sign": object})
 
 
 def strobe_figure(trajectories: Mapping[str, xr.Dataset], *, joint: str = "C") -> Any:

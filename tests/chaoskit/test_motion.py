@@ -213,6 +213,16 @@ def test_exponent_without_an_interval_is_refused(bad, duffing_with_phase) -> Non
         classify_motion(data[:400], dt=dt, exponent=bad)
 
 
+def test_exponent_with_an_undefined_interval_is_no_evidence(duffing_with_phase) -> None:
+    # A short run of the equations gives a value but no interval (too few blocks).
+    data, dt = duffing_with_phase
+    eq = SimpleNamespace(exponent=101.2, ci=(float("nan"), float("nan")))
+    mv = classify_motion(data, dt=dt, drive_period=DRIVE, exponent=eq, rng=0)
+    assert mv.equations_say is None and mv.votes["equations"] == "missing"
+    assert any("not used as evidence" in r for r in mv.reasons)
+    assert mv.label == "chaotic"
+
+
 # ---------------------------------------------------------------- output and input
 
 

@@ -8,6 +8,7 @@ it, and that our numbers are the reductions of the stored trajectories. The real
 
 from __future__ import annotations
 
+import importlib.util
 import math
 import os
 import re
@@ -299,32 +300,18 @@ def test_default_output_keeps_metrics_and_drops_trajectories(tiny_study, tmp_pat
 
 @pytest.mark.slow
 def test_report_first_screen_in_headless_chromium(tiny_study, tmp_path):
-    """The report as a page: the summary is on the first screen (docs/paper-study.md)."""
-    browser = shutil.which("chromium") or shutil.which("chromium-browser")
-    if browser is None:
+    """The report as a page: the summary is on the first screen (docs/paper-study.md),
+    rendered by ``benchmarks/paper_screenshot.py``."""
+    path = Path(__file__).resolve().parents[2] / "benchmarks" / "paper_screenshot.py"
+    spec = importlib.util.spec_from_file_location("paper_screenshot", path)
+    assert spec is not None and spec.loader is not None
+    script = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(script)
+    if script.find_browser() is None:
         pytest.skip("chromium is not installed (apt-get install chromium)")
-    png = tmp_path / "first-screen.png"
-    done = subprocess.run(
-        [
-            browser,
-            "--headless",
-            "--no-sandbox",
-            "--disable-gpu",
-            "--disable-background-networking",
-            "--disable-component-update",
-            "--disable-sync",
-            "--no-first-run",
-            f"--screenshot={png}",
-            "--window-size=1280,1000",
-            tiny_study.report_html.as_uri(),
-        ],
-        capture_output=True,
-        text=True,
-        timeout=120,
-        check=False,
-    )
-    assert done.returncode == 0, done.stderr[-2000:]
+    png = script.screenshot(tiny_study.report_html, tmp_path / "first-screen.png")
     assert png.read_bytes().startswith(b"\x89PNG")
+    assert script.main([str(tmp_path / "missing.html")]) == 2
     # what the first screen holds: the title, then the summary section and its first table
     html = tiny_study.report_html.read_text(encoding="utf-8")
     body = html[html.index("<body") :]

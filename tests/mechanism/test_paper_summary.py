@@ -84,7 +84,7 @@ def test_summary_section_puts_the_paper_beside_ours_with_agreement() -> None:
         {
             "mle_wolf": [-1.0, 2.0, -1.0, 2.0],
             "mle_wolf_low": [-2.0, 1.0, -2.0, 1.0],
-            "mle_wolf_high": [0.0, 3.0, 0.0, 3.0],
+            "mle_wolf_high": [-0.5, 3.0, -0.5, 3.0],
             "mle_rosenstein": [0.1, 0.2, 0.1, 0.2],
             "mle_rosenstein_low": [0.0, 0.1, 0.0, 0.1],
             "mle_rosenstein_high": [0.2, 0.3, 0.2, 0.3],
@@ -108,12 +108,31 @@ def test_summary_section_puts_the_paper_beside_ours_with_agreement() -> None:
     assert data.at["after wear", "agreement"] == "disagree"  # paper: chaotic
     shown = exponents.display()
     assert shown.shape[1] <= 8
-    bits = exponents.data.at[("X", "after wear"), "wolf_bits"]
-    np.testing.assert_allclose(bits, 2.0 * 0.4 / 10_000 / math.log(2.0), rtol=1e-12)
-    assert exponents.data.at[("Y", "before wear"), "sign"] == "agree"  # both negative
-    assert exponents.data.at[("X", "before wear"), "sign"] == "disagree"
-    assert exponents.data.at[("X", "before wear"), "equations"] == -3.0
-    assert math.isnan(exponents.data.at[("X", "after wear"), "equations"])
+    rows = exponents.data
+    # one row per state and estimate: the equations', then Wolf and Rosenstein per series
+    assert rows.loc["before wear"].index.tolist() == [
+        "equations (rigid rods)",
+        "Wolf, X",
+        "Wolf, Y",
+        "Rosenstein, X",
+        "Rosenstein, Y",
+    ]
+    to_bits = 0.4 / 10_000 / math.log(2.0)
+    wolf = rows.loc[("after wear", "Wolf, X")]
+    np.testing.assert_allclose(
+        wolf[["bits", "bits_low", "bits_high"]].to_numpy(dtype=float),
+        np.array([2.0, 1.0, 3.0]) * to_bits,
+        rtol=1e-12,
+    )
+    assert wolf["paper_bits"] == 0.0042 and wolf["sign"] == "agree"
+    assert rows.at[("before wear", "Wolf, Y"), "sign"] == "agree"  # both negative
+    assert rows.at[("before wear", "Wolf, X"), "sign"] == "disagree"  # paper: +0.001
+    # the equations' exponent is compared with the claim: not chaotic, and λ < 0
+    equations = rows.loc[("before wear", "equations (rigid rods)")]
+    assert equations["per_s"] == -3.0 and equations["sign"] == "agrees with claim"
+    np.testing.assert_allclose(equations["bits_low"], -4.0 * to_bits, rtol=1e-12)
+    missing = rows.loc[("after wear", "equations (rigid rods)")]
+    assert math.isnan(float(missing["per_s"])) and missing["sign"] == "—"
     assert re.match(
         r"ours: every variable says periodic; the equations say regular: λ₁ = -3; paper: chaotic",
         data.at["after wear", "why"],

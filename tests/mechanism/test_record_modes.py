@@ -139,9 +139,34 @@ def test_the_initial_state_is_a_section_without_discard(scene) -> None:
     assert ds.time.values[0] == 0.0
 
 
+def test_named_variables_are_the_full_record_values_without_the_companion(scene, full_fine) -> None:
+    names = ("crank_angle", "eccentricity_x", "eccentricity_y", "slider_position")
+    light = mechanism.simulate(
+        scene, revolutions=3, output_step=PERIOD / 10000, variables=[*names, "slider_velocity"]
+    )
+    # the same steps, the same dense output at the same instants: equal to the last bit
+    assert light.attrs["solver_steps"] == full_fine.attrs["solver_steps"]
+    np.testing.assert_array_equal(light.time.values, full_fine.time.values)
+    for name in (*names, "slider_velocity"):
+        np.testing.assert_array_equal(light[name].values, full_fine[name].values)
+        assert light[name].attrs["units"] == full_fine[name].attrs["units"]
+        assert light[name].attrs["long_name"] == full_fine[name].attrs["long_name"]
+    assert set(light.data_vars) == {*names, "slider_velocity"}
+    assert light.joint.values.tolist() == ["C"]
+    # the ideal companion does not run
+    assert not any(key.startswith("ideal_solver_") for key in light.attrs)
+    assert light.attrs["variables"].startswith("crank_angle, eccentricity_x")
+    assert light.nbytes < full_fine.nbytes / 10
+
+
 @pytest.mark.parametrize(
     ("kwargs", "match"),
     [
+        ({"variables": ("position",)}, "variables must be a non-empty list of names from"),
+        ({"variables": "crank_angle"}, "variables must be a non-empty list"),
+        ({"variables": ()}, "variables must be a non-empty list"),
+        ({"variables": ("crank_angle",), "record": "sections"}, "variables applies to record"),
+        ({"variables": ("crank_angle",), "method": "RK45"}, "records the full trajectory only"),
         ({"record": "trajectory"}, "record must be one of"),
         ({"discard": 1}, "discard applies to record='metrics'"),
         ({"record": "metrics", "discard": 2}, "discard must be below"),
@@ -153,6 +178,12 @@ def test_the_initial_state_is_a_section_without_discard(scene) -> None:
 def test_bad_record_settings_raise(scene, kwargs, match) -> None:
     with pytest.raises(ValueError, match=match):
         mechanism.simulate(scene, revolutions=2, **kwargs)
+
+
+def test_named_variables_must_exist_in_the_scene() -> None:
+    pendulum = mechanism.load_scene("slider-crank")
+    with pytest.raises(ValueError, match=r"variables \['eccentricity_x'\] are not outputs"):
+        mechanism.simulate(pendulum, revolutions=1, variables=("eccentricity_x",))
 
 
 def test_command_line_records_sections(tmp_path) -> None:

@@ -180,7 +180,8 @@ class Integration:
     when the run failed) and the statistics.
 
     ``recording`` holds the full grid samples (empty with a light plan), ``light`` the
-    light grid samples (N, 3: crank angle, slider s, ṡ), ``sections`` the section samples
+    light grid samples (N, 3 + 2 × clearance joints: crank angle, slider s, ṡ, then e_x,
+    e_y of each clearance joint), ``sections`` the section samples
     and ``metrics`` the running extremes (``mechanism.integrate._kernels.MET_*``)."""
 
     recording: Recording
@@ -202,7 +203,7 @@ def _output(
         mode |= ik.REC_SECTIONS
     if plan.metrics_from is not None:
         mode |= ik.REC_METRICS
-    light = np.zeros((0 if full else t_out.size, 3))
+    light = np.zeros((0 if full else t_out.size, k.LIGHT_COLUMNS + 2 * model.kernel.cj_i.shape[0]))
     strobe = np.zeros(ik.STROBE_COLUMNS)
     metrics = np.array([-np.inf, -np.inf, -np.inf, np.inf])
     drive_row = -1 if model.drive_row is None else int(model.drive_row)

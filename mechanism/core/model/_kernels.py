@@ -48,6 +48,8 @@ from mechanism.core.joints._kernels import (
 )
 from mechanism.core.wear._kernels import local_clearance, local_stiffness_tabulated, region_value
 
+# light samples: crank angle, slider s, ṡ, then e_x, e_y of each clearance joint
+LIGHT_COLUMNS = 3
 # columns of the per-clearance-joint table ``ws.cj`` filled by every force evaluation
 CJ_EX = 0
 CJ_EY = 1
@@ -580,17 +582,25 @@ def _slider_kinematics(model, pcf):
 @njit(cache=True)
 def light_outputs(model, ws, y, out):
     """Crank angle, slider s and ṡ of state ``y`` from positions and velocities alone
-    (no right-hand-side evaluation): ``out`` = [crank angle, s, ṡ] (0 where absent)."""
+    (no right-hand-side evaluation): ``out`` = [crank angle, s, ṡ] (0 where absent),
+    followed, when ``out`` has room, by the eccentricity e_x, e_y of each clearance joint
+    (journal centre minus bearing centre, m; columns ``LIGHT_COLUMNS + 2j``, ``+ 1``)."""
     n = model.n_dof
-    update_points(y[:n], y[n:], model.pt_i, model.pt_f, ws.pci, ws.pcf)
-    out[0] = crank_angle(model, ws.pcf)
+    pcf = ws.pcf
+    update_points(y[:n], y[n:], model.pt_i, model.pt_f, ws.pci, pcf)
+    out[0] = crank_angle(model, pcf)
     if model.out_i[2] >= 0:
-        s, sd, _, _, _, _, _, _, _ = _slider_kinematics(model, ws.pcf)
+        s, sd, _, _, _, _, _, _, _ = _slider_kinematics(model, pcf)
         out[1] = s
         out[2] = sd
     else:
         out[1] = 0.0
         out[2] = 0.0
+    cj_i = model.cj_i
+    if out.shape[0] >= LIGHT_COLUMNS + 2 * cj_i.shape[0]:
+        for j in range(cj_i.shape[0]):
+            out[LIGHT_COLUMNS + 2 * j] = pcf[cj_i[j, 1], PC_X] - pcf[cj_i[j, 0], PC_X]
+            out[LIGHT_COLUMNS + 2 * j + 1] = pcf[cj_i[j, 1], PC_Y] - pcf[cj_i[j, 0], PC_Y]
 
 
 @njit(cache=True)

@@ -24,9 +24,19 @@ from mechanism.core.model._assemble import Model
 
 from ._metrics import METRICS
 
-__all__ = ["metrics_dataset", "sections_dataset", "to_dataset"]
+__all__ = ["LIGHT_VARIABLES", "light_dataset", "metrics_dataset", "sections_dataset", "to_dataset"]
 
 _AXES = ("x", "y", "theta")
+
+#: Variables a full record can hold alone (``simulate(..., variables=...)``): read from
+#: the light samples, positions and velocities only.
+LIGHT_VARIABLES: tuple[str, ...] = (
+    "crank_angle",
+    "slider_position",
+    "slider_velocity",
+    "eccentricity_x",
+    "eccentricity_y",
+)
 
 
 def _body_block(model: Model, values: np.ndarray) -> np.ndarray:
@@ -257,18 +267,64 @@ def to_dataset(
     return _finish(xr.Dataset(data, coords=coords), model, run, ideal_run, attrs)
 
 
+def light_dataset(
+    model: Model,
+    run: Integration,
+    t_out: np.ndarray,
+    variables: tuple[str, ...],
+    *,
+    attrs: dict[str, Any] | None = None,
+) -> xr.Dataset:
+    """The ``variables`` (names of :data:`LIGHT_VARIABLES`) of a run recorded with light
+    grid samples, on the output grid, with the units and names of :func:`to_dataset`."""
+    light = run.light
+    assert light is not None
+    n = light.shape[0]
+    n_cj = len(model.clearance_joints)
+    ecc = light[:, k.LIGHT_COLUMNS : k.LIGHT_COLUMNS + 2 * n_cj]
+    made = {
+        "crank_angle": lambda: variable(
+            ("time",),
+            light[:, 0],
+            "rad",
+            "crank angle (relative angle of the crank joint, unwrapped)",
+        ),
+        "slider_position": lambda: variable(
+            ("time",), light[:, 1], "m", "slider position along its guide"
+        ),
+        "slider_velocity": lambda: variable(
+            ("time",), light[:, 2], "m s-1", "slider velocity along its guide"
+        ),
+        "eccentricity_x": lambda: variable(
+            ("time", "joint"), ecc[:, 0::2], "m", "journal centre minus bearing centre, x"
+        ),
+        "eccentricity_y": lambda: variable(
+            ("time", "joint"), ecc[:, 1::2], "m", "journal centre minus bearing centre, y"
+        ),
+    }
+    data = {name: made[name]() for name in variables}
+    coords: dict[str, Any] = {
+        "time": ("time", t_out[:n].astype(np.float64), {"units": "s", "long_name": "time"})
+    }
+    if any(data[name].dims == ("time", "joint") for name in data):
+        coords["joint"] = ("joint", np.array(model.clearance_joints, dtype=object))
+    return _finish(xr.Dataset(data, coords=coords), model, run, None, attrs)
+
+
 def _finish(
     ds: xr.Dataset,
     model: Model,
     run: Integration,
-    ideal_run: Integration,
+    ideal_run: Integration | None,
     attrs: dict[str, Any] | None,
 ) -> xr.Dataset:
-    """The scene, the solver statistics, ``attrs`` and the data contract's stamp."""
+    """The scene, the solver statistics (the ideal companion's when it ran), ``attrs``
+    and the data contract's stamp."""
     ds.attrs["scene"] = model.scene.to_json()
     ds.attrs["scene_name"] = model.scene.name
     ds.attrs.update(run.stats.as_attrs("solver_"))
-    ds.attrs.update(ideal_run.stats.as_attrs("ideal_solver_"))
+    if ideal_run is not None:
+        ds.attrs.update(ideal_run.stats.as_attrs("ideal_solver_"))
     if attrs:
         ds.attrs.update(attrs)
     return stamp(
