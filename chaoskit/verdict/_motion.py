@@ -237,8 +237,11 @@ def _is_drive_follower(v: Verdict) -> bool:
 def _unit(x: np.ndarray) -> np.ndarray:
     x = np.asarray(x, dtype=np.float64)
     peak = float(np.max(np.abs(x)))
+    if peak == 0.0:
+        return np.zeros_like(x)  # constant: no spread to scale (never a voter)
     y = x / peak - float(np.mean(x / peak))
-    return y / float(np.std(y))
+    spread = float(np.std(y))
+    return y / spread if spread > 0.0 else y
 
 
 def _reference(voters: Mapping[str, Verdict]) -> str:
@@ -725,7 +728,8 @@ def classify_motion(
     kind = first.kind
     drive = [n for n, v in verdicts.items() if n in known_drive or _is_drive_follower(v)]
     constant = [n for n, v in verdicts.items() if v.label == "equilibrium" and n not in drive]
-    voters = {n: v for n, v in verdicts.items() if n not in drive and n not in constant}
+    failed = [n for n, v in verdicts.items() if "classify" in v.errors and n not in drive]
+    voters = {n: v for n, v in verdicts.items() if n not in drive and n not in constant + failed}
     reasons: list[str] = []
     if drive:
         reasons.append(
@@ -734,6 +738,11 @@ def classify_motion(
         )
     if constant:
         reasons.append(f"set aside as constant: {', '.join(constant)}")
+    if failed:
+        reasons.append(
+            f"set aside, its analysis failed: {', '.join(failed)} "
+            f"({'; '.join(verdicts[n].errors['classify'] for n in failed)})"
+        )
     base: dict[str, Any] = {
         "variables": verdicts,
         "voting": tuple(voters),
@@ -749,6 +758,14 @@ def classify_motion(
     if not voters:
         if known_drive and len(known_drive) == len(verdicts):
             raise ValueError("every variable is listed in drive_variables; nothing votes.")
+        if failed:
+            reason = "no variable could be analysed: needs " + "; ".join(
+                f"{n}: {verdicts[n].errors['classify']}" for n in failed
+            )
+            return MotionVerdict(
+                label="undetermined", period=None, confidence=float("nan"), reason=reason,
+                reasons=(reason, *reasons), needs=(reason,), votes={}, **base,
+            )  # fmt: skip
         label: Label = "periodic" if drive else "equilibrium"
         reason = (
             "every variable follows the drive: the motion is periodic with the drive"

@@ -279,3 +279,11 @@ def test_docs_state_the_same_motion_rule_as_the_docstring() -> None:
     block = page[page.index("<!-- motion rule") : page.index("<!-- /motion rule -->")]
     block = block[block.index("-->") + 3 :]
     assert " ".join(rule.split()) == " ".join(block.split())
+
+
+def test_a_variable_that_is_all_zeros_or_fails_is_set_aside(duffing_with_phase) -> None:
+    data, dt = duffing_with_phase
+    zeros = np.column_stack([data[:, 0], np.zeros(len(data))])  # e.g. a joint never touched
+    mv = classify_motion(zeros, dt=dt, drive_period=DRIVE, rng=0)
+    assert "x2" not in mv.voting and mv.label == "chaotic"
+    assert any("x2" in r and "set aside" in r for r in mv.reasons)
