@@ -5,6 +5,7 @@ from __future__ import annotations
 import shlex
 import sys
 import tomllib
+from collections import Counter
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
@@ -466,6 +467,10 @@ def sweep_command(
     counts = ", ".join(f"{(status == s).sum()} {s}" for s in ("ok", "failed", "diverged"))
     typer.echo(ds.attrs["history"].splitlines()[-1].split(" ", 1)[1])
     typer.echo(f"{status.size} points: {counts}")
+    if "motion_label" in ds:
+        motions = [str(v) for v in ds["motion_label"].values.ravel() if str(v)]
+        tally = ", ".join(f"{n} {lab}" for lab, n in sorted(Counter(motions).items()))
+        typer.echo(f"motion verdicts: {tally or 'none'}")
     messages = ds["message"].values.ravel()
     for pid, state, message in zip(ds["point_id"].values.ravel(), status, messages, strict=True):
         if state != "ok":

@@ -237,8 +237,11 @@ def _is_drive_follower(v: Verdict) -> bool:
 def _unit(x: np.ndarray) -> np.ndarray:
     x = np.asarray(x, dtype=np.float64)
     peak = float(np.max(np.abs(x)))
+    if peak == 0.0:
+        return np.zeros_like(x)  # constant: no spread to scale (never a voter)
     y = x / peak - float(np.mean(x / peak))
-    return y / float(np.std(y))
+    spread = float(np.std(y))
+    return y / spread if spread > 0.0 else y
 
 
 def _reference(voters: Mapping[str, Verdict]) -> str:
@@ -263,6 +266,7 @@ def _joint_section(
     """Every voter (unit spread) at the joint section's instants n and n + 1."""
     names = list(voters)
     scaled = {n: _unit(ds[n].values) for n in names}
+    resolution = 0.0  # the instants are samples (maps) or interpolated to 1e-8 (strobes)
     if kind == "map":
         at = np.column_stack([scaled[n] for n in names])
         crossing_time = np.asarray(ds["step"].values, dtype=np.float64)
@@ -284,6 +288,9 @@ def _joint_section(
         crossing_time = np.asarray(ref_section["time"].values, dtype=np.float64)
         t = np.asarray(ds["time"].values, dtype=np.float64)
         at = np.column_stack([CubicSpline(t, scaled[n])(crossing_time) for n in names])
+        # what the sampling cannot resolve between samples: cubic against linear interpolation
+        linear = np.column_stack([np.interp(crossing_time, t, scaled[n]) for n in names])
+        resolution = float(np.sqrt(np.mean((at - linear) ** 2))) if at.size else 0.0
     m = max(at.shape[0] - 1, 0)
     data_vars: dict[str, Any] = {}
     for j, n in enumerate(names):
@@ -297,6 +304,7 @@ def _joint_section(
         data_vars,
         coords={"crossing": np.arange(m), "time": ("crossing", crossing_time[:m])},
     )
+    sec_ds.attrs["interpolation_rms"] = resolution
     sec_ds.attrs["section_kind"] = {
         "map": "iterates of every variable",
         "forced": "stroboscopic map of every variable",
@@ -370,8 +378,22 @@ def _decides(
     or — for chaos — the data are more predictable than their surrogates)."""
     kind = "none" if structure is None else structure.kind
     labels = {v.label for v in voters.values()}
+    # without a usable joint section, a variable's own decisive evidence stands when every
+    # other variable is undetermined and the exponents do not contradict it
+    no_section = kind in ("none", "too-few-points")
     if label == "periodic":
-        return kind == "clusters" and "periodic" in labels
+        repeats = any(
+            v.label == "periodic" and v.lines is not None and v.lines.kind == "periodic"
+            for v in voters.values()
+        )
+        alone = (
+            no_section
+            and repeats
+            and labels <= {"periodic", "undetermined"}
+            and positive is not True
+            and say != "chaotic"
+        )
+        return (kind == "clusters" and "periodic" in labels) or alone
     if label == "quasi-periodic":
         return (
             kind == "closed-curve"
@@ -384,9 +406,13 @@ def _decides(
             v.surrogates is not None and v.surrogates.rejected for v in voters.values()
         )
         regular_said = labels & {"periodic", "quasi-periodic", "noise-like"}
-        return (
+        # a variable that is chaotic by its own full evidence (both exponents clearly
+        # positive, surrogates rejected) stands when no other says regular or noise
+        unopposed = "chaotic" in labels and not regular_said and say != "regular"
+        alone = no_section and unopposed and (positive is True or say == "chaotic")
+        return alone or (
             kind == "scattered"
-            and (positive is True or say == "chaotic")
+            and (positive is True or say == "chaotic" or unopposed)
             and deterministic
             and ("chaotic" in labels or not regular_said)
         )
@@ -402,9 +428,11 @@ def combine_motion(
     n_cycles: float,
     cycle_unit: str,
     rule: VerdictRule,
+    section_need: str | None = None,
 ) -> tuple[Label, int | None, float, str, dict[str, Vote], tuple[str, ...]]:
     """The motion rule of :func:`classify_motion` on the voters' verdicts and the joint
-    evidence; returns label, period, confidence, reason, votes and needs."""
+    evidence; returns label, period, confidence, reason, votes and needs. ``section_need``
+    says what the joint section lacks when it is not used (``structure`` None)."""
     labels = {n: v.label for n, v in voters.items()}
     decided = {n: lab for n, lab in labels.items() if lab != "undetermined"}
     said = ", ".join(f"{n}: {lab}" for n, lab in labels.items())
@@ -450,6 +478,8 @@ def combine_motion(
                 )
             else:
                 reason += f"the equations say {say}"
+                if section_need:
+                    needs.append(section_need)
                 needs.append(
                     f"a longer series or finer sampling: the equations say {say}, the data "
                     f"say {candidate}, and the joint section does not decide ({section})"
@@ -494,6 +524,8 @@ def combine_motion(
                     "equations of motion), or more "
                     f"{cycle_unit}: the joint section is scattered"
                 )
+            if section_need:
+                needs.append(section_need)
             if len(voters) == 1:
                 needs.append("another variable of the motion (only one variable votes)")
             for n, v in voters.items():
@@ -604,12 +636,21 @@ def classify_motion(
     * they *disagree* (or some are undetermined): the one label the joint evidence
       decides — *periodic* if the joint section is tight clusters and a variable says
       periodic; *quasi-periodic* if it is a closed curve, a variable says so and neither
-      exponent is clearly positive; *chaotic* if it is scattered, the joint exponent or
-      the equations' exponent is clearly positive, and a variable says chaotic (or, with
-      no regular or noise label said, a surrogate test rejected linear noise); otherwise
+      exponent is clearly positive; *chaotic* if it is scattered, a variable says chaotic
+      (or, with no regular or noise label said, a surrogate test rejected linear noise),
+      and the joint exponent or the equations' exponent is clearly positive — or no other
+      variable says regular or noise and the equations do not say regular; otherwise
       *undetermined*, with ``needs`` naming what would decide (more drive periods, more
-      joint section points, a tighter tolerance, a clearly positive exponent, another
-      variable) and each variable's own needs.
+      joint section points, finer sampling, a tighter tolerance, a clearly positive
+      exponent, another variable) and each variable's own needs;
+    * the joint section is used only where the sampling resolves it: for an autonomous
+      flow its instants fall between samples, and when cubic and linear interpolation
+      there differ by more than ``rule.max_noise_allowance / rule.noise_factor`` (0.1) of
+      a variable's spread, it is set aside (``needs``: finer sampling). Without a usable
+      joint section a variable's own decisive evidence stands only when every other
+      variable is undetermined and the exponents agree: *periodic* from a series that
+      repeats (its line analysis) with no clearly positive exponent, *chaotic* from a
+      chaotic variable with a clearly positive joint or equations' exponent.
 
     **Confidence** is the fraction of the pieces that could have decided — the joint
     section, the joint exponent, the equations' exponent and each voting variable's label
@@ -687,7 +728,8 @@ def classify_motion(
     kind = first.kind
     drive = [n for n, v in verdicts.items() if n in known_drive or _is_drive_follower(v)]
     constant = [n for n, v in verdicts.items() if v.label == "equilibrium" and n not in drive]
-    voters = {n: v for n, v in verdicts.items() if n not in drive and n not in constant}
+    failed = [n for n, v in verdicts.items() if "classify" in v.errors and n not in drive]
+    voters = {n: v for n, v in verdicts.items() if n not in drive and n not in constant + failed}
     reasons: list[str] = []
     if drive:
         reasons.append(
@@ -696,6 +738,11 @@ def classify_motion(
         )
     if constant:
         reasons.append(f"set aside as constant: {', '.join(constant)}")
+    if failed:
+        reasons.append(
+            f"set aside, its analysis failed: {', '.join(failed)} "
+            f"({'; '.join(verdicts[n].errors['classify'] for n in failed)})"
+        )
     base: dict[str, Any] = {
         "variables": verdicts,
         "voting": tuple(voters),
@@ -711,6 +758,14 @@ def classify_motion(
     if not voters:
         if known_drive and len(known_drive) == len(verdicts):
             raise ValueError("every variable is listed in drive_variables; nothing votes.")
+        if failed:
+            reason = "no variable could be analysed: needs " + "; ".join(
+                f"{n}: {verdicts[n].errors['classify']}" for n in failed
+            )
+            return MotionVerdict(
+                label="undetermined", period=None, confidence=float("nan"), reason=reason,
+                reasons=(reason, *reasons), needs=(reason,), votes={}, **base,
+            )  # fmt: skip
         label: Label = "periodic" if drive else "equilibrium"
         reason = (
             "every variable follows the drive: the motion is periodic with the drive"
@@ -743,6 +798,7 @@ def classify_motion(
             tol = rule.cluster_tol
             if kind != "map":
                 noise = max(float(np.nan_to_num(v.noise_level)) for v in voters.values())
+                noise = max(noise, float(section.attrs["interpolation_rms"]))
                 tol = max(tol, min(rule.noise_factor * noise, rule.max_noise_allowance))
             structure = section_structure(
                 points,
@@ -760,9 +816,22 @@ def classify_motion(
             errors["exponent"] = _describe(exc)
         positive = None if res is None else _positive(res, time_scale, rule)
     unit = {"map": "samples", "forced": "drive periods"}.get(kind, "oscillations (maxima)")
+    # the joint section is read only where the sampling resolves it: its cluster allowance
+    # (noise_factor × the interpolation uncertainty) must stay below its cap
+    resolution = 0.0 if section is None else float(section.attrs.get("interpolation_rms", 0.0))
+    limit = rule.max_noise_allowance / rule.noise_factor
+    section_need = None
+    if len(voters) > 1 and resolution > limit:
+        section_need = (
+            "finer sampling: the joint section falls between samples (cubic and linear "
+            f"interpolation differ by {resolution:.2g} of each variable's spread; at most "
+            f"{limit:.2g} resolves it)"
+        )
+        reasons.append(f"the joint section is not used: {section_need}")
     label, period, confidence, reason, votes, needs = combine_motion(
         voters,
-        structure=structure,
+        structure=None if section_need else structure,
+        section_need=section_need,
         positive=positive,
         say=say,
         n_cycles=ref_v.n_cycles,

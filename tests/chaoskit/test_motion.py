@@ -163,6 +163,22 @@ def test_equations_against_agreeing_variables_without_a_deciding_section() -> No
     assert "decides against the equations" in reason
 
 
+def test_without_a_joint_section_a_repeating_variable_stands_only_unopposed() -> None:
+    repeats = SimpleNamespace(
+        label="periodic", period=1, needs=(), surrogates=None,
+        lines=SimpleNamespace(kind="periodic", base_frequencies=np.array([1.0])),
+    )  # fmt: skip
+    voters = {"x": repeats, "y": _verdict("undetermined")}
+    label, period, *_ = _combine(voters, None, False, None)
+    assert (label, period) == ("periodic", 1)
+    assert _combine(voters, None, True, None)[0] == "undetermined"  # the exponent says no
+    assert _combine(voters, _structure("scattered"), False, None)[0] == "undetermined"
+    chaotic = {"x": _verdict("chaotic"), "y": _verdict("undetermined")}
+    assert _combine(chaotic, None, True, None)[0] == "chaotic"
+    assert _combine(chaotic, None, False, None)[0] == "undetermined"
+    assert _combine(chaotic, None, True, "regular")[0] == "undetermined"
+
+
 def test_agreeing_variables_against_the_joint_section() -> None:
     voters = {"x": _verdict("chaotic"), "y": _verdict("chaotic")}
     label, *_, needs = _combine(voters, _structure("clusters", n_clusters=3), True, None)
@@ -252,3 +268,22 @@ def test_rosenstein_on_state_vectors_matches_the_lorenz_exponent() -> None:
     assert scaled.mle == pytest.approx(res.mle, rel=1e-9)  # columns are standardised
     with pytest.raises(ValueError, match="embedding_dim"):
         lyapunov_rosenstein(s, dt=0.02, embedding_dim=2)
+
+
+def test_docs_state_the_same_motion_rule_as_the_docstring() -> None:
+    from tests.conftest import REPO
+
+    doc = classify_motion.__doc__ or ""
+    rule = doc[doc.index("**Rule.**") + len("**Rule.**") : doc.index("**Confidence**")]
+    page = (REPO / "docs" / "verdict.md").read_text(encoding="utf-8")
+    block = page[page.index("<!-- motion rule") : page.index("<!-- /motion rule -->")]
+    block = block[block.index("-->") + 3 :]
+    assert " ".join(rule.split()) == " ".join(block.split())
+
+
+def test_a_variable_that_is_all_zeros_or_fails_is_set_aside(duffing_with_phase) -> None:
+    data, dt = duffing_with_phase
+    zeros = np.column_stack([data[:, 0], np.zeros(len(data))])  # e.g. a joint never touched
+    mv = classify_motion(zeros, dt=dt, drive_period=DRIVE, rng=0)
+    assert "x2" not in mv.voting and mv.label == "chaotic"
+    assert any("x2" in r and "set aside" in r for r in mv.reasons)
