@@ -20,6 +20,7 @@ from typing import Any, TextIO
 
 import numpy as np
 import pandas as pd
+import psutil
 import xarray as xr
 
 import chaoskit
@@ -42,8 +43,6 @@ def process_tree_cpu_time() -> float:
     live descendant is lost, so the figure is a lower bound on a shared machine: unlike
     wall time it does not grow when other jobs take the cores.
     """
-    import psutil
-
     own = os.times()
     total = own.user + own.system + own.children_user + own.children_system
     with contextlib.suppress(psutil.Error):
