@@ -300,16 +300,16 @@ class StudySettings:
         """The documented reductions of ``mechanism paper --quick`` (``docs/paper-study.md``).
 
         Flexible rods and the 200 analysed revolutions per state are kept; the response
-        points run 4 revolutions at T/2500, the wear 2 updates, the convergence table 3
-        meshes over the first impact, the analysed series at most 100 000 samples, and the
-        orbit diagrams rigid rods at 7 speeds.
+        points run 4 revolutions with output T/2500, the wear 1 update of 10 000 cycles,
+        the convergence table 3 meshes over the first impact, the analysed series at most
+        100 000 samples, and the orbit diagrams rigid rods at 7 speeds.
         """
         return cls(
             revolutions=4.0,
             discard_revolutions=1.0,
             samples_per_revolution=2500,
             flexible_rods=True,
-            wear_updates=2,
+            wear_updates=1,
             wear_cycles_per_update=1.0e4,
             wear_max_depth_increment=1.0,
             wear_settle_revolutions=1.0,
@@ -602,26 +602,32 @@ def _drop_trajectories(store: Path) -> None:
 
 
 def _stage_weights(settings: StudySettings, n_conv: int) -> dict[str, float]:
-    """Prior cost of each stage in revolutions of flexible-rod work (for time left)."""
-    flex = 1.0 if settings.flexible_rods else 0.15
-    orbit = 1.0 if settings.orbit_flexible_rods else 0.15
+    """Prior cost of each stage in CPU seconds on an idle core (for the time left).
+
+    Calibrated on a quick run: a flexible revolution at 150 rpm costs about 0.9 s with
+    the step 4e-5 s (1.6 s with the ideal companion), a rigid one about 0.15 of that, and
+    a slower speed v costs 150/v times as much (the step is fixed in time)."""
+    flex = 1.6 if settings.flexible_rods else 0.25
+    speeds = sum(150.0 / v for v in _SPEEDS)
+    orbit = (1.6 if settings.orbit_flexible_rods else 0.25) * sum(
+        150.0 / v for v in settings.orbit_speeds
+    )
+    long_run = settings.discard_revolutions + settings.chaos_revolutions
     return {
-        "before-wear sweep": 9 * settings.revolutions * flex / 2,
-        "wear prediction at 30, 90, 150 rpm": 3
-        * settings.wear_updates
+        "before-wear sweep": len(_CLEARANCES) * settings.revolutions * speeds * flex,
+        "wear prediction at 30, 90, 150 rpm": (settings.wear_updates + 1)
         * (settings.wear_settle_revolutions + 1)
-        * flex
-        / 2,
-        "after-wear sweeps": 3 * settings.revolutions * flex / 2,
-        "long runs for the chaos analysis and exponents": (
-            settings.discard_revolutions + settings.chaos_revolutions
-        )
+        * speeds
         * flex,
-        "element convergence": n_conv * settings.convergence_revolutions * 3.0,
-        "orbit diagrams over speed": len(settings.orbit_speeds)
-        * settings.orbit_revolutions
-        * orbit,
-        "chaos analysis and report": 0.1 * settings.chaos_revolutions,
+        "after-wear sweeps": settings.revolutions * speeds * flex,
+        # two chaos runs (series only, no companion) and two exponents (rigid, tangent)
+        "long runs for the chaos analysis and exponents": 2 * long_run * 0.9
+        + 2 * (settings.discard_revolutions + settings.exponent_revolutions) * 2.0,
+        "element convergence": n_conv * settings.convergence_revolutions * 10.0,
+        "orbit diagrams over speed": 2 * settings.orbit_revolutions * orbit,
+        "chaos analysis and report": 4
+        * 0.5e-3
+        * min(long_run * settings.chaos_samples_per_revolution, settings.max_samples or math.inf),
     }
 
 

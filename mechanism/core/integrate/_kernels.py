@@ -13,9 +13,9 @@ workspace:
   impact-velocity latch, the contact flags and the counters of ``mechanism.core.model._kernels``;
 * :class:`Output` — what is recorded after every accepted step (see
   :func:`_after_step`): full samples on the output grid (one right-hand-side evaluation
-  each), or light samples (crank angle, slider s and ṡ from the dense output, no
-  evaluation), stroboscopic sections located on the dense output, and running response
-  metrics at every accepted state;
+  each), or light samples (crank angle, slider s and ṡ, and the eccentricity of each
+  clearance joint, from the dense output, no evaluation), stroboscopic sections located
+  on the dense output, and running response metrics at every accepted state;
 * :class:`Jacobian` (generalized-α only) — the Jacobian buffers and column sets.
 
 Status codes are those of :mod:`mechanism.core._status`.
@@ -77,7 +77,7 @@ __all__ = [
 
 # what an Output records (bit flags of Output.mode)
 REC_FULL = 1  # full samples on the output grid
-REC_LIGHT = 2  # crank angle, slider s and ṡ on the output grid
+REC_LIGHT = 2  # crank angle, slider s, ṡ and the eccentricities on the output grid
 REC_SECTIONS = 4  # full samples where the crank angle passes phase + 2πk
 REC_METRICS = 8  # running extremes at every accepted state after Output.t_window
 
@@ -137,7 +137,7 @@ class Output(NamedTuple):
     t_out: np.ndarray  # output grid (REC_FULL or REC_LIGHT)
     cursor: np.ndarray  # int64[2]: next grid sample, sections recorded
     rec: Any  # Recording of the grid samples (REC_FULL)
-    light: np.ndarray  # (len(t_out), 3) crank angle, s, ṡ (REC_LIGHT)
+    light: np.ndarray  # (len(t_out), 3 + 2 n_cj) crank angle, s, ṡ, e_x, e_y (REC_LIGHT)
     sections: Any  # Recording of the section samples (REC_SECTIONS)
     strobe: np.ndarray  # float64[STROBE_COLUMNS]
     metrics: np.ndarray  # float64[MET_COLUMNS]
