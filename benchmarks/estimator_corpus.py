@@ -86,9 +86,9 @@ def _estimate(method: str, x: np.ndarray, dt: float) -> tuple[float, float, floa
     return res.mle, res.ci[0], res.ci[1], res.fit_found
 
 
-def _rows_for(series: corpus_flows.Series, tangent: float) -> list[dict]:
+def _rows_for(series: corpus_flows.Series, tangent: float, methods: tuple[str, ...]) -> list[dict]:
     rows = []
-    for method in METHODS:
+    for method in methods:
         row = {"name": series.name, "kind": series.kind, "n": series.x.size, "method": method}
         row["true"] = series.mle
         row["tangent"] = tangent
@@ -115,8 +115,8 @@ def _rows_for(series: corpus_flows.Series, tangent: float) -> list[dict]:
     return rows
 
 
-def _flow_task(args: tuple[str, str | None]) -> list[dict]:
-    name, cache = args
+def _flow_task(args: tuple[str, str | None, tuple[str, ...]]) -> list[dict]:
+    name, cache, methods = args
     os.environ.setdefault("NUMBA_NUM_THREADS", "1")
     try:
         long = corpus_flows.dysts_flow(
@@ -139,14 +139,14 @@ def _flow_task(args: tuple[str, str | None]) -> list[dict]:
     for s in (short, long):
         if np.ptp(s.x) == 0.0:
             continue
-        rows.extend(_rows_for(s, tangent))
+        rows.extend(_rows_for(s, tangent, methods))
     return rows
 
 
-def _map_task(args: tuple[str, int]) -> list[dict]:
-    name, n = args
+def _map_task(args: tuple[str, int, tuple[str, ...]]) -> list[dict]:
+    name, n, methods = args
     series = next(s for s in corpus_flows.maps(n) if s.name == name)
-    return _rows_for(series, corpus_flows.map_exponent(name))
+    return _rows_for(series, corpus_flows.map_exponent(name), methods)
 
 
 def _run_task(task: tuple) -> list[dict]:
@@ -226,7 +226,8 @@ def _print_summary(summary: list[dict]) -> None:
         )
 
 
-def _resummarize(path: Path) -> int:
+def _read_rows(path: Path) -> list[dict]:
+    """The rows of a results CSV, with numbers as the summary expects them."""
     with path.open() as fh:
         rows: list[dict] = []
         for r in csv.DictReader(fh):
@@ -237,6 +238,11 @@ def _resummarize(path: Path) -> int:
             for key in ("covered", "covered_tangent"):
                 r[key] = int(r[key]) if r.get(key) not in (None, "") else ""
             rows.append(r)
+    return rows
+
+
+def _resummarize(path: Path) -> int:
+    rows = _read_rows(path)
     summary = _summary(rows)
     _write_csv(path.with_name(path.stem + "-summary.csv"), summary, list(summary[0]))
     _print_summary(summary)
@@ -254,9 +260,20 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument(
         "--summarize", metavar="CSV", help="only rewrite the summary of an existing results CSV"
     )
+    parser.add_argument(
+        "--methods", default=",".join(METHODS), help="comma-separated subset of " + str(METHODS)
+    )
+    parser.add_argument(
+        "--keep-from",
+        metavar="CSV",
+        help="copy the rows of the methods not run from this results CSV (e.g. nolds')",
+    )
     args = parser.parse_args(argv)
     if args.summarize:
         return _resummarize(Path(args.summarize))
+    run = [m.strip() for m in args.methods.split(",") if m.strip()]
+    if not run or any(m not in METHODS for m in run):
+        parser.error(f"--methods must name some of {', '.join(METHODS)}")
     if args.processes < 1:
         parser.error("--processes must be >= 1")
     names = corpus_flows.dysts_flow_names()
@@ -264,10 +281,15 @@ def main(argv: list[str] | None = None) -> int:
         names = [n for n in names if n in QUICK_FLOWS]
     cached = {n for n in names if (Path(args.cache_dir) / f"{n}-tangent-200.npy").exists()}
     names.sort(key=lambda n: n not in cached)  # cached reference exponents first
-    tasks: list = [(_map_task, (m, n)) for m in corpus_flows.MAP_REFERENCES for n in (SHORT, LONG)]
-    tasks += [(_flow_task, (n, args.cache_dir)) for n in names]
+    methods = tuple(run)
+    tasks: list = [
+        (_map_task, (m, n, methods)) for m in corpus_flows.MAP_REFERENCES for n in (SHORT, LONG)
+    ]
+    tasks += [(_flow_task, (n, args.cache_dir, methods)) for n in names]
     t0 = time.perf_counter()
     rows: list[dict] = []
+    if args.keep_from:
+        rows += [r for r in _read_rows(Path(args.keep_from)) if r["method"] not in run]
     out = Path(args.out)
     suffix = "-quick" if args.quick else ""
     summary: list[dict] = []

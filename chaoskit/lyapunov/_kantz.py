@@ -371,13 +371,16 @@ def lyapunov_kantz(
     a, b, slope = fit["a"], fit["b"], fit["slope"]
     per_ref = _ref_slopes(logd[:, e_star, :], ks, a, b)
     _, half, n_batches = batch_means_ci(per_ref)
-    fit_half = 0.0
+    fit_below = fit_above = 0.0
     if not fixed and fit["found"]:
         end = max(b, saturation_index(fit["curve"], plateau))
-        fit_half = _window_spread(ks, fit["curve"], a, b, end, slope)
+        fit_below, fit_above = _window_spread(ks, fit["curve"], a, b, end, slope, min_span)
+    fit_half = max(fit_below, fit_above)
     eps_half = 0.5 * float(np.ptp(pick)) if pick.size > 1 else 0.0
-    total = half + fit_half + eps_half
-    ci = ((slope - total) / prep.dt, (slope + total) / prep.dt)
+    ci = (
+        (slope - half - fit_below - eps_half) / prep.dt,
+        (slope + half + fit_above + eps_half) / prep.dt,
+    )
     ci_method = (
         f"Student-t 95 % interval over {n_batches} contiguous batches of per-reference "
         f"slopes ({per_ref.size} reference points) in the fit range, widened by the fit-range "

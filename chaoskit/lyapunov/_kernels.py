@@ -303,6 +303,49 @@ def best_linear_window(
 
 
 @njit(cache=True)
+def straight_slope_range(
+    k: np.ndarray, y: np.ndarray, min_len: float, tol: float, min_rise: float
+) -> tuple[float, float, int]:
+    """Smallest and largest least-squares slope over the straight windows (the test of
+    :func:`best_linear_window`) that span at least ``min_len`` in ``k`` and rise by at least
+    ``min_rise``; with their count (0: none, and NaN slopes)."""
+    n = k.size
+    c1 = np.zeros(n + 1)
+    c2 = np.zeros(n + 1)
+    cy = np.zeros(n + 1)
+    cky = np.zeros(n + 1)
+    for i in range(n):
+        c1[i + 1] = c1[i] + k[i]
+        c2[i + 1] = c2[i] + k[i] * k[i]
+        cy[i + 1] = cy[i] + y[i]
+        cky[i + 1] = cky[i] + k[i] * y[i]
+    lo = np.inf
+    hi = -np.inf
+    count = 0
+    for a in range(n):
+        for b in range(a + 3, n):
+            span = k[b] - k[a]
+            if span < min_len:
+                continue
+            s = _ls_slope(c1, c2, cy, cky, a, b)
+            if s <= 0.0 or s * span < min_rise:
+                continue
+            m3 = max(2, (b - a + 1) // 5)
+            s_first = _ls_slope(c1, c2, cy, cky, a, a + m3 - 1)
+            s_last = _ls_slope(c1, c2, cy, cky, b - m3 + 1, b)
+            mid = (a + b) // 2
+            s_mid = _ls_slope(c1, c2, cy, cky, mid - m3 // 2, mid - m3 // 2 + m3 - 1)
+            spread = max(s_first, s_mid, s_last) - min(s_first, s_mid, s_last)
+            if spread <= tol * s:
+                lo = min(lo, s)
+                hi = max(hi, s)
+                count += 1
+    if count == 0:
+        return np.nan, np.nan, 0
+    return lo, hi, count
+
+
+@njit(cache=True)
 def evolve_pair(
     pts: np.ndarray, i: int, j: int, steps: int, stop: int, inc: np.ndarray
 ) -> tuple[int, int, float]:

@@ -19,7 +19,7 @@ from ._common import (
     result_fields,
 )
 from ._result import LyapunovResult
-from ._scaling import TOLERANCES, saturation_index, scaling_region
+from ._scaling import TOLERANCES, family_spread, saturation_index, scaling_region
 
 __all__ = ["lyapunov_rosenstein"]
 
@@ -62,16 +62,19 @@ def _slope(ks: np.ndarray, curve: np.ndarray, a: int, b: int) -> float:
     return float(np.polyfit(ks[a : b + 1].astype(np.float64), curve[a : b + 1], 1)[0])
 
 
-def _window_spread(ks, curve, a, b, end, slope) -> float:
-    """Largest change of the slope when either end of the fit window moves by a fifth of its
-    length (within 0 … ``end``): the sensitivity of the estimate to the fit range."""
+def _window_spread(ks, curve, a, b, end, slope, min_span) -> tuple[float, float]:
+    """Sensitivity of the estimate to the fit range, below and above the slope: the largest
+    change of the slope when either end of the fit window moves by a fifth of its length
+    (within 0 … ``end``), or how far the slopes of the other plausible windows reach
+    (:func:`family_spread`), whichever is larger on each side."""
     step = max(1, round(0.2 * (b - a)))
     spread = 0.0
     for lo, hi in ((a - step, b), (a + step, b), (a, b - step), (a, b + step)):
         lo, hi = max(lo, 0), min(hi, end)
         if hi - lo >= 2:
             spread = max(spread, abs(_slope(ks, curve, lo, hi) - slope))
-    return spread
+    below, above = family_spread(ks, curve, a, b, end, min_span=min_span)
+    return max(spread, below), max(spread, above)
 
 
 def _fit(pts, ref, nbr, ks, fixed, w, period, mode, shift) -> dict:
@@ -119,10 +122,12 @@ def _fit(pts, ref, nbr, ks, fixed, w, period, mode, shift) -> dict:
     kw = kw[np.unique(np.linspace(0, kw.size - 1, min(kw.size, _SLOPE_POINTS)).astype(int))]
     slopes, valid = _k.pair_slopes(pts, ref, nbr, kw, mode, shift)
     _, half, n_batches = batch_means_ci(slopes[valid])
-    fit_half = 0.0
+    fit_half = (0.0, 0.0)
     if not fixed and found:
         end = max(b, saturation_index(curve, plateau))
-        fit_half = _window_spread(ks, curve, a, b, end, float(slope))
+        fit_half = _window_spread(
+            ks, curve, a, b, end, float(slope), max(3.0, SPAN_PERIODS * period)
+        )
     nbr_half = 0.0
     if nbr_pair is not None:
         nbr_half = 0.5 * abs(_slope(ks, nbr_pair[1], a, b) - _slope(ks, nbr_pair[0], a, b))
@@ -396,8 +401,8 @@ def lyapunov_rosenstein(
             fit = _fit(pts, ref, nbr, ks, fixed, w, prep.period, mode, shift)
     slope = fit["slope"]
     mle = slope / prep.dt
-    half = fit["half"] + fit["fit_half"] + fit["nbr_half"]
-    ci = ((slope - half) / prep.dt, (slope + half) / prep.dt)
+    below, above = (fit["half"] + f + fit["nbr_half"] for f in fit["fit_half"])
+    ci = ((slope - below) / prep.dt, (slope + above) / prep.dt)
     ci_method = (
         f"Student-t 95 % interval over {fit['n_batches']} contiguous batches of per-pair "
         f"slopes ({fit['n_valid']} pairs) in the fit range, widened by the fit-range "
@@ -435,7 +440,7 @@ def lyapunov_rosenstein(
             "neighbor": _MODE_NAMES[mode],
             "neighbor_rule": nbr_rule,
             "ci_sampling_half_width": fit["half"] / prep.dt,
-            "ci_fit_range_half_width": fit["fit_half"] / prep.dt,
+            "ci_fit_range_half_width": max(fit["fit_half"]) / prep.dt,
             "ci_neighbor_half_width": fit["nbr_half"] / prep.dt,
         },
     )

@@ -37,7 +37,15 @@ from . import _kernels as _k
 SATURATION = 0.6
 TOLERANCES = (0.05, 0.1, 0.2)
 MIN_FRACTION = 0.4
+FAMILY_RISE = 0.9  # near-ties of the largest-rise rule: within 10 % of the chosen rise
 _SEARCH_POINTS = 400
+
+
+def _search_grid(end: int) -> np.ndarray:
+    """Indices 0 … end, thinned to about ``_SEARCH_POINTS`` for the O(n²) window search."""
+    stride = max(1, int(np.ceil((end + 1) / _SEARCH_POINTS)))
+    idx = np.arange(0, end + 1, stride)
+    return idx if idx[-1] == end else np.append(idx, end)
 
 
 def saturation_index(curve: np.ndarray, plateau: float, level: float = SATURATION) -> int:
@@ -65,10 +73,7 @@ def scaling_region(
     if curve.size < 5:  # too few horizons to judge straightness
         return 0, curve.size - 1, False
     end = max(saturation_index(curve, plateau, saturation), min(3, curve.size - 1))
-    stride = max(1, int(np.ceil((end + 1) / _SEARCH_POINTS)))
-    idx = np.arange(0, end + 1, stride)
-    if idx[-1] != end:
-        idx = np.append(idx, end)
+    idx = _search_grid(end)
     k = horizon[idx].astype(np.float64)
     span = min(float(min_span), float(k[-1] - k[0]))
     span = max(span, 3.0 * (k[1] - k[0]))
@@ -79,3 +84,25 @@ def scaling_region(
     if found:  # only the loosest tolerance found a (short) straight window
         return int(idx[a]), int(idx[b]), True
     return 0, end, False
+
+
+def family_spread(
+    horizon: np.ndarray, curve: np.ndarray, a: int, b: int, end: int, *, min_span: float
+) -> tuple[float, float]:
+    """How far below and above the chosen window's slope the slopes of the other plausible
+    windows reach: straight at the loosest tolerance, inside ``0 … end``, spanning at least
+    ``min_span`` and rising by at least ``FAMILY_RISE`` of the chosen rise. The choice among
+    these is a judgement the data do not settle, so the interval carries it; every such
+    slope is positive, so a clearly positive exponent stays positive."""
+    idx = _search_grid(end)
+    k = horizon[idx].astype(np.float64)
+    y = curve[idx]
+    if k.size < 5 or not np.isfinite(y).all():
+        return 0.0, 0.0
+    slope = float(np.polyfit(horizon[a : b + 1].astype(np.float64), curve[a : b + 1], 1)[0])
+    rise = slope * float(horizon[b] - horizon[a])
+    span = max(min(float(min_span), float(k[-1] - k[0])), 3.0 * (k[1] - k[0]))
+    lo, hi, count = _k.straight_slope_range(k, y, span, TOLERANCES[-1], FAMILY_RISE * rise)
+    if count == 0:
+        return 0.0, 0.0
+    return float(max(slope - lo, 0.0)), float(max(hi - slope, 0.0))

@@ -50,6 +50,7 @@ Kind = Literal["map", "flow", "forced"]
 Vote = Literal["supports", "opposes", "neutral", "missing"]
 MIN_SAMPLES = 200
 DIMENSION_POINTS = 2000  # FNN reference points: the fraction is known to about ±1 %
+LOW_DIM = 3  # delay coordinates of the second surrogate test (a chaotic flow unfolds in 3)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -167,6 +168,9 @@ class Verdict:
         ``crossing``), :class:`ZeroOneResult`, :class:`SurrogateResult` and the
         recurrence / line-spectrum analysis (``lines.kind``: ``"periodic"``,
         ``"quasi-periodic"``, ``"broadband"`` or ``"unresolved"``).
+    surrogates_low_dim
+        The surrogate test repeated in ``LOW_DIM`` (3) delay coordinates when the first one
+        did not reject in more (None otherwise): a noise label needs both to fail.
     rule
         The :class:`VerdictRule` applied.
     """
@@ -198,6 +202,7 @@ class Verdict:
     section: xr.Dataset | None = field(default=None, repr=False)
     zero_one: ZeroOneResult | None = field(default=None, repr=False)
     surrogates: SurrogateResult | None = field(default=None, repr=False)
+    surrogates_low_dim: SurrogateResult | None = field(default=None, repr=False)
     lines: LineSpectrum | None = field(default=None, repr=False)
     rule: VerdictRule = field(default_factory=VerdictRule, repr=False)
 
@@ -522,26 +527,33 @@ def combine(
     lines_bases: int = 0,
     n_cycles: float = float("inf"),
     cycle_unit: str = "characteristic times",
+    low_dim_rejected: bool | None = None,
 ) -> tuple[Label, int | None, float, str, dict[str, Vote], tuple[str, ...]]:
     """Apply the rule of :func:`classify` to the evidence.
 
     ``lines`` is the kind of the recurrence / line-spectrum analysis (None if it failed),
     ``lines_period`` its period, ``lines_bases`` its number of base frequencies,
     ``n_cycles`` the characteristic times the series spans
-    (``cycle_unit`` names them). Returns label, period, confidence, reason, votes and needs.
+    (``cycle_unit`` names them), ``low_dim_rejected`` whether the surrogate test repeated
+    in a few delay coordinates rejected (None: not run). Returns label, period, confidence,
+    reason, votes and needs.
     """
     both_positive = rosenstein_positive is True and wolf_positive is True
     long_enough = n_cycles >= rule.min_cycles
     section = "none" if structure is None else structure.kind
     # a spectrum that is not lines, over enough cycles, outweighs a regular-looking section
     broadband_decides = lines == "broadband" and long_enough
+    # clusters alone make a period only where the spectrum cannot speak against them: a
+    # spectrum of lines that are not one period's harmonics (unresolved, or a torus's)
+    # contradicts k tight clusters (chaotic flows sampled coarsely show both)
+    lines_contradict_clusters = lines in ("unresolved", "quasi-periodic")
     period: int | None = None
     label: Label
     needs: list[str] = []
     if lines == "periodic":
         label, period = "periodic", lines_period
         reason = "the series repeats: what is left after its period is white noise or nothing"
-    elif section == "clusters" and not broadband_decides:
+    elif section == "clusters" and not broadband_decides and not lines_contradict_clusters:
         assert structure is not None
         label, period = "periodic", structure.n_clusters
         reason = f"the section is {period} tight cluster(s) visited in a fixed cyclic order"
@@ -554,7 +566,12 @@ def combine(
     elif section == "closed-curve" and not both_positive and not broadband_decides:
         label = "quasi-periodic"
         reason = "the section fills a closed curve and not both exponents are clearly positive"
-    elif lines == "broadband" and long_enough and surrogates_rejected is False:
+    elif (
+        lines == "broadband"
+        and long_enough
+        and surrogates_rejected is False
+        and low_dim_rejected is not True
+    ):
         label = "noise-like"
         reason = "the spectrum is not lines; the surrogate test cannot reject linear noise"
     elif (
@@ -585,10 +602,22 @@ def combine(
                     f"a longer series: the section looks regular ({section}) but the "
                     "spectrum is not lines"
                 )
+            elif section == "clusters" and lines_contradict_clusters:
+                assert structure is not None
+                needs.append(
+                    f"a longer or cleaner series: the section is {structure.n_clusters} tight "
+                    f"cluster(s) but the spectrum is not the harmonics of one period ({lines})"
+                )
             elif section == "closed-curve":
                 needs.append(
                     "a longer series to tell a torus from a thin chaotic band (the section "
                     "is a closed curve but both exponents are clearly positive)"
+                )
+            elif surrogates_rejected is False and low_dim_rejected is True:
+                needs.append(
+                    "a longer or more finely sampled series: the data are more predictable "
+                    f"than their surrogates in {LOW_DIM} delay coordinates but not in the "
+                    "embedding dimension, so neither noise nor determinism is shown"
                 )
             elif surrogates_rejected is not False:
                 for name, pos in (("Rosenstein", rosenstein_positive), ("Wolf", wolf_positive)):
@@ -723,9 +752,9 @@ def classify(
     * else *periodic* (period :math:`k`) if the series repeats — folding or the line
       spectrum leaves white noise carrying at most ``rule.max_residual`` of the variance,
       or nothing — or if the section is :math:`k` tight clusters visited in a fixed cyclic
-      order; :math:`k` counts samples for maps and for series that repeat after
-      :math:`k` samples, drive periods for forced flows, maxima per period for autonomous
-      flows;
+      order and the spectrum is not lines of another kind (unresolved, or a torus's);
+      :math:`k` counts samples for maps and for series that repeat after :math:`k`
+      samples, drive periods for forced flows, maxima per period for autonomous flows;
     * else *quasi-periodic* if the line spectrum is two or three incommensurate base
       frequencies and their combinations (white residual), or if the section fills a
       closed curve and not both exponents are clearly positive;
@@ -733,7 +762,8 @@ def classify(
       is broadband over at least ``rule.min_cycles`` characteristic times;
     * else *noise-like* if the spectrum is broadband, the series spans at least
       ``rule.min_cycles`` characteristic times and the surrogate test cannot reject linear
-      Gaussian noise;
+      Gaussian noise, neither in the embedding dimension nor (when that is larger) in
+      three delay coordinates;
     * else *chaotic* if both exponents are clearly positive, the surrogate test rejects,
       the spectrum is broadband or unresolved, and regular motion is ruled out by a
       scattered section or by a broadband spectrum over at least ``rule.min_cycles``
@@ -886,6 +916,26 @@ def classify(
         )
     except ValueError as exc:
         errors["surrogates"] = str(exc)
+    low_dim = None
+    if surrogates is not None and not surrogates.rejected and embedding_dim > LOW_DIM:
+        # A locally constant predictor in many coordinates finds no close neighbours in a
+        # few thousand points, so its failure to beat the surrogates is no evidence of
+        # noise; a low-dimensional attractor (coarsely sampled, or with a dimension that
+        # FNN could not resolve) still shows in a few coordinates. This test can only
+        # withhold a noise label: chaos still needs the first test to reject.
+        try:
+            low_dim = surrogate_test(
+                x[::step][-surrogate_max_samples:],
+                embedding_dim=LOW_DIM,
+                lag=surrogates.lag,
+                theiler_window=surrogates.theiler_window,
+                n_surrogates=n_surrogates,
+                alpha=rule.alpha,
+                min_effect=rule.min_effect,
+                rng=gen,
+            )
+        except ValueError as exc:
+            errors["surrogates_low_dim"] = str(exc)
 
     lines = None
     try:
@@ -915,6 +965,7 @@ def classify(
         lines_bases=0 if lines is None else int(lines.base_frequencies.size),
         n_cycles=n_cycles,
         cycle_unit=unit,
+        low_dim_rejected=None if low_dim is None else low_dim.rejected,
     )
     return Verdict(
         label=label,
@@ -941,5 +992,6 @@ def classify(
         section=section,
         zero_one=zero_one,
         surrogates=surrogates,
+        surrogates_low_dim=low_dim,
         **base,
     )

@@ -155,12 +155,21 @@ def test_rule_chaos_needs_every_piece() -> None:
         label, _, confidence, reason, _, needs = combine(**{**full, key: value}, rule=RULE)
         assert label == "undetermined" and np.isnan(confidence) and needs
         assert reason.startswith("the evidence cannot decide: needs")
-    # a regular-looking section counts unless the spectrum is broadband over enough cycles
+    # a regular-looking section counts unless the spectrum speaks against it: broadband
+    # over enough cycles, or lines that are not one period's harmonics
     near = {**full, "lines": "unresolved"}
-    assert combine(**{**near, "structure": _structure("clusters", 3)}, rule=RULE)[:2] == (
+    label, period, _, _, _, needs = combine(
+        **{**near, "structure": _structure("clusters", 3)}, rule=RULE
+    )
+    assert (label, period) == ("undetermined", None)
+    assert any("3 tight cluster(s) but the spectrum is not the harmonics" in n for n in needs)
+    short = {**full, "lines": "broadband", "n_cycles": 8.0}
+    assert combine(**{**short, "structure": _structure("clusters", 3)}, rule=RULE)[:2] == (
         "periodic",
         3,
     )
+    torus = {**full, "lines": "quasi-periodic", "structure": _structure("clusters", 1)}
+    assert combine(**torus, rule=RULE)[0] == "quasi-periodic"
     assert combine(**{**near, "structure": _structure("closed-curve")}, rule=RULE)[0] == (
         "undetermined"
     )
@@ -169,10 +178,10 @@ def test_rule_chaos_needs_every_piece() -> None:
 def test_rule_confidence_counts_disagreement() -> None:
     label, period, confidence, _, votes, _ = combine(
         structure=_structure("clusters", 2), rosenstein_positive=False, wolf_positive=True,
-        zero_one_k=0.5, surrogates_rejected=True, rule=RULE, lines="unresolved",
+        zero_one_k=0.5, surrogates_rejected=True, rule=RULE, lines=None,
     )  # fmt: skip
     assert (label, period) == ("periodic", 2)
-    assert votes == {"lines": "neutral", "section": "supports", "rosenstein": "supports",
+    assert votes == {"lines": "missing", "section": "supports", "rosenstein": "supports",
                      "wolf": "opposes", "zero_one": "neutral",
                      "surrogates": "neutral"}  # fmt: skip
     assert confidence == pytest.approx(2 / 3)
@@ -231,3 +240,24 @@ def test_docs_state_the_same_rule_as_the_docstring() -> None:
     block = page[page.index("<!-- rule") : page.index("<!-- /rule -->")]
     block = block[block.index("-->") + 3 :]
     assert _words(rule).rstrip("-") == _words(block)
+
+
+def test_rule_noise_needs_the_low_dimensional_test_to_fail_too() -> None:
+    noise = {"structure": _structure("scattered"), "rosenstein_positive": False,
+             "wolf_positive": False, "zero_one_k": 1.0, "surrogates_rejected": False,
+             "lines": "broadband", "n_cycles": 100.0}  # fmt: skip
+    assert combine(**noise, rule=RULE)[0] == "noise-like"
+    assert combine(**noise, low_dim_rejected=False, rule=RULE)[0] == "noise-like"
+    label, _, confidence, _, _, needs = combine(**noise, low_dim_rejected=True, rule=RULE)
+    assert label == "undetermined" and np.isnan(confidence)
+    assert any("3 delay coordinates" in n for n in needs)
+    # it never makes chaos: that still needs the first test to reject
+    chaos = {**noise, "rosenstein_positive": True, "wolf_positive": True}
+    assert combine(**chaos, low_dim_rejected=True, rule=RULE)[0] == "undetermined"
+
+
+def test_white_noise_fails_the_low_dimensional_test_as_well() -> None:
+    v = classify(np.random.default_rng(5).standard_normal(2000), rng=5)
+    assert v.label == "noise-like"
+    assert v.embedding_dim > 3 and v.surrogates_low_dim is not None
+    assert not v.surrogates_low_dim.rejected and v.surrogates_low_dim.embedding_dim == 3

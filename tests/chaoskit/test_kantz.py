@@ -41,23 +41,25 @@ def _duffing_x() -> tuple[np.ndarray, float]:
 
 
 def test_forced_duffing_improves_on_rosenstein() -> None:
-    """Rosenstein's defaults are −26 % here (weak chaos per orbit); Kantz within 8 %."""
+    """Rosenstein's defaults are −26 % here (weak chaos per orbit); Kantz within 8 %. Both
+    intervals cover the truth: Rosenstein's carries the spread over plausible fit windows."""
     x, dt = _duffing_x()
     res = lyapunov_kantz(x, dt=dt)
     ros = lyapunov_rosenstein(x, dt=dt)
     assert_allclose(res.mle, DUFFING, rtol=0.08)
     assert abs(res.mle / DUFFING - 1) < 0.5 * abs(ros.mle / DUFFING - 1)
-    assert _covers(res, DUFFING) and not _covers(ros, DUFFING)
+    assert _covers(res, DUFFING) and _covers(ros, DUFFING)
 
 
 def test_rossler_sampled_at_0_1_improves_on_rosenstein() -> None:
-    """Rosenstein −10.8 % with an interval that misses; Kantz (transverse) within 6 %."""
+    """Rosenstein −10.8 % (its interval, once too narrow, now covers); Kantz (transverse)
+    within 6 %."""
     x = systems.rossler(N, dt=0.1)[:, 0]
     res = lyapunov_kantz(x, dt=0.1)
     ros = lyapunov_rosenstein(x, dt=0.1)
     assert_allclose(res.mle, ROSSLER, rtol=0.06)
     assert abs(res.mle / ROSSLER - 1) < abs(ros.mle / ROSSLER - 1)
-    assert _covers(res, ROSSLER) and not _covers(ros, ROSSLER)
+    assert _covers(res, ROSSLER) and _covers(ros, ROSSLER)
     assert res.params["distance"] == "transverse"
 
 

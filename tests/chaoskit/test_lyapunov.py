@@ -357,3 +357,17 @@ def test_scaling_region_reports_missing_straight_part() -> None:
     y = np.random.default_rng(1).standard_normal(200)  # no trend at all
     a, b, found = scaling_region(k, y, plateau=5.0, min_span=20)
     assert not found and (a, b) == (0, 199)
+
+
+def test_fit_window_family_spread() -> None:
+    from chaoskit.lyapunov._scaling import family_spread
+
+    k = np.arange(200, dtype=np.float64)
+    line = 0.05 * k
+    assert family_spread(k, line, 20, 150, 199, min_span=10) == pytest.approx((0, 0), abs=1e-12)
+    # two straight stretches of (nearly) equal rise, slopes 0.05 and 0.0415: the largest-rise
+    # rule cannot tell them apart, so the spread is their difference
+    k = np.arange(220, dtype=np.float64)
+    kinked = np.where(k < 100, 0.05 * k, 5.0 + 0.0415 * (k - 100))
+    below, above = family_spread(k, kinked, 0, 99, 219, min_span=10)
+    assert below == pytest.approx(0.0085, rel=0.05) and above == pytest.approx(0.0, abs=1e-9)
