@@ -321,9 +321,9 @@ def _claim_agreement(estimate: tuple[float, float, float], claim: str) -> str:
 def _sign_word(ours: float, low: float, high: float) -> int:
     """+1 or −1 when the 95 % interval (or, without one, the value) lies on one side of
     zero; 0 when it contains zero or is missing."""
-    if math.isfinite(low) and math.isfinite(high):
-        return 1 if low > 0.0 else (-1 if high < 0.0 else 0)
-    return int(np.sign(ours)) if math.isfinite(ours) else 0
+    if math.isnan(low) or math.isnan(high):
+        return int(np.sign(ours)) if math.isfinite(ours) else 0
+    return 1 if low > 0.0 else (-1 if high < 0.0 else 0)
 
 
 def _exponent_rows(
