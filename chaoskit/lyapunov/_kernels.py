@@ -253,6 +253,33 @@ def _ls_slope(c1, c2, cy, cky, a, b):
 
 
 @njit(cache=True)
+def _prefix_sums(k, y):
+    # exclusive prefix sums of k, k², y and k·y: any window's least-squares slope in O(1)
+    n = k.size
+    c1 = np.zeros(n + 1)
+    c2 = np.zeros(n + 1)
+    cy = np.zeros(n + 1)
+    cky = np.zeros(n + 1)
+    for i in range(n):
+        c1[i + 1] = c1[i] + k[i]
+        c2[i + 1] = c2[i] + k[i] * k[i]
+        cy[i + 1] = cy[i] + y[i]
+        cky[i + 1] = cky[i] + k[i] * y[i]
+    return c1, c2, cy, cky
+
+
+@njit(cache=True)
+def _straight(c1, c2, cy, cky, a, b, s, tol):
+    # slopes over the first, middle and last fifth (>= 2 points) within tol * s of each other
+    m3 = max(2, (b - a + 1) // 5)
+    s_first = _ls_slope(c1, c2, cy, cky, a, a + m3 - 1)
+    s_last = _ls_slope(c1, c2, cy, cky, b - m3 + 1, b)
+    mid = (a + b) // 2
+    s_mid = _ls_slope(c1, c2, cy, cky, mid - m3 // 2, mid - m3 // 2 + m3 - 1)
+    return max(s_first, s_mid, s_last) - min(s_first, s_mid, s_last) <= tol * s
+
+
+@njit(cache=True)
 def best_linear_window(
     k: np.ndarray, y: np.ndarray, min_len: float, tol: float
 ) -> tuple[int, int, bool]:
@@ -264,15 +291,7 @@ def best_linear_window(
     qualifies, (0, n - 1, False).
     """
     n = k.size
-    c1 = np.zeros(n + 1)
-    c2 = np.zeros(n + 1)
-    cy = np.zeros(n + 1)
-    cky = np.zeros(n + 1)
-    for i in range(n):
-        c1[i + 1] = c1[i] + k[i]
-        c2[i + 1] = c2[i] + k[i] * k[i]
-        cy[i + 1] = cy[i] + y[i]
-        cky[i + 1] = cky[i] + k[i] * y[i]
+    c1, c2, cy, cky = _prefix_sums(k, y)
     best = -1.0
     ba = 0
     bb = n - 1
@@ -288,13 +307,7 @@ def best_linear_window(
             rise = s * span
             if rise <= best:
                 continue
-            m3 = max(2, (b - a + 1) // 5)
-            s_first = _ls_slope(c1, c2, cy, cky, a, a + m3 - 1)
-            s_last = _ls_slope(c1, c2, cy, cky, b - m3 + 1, b)
-            mid = (a + b) // 2
-            s_mid = _ls_slope(c1, c2, cy, cky, mid - m3 // 2, mid - m3 // 2 + m3 - 1)
-            spread = max(s_first, s_mid, s_last) - min(s_first, s_mid, s_last)
-            if spread <= tol * s:
+            if _straight(c1, c2, cy, cky, a, b, s, tol):
                 best = rise
                 ba = a
                 bb = b
@@ -310,15 +323,7 @@ def straight_slope_range(
     :func:`best_linear_window`) that span at least ``min_len`` in ``k`` and rise by at least
     ``min_rise``; with their count (0: none, and NaN slopes)."""
     n = k.size
-    c1 = np.zeros(n + 1)
-    c2 = np.zeros(n + 1)
-    cy = np.zeros(n + 1)
-    cky = np.zeros(n + 1)
-    for i in range(n):
-        c1[i + 1] = c1[i] + k[i]
-        c2[i + 1] = c2[i] + k[i] * k[i]
-        cy[i + 1] = cy[i] + y[i]
-        cky[i + 1] = cky[i] + k[i] * y[i]
+    c1, c2, cy, cky = _prefix_sums(k, y)
     lo = np.inf
     hi = -np.inf
     count = 0
@@ -330,13 +335,7 @@ def straight_slope_range(
             s = _ls_slope(c1, c2, cy, cky, a, b)
             if s <= 0.0 or s * span < min_rise:
                 continue
-            m3 = max(2, (b - a + 1) // 5)
-            s_first = _ls_slope(c1, c2, cy, cky, a, a + m3 - 1)
-            s_last = _ls_slope(c1, c2, cy, cky, b - m3 + 1, b)
-            mid = (a + b) // 2
-            s_mid = _ls_slope(c1, c2, cy, cky, mid - m3 // 2, mid - m3 // 2 + m3 - 1)
-            spread = max(s_first, s_mid, s_last) - min(s_first, s_mid, s_last)
-            if spread <= tol * s:
+            if _straight(c1, c2, cy, cky, a, b, s, tol):
                 lo = min(lo, s)
                 hi = max(hi, s)
                 count += 1
