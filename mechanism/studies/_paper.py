@@ -529,6 +529,20 @@ def _chaos_run(scene: Any, settings: StudySettings) -> xr.Dataset:
     )
 
 
+def chaos_analysis_options(settings: StudySettings) -> dict[str, Any]:
+    """The :func:`chaoskit.report` options of the study's chaos analysis of one state's
+    series from :func:`_chaos_run` (the journal centre of joint C as ``X`` and ``Y``, the
+    crank angle as the drive's phase, the transient dropped)."""
+    return {
+        "variables": {"X": "eccentricity_x[joint=C]", "Y": "eccentricity_y[joint=C]"},
+        "phase_variable": "crank_angle",
+        "discard": settings.discard_revolutions * 60.0 / 150.0,
+        "max_samples": settings.max_samples,
+        "n_surrogates": settings.n_surrogates,
+        "rng": 0,
+    }
+
+
 def _equation_exponent(scene: Any, settings: StudySettings) -> Any:
     """:func:`mechanism.lyapunov_exponent` of the rigid-rod model of a state (pool task)."""
     rigid = scene.replace({"effects.flexibility": False})
@@ -824,7 +838,17 @@ def run_paper_study(
                 stores.append(store)
                 try:
                     orbits[state] = bifurcation(
-                        sc.replace({"effects.flexibility": settings.orbit_flexible_rods}),
+                        sc.replace(
+                            {
+                                "effects.flexibility": settings.orbit_flexible_rods,
+                                # rigid rods: the error control and the approach limit
+                                # resolve the impacts; the study's step cap is for the
+                                # fixed-step generalized-α of flexible rods
+                                "solver.max_step": sc.solver.max_step
+                                if settings.orbit_flexible_rods
+                                else None,
+                            }
+                        ),
                         parameter="drive.speed_rpm",
                         values=list(settings.orbit_speeds),
                         revolutions=settings.orbit_revolutions,
@@ -888,17 +912,11 @@ def run_paper_study(
         report_tables = _report_tables(tables, paper, notes, has_after=150 in after)
         if command is None:
             command = " ".join(shlex.quote(a) for a in sys.argv) if sys.argv else "run_paper_study"
+        analysis_options = chaos_analysis_options(settings) if trajectories else {}
         rep = chaoskit.report(
             trajectories or None,
-            variables={"X": "eccentricity_x[joint=C]", "Y": "eccentricity_y[joint=C]"}
-            if trajectories
-            else None,
-            phase_variable="crank_angle" if trajectories else None,
             exponents={s: e for s, e in equations.items() if e is not None and s in trajectories},
-            discard=settings.discard_revolutions * period,
-            max_samples=settings.max_samples,
-            n_surrogates=settings.n_surrogates,
-            rng=0,
+            **analysis_options,
             chaos_reference=chaos_ref if trajectories else None,
             reference_name="paper",
             chaos_notes=notes["chaos"],
