@@ -43,7 +43,19 @@ RECORD_MODES: tuple[str, ...] = get_args(RecordMode)
 
 
 class SimulationError(RuntimeError):
-    """The integrator failed (its status and message are in the exception text)."""
+    """The integrator failed (its status and message are in the exception text);
+    ``time`` is the simulated time (s) it reached, NaN when not known."""
+
+    def __init__(self, message: str, *, time: float = math.nan) -> None:
+        super().__init__(message)
+        self.time = float(time)
+
+    def __reduce__(self) -> tuple[Any, ...]:  # keeps ``time`` across processes
+        return (_simulation_error, (str(self), self.time))
+
+
+def _simulation_error(message: str, time: float) -> SimulationError:
+    return SimulationError(message, time=time)
 
 
 def drive_period(scene: Scene) -> float | None:
@@ -407,7 +419,8 @@ def simulate(
         t_fail = run.final_time
         raise SimulationError(
             f"simulation of {scene.name!r} failed after t = {t_fail:.6g} s "
-            f"({integrator.name}): {run.stats.message}"
+            f"({integrator.name}): {run.stats.message}",
+            time=t_fail,
         )
     if not ideal_run.stats.success and throw:
         raise SimulationError(

@@ -360,3 +360,34 @@ def test_quick_settings_reach_the_verdict_of_the_paper_settings_before_wear():
         verdicts[name] = rep.motions["before wear"]
     assert verdicts["quick"].label == verdicts["paper"].label, verdicts
     assert verdicts["quick"].period == verdicts["paper"].period, verdicts
+
+
+def test_a_diverged_flexible_long_run_falls_back_to_rigid_rods_and_says_so(monkeypatch):
+    """A flexible-rod long run that stops is replaced by the rigid-rod run of the same
+    state, and the series carry the reason (the report's summary repeats it)."""
+    import mechanism.studies._paper as paper_study
+
+    real = paper_study.simulate
+    calls = []
+
+    def flexible_fails(scene, **kwargs):
+        calls.append(scene.effects.flexibility)
+        if scene.effects.flexibility:
+            raise mechanism.SimulationError(
+                "simulation of 'paper' failed after t = 0.8 s (x)", time=0.8
+            )
+        return real(scene, **kwargs)
+
+    monkeypatch.setattr(paper_study, "simulate", flexible_fails)
+    settings = StudySettings(
+        revolutions=2.0, discard_revolutions=1.0, chaos_revolutions=1.0,
+        chaos_samples_per_revolution=100,
+    )  # fmt: skip
+    scene = paper_study.wear_scene_of(mechanism.load_scene("paper"))
+    ds = paper_study._chaos_run(scene, settings)
+    assert calls == [True, False]
+    assert ds.sizes["time"] == 2 * 100 + 1
+    note = ds.attrs["rods_note"]
+    assert note.startswith("the run with flexible rods stopped after 2 of 2 revolutions")
+    assert note.endswith("its series are from rigid rods")
+    assert paper_study._rods_of({"after wear": ds}, settings) == "flexible (after wear: rigid)"

@@ -5,6 +5,7 @@ from __future__ import annotations
 import doctest
 import json
 import math
+import pickle
 import re
 
 import numpy as np
@@ -172,7 +173,10 @@ def test_failure_names_the_time_it_stopped_whatever_is_recorded() -> None:
             )
         found = re.search(r"failed after t = (\S+) s", str(err.value))
         assert found is not None, err.value
-        times.append(float(found.group(1)))
+        np.testing.assert_allclose(err.value.time, float(found.group(1)), rtol=1e-5)
+        again = pickle.loads(pickle.dumps(err.value))  # from a pool's process
+        assert again.time == err.value.time and str(again) == str(err.value)
+        times.append(err.value.time)
     assert times[0] > 0.0
     assert times[1] == times[0]
 
