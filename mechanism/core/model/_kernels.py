@@ -374,13 +374,23 @@ def _solve(minv, blk_lo, blk_hi, alpha, beta, phi, phiq, phit, gam, gen, v, a0, 
         lam[k] = pa - (gam[k] - two_alpha * pv - beta2 * phi[k])
     if not _cholesky_solve(s, lam, m):
         return STATUS_SINGULAR
+    # q̈ = a₀ − Wλ, each column of W only over the mass blocks of its row's nonzero
+    # columns (W is zero elsewhere; per entry the same subtractions in the same order)
+    for i in range(n):
+        acc[i] = a0[i]
+    for k in range(m):
+        lk = lam[k]
+        last = -1
+        for e in range(nzn[k]):
+            lo = blk_lo[nzj[k, e]]
+            if lo == last:
+                continue
+            last = lo
+            for i in range(lo, blk_hi[nzj[k, e]]):
+                acc[i] -= w[i, k] * lk
     ok = True
     for i in range(n):
-        x = a0[i]
-        for k in range(m):
-            x -= w[i, k] * lam[k]
-        acc[i] = x
-        if not math.isfinite(x):
+        if not math.isfinite(acc[i]):
             ok = False
     return STATUS_OK if ok else STATUS_NONFINITE
 
