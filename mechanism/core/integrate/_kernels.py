@@ -44,13 +44,16 @@ from mechanism.core.model._kernels import (
     CF_V0,
     CF_V1,
     CJ_DELTA,
+    CJ_DELTA_DOT,
     CJ_FN,
+    CJ_PHI_B,
     CJ_VT,
     CNT_COLUMNS,
     CNT_JAC,
     CNT_NEWTON,
     CNT_REJECTED,
     CNT_STEPS,
+    CW_WORN,
     _clearance_forces,
     accelerations,
     approach_step,
@@ -859,6 +862,64 @@ def _contact_derivatives(model, ws, q, v, vimp, cc, dq, dv, gt, cs):
     return True
 
 
+# A linearisation of the clearance forces is reused while every quantity that sets it
+# has moved by less than this fraction of its scale (docs/ancf.md §8)
+RELINEARISE = 0.01
+LIN_DELTA = 0  # δ, δ̇, v_t, φ_b and the latched impact speed at the last linearisation
+LIN_DELTA_DOT = 1
+LIN_VT = 2
+LIN_PHI = 3
+LIN_VIMP = 4
+LIN_COLUMNS = 5
+
+
+@njit(cache=True)
+def _linearisation_holds(model, cj, vimp, lin):
+    """Whether the clearance-force derivatives taken at the state ``lin`` recorded still
+    hold at the state of ``cj`` (the last evaluation) to about ``RELINEARISE``: the same
+    joints touch with the same latched impact speed, and per touching joint δ, the
+    contact angle and δ̇ moved by less than that fraction of δ, of a radian and of
+    |δ̇| + the impact speed, and v_t stayed on the same flat side of a regularised friction
+    law (|v_t| ≥ v1, one sign) or moved by less than the fraction of v0. Worn joints, whose
+    stiffness jumps between profile regions, are always re-linearised."""
+    for j in range(cj.shape[0]):
+        d = cj[j, CJ_DELTA]
+        dr = lin[j, LIN_DELTA]
+        if not (d > 0.0) == (dr > 0.0) or not vimp[j] == lin[j, LIN_VIMP]:
+            return False
+        if not d > 0.0:
+            continue
+        if model.cw_i[j, CW_WORN] != 0:
+            return False
+        if abs(d - dr) > RELINEARISE * dr:
+            return False
+        if abs(cj[j, CJ_PHI_B] - lin[j, LIN_PHI]) > RELINEARISE:
+            return False
+        dd = cj[j, CJ_DELTA_DOT]
+        ddr = lin[j, LIN_DELTA_DOT]
+        if abs(dd - ddr) > RELINEARISE * (abs(ddr) + vimp[j]):
+            return False
+        if model.cj_i[j, 3] != FRICTION_NONE:
+            vt = cj[j, CJ_VT]
+            vtr = lin[j, LIN_VT]
+            v0 = model.cj_f[j, CF_V0]
+            v1 = model.cj_f[j, CF_V1]
+            sliding = min(abs(vt), abs(vtr)) >= v1 and vt * vtr > 0.0
+            if not sliding and abs(vt - vtr) > RELINEARISE * v0:
+                return False
+    return True
+
+
+@njit(cache=True)
+def _record_linearisation(cj, vimp, lin):
+    for j in range(cj.shape[0]):
+        lin[j, LIN_DELTA] = cj[j, CJ_DELTA]
+        lin[j, LIN_DELTA_DOT] = cj[j, CJ_DELTA_DOT]
+        lin[j, LIN_VT] = cj[j, CJ_VT]
+        lin[j, LIN_PHI] = cj[j, CJ_PHI_B]
+        lin[j, LIN_VIMP] = vimp[j]
+
+
 @njit(cache=True)
 def _contact_scratch(model, ws):
     """Scratch of :func:`_contact_derivatives`, allocated once per integration call."""
@@ -1065,6 +1126,8 @@ def genalpha_advance(model, ws, loop, out, ctl, jac, t_stop):
     wv = np.empty(nc)
     gt = np.zeros((contact.shape[0], nc))
     cs = _contact_scratch(model, ws)
+    lin = np.full((contact.shape[0], LIN_COLUMNS), np.nan)
+    lin_touching = False
     base_contact = False
     t = state[0]
     h = state[1]
@@ -1141,7 +1204,13 @@ def genalpha_advance(model, ws, loop, out, ctl, jac, t_stop):
                 dx[i] = f[i] - x[i]
             touching = False
             if nc > 0:
-                touching = _contact_derivatives(model, ws, qn, vn, vimp, cc, dqi, dvi, gt, cs)
+                # ws.cj holds the clearance state at this iterate (the evaluation above)
+                if _linearisation_holds(model, ws.cj, vimp, lin):
+                    touching = lin_touching
+                else:
+                    touching = _contact_derivatives(model, ws, qn, vn, vimp, cc, dqi, dvi, gt, cs)
+                    _record_linearisation(ws.cj, vimp, lin)
+                    lin_touching = touching
             if touching or base_contact:
                 for a in range(nc):
                     for b in range(nc):

@@ -85,116 +85,118 @@ PCI_COLUMNS = 12
 @njit(cache=True)
 def update_points(q, v, pt_i, pt_f, pci, pcf):
     """Fill the point cache at (q, q̇) (see the module docstring)."""
-    for k in range(pt_i.shape[0]):
-        update_point(q, v, pt_i, pt_f, pci, pcf, k)
+    _fill_points(q, v, pt_i, pt_f, pci, pcf, None)
 
 
 @njit(cache=True)
 def update_point_rows(q, v, pt_i, pt_f, pci, pcf, rows):
     """Refresh only the cached points ``rows`` at (q, q̇) (the others keep their values)."""
-    for r in range(rows.shape[0]):
-        update_point(q, v, pt_i, pt_f, pci, pcf, rows[r])
+    _fill_points(q, v, pt_i, pt_f, pci, pcf, rows)
 
 
 @njit(cache=True)
-def update_point(q, v, pt_i, pt_f, pci, pcf, k):
-    """Fill row ``k`` of the point cache at (q, q̇)."""
-    kind = pt_i[k, 0]
-    ci = pci[k]
-    cf = pcf[k]
-    if kind == POINT_GROUND:
-        cf[PC_X] = pt_f[k, 0]
-        cf[PC_Y] = pt_f[k, 1]
-        cf[PC_VX] = 0.0
-        cf[PC_VY] = 0.0
-        cf[PC_QX] = 0.0
-        cf[PC_QY] = 0.0
-        ci[PCI_JN] = 0
-    elif kind == POINT_RIGID:
-        base = pt_i[k, 1]
-        th = q[base + 2]
-        w = v[base + 2]
-        c = math.cos(th)
-        s = math.sin(th)
-        sx = pt_f[k, 0]
-        sy = pt_f[k, 1]
-        ux = c * sx - s * sy
-        uy = s * sx + c * sy
-        cf[PC_X] = q[base] + ux
-        cf[PC_Y] = q[base + 1] + uy
-        cf[PC_VX] = v[base] - w * uy
-        cf[PC_VY] = v[base + 1] + w * ux
-        cf[PC_QX] = -w * w * ux
-        cf[PC_QY] = -w * w * uy
-        ci[PCI_JN] = 3
-        ci[PCI_JDOF] = base
-        ci[PCI_JDOF + 1] = base + 1
-        ci[PCI_JDOF + 2] = base + 2
-        cf[PC_JX] = 1.0
-        cf[PC_JY] = 0.0
-        cf[PC_JX + 1] = 0.0
-        cf[PC_JY + 1] = 1.0
-        # ∂(A s̄)/∂θ = k × A s̄ = (−uy, ux)
-        cf[PC_JX + 2] = -uy
-        cf[PC_JY + 2] = ux
-    else:
-        x = 0.0
-        y = 0.0
-        vx = 0.0
-        vy = 0.0
-        jn = 0
-        for j in range(4):
-            d = pt_i[k, 4 + j]
-            if d >= 0:
-                wt = pt_f[k, 2 + j]
-                x += wt * q[d]
-                y += wt * q[d + 1]
-                vx += wt * v[d]
-                vy += wt * v[d + 1]
-                ci[PCI_JDOF + jn] = d
-                cf[PC_JX + jn] = wt
-                cf[PC_JY + jn] = 0.0
-                ci[PCI_JDOF + jn + 1] = d + 1
-                cf[PC_JX + jn + 1] = 0.0
-                cf[PC_JY + jn + 1] = wt
-                jn += 2
-        ci[PCI_JN] = jn
-        cf[PC_X] = x
-        cf[PC_Y] = y
-        cf[PC_VX] = vx
-        cf[PC_VY] = vy
-        cf[PC_QX] = 0.0
-        cf[PC_QY] = 0.0
-    ak = pt_i[k, 2]
-    if ak == ANGLE_RIGID:
-        base = pt_i[k, 1]
-        cf[PC_ANG] = q[base + 2]
-        cf[PC_RATE] = v[base + 2]
-        cf[PC_AQUAD] = 0.0
-        ci[PCI_AN] = 1
-        ci[PCI_ADOF] = base + 2
-        cf[PC_AC] = 1.0
-    elif ak == ANGLE_SLOPE:
-        sl = pt_i[k, 3]
-        gx = q[sl]
-        gy = q[sl + 1]
-        g2 = gx * gx + gy * gy
-        cross = gx * v[sl + 1] - gy * v[sl]
-        dot = gx * v[sl] + gy * v[sl + 1]
-        cf[PC_ANG] = math.atan2(gy, gx)
-        cf[PC_RATE] = cross / g2
-        # θ̈ = (r,ₓ × r̈,ₓ)/|r,ₓ|² − 2 (r,ₓ·ṙ,ₓ)(r,ₓ × ṙ,ₓ)/|r,ₓ|⁴
-        cf[PC_AQUAD] = -2.0 * dot * cross / (g2 * g2)
-        ci[PCI_AN] = 2
-        ci[PCI_ADOF] = sl
-        ci[PCI_ADOF + 1] = sl + 1
-        cf[PC_AC] = -gy / g2
-        cf[PC_AC + 1] = gx / g2
-    else:
-        cf[PC_ANG] = 0.0
-        cf[PC_RATE] = 0.0
-        cf[PC_AQUAD] = 0.0
-        ci[PCI_AN] = 0
+def _fill_points(q, v, pt_i, pt_f, pci, pcf, rows):
+    # one loop for both callers: numba compiles ``rows = None`` as its own specialisation
+    # with the test pruned (a call per point would cost a reference-count pair each)
+    count = pt_i.shape[0] if rows is None else rows.shape[0]
+    for r in range(count):
+        k = r if rows is None else rows[r]
+        kind = pt_i[k, 0]
+        ci = pci[k]
+        cf = pcf[k]
+        if kind == POINT_GROUND:
+            cf[PC_X] = pt_f[k, 0]
+            cf[PC_Y] = pt_f[k, 1]
+            cf[PC_VX] = 0.0
+            cf[PC_VY] = 0.0
+            cf[PC_QX] = 0.0
+            cf[PC_QY] = 0.0
+            ci[PCI_JN] = 0
+        elif kind == POINT_RIGID:
+            base = pt_i[k, 1]
+            th = q[base + 2]
+            w = v[base + 2]
+            c = math.cos(th)
+            s = math.sin(th)
+            sx = pt_f[k, 0]
+            sy = pt_f[k, 1]
+            ux = c * sx - s * sy
+            uy = s * sx + c * sy
+            cf[PC_X] = q[base] + ux
+            cf[PC_Y] = q[base + 1] + uy
+            cf[PC_VX] = v[base] - w * uy
+            cf[PC_VY] = v[base + 1] + w * ux
+            cf[PC_QX] = -w * w * ux
+            cf[PC_QY] = -w * w * uy
+            ci[PCI_JN] = 3
+            ci[PCI_JDOF] = base
+            ci[PCI_JDOF + 1] = base + 1
+            ci[PCI_JDOF + 2] = base + 2
+            cf[PC_JX] = 1.0
+            cf[PC_JY] = 0.0
+            cf[PC_JX + 1] = 0.0
+            cf[PC_JY + 1] = 1.0
+            # ∂(A s̄)/∂θ = k × A s̄ = (−uy, ux)
+            cf[PC_JX + 2] = -uy
+            cf[PC_JY + 2] = ux
+        else:
+            x = 0.0
+            y = 0.0
+            vx = 0.0
+            vy = 0.0
+            jn = 0
+            for j in range(4):
+                d = pt_i[k, 4 + j]
+                if d >= 0:
+                    wt = pt_f[k, 2 + j]
+                    x += wt * q[d]
+                    y += wt * q[d + 1]
+                    vx += wt * v[d]
+                    vy += wt * v[d + 1]
+                    ci[PCI_JDOF + jn] = d
+                    cf[PC_JX + jn] = wt
+                    cf[PC_JY + jn] = 0.0
+                    ci[PCI_JDOF + jn + 1] = d + 1
+                    cf[PC_JX + jn + 1] = 0.0
+                    cf[PC_JY + jn + 1] = wt
+                    jn += 2
+            ci[PCI_JN] = jn
+            cf[PC_X] = x
+            cf[PC_Y] = y
+            cf[PC_VX] = vx
+            cf[PC_VY] = vy
+            cf[PC_QX] = 0.0
+            cf[PC_QY] = 0.0
+        ak = pt_i[k, 2]
+        if ak == ANGLE_RIGID:
+            base = pt_i[k, 1]
+            cf[PC_ANG] = q[base + 2]
+            cf[PC_RATE] = v[base + 2]
+            cf[PC_AQUAD] = 0.0
+            ci[PCI_AN] = 1
+            ci[PCI_ADOF] = base + 2
+            cf[PC_AC] = 1.0
+        elif ak == ANGLE_SLOPE:
+            sl = pt_i[k, 3]
+            gx = q[sl]
+            gy = q[sl + 1]
+            g2 = gx * gx + gy * gy
+            cross = gx * v[sl + 1] - gy * v[sl]
+            dot = gx * v[sl] + gy * v[sl + 1]
+            cf[PC_ANG] = math.atan2(gy, gx)
+            cf[PC_RATE] = cross / g2
+            # θ̈ = (r,ₓ × r̈,ₓ)/|r,ₓ|² − 2 (r,ₓ·ṙ,ₓ)(r,ₓ × ṙ,ₓ)/|r,ₓ|⁴
+            cf[PC_AQUAD] = -2.0 * dot * cross / (g2 * g2)
+            ci[PCI_AN] = 2
+            ci[PCI_ADOF] = sl
+            ci[PCI_ADOF + 1] = sl + 1
+            cf[PC_AC] = -gy / g2
+            cf[PC_AC + 1] = gx / g2
+        else:
+            cf[PC_ANG] = 0.0
+            cf[PC_RATE] = 0.0
+            cf[PC_AQUAD] = 0.0
+            ci[PCI_AN] = 0
 
 
 @njit(cache=True)

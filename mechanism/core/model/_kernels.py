@@ -267,11 +267,13 @@ def _cholesky_solve(s, b, m):
 def _schur_arrays(phiq, minv, blk_lo, blk_hi, nzn, nzj, w, s):
     m, n = phiq.shape
     for k in range(m):
+        # branch-free compaction of the nonzero columns (the row of nzj has room for n)
         cnt = 0
+        row = phiq[k]
+        idx = nzj[k]
         for j in range(n):
-            if phiq[k, j] != 0.0:
-                nzj[k, cnt] = j
-                cnt += 1
+            idx[cnt] = j
+            cnt += row[j] != 0.0
         nzn[k] = cnt
     w[:, :] = 0.0
     for k in range(m):
@@ -455,7 +457,10 @@ def entry_depth_ratio(model, ws, y, contact):
     (``contact`` = 0) at the last accepted state, or −inf; the implicit integrator rejects
     steps that enter contact too deep."""
     worst = -np.inf
-    if model.cj_i.shape[0] == 0:
+    separated = False
+    for j in range(model.cj_i.shape[0]):
+        separated = separated or contact[j] == 0
+    if not separated:
         return worst
     n = model.n_dof
     update_points(y[:n], y[n:], model.pt_i, model.pt_f, ws.pci, ws.pcf)
