@@ -44,6 +44,7 @@ from mechanism.core.joints._kernels import (
     clearance_kinematics,
     constraint_rows,
     point_acceleration,
+    update_point_rows,
     update_points,
 )
 from mechanism.core.wear._kernels import local_clearance, local_stiffness_tabulated, region_value
@@ -438,8 +439,9 @@ def update_latch(model, ws, y, vimp, contact, counters):
     if model.cj_i.shape[0] == 0:
         return
     n = model.n_dof
-    update_points(y[:n], y[n:], model.pt_i, model.pt_f, ws.pci, ws.pcf)
     for j in range(model.cj_i.shape[0]):
+        # the clearance state reads the joint's bearing and journal points only
+        update_point_rows(y[:n], y[n:], model.pt_i, model.pt_f, ws.pci, ws.pcf, model.cj_i[j, :2])
         delta, ddot, _ = _clearance_state(model, ws, y, j)
         if delta > 0.0:
             if contact[j] == 0:
