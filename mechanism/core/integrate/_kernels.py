@@ -1062,10 +1062,11 @@ def genalpha_advance(model, ws, loop, out, ctl, jac, t_stop):
     taken at the start of the step can be useless at its end. The columns ``cc`` that
     those forces read (the bearing and journal coordinates) are therefore re-linearised
     at every Newton iterate that touches (:func:`_contact_derivatives`, a few contact-law
-    evaluations) and the change, mapped by the constrained response P M⁻¹ frozen at the
-    Jacobian's state, enters the factorised matrix as a rank-len(cc) Sherman–Morrison–
-    Woodbury correction (:func:`_contact_newton_solve`): a semi-smooth Newton iteration at
-    O(n·len(cc)) extra work per iterate.
+    evaluations; kept while the contact state moved by less than ``RELINEARISE`` since,
+    :func:`_linearisation_holds`), and the change, mapped by the constrained response
+    P M⁻¹ frozen at the Jacobian's state, enters the factorised matrix as a rank-len(cc)
+    Sherman–Morrison–Woodbury correction (:func:`_contact_newton_solve`): a semi-smooth
+    Newton iteration at O(n·len(cc)) extra work per iterate.
 
     ``state`` = [t, h, Jacobian valid, Newton iterations beyond two per step since the
     last refresh]. Returns 1 (``t_stop`` reached), 0 (done) or
