@@ -39,18 +39,21 @@ from mechanism.core._status import (
 )
 from mechanism.core.bodies._ancf_kernels import BEAM_F_DAMPING, beams_jacobian_add
 from mechanism.core.contact._kernels import FRICTION_NONE
-from mechanism.core.joints._kernels import update_points
+from mechanism.core.joints._kernels import update_point_rows
 from mechanism.core.model._kernels import (
     CF_V0,
     CF_V1,
     CJ_DELTA,
+    CJ_DELTA_DOT,
     CJ_FN,
+    CJ_PHI_B,
     CJ_VT,
     CNT_COLUMNS,
     CNT_JAC,
     CNT_NEWTON,
     CNT_REJECTED,
     CNT_STEPS,
+    CW_WORN,
     _clearance_forces,
     accelerations,
     approach_step,
@@ -668,19 +671,21 @@ def _lu_solve(lt, piv, b):
             tmp = b[k]
             b[k] = b[p]
             b[p] = tmp
+    # the updates run over slices (no bounds read per element): the compiler vectorises
+    # them, 2.6× faster on 145 × 145 than indexing the rows
     for j in range(n):
         bj = b[j]
-        if bj != 0.0:
-            col = lt[j]
-            for i in range(j + 1, n):
-                b[i] -= col[i] * bj
+        col = lt[j, j + 1 :]
+        rest = b[j + 1 :]
+        for i in range(n - j - 1):
+            rest[i] -= col[i] * bj
     for j in range(n - 1, -1, -1):
-        col = lt[j]
-        bj = b[j] / col[j]
+        bj = b[j] / lt[j, j]
         b[j] = bj
-        if bj != 0.0:
-            for i in range(j):
-                b[i] -= col[i] * bj
+        col = lt[j, :j]
+        rest = b[:j]
+        for i in range(j):
+            rest[i] -= col[i] * bj
 
 
 @njit(cache=True)
@@ -794,33 +799,40 @@ def _projected_columns(model, ws, kbuf, cols, out):
 
 
 @njit(cache=True, error_model="numpy")
-def _contact_force(model, q, v, vimp, pci, pcf, gen, cj, scratch_counters):
-    """Generalized forces of the clearance joints alone at (q, q̇) into ``gen``."""
+def _contact_force(model, q, v, vimp, rows, pci, pcf, gen, cj, scratch_counters):
+    """Generalized forces of the clearance joints alone at (q, q̇) into ``gen``; only the
+    bearing and journal points ``rows`` of the point cache are refreshed (the clearance
+    forces read no other point)."""
     gen[:] = 0.0
-    update_points(q, v, model.pt_i, model.pt_f, pci, pcf)
+    update_point_rows(q, v, model.pt_i, model.pt_f, pci, pcf, rows)
     _clearance_forces(model, pci, pcf, vimp, gen, cj, scratch_counters)
 
 
+@njit(cache=True)
+def _contact_rows(model):
+    """The point-table rows of the clearance joints' bearings and journals."""
+    n_cj = model.cj_i.shape[0]
+    rows = np.empty(2 * n_cj, dtype=np.int64)
+    for j in range(n_cj):
+        rows[2 * j] = model.cj_i[j, 0]
+        rows[2 * j + 1] = model.cj_i[j, 1]
+    return rows
+
+
 @njit(cache=True, error_model="numpy")
-def _contact_derivatives(model, ws, q, v, vimp, cc, dq, dv, gt):
+def _contact_derivatives(model, ws, q, v, vimp, cc, dq, dv, gt, cs):
     """Derivatives of the clearance-joint forces with respect to the coordinates ``cc``
     they read (bearing and journal points): ``dq[a, c] = ∂Q_cc[a]/∂q_cc[c]``,
     ``dv[a, c] = ∂Q_cc[a]/∂q̇_cc[c]`` and ``gt[j, c] = ∂v_t/∂q̇_cc[c]`` of joint j, by
     forward differences of the contact law alone (2·len(cc) + 1 contact evaluations; the
     generalized contact force is nonzero only on ``cc``). Returns whether any clearance
-    joint is in contact at (q, q̇); zeros when none is.
+    joint is in contact at (q, q̇); zeros when none is. ``cs`` holds the scratch
+    (:func:`_contact_scratch`), so the call allocates nothing.
     """
-    n = q.shape[0]
+    rows, pci, pcf, cj0, cj, cnt, g0, g1, qp, vp = cs
     nc = cc.shape[0]
     n_cj = ws.cj.shape[0]
-    pci = ws.pci.copy()
-    pcf = ws.pcf.copy()
-    cj0 = ws.cj.copy()
-    cj = ws.cj.copy()
-    cnt = np.zeros(CNT_COLUMNS, dtype=np.int64)
-    g0 = np.empty(n)
-    g1 = np.empty(n)
-    _contact_force(model, q, v, vimp, pci, pcf, g0, cj0, cnt)
+    _contact_force(model, q, v, vimp, rows, pci, pcf, g0, cj0, cnt)
     touching = False
     for j in range(n_cj):
         if cj0[j, CJ_DELTA] > 0.0:
@@ -829,25 +841,94 @@ def _contact_derivatives(model, ws, q, v, vimp, cc, dq, dv, gt):
         dq[:, :] = 0.0
         dv[:, :] = 0.0
         return False
-    qp = q.copy()
-    vp = v.copy()
+    qp[:] = q
+    vp[:] = v
     for c in range(nc):
         j = cc[c]
         eps = 1.4901161193847656e-08 * max(abs(q[j]), 1e-2)
         qp[j] = q[j] + eps
-        _contact_force(model, qp, v, vimp, pci, pcf, g1, cj, cnt)
+        _contact_force(model, qp, v, vimp, rows, pci, pcf, g1, cj, cnt)
         qp[j] = q[j]
         for a in range(nc):
             dq[a, c] = (g1[cc[a]] - g0[cc[a]]) / eps
         eps = 1.4901161193847656e-08 * max(abs(v[j]), 1e-1)
         vp[j] = v[j] + eps
-        _contact_force(model, q, vp, vimp, pci, pcf, g1, cj, cnt)
+        _contact_force(model, q, vp, vimp, rows, pci, pcf, g1, cj, cnt)
         vp[j] = v[j]
         for a in range(nc):
             dv[a, c] = (g1[cc[a]] - g0[cc[a]]) / eps
         for jj in range(n_cj):
             gt[jj, c] = (cj[jj, CJ_VT] - cj0[jj, CJ_VT]) / eps
     return True
+
+
+# A linearisation of the clearance forces is reused while every quantity that sets it
+# has moved by less than this fraction of its scale (docs/ancf.md §8)
+RELINEARISE = 0.01
+LIN_DELTA = 0  # δ, δ̇, v_t, φ_b and the latched impact speed at the last linearisation
+LIN_DELTA_DOT = 1
+LIN_VT = 2
+LIN_PHI = 3
+LIN_VIMP = 4
+LIN_COLUMNS = 5
+
+
+@njit(cache=True)
+def _linearisation_holds(model, cj, vimp, lin):
+    """Whether the clearance-force derivatives taken at the state ``lin`` recorded still
+    hold at the state of ``cj`` (the last evaluation) to about ``RELINEARISE``: the same
+    joints touch with the same latched impact speed, and per touching joint δ, the
+    contact angle and δ̇ moved by less than that fraction of δ, of a radian and of
+    |δ̇| + the impact speed, and v_t stayed on the same flat side of a regularised friction
+    law (|v_t| ≥ v1, one sign) or moved by less than the fraction of v0. Worn joints, whose
+    stiffness jumps between profile regions, are always re-linearised."""
+    for j in range(cj.shape[0]):
+        d = cj[j, CJ_DELTA]
+        dr = lin[j, LIN_DELTA]
+        if not (d > 0.0) == (dr > 0.0) or not vimp[j] == lin[j, LIN_VIMP]:
+            return False
+        if not d > 0.0:
+            continue
+        if model.cw_i[j, CW_WORN] != 0:
+            return False
+        if abs(d - dr) > RELINEARISE * dr:
+            return False
+        if abs(cj[j, CJ_PHI_B] - lin[j, LIN_PHI]) > RELINEARISE:
+            return False
+        dd = cj[j, CJ_DELTA_DOT]
+        ddr = lin[j, LIN_DELTA_DOT]
+        if abs(dd - ddr) > RELINEARISE * (abs(ddr) + vimp[j]):
+            return False
+        if model.cj_i[j, 3] != FRICTION_NONE:
+            vt = cj[j, CJ_VT]
+            vtr = lin[j, LIN_VT]
+            v0 = model.cj_f[j, CF_V0]
+            v1 = model.cj_f[j, CF_V1]
+            sliding = min(abs(vt), abs(vtr)) >= v1 and vt * vtr > 0.0
+            if not sliding and abs(vt - vtr) > RELINEARISE * v0:
+                return False
+    return True
+
+
+@njit(cache=True)
+def _record_linearisation(cj, vimp, lin):
+    for j in range(cj.shape[0]):
+        lin[j, LIN_DELTA] = cj[j, CJ_DELTA]
+        lin[j, LIN_DELTA_DOT] = cj[j, CJ_DELTA_DOT]
+        lin[j, LIN_VT] = cj[j, CJ_VT]
+        lin[j, LIN_PHI] = cj[j, CJ_PHI_B]
+        lin[j, LIN_VIMP] = vimp[j]
+
+
+@njit(cache=True)
+def _contact_scratch(model, ws):
+    """Scratch of :func:`_contact_derivatives`, allocated once per integration call."""
+    n = model.n_dof
+    return (
+        _contact_rows(model), ws.pci.copy(), ws.pcf.copy(), ws.cj.copy(), ws.cj.copy(),
+        np.zeros(CNT_COLUMNS, dtype=np.int64), np.empty(n), np.empty(n), np.empty(n),
+        np.empty(n),
+    )  # fmt: skip
 
 
 @njit(cache=True, error_model="numpy")
@@ -981,10 +1062,11 @@ def genalpha_advance(model, ws, loop, out, ctl, jac, t_stop):
     taken at the start of the step can be useless at its end. The columns ``cc`` that
     those forces read (the bearing and journal coordinates) are therefore re-linearised
     at every Newton iterate that touches (:func:`_contact_derivatives`, a few contact-law
-    evaluations) and the change, mapped by the constrained response P M⁻¹ frozen at the
-    Jacobian's state, enters the factorised matrix as a rank-len(cc) Sherman–Morrison–
-    Woodbury correction (:func:`_contact_newton_solve`): a semi-smooth Newton iteration at
-    O(n·len(cc)) extra work per iterate.
+    evaluations; kept while the contact state moved by less than ``RELINEARISE`` since,
+    :func:`_linearisation_holds`), and the change, mapped by the constrained response
+    P M⁻¹ frozen at the Jacobian's state, enters the factorised matrix as a rank-len(cc)
+    Sherman–Morrison–Woodbury correction (:func:`_contact_newton_solve`): a semi-smooth
+    Newton iteration at O(n·len(cc)) extra work per iterate.
 
     ``state`` = [t, h, Jacobian valid, Newton iterations beyond two per step since the
     last refresh]. Returns 1 (``t_stop`` reached), 0 (done) or
@@ -1044,6 +1126,9 @@ def genalpha_advance(model, ws, loop, out, ctl, jac, t_stop):
     spiv = np.empty(nc, dtype=np.int64)
     wv = np.empty(nc)
     gt = np.zeros((contact.shape[0], nc))
+    cs = _contact_scratch(model, ws)
+    lin = np.full((contact.shape[0], LIN_COLUMNS), np.nan)
+    lin_touching = False
     base_contact = False
     t = state[0]
     h = state[1]
@@ -1078,7 +1163,7 @@ def genalpha_advance(model, ws, loop, out, ctl, jac, t_stop):
             )
             if nc > 0:
                 accelerations(model, ws, t, q, v, vimp, f, counters)
-                base_contact = _contact_derivatives(model, ws, q, v, vimp, cc, dq0, dv0, gt)
+                base_contact = _contact_derivatives(model, ws, q, v, vimp, cc, dq0, dv0, gt, cs)
                 _response_basis(model, ws, cc, basis)
             jac_valid = True
             # only a complete refresh makes a Newton failure a reason to shorten the step
@@ -1120,7 +1205,13 @@ def genalpha_advance(model, ws, loop, out, ctl, jac, t_stop):
                 dx[i] = f[i] - x[i]
             touching = False
             if nc > 0:
-                touching = _contact_derivatives(model, ws, qn, vn, vimp, cc, dqi, dvi, gt)
+                # ws.cj holds the clearance state at this iterate (the evaluation above)
+                if _linearisation_holds(model, ws.cj, vimp, lin):
+                    touching = lin_touching
+                else:
+                    touching = _contact_derivatives(model, ws, qn, vn, vimp, cc, dqi, dvi, gt, cs)
+                    _record_linearisation(ws.cj, vimp, lin)
+                    lin_touching = touching
             if touching or base_contact:
                 for a in range(nc):
                     for b in range(nc):

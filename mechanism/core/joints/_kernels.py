@@ -85,7 +85,22 @@ PCI_COLUMNS = 12
 @njit(cache=True)
 def update_points(q, v, pt_i, pt_f, pci, pcf):
     """Fill the point cache at (q, q̇) (see the module docstring)."""
-    for k in range(pt_i.shape[0]):
+    _fill_points(q, v, pt_i, pt_f, pci, pcf, None)
+
+
+@njit(cache=True)
+def update_point_rows(q, v, pt_i, pt_f, pci, pcf, rows):
+    """Refresh only the cached points ``rows`` at (q, q̇) (the others keep their values)."""
+    _fill_points(q, v, pt_i, pt_f, pci, pcf, rows)
+
+
+@njit(cache=True)
+def _fill_points(q, v, pt_i, pt_f, pci, pcf, rows):
+    # one loop for both callers: numba compiles ``rows = None`` as its own specialisation
+    # with the test pruned (a call per point would cost a reference-count pair each)
+    count = pt_i.shape[0] if rows is None else rows.shape[0]
+    for r in range(count):
+        k = r if rows is None else rows[r]
         kind = pt_i[k, 0]
         ci = pci[k]
         cf = pcf[k]

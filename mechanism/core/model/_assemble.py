@@ -535,7 +535,9 @@ def _mass_tables(scene: Scene, layouts: list[Any], offsets: dict[str, int], n: i
         blk = lay.mass_block()
         sl = slice(o, o + lay.n_dof)
         t.mass[sl, sl] = blk
-        t.minv[sl, sl] = np.linalg.inv(blk)
+        inv = np.linalg.inv(blk)
+        # exactly symmetric, so the kernels may read a column as the contiguous row
+        t.minv[sl, sl] = 0.5 * (inv + inv.T)
         t.blk_lo[sl] = o
         t.blk_hi[sl] = o + lay.n_dof
         t.gravity[sl] = lay.gravity_block(g)

@@ -1,0 +1,148 @@
+"""CPU cost and accuracy of the flexible ``paper`` scene: this checkout against a git revision.
+
+The scene's default flexible rods (16 + 16 ANCF elements, fixed-step generalized-α at
+T/10000) at 150 rpm. For each tree — this checkout and ``--baseline`` (a git revision,
+exported with ``git archive`` into a temporary directory) — fresh processes run,
+alternating between the trees so that both see the same machine load:
+
+* ``record="sections"`` over ``--revolutions``: CPU time per revolution of the whole
+  ``simulate`` call (``time.process_time``: the main run and its ideal companion, i.e. the
+  cost on one core), the solver counters and the stroboscopic journal positions;
+* ``record="full"`` over the first revolution: peak contact force, extreme axial strain of
+  each rod and the journal trajectory (eccentricity on the T/10000 grid).
+
+A third run, the baseline with the journal started 1e-12 m off centre, measures how far a
+round-off-sized difference carries over the same horizon: the mechanism with friction
+and impacts is chaotic, so two correct integrations agree only as long as such a
+perturbation stays small, and a change of the code is judged against it.
+
+Writes ``docs/benchmarks/flexible-cost.csv`` and prints the comparison. Run from the
+repository root::
+
+    python benchmarks/flexible_cost.py --baseline 897d698 [--revolutions 2] [--rounds 2]
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import json
+import os
+import subprocess
+import sys
+import tarfile
+import tempfile
+import time
+from io import BytesIO
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+OUT = ROOT / "docs" / "benchmarks" / "flexible-cost.csv"
+PERTURBATION = 1e-12  # m, initial journal offset of the chaos reference
+
+
+def _worker(out: str, revolutions: float, offset: float) -> None:
+    import mechanism
+
+    scene = mechanism.load_scene("paper")
+    if offset:
+        scene = scene.replace({"joints.C.initial_eccentricity": [offset, 0.0]})
+    mechanism.simulate(scene, revolutions=0.02, record="sections")  # compile / load
+    cpu = time.process_time()
+    ds = mechanism.simulate(scene, revolutions=revolutions, record="sections")
+    cpu = time.process_time() - cpu
+    full = mechanism.simulate(scene, revolutions=1.0, record="full")
+    row = {
+        "cpu_s_per_rev": cpu / revolutions,
+        "steps_per_rev": ds.attrs["solver_steps"] / revolutions,
+        "newton_per_rev": ds.attrs["solver_newton_iterations"] / revolutions,
+        "jacobians_per_rev": ds.attrs["solver_jacobian_evaluations"] / revolutions,
+        "companion_newton_per_rev": ds.attrs["ideal_solver_newton_iterations"] / revolutions,
+        "peak_contact_force_N": float(full.contact_force.max()),
+        "max_penetration_m": float(full.penetration.max()),
+    }
+    for i, rod in enumerate(full.rod.values):
+        strain = full.strain.values[:, i]
+        row[f"strain_max_{rod}"] = float(strain.max())
+        row[f"strain_min_{rod}"] = float(strain.min())
+    np.savez(
+        out,
+        strobe=np.stack([ds.eccentricity_x.values.ravel(), ds.eccentricity_y.values.ravel()]),
+        orbit=np.stack([full.eccentricity_x.values.ravel(), full.eccentricity_y.values.ravel()]),
+    )
+    print(json.dumps(row))
+
+
+def _export(revision: str, into: Path) -> Path:
+    data = subprocess.run(
+        ["git", "archive", revision], cwd=ROOT, check=True, capture_output=True
+    ).stdout
+    with tarfile.open(fileobj=BytesIO(data)) as tar:
+        tar.extractall(into, filter="data")
+    return into
+
+
+def _run(tree: Path, out: Path, revolutions: float, offset: float = 0.0) -> dict:
+    env = dict(os.environ, PYTHONPATH=str(tree), NUMBA_NUM_THREADS="1")
+    cmd = [sys.executable, str(Path(__file__).resolve()), "--worker", str(out),
+           "--revolutions", str(revolutions), "--offset", str(offset)]  # fmt: skip
+    done = subprocess.run(cmd, cwd=tree, env=env, check=True, capture_output=True, text=True)
+    return json.loads(done.stdout.strip().splitlines()[-1])
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--baseline", default="main", help="git revision to compare with")
+    parser.add_argument("--revolutions", type=float, default=2.0)
+    parser.add_argument("--rounds", type=int, default=2)
+    parser.add_argument("--worker", help=argparse.SUPPRESS)
+    parser.add_argument("--offset", type=float, default=0.0, help=argparse.SUPPRESS)
+    args = parser.parse_args()
+    if args.worker:
+        _worker(args.worker, args.revolutions, args.offset)
+        return
+    with tempfile.TemporaryDirectory() as tmp:
+        base = _export(args.baseline, Path(tmp) / "baseline")
+        trees = {"baseline": base, "this": ROOT}
+        rows = []
+        files = {}
+        for r in range(args.rounds):
+            for name, tree in trees.items():
+                files[name] = Path(tmp) / f"{name}.npz"
+                row = {"tree": name, "round": r, **_run(tree, files[name], args.revolutions)}
+                rows.append(row)
+                print(json.dumps(row))
+        files["perturbed"] = Path(tmp) / "perturbed.npz"
+        row = {"tree": "baseline, journal 1e-12 m off", "round": 0,
+               **_run(base, files["perturbed"], args.revolutions, PERTURBATION)}  # fmt: skip
+        rows.append(row)
+        ref = np.load(files["baseline"])
+        for name in ("this", "perturbed"):
+            other = np.load(files[name])
+            strobe = np.hypot(*(other["strobe"] - ref["strobe"]))
+            orbit = np.hypot(*(other["orbit"] - ref["orbit"]))
+            for row in rows:
+                if row["tree"].startswith(name if name == "this" else "baseline, journal"):
+                    row["orbit_rev1_max_diff_m"] = float(orbit.max())
+                    row["strobe_diff_m"] = " ".join(f"{d:.2e}" for d in strobe)
+        uptime = subprocess.run(["uptime"], capture_output=True, text=True).stdout.strip()
+    for row in rows:
+        row["load"] = uptime.split("load average:")[-1].strip()
+    OUT.parent.mkdir(parents=True, exist_ok=True)
+    fields = list(dict.fromkeys(k for row in rows for k in row))
+    tmp_out = OUT.with_suffix(".csv.tmp")
+    with tmp_out.open("w", newline="") as fh:
+        writer = csv.DictWriter(fh, fieldnames=fields)
+        writer.writeheader()
+        writer.writerows(rows)
+    tmp_out.replace(OUT)
+    for name in ("baseline", "this"):
+        cpu = [row["cpu_s_per_rev"] for row in rows if row["tree"] == name]
+        print(f"{name}: CPU s/rev {' '.join(f'{c:.3f}' for c in cpu)}")
+    print(f"written: {OUT} ({uptime})")
+
+
+if __name__ == "__main__":
+    main()

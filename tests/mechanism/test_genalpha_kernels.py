@@ -1,0 +1,113 @@
+"""Kernels of the generalized-α step on the flexible paper scene: the vectorised mass and LU
+solves against numpy, the partial point-cache refresh against the full one, and the rule
+that reuses the clearance-force derivatives."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import mechanism
+from mechanism.core.integrate import _kernels as ik
+from mechanism.core.integrate._methods import _contact_columns, _initial_latch
+from mechanism.core.joints._kernels import update_point_rows, update_points
+from mechanism.core.model import _kernels as k
+from mechanism.core.model._assemble import assemble, initial_state
+
+
+@pytest.fixture(scope="module")
+def flexible():
+    model = assemble(mechanism.load_scene("paper"))
+    q, v = initial_state(model)
+    return model, q, v
+
+
+def test_mass_inverse_is_exactly_symmetric_and_block_solve_matches_numpy(flexible) -> None:
+    model, q, _ = flexible
+    km = model.kernel
+    np.testing.assert_array_equal(km.minv, km.minv.T)
+    x = np.random.default_rng(0).normal(size=q.size)
+    out = np.empty_like(x)
+    k._block_solve(km.minv, km.blk_lo, km.blk_hi, x, out)
+    np.testing.assert_allclose(out, np.linalg.solve(km.mass, x), rtol=1e-9, atol=0.0)
+
+
+def test_lu_solve_matches_numpy() -> None:
+    rng = np.random.default_rng(1)
+    a = rng.normal(size=(145, 145)) + 20.0 * np.eye(145)
+    b = rng.normal(size=145)
+    lt = a.copy()
+    piv = np.empty(145, dtype=np.int64)
+    assert ik._lu_factor(lt, piv)
+    x = b.copy()
+    ik._lu_solve(lt, piv, x)
+    np.testing.assert_allclose(x, np.linalg.solve(a, b), rtol=1e-12, atol=1e-14)
+
+
+def test_point_rows_refresh_equals_the_full_refresh(flexible) -> None:
+    model, q, v = flexible
+    km = model.kernel
+    ws = model.workspace()
+    rng = np.random.default_rng(2)
+    q1 = q + 1e-4 * rng.normal(size=q.size)
+    v1 = v + 1e-2 * rng.normal(size=v.size)
+    update_points(q, v, km.pt_i, km.pt_f, ws.pci, ws.pcf)
+    pci, pcf = ws.pci.copy(), ws.pcf.copy()
+    rows = np.ascontiguousarray(km.cj_i[:, :2].ravel())
+    update_point_rows(q1, v1, km.pt_i, km.pt_f, pci, pcf, rows)
+    update_points(q1, v1, km.pt_i, km.pt_f, ws.pci, ws.pcf)
+    np.testing.assert_array_equal(pcf[rows], ws.pcf[rows])
+    np.testing.assert_array_equal(pci[rows], ws.pci[rows])
+    others = np.setdiff1d(np.arange(km.pt_i.shape[0]), rows)
+    assert not np.array_equal(pcf[others], ws.pcf[others])  # left at the old state
+
+
+def _in_contact(model, q, v):
+    """(ws, vimp) with the journal of joint C pushed 20 µm into its bearing and sliding."""
+    km = model.kernel
+    ws = model.workspace()
+    q = q.copy()
+    q[_contact_columns(model)[0]] += km.cj_f[0, k.CF_C] + 2e-5
+    vimp, _ = _initial_latch(model, np.concatenate([q, v]))
+    acc = np.empty_like(q)
+    counters = np.zeros(k.CNT_COLUMNS, dtype=np.int64)
+    assert k.accelerations(km, ws, 0.0, q, v, vimp, acc, counters) == 0
+    assert ws.cj[0, k.CJ_DELTA] > 0.0
+    return ws, vimp
+
+
+def test_contact_derivatives_are_reused_only_while_the_state_holds(flexible) -> None:
+    model, q, v = flexible
+    km = model.kernel
+    ws, vimp = _in_contact(model, q, v)
+    lin = np.full((km.cj_i.shape[0], ik.LIN_COLUMNS), np.nan)
+    assert not ik._linearisation_holds(km, ws.cj, vimp, lin)  # nothing recorded yet
+    ik._record_linearisation(ws.cj, vimp, lin)
+    assert ik._linearisation_holds(km, ws.cj, vimp, lin)
+    rel = ik.RELINEARISE
+    for column, scale in (
+        (k.CJ_DELTA, ws.cj[0, k.CJ_DELTA]),
+        (k.CJ_PHI_B, 1.0),
+        (k.CJ_DELTA_DOT, abs(ws.cj[0, k.CJ_DELTA_DOT]) + vimp[0]),
+    ):
+        cj = ws.cj.copy()
+        cj[0, column] += 0.5 * rel * scale
+        assert ik._linearisation_holds(km, cj, vimp, lin), column
+        cj[0, column] += rel * scale
+        assert not ik._linearisation_holds(km, cj, vimp, lin), column
+    cj = ws.cj.copy()
+    cj[0, k.CJ_DELTA] = -1e-6  # separated: the contact forces' derivatives vanish
+    assert not ik._linearisation_holds(km, cj, vimp, lin)
+    other = vimp.copy()
+    other[0] *= 2.0  # a new impact latches a new approach speed
+    assert not ik._linearisation_holds(km, ws.cj, other, lin)
+    # friction: sliding on one side of the ramp keeps its (flat) linearisation, crossing
+    # into the ramp does not
+    v0, v1 = km.cj_f[0, k.CF_V0], km.cj_f[0, k.CF_V1]
+    cj = ws.cj.copy()
+    cj[0, k.CJ_VT] = 10.0 * v1
+    ik._record_linearisation(cj, vimp, lin)
+    cj[0, k.CJ_VT] = 3.0 * v1
+    assert ik._linearisation_holds(km, cj, vimp, lin)
+    cj[0, k.CJ_VT] = 0.5 * (v0 + v1)
+    assert not ik._linearisation_holds(km, cj, vimp, lin)
