@@ -486,11 +486,17 @@ def combine_motion(
                 )
     else:
         options = sorted({lab for lab in [*decided.values(), "chaotic"] if decides(lab)})
+        if not decided:
+            split = f"no variable decides on its own ({said})"
+        elif len(set(decided.values())) == 1:
+            split = f"not every variable decides ({said})"
+        else:
+            split = f"the variables disagree ({said})"
         if len(options) == 1:
             label = options[0]
-            reason = f"the variables disagree ({said}); the joint evidence decides {label}"
+            reason = f"{split}; the joint evidence decides {label}"
         else:
-            reason = f"the variables disagree ({said}) and the joint evidence cannot decide"
+            reason = f"{split} and the joint evidence cannot decide"
             if not enough:
                 needs.append(f"≥ {rule.min_cycles} {cycle_unit}; the series has {n_cycles:.0f}")
             if section == "too-few-points":

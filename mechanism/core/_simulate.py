@@ -404,7 +404,7 @@ def simulate(
         ideal_model, ideal_run = model, run
         ideal_max_step = max_step
     if not run.stats.success and throw:
-        t_fail = run.recording.t[-1] if run.recording.t.size else 0.0
+        t_fail = run.final_time
         raise SimulationError(
             f"simulation of {scene.name!r} failed after t = {t_fail:.6g} s "
             f"({integrator.name}): {run.stats.message}"

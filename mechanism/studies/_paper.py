@@ -34,6 +34,7 @@ import math
 import os
 import shlex
 import sys
+import threading
 import time
 import tomllib
 from collections.abc import Mapping, Sequence
@@ -529,6 +530,20 @@ def _chaos_run(scene: Any, settings: StudySettings) -> xr.Dataset:
     )
 
 
+def chaos_analysis_options(settings: StudySettings) -> dict[str, Any]:
+    """The :func:`chaoskit.report` options of the study's chaos analysis of one state's
+    series from :func:`_chaos_run` (the journal centre of joint C as ``X`` and ``Y``, the
+    crank angle as the drive's phase, the transient dropped)."""
+    return {
+        "variables": {"X": "eccentricity_x[joint=C]", "Y": "eccentricity_y[joint=C]"},
+        "phase_variable": "crank_angle",
+        "discard": settings.discard_revolutions * 60.0 / 150.0,
+        "max_samples": settings.max_samples,
+        "n_surrogates": settings.n_surrogates,
+        "rng": 0,
+    }
+
+
 def _equation_exponent(scene: Any, settings: StudySettings) -> Any:
     """:func:`mechanism.lyapunov_exponent` of the rigid-rod model of a state (pool task)."""
     rigid = scene.replace({"effects.flexibility": False})
@@ -629,6 +644,70 @@ def _stage_weights(settings: StudySettings, n_conv: int) -> dict[str, float]:
         * 0.5e-3
         * min(long_run * settings.chaos_samples_per_revolution, settings.max_samples or math.inf),
     }
+
+
+class _LongRuns:
+    """The study's long compiled runs in the process pool, in the order that finishes
+    first: the wear at 150 rpm and the before-wear chaos run start at once; as soon as the
+    profile worn at 150 rpm exists, the after-wear chaos run (the longest chain) and its
+    exponent are queued ahead of the other wear predictions and the before-wear exponent.
+
+    With no pool (``client="serial"``) everything runs here, in that order.
+    """
+
+    def __init__(self, pool: Any, base_scene: Any, settings: StudySettings) -> None:
+        self._pool = pool
+        self._settings = settings
+        before = wear_scene_of(base_scene)
+        self._wear = {150.0: _submit(pool, _predict_worn, _at_speed(base_scene, 150), settings)}
+        self._states = {"before wear": [_submit(pool, _chaos_run, before, settings)]}
+        self._queue = threading.Thread(
+            target=self._then, args=(base_scene, before), name="paper-long-runs", daemon=True
+        )
+        if pool is None:
+            self._then(base_scene, before)
+        else:
+            self._queue.start()
+
+    def _then(self, base_scene: Any, before: Any) -> None:
+        pool, settings = self._pool, self._settings
+        try:
+            worn = self._wear[150.0].result()[0]
+        except Exception:
+            worn = None
+        if worn is not None:
+            self._states["after wear"] = [
+                _submit(pool, _chaos_run, worn, settings),
+                _submit(pool, _equation_exponent, worn, settings),
+            ]
+        for rpm in _SPEEDS:
+            if float(rpm) not in self._wear:
+                self._wear[float(rpm)] = _submit(
+                    pool, _predict_worn, _at_speed(base_scene, rpm), settings
+                )
+        self._states["before wear"].append(_submit(pool, _equation_exponent, before, settings))
+
+    def _queued(self) -> None:
+        if self._queue.is_alive():
+            self._queue.join()
+
+    def wear(self) -> dict[float, Future[Any]]:
+        """The wear predictions by speed (rpm), in increasing speed."""
+        self._queued()
+        for rpm in _SPEEDS:
+            if float(rpm) not in self._wear:  # the queue stopped early (a broken pool)
+                self._wear[float(rpm)] = Future()
+                self._wear[float(rpm)].set_exception(RuntimeError("the run was not started"))
+        return {rpm: self._wear[rpm] for rpm in sorted(self._wear)}
+
+    def states(self) -> dict[str, tuple[Future[Any], Future[Any]]]:
+        """(chaos run, exponent) of each state whose scene exists."""
+        self._queued()
+        return {state: (f[0], f[1]) for state, f in self._states.items() if len(f) == 2}
+
+
+def _at_speed(scene: Any, rpm: float) -> Any:
+    return scene.replace({"drive.speed_rpm": rpm})
 
 
 # --------------------------------------------------------------------------- the study
@@ -732,7 +811,14 @@ def run_paper_study(
     before_store = runs / _store_name("before", settings, quick)
     stores = [before_store]
 
-    with _session_client(client, n_workers, len(_CLEARANCES) * len(_SPEEDS)) as backend:
+    with (
+        _session_client(client, n_workers, len(_CLEARANCES) * len(_SPEEDS)) as backend,
+        _pool(client, n_workers) as pool,
+    ):
+        # The long compiled runs go to the pool first, the longest chain (the wear at
+        # 150 rpm, then the after-wear chaos run) at its head; the sweeps and orbit
+        # diagrams run on dask meanwhile, and the results are collected when needed.
+        long_runs = _LongRuns(pool, base_scene, settings)
         with stages.stage("before-wear sweep"):
             before = sweep(
                 base_scene,
@@ -750,64 +836,37 @@ def run_paper_study(
         worn: dict[float, Any] = {}
         profiles: dict[str, xr.Dataset] = {}
         wear_info: list[str] = []
-        with _pool(client, n_workers) as pool:
-            with stages.stage("wear prediction at 30, 90, 150 rpm"):
-                pending = {
-                    rpm: _submit(
-                        pool, _predict_worn, base_scene.replace({"drive.speed_rpm": rpm}), settings
+        with stages.stage("wear prediction at 30, 90, 150 rpm"):
+            for rpm, future in long_runs.wear().items():
+                try:
+                    worn[rpm], profile, info = future.result()
+                except Exception as exc:
+                    unavailable.append(
+                        f"wear prediction at {rpm:g} rpm failed: {type(exc).__name__}: {exc}"
                     )
-                    for rpm in _SPEEDS
-                }
-                for rpm, future in pending.items():
-                    try:
-                        worn[rpm], profile, info = future.result()
-                    except Exception as exc:
-                        unavailable.append(
-                            f"wear prediction at {rpm} rpm failed: {type(exc).__name__}: {exc}"
-                        )
-                        continue
-                    wear_info.append(info)
-                    if profile is not None:
-                        profiles[f"worn at {rpm} rpm"] = profile
-            after: dict[float, xr.Dataset] = {}
-            with stages.stage("after-wear sweeps"):
-                for speed, worn_scene in worn.items():
-                    store = runs / _store_name(f"after-{speed:g}rpm", settings, quick)
-                    stores.append(store)
-                    after[speed] = sweep(
-                        worn_scene,
-                        grid={"drive.speed_rpm": [speed], _SPR: spr},
-                        revolutions=settings.revolutions,
-                        analysis=analysis,
-                        client=backend,
-                        store=store,
-                        progress=False,
-                    ).isel({_SPR: 0, "drive.speed_rpm": 0}, drop=True)
-            state_scenes = {"before wear": wear_scene_of(base_scene)}
-            if 150 in worn:
-                state_scenes["after wear"] = worn[150]
-            with stages.stage("long runs for the chaos analysis and exponents"):
-                runs_pending = {
-                    state: (
-                        _submit(pool, _chaos_run, sc, settings),
-                        _submit(pool, _equation_exponent, sc, settings),
-                    )
-                    for state, sc in state_scenes.items()
-                }
-                trajectories: dict[str, xr.Dataset] = {}
-                equations: dict[str, Any] = {}
-                for state, (chaos_future, exponent_future) in runs_pending.items():
-                    try:
-                        trajectories[state] = chaos_future.result()
-                    except Exception as exc:
-                        unavailable.append(f"chaos run {state} failed: {type(exc).__name__}: {exc}")
-                    try:
-                        equations[state] = exponent_future.result()
-                    except Exception as exc:
-                        equations[state] = None
-                        unavailable.append(
-                            f"exponent from the equations, {state}: {type(exc).__name__}: {exc}"
-                        )
+                    continue
+                wear_info.append(info)
+                if profile is not None:
+                    profiles[f"worn at {rpm:g} rpm"] = profile
+        after: dict[float, xr.Dataset] = {}
+        with stages.stage("after-wear sweeps"):
+            for speed in _SPEEDS:
+                if speed not in worn:
+                    continue
+                store = runs / _store_name(f"after-{speed:g}rpm", settings, quick)
+                stores.append(store)
+                after[speed] = sweep(
+                    worn[speed],
+                    grid={"drive.speed_rpm": [speed], _SPR: spr},
+                    revolutions=settings.revolutions,
+                    analysis=analysis,
+                    client=backend,
+                    store=store,
+                    progress=False,
+                ).isel({_SPR: 0, "drive.speed_rpm": 0}, drop=True)
+        state_scenes = {"before wear": wear_scene_of(base_scene)}
+        if 150 in worn:
+            state_scenes["after wear"] = worn[150]
         conv_rows: dict[int, list[float]] = {}
         conv_errors: list[str] = []
         with stages.stage("element convergence"):
@@ -824,7 +883,17 @@ def run_paper_study(
                 stores.append(store)
                 try:
                     orbits[state] = bifurcation(
-                        sc.replace({"effects.flexibility": settings.orbit_flexible_rods}),
+                        sc.replace(
+                            {
+                                "effects.flexibility": settings.orbit_flexible_rods,
+                                # rigid rods: the error control and the approach limit
+                                # resolve the impacts; the study's step cap is for the
+                                # fixed-step generalized-α of flexible rods
+                                "solver.max_step": sc.solver.max_step
+                                if settings.orbit_flexible_rods
+                                else None,
+                            }
+                        ),
                         parameter="drive.speed_rpm",
                         values=list(settings.orbit_speeds),
                         revolutions=settings.orbit_revolutions,
@@ -835,6 +904,21 @@ def run_paper_study(
                     )
                 except Exception as exc:
                     unavailable.append(f"orbit diagram {state}: {type(exc).__name__}: {exc}")
+        trajectories: dict[str, xr.Dataset] = {}
+        equations: dict[str, Any] = {}
+        with stages.stage("long runs for the chaos analysis and exponents"):
+            for state, (chaos_future, exponent_future) in long_runs.states().items():
+                try:
+                    trajectories[state] = chaos_future.result()
+                except Exception as exc:
+                    unavailable.append(f"chaos run {state} failed: {type(exc).__name__}: {exc}")
+                try:
+                    equations[state] = exponent_future.result()
+                except Exception as exc:
+                    equations[state] = None
+                    unavailable.append(
+                        f"exponent from the equations, {state}: {type(exc).__name__}: {exc}"
+                    )
 
     # ---- tables (ours, in the paper's units)
     c0 = _DEFAULT_CLEARANCE
@@ -888,17 +972,11 @@ def run_paper_study(
         report_tables = _report_tables(tables, paper, notes, has_after=150 in after)
         if command is None:
             command = " ".join(shlex.quote(a) for a in sys.argv) if sys.argv else "run_paper_study"
+        analysis_options = chaos_analysis_options(settings) if trajectories else {}
         rep = chaoskit.report(
             trajectories or None,
-            variables={"X": "eccentricity_x[joint=C]", "Y": "eccentricity_y[joint=C]"}
-            if trajectories
-            else None,
-            phase_variable="crank_angle" if trajectories else None,
             exponents={s: e for s, e in equations.items() if e is not None and s in trajectories},
-            discard=settings.discard_revolutions * period,
-            max_samples=settings.max_samples,
-            n_surrogates=settings.n_surrogates,
-            rng=0,
+            **analysis_options,
             chaos_reference=chaos_ref if trajectories else None,
             reference_name="paper",
             chaos_notes=notes["chaos"],

@@ -131,7 +131,18 @@ def test_unresolved_disagreement_is_undetermined_with_needs() -> None:
     assert label == "undetermined" and period is None and math.isnan(confidence)
     assert votes == {}
     assert any("clearly positive exponent" in n for n in needs)
-    assert "x: periodic, y: chaotic" in reason
+    assert "the variables disagree (x: periodic, y: chaotic)" in reason
+
+
+def test_reason_says_whether_variables_disagree_or_do_not_decide() -> None:
+    """Undetermined variables do not disagree: the reason says what happened."""
+    none = {"x": _verdict("undetermined"), "y": _verdict("undetermined")}
+    reason = _combine(none, _structure("clusters", 1), None, None)[3]
+    assert "no variable decides on its own (x: undetermined, y: undetermined)" in reason
+    assert "disagree" not in reason
+    some = {"x": _verdict("periodic", 1), "y": _verdict("undetermined")}
+    reason = _combine(some, _structure("scattered"), False, None)[3]
+    assert "not every variable decides (x: periodic, y: undetermined)" in reason
 
 
 def test_clusters_with_a_chaotic_variable_and_too_few_periods_asks_for_more() -> None:

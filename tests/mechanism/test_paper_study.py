@@ -331,30 +331,32 @@ def test_quick_settings_reach_the_verdict_of_the_paper_settings_before_wear():
     """One state (before wear, 150 rpm, flexible rods, 200 revolutions at T/10000): the
     analysis reductions of --quick give the verdict of the paper settings. Long: the run is
     the chaos run of the study (several minutes on 2 cores)."""
-    from mechanism.studies._paper import _chaos_run, wear_scene_of
+    from mechanism.studies._paper import (
+        _chaos_run,
+        _equation_exponent,
+        chaos_analysis_options,
+        wear_scene_of,
+    )
 
     quick, full = StudySettings.quick(), StudySettings.paper()
     assert quick.flexible_rods and full.flexible_rods
     assert quick.chaos_revolutions == full.chaos_revolutions >= 200
     scene = wear_scene_of(mechanism.load_scene("paper"))
-    traj = _chaos_run(scene, full)  # sampled at the finer of the two output grids
-    period = 60.0 / 150.0
+    # the output grid does not set the integration steps, so the quick series is the
+    # paper settings' series at every second sample
+    traj = _chaos_run(scene, full)
     assert traj.sizes["time"] >= 200 * full.chaos_samples_per_revolution
-    coarse = traj.isel(
-        time=slice(
-            None, None, full.chaos_samples_per_revolution // quick.chaos_samples_per_revolution
-        )
-    )
+    stride = full.chaos_samples_per_revolution // quick.chaos_samples_per_revolution
     verdicts = {}
-    for name, settings, data in (("quick", quick, coarse), ("paper", full, traj)):
+    for name, settings, data in (
+        ("quick", quick, traj.isel(time=slice(None, None, stride))),
+        ("paper", full, traj),
+    ):
         rep = chaoskit.report(
             {"before wear": data},
-            variables={"X": "eccentricity_x[joint=C]", "Y": "eccentricity_y[joint=C]"},
-            phase_variable="crank_angle",
-            discard=settings.discard_revolutions * period,
-            max_samples=settings.max_samples,
-            n_surrogates=settings.n_surrogates,
-            rng=0,
+            exponents={"before wear": _equation_exponent(scene, settings)},
+            **chaos_analysis_options(settings),
         )
         verdicts[name] = rep.motions["before wear"]
     assert verdicts["quick"].label == verdicts["paper"].label, verdicts
+    assert verdicts["quick"].period == verdicts["paper"].period, verdicts

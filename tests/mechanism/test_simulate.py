@@ -5,6 +5,7 @@ from __future__ import annotations
 import doctest
 import json
 import math
+import re
 
 import numpy as np
 import pytest
@@ -157,6 +158,23 @@ def test_failure_raises_or_becomes_data() -> None:
     assert "maximum number of steps" in ds.attrs["solver_message"]
     assert 1 < ds.sizes["time"] < 10001
     chaoskit.validate_trajectory(ds)
+
+
+def test_failure_names_the_time_it_stopped_whatever_is_recorded() -> None:
+    """The message gives the integrator's time at the failure, also when only named
+    variables are recorded (their grid is not the full record's)."""
+    scene = mechanism.load_scene("slider-crank")
+    times = []
+    for variables in (None, ("crank_angle",)):
+        with pytest.raises(mechanism.SimulationError) as err:
+            mechanism.simulate(
+                scene, revolutions=1, method=Dopri5(max_steps=8), variables=variables
+            )
+        found = re.search(r"failed after t = (\S+) s", str(err.value))
+        assert found is not None, err.value
+        times.append(float(found.group(1)))
+    assert times[0] > 0.0
+    assert times[1] == times[0]
 
 
 @pytest.mark.parametrize(

@@ -192,6 +192,7 @@ class Integration:
     recording: Recording
     stats: SolverStats
     final_state: np.ndarray
+    final_time: float = math.nan
     light: np.ndarray | None = None
     sections: Recording | None = None
     metrics: np.ndarray | None = None
@@ -254,7 +255,13 @@ def _output(
 
 
 def _integration(
-    name: str, out: ik.Output, status: int, counters: np.ndarray, wall: float, y: np.ndarray
+    name: str,
+    out: ik.Output,
+    status: int,
+    counters: np.ndarray,
+    wall: float,
+    y: np.ndarray,
+    t: float,
 ) -> Integration:
     """Package a compiled loop's outputs (truncated to what was recorded)."""
     if status == ik.STATUS_RUNNING:
@@ -265,6 +272,7 @@ def _integration(
         recording=out.rec.head(n_grid) if status != 0 else out.rec,
         stats=_stats(name, status, counters, wall),
         final_state=y,
+        final_time=float(t),
         light=None if full else (out.light[:n_grid] if status != 0 else out.light),
         sections=out.sections.head(int(out.cursor[1])) if out.mode & ik.REC_SECTIONS else None,
         metrics=out.metrics.copy() if out.mode & ik.REC_METRICS else None,
@@ -473,7 +481,7 @@ class Dopri5(Integrator):
             finally:
                 bar.close()
         wall = time.perf_counter() - start
-        return _integration(self.name, out, status, counters, wall, y)
+        return _integration(self.name, out, status, counters, wall, y, loop.step[0])
 
 
 def _jacobian_columns(model: Model) -> tuple[np.ndarray, np.ndarray]:
@@ -604,6 +612,7 @@ class GeneralizedAlpha(Integrator):
         out = _output(model, ws, y, vimp, t_out, record)
         start = time.perf_counter()
         acc = np.zeros(n)
+        t_now = t0
         status = k.accelerations(km, ws, t0, y[:n], y[n:], vimp, acc, counters)
         if status == ik.STATUS_OK:
             status = ik.STATUS_RUNNING
@@ -640,8 +649,9 @@ class GeneralizedAlpha(Integrator):
                         break
             finally:
                 bar.close()
+            t_now = float(loop.step[0])
         wall = time.perf_counter() - start
-        return _integration(self.name, out, status, counters, wall, y)
+        return _integration(self.name, out, status, counters, wall, y, t_now)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -750,6 +760,7 @@ class ScipyIVP(Integrator):
             recording=rec.head(cursor) if status != 0 else rec,
             stats=_stats(self.name, status, counters, wall, message),
             final_state=np.asarray(solver.y, dtype=np.float64),
+            final_time=float(solver.t),
         )
 
 
