@@ -81,8 +81,8 @@ def _figure(ds: xr.Dataset, name: str) -> None:
     cost = ds.attrs.get("benchmark_cost", "")
     axes[0].set_title(
         f"rigid paper scene, {ds.sizes[ds.attrs['bifurcation_parameter']]} values, strobes "
-        f"after {ds.attrs.get('benchmark_discard', '?')} of "
-        f"{ds.attrs.get('benchmark_revolutions', '?')} revolutions; {cost}",
+        f"after {ds.attrs.get('benchmark_discard', 0):g} of "
+        f"{ds.attrs.get('benchmark_revolutions', 0):g} revolutions; {cost}",
         fontsize=8,
     )
     axes[0].figure.savefig(OUT / f"{name}.png", dpi=160, bbox_inches="tight")
