@@ -5,9 +5,11 @@ The speed diagram is the performance target of the bifurcation study: 60 speeds 
 min with the exponent at every value). The clearance diagram spans 0.05–0.5 mm at 150 rpm.
 Each run writes its Dataset and figure into ``docs/benchmarks/`` and adds a row to
 ``docs/benchmarks/bifurcation-cost.csv``: wall time, CPU time of the worker processes
-(measured while they live, so it is the whole cost of the values: simulation, exponent and
-the sweep's bookkeeping), CPU time of the simulations alone (``solver_cpu_time`` of each
-value), and the load average at the start, sampled every 10 s during the run (mean and
+(measured while they live, so it is the whole cost of the values computed in this run:
+simulation, exponent and the sweep's bookkeeping), the CPU time of the simulations and of
+the exponents summed over every value of the store (``solver_cpu_time`` and
+``solver_exponent_cpu_time`` of each value, whichever run of a resumed store computed it),
+and the load average at the start, sampled every 10 s during the run (mean and
 largest) and at the end. Run with
 
     NUMBA_NUM_THREADS=1 python benchmarks/bifurcation_paper.py speed [--exponent]
@@ -40,18 +42,19 @@ KEYS = {"speed": "drive.speed_rpm", "clearance": "joints.C.clearance"}
 DEFAULT_VALUES = {"speed": "30:300:60", "clearance": "5e-5:5e-4:46"}
 COST_FIELDS = [
     "date", "sweep", "values", "revolutions", "discard", "exponent", "workers", "ok",
-    "wall_s", "worker_cpu_s", "simulation_cpu_s", "cpu_s_per_revolution",
+    "wall_s", "worker_cpu_s", "simulation_cpu_s", "exponent_cpu_s", "cpu_s_per_revolution",
     "load_start", "load_mean", "load_max", "load_end",
 ]  # fmt: skip
 
 
-def _point_cpu_seconds(store: Path) -> dict[float, float]:
-    """CPU seconds of each value's simulation (``solver_cpu_time`` of its summary)."""
+def _point_cpu_seconds(store: Path, key: str) -> dict[float, float]:
+    """CPU seconds of each value's simulation (``key`` = ``solver_cpu_time``) or exponent
+    (``solver_exponent_cpu_time``) from its summary; 0 where not recorded."""
     out = {}
     for path in (store / "points").glob("*.summary.nc"):
         with xr.open_dataset(path, engine="h5netcdf") as summary:
             value = float(next(iter(json.loads(summary.attrs["params"]).values())))
-            out[value] = float(summary.attrs.get("solver_cpu_time", float("nan")))
+            out[value] = float(summary.attrs.get(key, 0.0))
     return out
 
 
@@ -136,7 +139,9 @@ def main() -> None:
         wall = time.perf_counter() - start
         cpu = process_tree_cpu_time() - cpu0  # the workers are still alive: all of it
         loads = load.stop()
-    sim = sum(_point_cpu_seconds(store).values())
+    # per value, whatever run of a resumed store computed it
+    sim = sum(_point_cpu_seconds(store, "solver_cpu_time").values())
+    exp = sum(_point_cpu_seconds(store, "solver_exponent_cpu_time").values())
     ok = int((ds.status.values == "ok").sum())
     revs = len(values) * args.revolutions
     row = {
@@ -151,6 +156,7 @@ def main() -> None:
         "wall_s": f"{wall:.0f}",
         "worker_cpu_s": f"{cpu:.0f}",
         "simulation_cpu_s": f"{sim:.0f}",
+        "exponent_cpu_s": f"{exp:.0f}",
         "cpu_s_per_revolution": f"{cpu / revs:.4f}",
         "load_start": f"{loads[0]:.1f}",
         "load_mean": f"{sum(loads) / len(loads):.1f}",
@@ -162,7 +168,8 @@ def main() -> None:
         f"{len(values)} values ({ok} ok), {args.revolutions:g} revolutions each "
         f"({args.discard:g} discarded): wall {wall / 60:.1f} min, CPU of the workers "
         f"{cpu / 60:.1f} min ({cpu / revs:.3f} s per revolution; on 2 free cores "
-        f"{cpu / 2 / 60:.1f} min), of it the simulations {sim / 60:.1f} min"
+        f"{cpu / 2 / 60:.1f} min); per value (all runs of the store): simulations "
+        f"{sim / 60:.1f} min, exponents {exp / 60:.1f} min"
     )
     new = not COST.exists()
     with COST.open("a", newline="") as fh:
