@@ -40,7 +40,7 @@ from mechanism.core._status import (
 )
 from mechanism.core.bodies._ancf_kernels import BEAM_F_DAMPING, beams_jacobian_add
 from mechanism.core.contact._kernels import FRICTION_NONE
-from mechanism.core.joints._kernels import update_point_rows
+from mechanism.core.joints._kernels import update_point_rows, update_points
 from mechanism.core.model._kernels import (
     CF_V0,
     CF_V1,

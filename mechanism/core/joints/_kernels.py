@@ -88,13 +88,13 @@ def update_points(q, v, pt_i, pt_f, pci, pcf):
     _fill_points(q, v, pt_i, pt_f, pci, pcf, None)
 
 
-@njit(cache=True)
+@njit_noalloc()
 def update_point_rows(q, v, pt_i, pt_f, pci, pcf, rows):
     """Refresh only the cached points ``rows`` at (q, q̇) (the others keep their values)."""
     _fill_points(q, v, pt_i, pt_f, pci, pcf, rows)
 
 
-@njit(cache=True)
+@njit_noalloc()
 def _fill_points(q, v, pt_i, pt_f, pci, pcf, rows):
     # one loop for both callers: numba compiles ``rows = None`` as its own specialisation
     # with the test pruned (a call per point would cost a reference-count pair each)
