@@ -59,6 +59,7 @@ from mechanism.core.model._kernels import (
     approach_step,
     derived_outputs,
     entry_depth_ratio,
+    journal_travel_ratio,
     light_outputs,
     project,
     rhs,
@@ -895,6 +896,11 @@ def _contact_derivatives(model, ws, q, v, vimp, cc, dq, dv, gt, cs):
     return True
 
 
+# Largest relative journal travel per accepted generalized-α step, in nominal radial
+# clearances (docs/simulator.md, "Fixed-step generalized-α on worn profiles")
+TRAVEL_LIMIT = 0.5
+
+
 # A linearisation of the clearance forces is reused while every quantity that sets it
 # has moved by less than this fraction of its scale (docs/ancf.md §8)
 RELINEARISE = 0.01
@@ -1354,6 +1360,17 @@ def genalpha_advance(model, ws, loop, out, ctl, jac, t_stop):
             if r_end > entry_depth and h > ctl.entry_min_step:
                 counters[CNT_REJECTED] += 1
                 h *= _entry_fraction(model, ws, y, contact, entry_depth, r_end)
+                continue
+        if nc > 0 and h > ctl.entry_min_step:
+            # A journal that moves more than TRAVEL_LIMIT clearances in one step has jumped
+            # over its impacts (thrown off a worn flank it can cross the whole bearing and
+            # end inside the opposite wall while the contact latch still says "touching",
+            # which the entry test does not see): retried with a step that moves it a
+            # quarter of that.
+            travel = journal_travel_ratio(model, ws, y, yout)
+            if travel > TRAVEL_LIMIT:
+                counters[CNT_REJECTED] += 1
+                h *= max(0.01, 0.25 * TRAVEL_LIMIT / travel)
                 continue
         if fixed_step <= 0.0 and not e <= 1.0:
             counters[CNT_REJECTED] += 1
