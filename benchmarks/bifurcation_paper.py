@@ -3,18 +3,29 @@
 The speed diagram is the performance target of the bifurcation study: 60 speeds from 30 to
 300 rpm, 100 revolutions kept after 20 discarded, on the 2-core machine in ≤ 10 min (≤ 20
 min with the exponent at every value). The clearance diagram spans 0.05–0.5 mm at 150 rpm.
-Each run writes its Dataset and figure into ``docs/benchmarks/`` and prints wall time and
-the CPU time of the points (each point's ``wall_time`` in its summary is the time its worker
-spent on it). Run with
+Each run writes its Dataset and figure into ``docs/benchmarks/`` and adds a row to
+``docs/benchmarks/bifurcation-cost.csv``: wall time, CPU time of the worker processes
+(measured while they live, so it is the whole cost of the values computed in this run:
+simulation, exponent and the sweep's bookkeeping), the CPU time of the simulations and of
+the exponents summed over every value of the store (``solver_cpu_time`` and
+``solver_exponent_cpu_time`` of each value, whichever run of a resumed store computed it),
+and the load average at the start, sampled every 10 s during the run (mean and
+largest) and at the end. Run with
 
-    python benchmarks/bifurcation_paper.py speed [--values 30:300:60] [--workers 2]
-    python benchmarks/bifurcation_paper.py clearance [--values 5e-5:5e-4:46]
+    NUMBA_NUM_THREADS=1 python benchmarks/bifurcation_paper.py speed [--exponent]
+    NUMBA_NUM_THREADS=1 python benchmarks/bifurcation_paper.py clearance --values 5e-5:5e-4:46
+    python benchmarks/bifurcation_paper.py speed --replot   # figure from the stored Dataset
 """
 
 from __future__ import annotations
 
 import argparse
+import csv
+import datetime
 import json
+import logging
+import os
+import threading
 import time
 from pathlib import Path
 
@@ -22,21 +33,63 @@ import matplotlib
 import xarray as xr
 
 import mechanism
+from mechanism.studies._paper_summary import process_tree_cpu_time
 from mechanism.studies._sweep_store import write_netcdf
 
 OUT = Path(__file__).resolve().parents[1] / "docs" / "benchmarks"
+COST = OUT / "bifurcation-cost.csv"
 KEYS = {"speed": "drive.speed_rpm", "clearance": "joints.C.clearance"}
 DEFAULT_VALUES = {"speed": "30:300:60", "clearance": "5e-5:5e-4:46"}
+COST_FIELDS = [
+    "date", "sweep", "values", "revolutions", "discard", "exponent", "workers", "ok",
+    "wall_s", "worker_cpu_s", "simulation_cpu_s", "exponent_cpu_s", "cpu_s_per_revolution",
+    "load_start", "load_mean", "load_max", "load_end",
+]  # fmt: skip
 
 
-def _point_cpu_seconds(store: Path) -> dict[float, float]:
-    """CPU seconds of each value's simulation (``solver_cpu_time`` of its summary)."""
+def _point_cpu_seconds(store: Path, key: str) -> dict[float, float]:
+    """CPU seconds of each value's simulation (``key`` = ``solver_cpu_time``) or exponent
+    (``solver_exponent_cpu_time``) from its summary; 0 where not recorded."""
     out = {}
     for path in (store / "points").glob("*.summary.nc"):
         with xr.open_dataset(path, engine="h5netcdf") as summary:
             value = float(next(iter(json.loads(summary.attrs["params"]).values())))
-            out[value] = float(summary.attrs.get("solver_cpu_time", float("nan")))
+            out[value] = float(summary.attrs.get(key, 0.0))
     return out
+
+
+class _LoadSampler:
+    """The 1-minute load average every ``every`` seconds in a background thread."""
+
+    def __init__(self, every: float = 10.0) -> None:
+        self.samples = [os.getloadavg()[0]]
+        self._stop = threading.Event()
+        self._thread = threading.Thread(target=self._run, args=(every,), daemon=True)
+        self._thread.start()
+
+    def _run(self, every: float) -> None:
+        while not self._stop.wait(every):
+            self.samples.append(os.getloadavg()[0])
+
+    def stop(self) -> list[float]:
+        self._stop.set()
+        self._thread.join()
+        self.samples.append(os.getloadavg()[0])
+        return self.samples
+
+
+def _figure(ds: xr.Dataset, name: str) -> None:
+    matplotlib.use("Agg")
+    axes = mechanism.plot_bifurcation(ds)
+    cost = ds.attrs.get("benchmark_cost", "")
+    axes[0].set_title(
+        f"rigid paper scene, {ds.sizes[ds.attrs['bifurcation_parameter']]} values, strobes "
+        f"after {ds.attrs.get('benchmark_discard', 0):g} of "
+        f"{ds.attrs.get('benchmark_revolutions', 0):g} revolutions; {cost}",
+        fontsize=8,
+    )
+    axes[0].figure.savefig(OUT / f"{name}.png", dpi=160, bbox_inches="tight")
+    print(f"written: {OUT / f'{name}.png'}")
 
 
 def main() -> None:
@@ -48,49 +101,93 @@ def main() -> None:
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--store", type=Path, default=None)
     parser.add_argument("--exponent", action="store_true", help="also the exponent at every value")
+    parser.add_argument("--replot", action="store_true", help="redraw from the stored Dataset")
     args = parser.parse_args()
+    name = f"bifurcation-{args.sweep}" + ("-exponent" if args.exponent else "")
+    if args.replot:
+        with xr.open_dataset(OUT / f"{name}.nc", engine="h5netcdf") as stored:
+            _figure(stored.load(), name)
+        return
+    from distributed import Client, LocalCluster
+
     from mechanism.studies._bifurcation import parse_values
 
     values = parse_values(args.values or DEFAULT_VALUES[args.sweep])
-    name = f"bifurcation-{args.sweep}" + ("-exponent" if args.exponent else "")
     store = args.store or Path(f"{name}-store")
     scene = mechanism.load_scene("paper").replace({"effects.flexibility": False})
-    start = time.perf_counter()
-    ds = mechanism.bifurcation(
-        scene,
-        parameter=KEYS[args.sweep],
-        values=values,
-        revolutions=args.revolutions,
-        discard=args.discard,
-        n_workers=args.workers,
-        store=store,
-        exponent=args.exponent,
-        progress=True,
-    )
-    wall = time.perf_counter() - start
-    cpu = _point_cpu_seconds(store)
-    busy = sum(cpu.values())
+    with (
+        LocalCluster(
+            n_workers=args.workers, threads_per_worker=1, processes=True,
+            dashboard_address="127.0.0.1:0", silence_logs=logging.ERROR,
+        ) as cluster,
+        Client(cluster) as client,
+    ):  # fmt: skip
+        cpu0 = process_tree_cpu_time()
+        load = _LoadSampler()
+        start = time.perf_counter()
+        ds = mechanism.bifurcation(
+            scene,
+            parameter=KEYS[args.sweep],
+            values=values,
+            revolutions=args.revolutions,
+            discard=args.discard,
+            client=client,
+            store=store,
+            exponent=args.exponent,
+            progress=True,
+        )
+        wall = time.perf_counter() - start
+        cpu = process_tree_cpu_time() - cpu0  # the workers are still alive: all of it
+        loads = load.stop()
+    # per value, whatever run of a resumed store computed it
+    sim = sum(_point_cpu_seconds(store, "solver_cpu_time").values())
+    exp = sum(_point_cpu_seconds(store, "solver_exponent_cpu_time").values())
     ok = int((ds.status.values == "ok").sum())
+    revs = len(values) * args.revolutions
+    row = {
+        "date": datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%d %H:%M"),
+        "sweep": args.sweep,
+        "values": args.values or DEFAULT_VALUES[args.sweep],
+        "revolutions": f"{args.revolutions:g}",
+        "discard": f"{args.discard:g}",
+        "exponent": int(args.exponent),
+        "workers": args.workers,
+        "ok": ok,
+        "wall_s": f"{wall:.0f}",
+        "worker_cpu_s": f"{cpu:.0f}",
+        "simulation_cpu_s": f"{sim:.0f}",
+        "exponent_cpu_s": f"{exp:.0f}",
+        "cpu_s_per_revolution": f"{cpu / revs:.4f}",
+        "load_start": f"{loads[0]:.1f}",
+        "load_mean": f"{sum(loads) / len(loads):.1f}",
+        "load_max": f"{max(loads):.1f}",
+        "load_end": f"{loads[-1]:.1f}",
+    }
+    print(row)
     print(
         f"{len(values)} values ({ok} ok), {args.revolutions:g} revolutions each "
-        f"({args.discard:g} discarded): wall {wall:.0f} s, CPU of the points {busy:.0f} s "
-        f"({busy / len(values) / args.revolutions:.3f} s per revolution; on 2 free cores "
-        f"{busy / 2 / 60:.1f} min)"
+        f"({args.discard:g} discarded): wall {wall / 60:.1f} min, CPU of the workers "
+        f"{cpu / 60:.1f} min ({cpu / revs:.3f} s per revolution; on 2 free cores "
+        f"{cpu / 2 / 60:.1f} min); per value (all runs of the store): simulations "
+        f"{sim / 60:.1f} min, exponents {exp / 60:.1f} min"
     )
-    for value in sorted(cpu):
-        print(f"  {value:10.4g}  {cpu[value] / args.revolutions:.3f} s CPU per revolution")
+    new = not COST.exists()
+    with COST.open("a", newline="") as fh:
+        writer = csv.DictWriter(fh, fieldnames=COST_FIELDS)
+        if new:
+            writer.writeheader()
+        writer.writerow(row)
+    ds.attrs.update(
+        benchmark_revolutions=args.revolutions,
+        benchmark_discard=args.discard,
+        benchmark_cost=(
+            f"wall {wall / 60:.1f} min, CPU {cpu / 60:.1f} min on {args.workers} workers "
+            f"(load {row['load_mean']})"
+        ),
+    )
     OUT.mkdir(parents=True, exist_ok=True)
     write_netcdf(ds, OUT / f"{name}.nc")
-    matplotlib.use("Agg")
-    axes = mechanism.plot_bifurcation(ds)
-    axes[0].set_title(
-        f"rigid paper scene, {len(values)} values, strobes at revolutions "
-        f"{args.discard:g}–{args.revolutions:g}; {busy:.0f} s CPU "
-        f"({busy / len(values) / args.revolutions:.3f} s per revolution)",
-        fontsize=9,
-    )
-    axes[0].figure.savefig(OUT / f"{name}.png", dpi=160, bbox_inches="tight")
-    print(f"written: {OUT / f'{name}.png'}")
+    _figure(ds, name)
 
 
 if __name__ == "__main__":

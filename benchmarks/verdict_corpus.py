@@ -1,6 +1,7 @@
 """The verdict on a labelled corpus: confusion matrix, runtime and every miss with its reason.
 
-One command (about 10 minutes on two cores; series are cached between runs)::
+One command (13 minutes of wall time on two shared cores, 7.5 min of CPU; series are cached
+between runs)::
 
     pip install -e ".[bench]"          # dysts, for its chaotic flows
     python benchmarks/verdict_corpus.py

@@ -171,6 +171,10 @@ class Verdict:
     surrogates_low_dim
         The surrogate test repeated in ``LOW_DIM`` (3) delay coordinates when the first one
         did not reject in more (None otherwise): a noise label needs both to fail.
+    surrogates_one_step
+        The surrogate test in three delay coordinates at a horizon of one sample of the
+        (thinned) series when the first one, at a horizon of one delay, did not reject
+        (None otherwise): a noise label needs it to fail as well.
     rule
         The :class:`VerdictRule` applied.
     """
@@ -203,6 +207,7 @@ class Verdict:
     zero_one: ZeroOneResult | None = field(default=None, repr=False)
     surrogates: SurrogateResult | None = field(default=None, repr=False)
     surrogates_low_dim: SurrogateResult | None = field(default=None, repr=False)
+    surrogates_one_step: SurrogateResult | None = field(default=None, repr=False)
     lines: LineSpectrum | None = field(default=None, repr=False)
     rule: VerdictRule = field(default_factory=VerdictRule, repr=False)
 
@@ -534,9 +539,9 @@ def combine(
     ``lines`` is the kind of the recurrence / line-spectrum analysis (None if it failed),
     ``lines_period`` its period, ``lines_bases`` its number of base frequencies,
     ``n_cycles`` the characteristic times the series spans
-    (``cycle_unit`` names them), ``low_dim_rejected`` whether the surrogate test repeated
-    in a few delay coordinates rejected (None: not run). Returns label, period, confidence,
-    reason, votes and needs.
+    (``cycle_unit`` names them), ``low_dim_rejected`` whether a surrogate test repeated
+    in a few delay coordinates, a delay or one sample ahead, rejected (None: none ran).
+    Returns label, period, confidence, reason, votes and needs.
     """
     both_positive = rosenstein_positive is True and wolf_positive is True
     long_enough = n_cycles >= rule.min_cycles
@@ -616,8 +621,9 @@ def combine(
             elif surrogates_rejected is False and low_dim_rejected is True:
                 needs.append(
                     "a longer or more finely sampled series: the data are more predictable "
-                    f"than their surrogates in {LOW_DIM} delay coordinates but not in the "
-                    "embedding dimension, so neither noise nor determinism is shown"
+                    f"than their surrogates in {LOW_DIM} delay coordinates or one sample "
+                    "ahead, but not in the embedding dimension one delay ahead, so neither "
+                    "noise nor determinism is shown"
                 )
             elif surrogates_rejected is not False:
                 for name, pos in (("Rosenstein", rosenstein_positive), ("Wolf", wolf_positive)):
@@ -658,6 +664,12 @@ def combine(
         counted = [v for v in votes.values() if v in ("supports", "opposes")]
         confidence = sum(v == "supports" for v in counted) / len(counted) if counted else 0.0
     return label, period, confidence, reason, votes, tuple(needs)
+
+
+def _any_rejected(*tests: SurrogateResult | None) -> bool | None:
+    """Whether any of the tests that ran rejected (None if none ran)."""
+    ran = [t.rejected for t in tests if t is not None]
+    return any(ran) if ran else None
 
 
 def _cycles(inp: _Input, n: int, time_scale: float) -> tuple[float, str]:
@@ -763,7 +775,9 @@ def classify(
     * else *noise-like* if the spectrum is broadband, the series spans at least
       ``rule.min_cycles`` characteristic times and the surrogate test cannot reject linear
       Gaussian noise, neither in the embedding dimension nor (when that is larger) in
-      three delay coordinates;
+      three delay coordinates, nor in three coordinates one sample ahead (a flow whose
+      orbits separate within one delay is unpredictable a delay ahead, data and
+      surrogates alike);
     * else *chaotic* if both exponents are clearly positive, the surrogate test rejects,
       the spectrum is broadband or unresolved, and regular motion is ruled out by a
       scattered section or by a broadband spectrum over at least ``rule.min_cycles``
@@ -916,26 +930,46 @@ def classify(
         )
     except ValueError as exc:
         errors["surrogates"] = str(exc)
-    low_dim = None
-    if surrogates is not None and not surrogates.rejected and embedding_dim > LOW_DIM:
-        # A locally constant predictor in many coordinates finds no close neighbours in a
-        # few thousand points, so its failure to beat the surrogates is no evidence of
-        # noise; a low-dimensional attractor (coarsely sampled, or with a dimension that
-        # FNN could not resolve) still shows in a few coordinates. This test can only
-        # withhold a noise label: chaos still needs the first test to reject.
-        try:
-            low_dim = surrogate_test(
-                x[::step][-surrogate_max_samples:],
-                embedding_dim=LOW_DIM,
-                lag=surrogates.lag,
-                theiler_window=surrogates.theiler_window,
-                n_surrogates=n_surrogates,
-                alpha=rule.alpha,
-                min_effect=rule.min_effect,
-                rng=gen,
-            )
-        except ValueError as exc:
-            errors["surrogates_low_dim"] = str(exc)
+    low_dim = one_step = None
+    if surrogates is not None and not surrogates.rejected:
+        # These tests can only withhold a noise label: chaos still needs the first test to
+        # reject. A locally constant predictor in many coordinates finds no close
+        # neighbours in a few thousand points, so its failure to beat the surrogates is no
+        # evidence of noise; a low-dimensional attractor (coarsely sampled, or with a
+        # dimension that FNN could not resolve) still shows in a few coordinates. And a
+        # flow whose orbits separate within one delay is unpredictable at a horizon of one
+        # delay, data and surrogates alike; one (thinned) sample ahead it still shows.
+        # The Theiler window is the span of the three delay coordinates: both series share
+        # the autocorrelation, so temporal neighbours help data and surrogates alike, while
+        # the period-long window of the exponent can leave a slowly forced flow no
+        # neighbours at all.
+        thinned = x[::step][-surrogate_max_samples:]
+        runs = {  # each unless the first test was this one already
+            "surrogates_low_dim": (surrogates.horizon, embedding_dim > LOW_DIM),
+            "surrogates_one_step": (1, surrogates.horizon > 1),
+        }
+        for name, (horizon, needed) in runs.items():
+            if not needed:
+                continue
+            try:
+                res = surrogate_test(
+                    thinned,
+                    embedding_dim=LOW_DIM,
+                    lag=surrogates.lag,
+                    horizon=horizon,
+                    theiler_window=LOW_DIM * surrogates.lag,
+                    n_surrogates=n_surrogates,
+                    alpha=rule.alpha,
+                    min_effect=rule.min_effect,
+                    rng=gen,
+                )
+            except ValueError as exc:
+                errors[name] = str(exc)
+                continue
+            if name == "surrogates_low_dim":
+                low_dim = res
+            else:
+                one_step = res
 
     lines = None
     try:
@@ -965,7 +999,7 @@ def classify(
         lines_bases=0 if lines is None else int(lines.base_frequencies.size),
         n_cycles=n_cycles,
         cycle_unit=unit,
-        low_dim_rejected=None if low_dim is None else low_dim.rejected,
+        low_dim_rejected=_any_rejected(low_dim, one_step),
     )
     return Verdict(
         label=label,
@@ -993,5 +1027,6 @@ def classify(
         zero_one=zero_one,
         surrogates=surrogates,
         surrogates_low_dim=low_dim,
+        surrogates_one_step=one_step,
         **base,
     )

@@ -261,3 +261,34 @@ def test_white_noise_fails_the_low_dimensional_test_as_well() -> None:
     assert v.label == "noise-like"
     assert v.embedding_dim > 3 and v.surrogates_low_dim is not None
     assert not v.surrogates_low_dim.rejected and v.surrogates_low_dim.embedding_dim == 3
+
+
+def test_a_sampled_noise_fails_the_one_step_test_as_well() -> None:
+    # AR(1) sampled as a flow: the first test predicts one delay ahead, the one-step test
+    # one (thinned) sample ahead in three coordinates; linear noise is no more predictable
+    # than its surrogates at either horizon
+    v = classify(ar1(2000, 0.9, seed=3), dt=0.01, rng=3)
+    assert v.label == "noise-like", v.reason
+    one = v.surrogates_one_step
+    assert v.surrogates is not None and v.surrogates.horizon > 1 and one is not None
+    assert (one.horizon, one.embedding_dim, one.theiler_window) == (1, 3, 3 * one.lag)
+    assert not one.rejected
+
+
+@pytest.mark.slow
+def test_a_chaotic_flow_predictable_only_one_sample_ahead_is_not_called_noise() -> None:
+    # dysts' OscillatingFlow (a periodically forced flow), 200 periods at 100 samples each:
+    # a locally constant predictor one delay ahead in ten coordinates with a period-long
+    # Theiler window is no better than on the surrogates, so the verdict used to say
+    # "noise-like" with confidence 1; in three coordinates it beats every surrogate by
+    # about 30 %
+    pytest.importorskip("dysts")
+    from benchmarks import corpus_flows
+
+    x = corpus_flows.dysts_flow("OscillatingFlow", 20000, pts_per_period=100, cache_dir=None).x
+    v = classify(x, dt=1.0, rng=1)
+    assert v.surrogates is not None and not v.surrogates.rejected
+    assert v.label == "undetermined", v.reason
+    assert v.surrogates_one_step is not None and v.surrogates_one_step.rejected
+    assert v.surrogates_one_step.effect > 0.2
+    assert any("one sample ahead" in n for n in v.needs)

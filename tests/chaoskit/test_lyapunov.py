@@ -371,3 +371,36 @@ def test_fit_window_family_spread() -> None:
     kinked = np.where(k < 100, 0.05 * k, 5.0 + 0.0415 * (k - 100))
     below, above = family_spread(k, kinked, 0, 99, 219, min_span=10)
     assert below == pytest.approx(0.0085, rel=0.05) and above == pytest.approx(0.0, abs=1e-9)
+
+
+def test_with_systematic_adds_the_relative_term_in_quadrature() -> None:
+    from chaoskit.lyapunov._common import SYSTEMATIC, with_systematic
+
+    (low, high), sys_half, note = with_systematic(2.0, 0.3, 0.4, method="rosenstein", flow=True)
+    rel = SYSTEMATIC["rosenstein"][1]
+    assert_allclose(sys_half, rel * 2.0)
+    assert_allclose(
+        (low, high), (2.0 - math.hypot(0.3, rel * 2.0), 2.0 + math.hypot(0.4, rel * 2.0))
+    )
+    assert "flows" in note and f"{rel:.0%}" in note
+    # every relative term is below 1: it alone never moves a bound across zero
+    assert all(0.0 < r < 1.0 for pair in SYSTEMATIC.values() for r in pair)
+    (low, _), _, _ = with_systematic(-1.0, 0.0, 0.0, method="wolf", flow=False)
+    assert_allclose(low, -1.0 - SYSTEMATIC["wolf"][0])
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_interval_carries_the_systematic_term_of_flows_and_maps(method) -> None:
+    from chaoskit.lyapunov._common import SYSTEMATIC
+
+    name = "rosenstein" if method is lyapunov_rosenstein else "wolf"
+    for x, dt, flow, truth in (
+        (_lorenz_x(10_000, 0), 0.01, True, LORENZ),
+        (systems.henon(5000)[:, 0], 1.0, False, HENON),
+    ):
+        res = method(x, dt=dt)
+        sys_half = res.params["ci_systematic_half_width"]
+        assert_allclose(sys_half, SYSTEMATIC[name][int(flow)] * abs(res.mle))
+        assert res.mle - res.ci[0] >= sys_half and res.ci[1] - res.mle >= sys_half
+        assert _covers(res, truth), (res.mle, res.ci)
+        assert res.ci[0] > 0.0  # a well-resolved exponent stays clearly positive

@@ -29,6 +29,7 @@ from typing import Any, NamedTuple
 import numpy as np
 from numba import njit
 
+from mechanism.core._jit import njit_noalloc
 from mechanism.core._status import (
     STATUS_MAX_STEPS,
     STATUS_NONFINITE,
@@ -39,7 +40,7 @@ from mechanism.core._status import (
 )
 from mechanism.core.bodies._ancf_kernels import BEAM_F_DAMPING, beams_jacobian_add
 from mechanism.core.contact._kernels import FRICTION_NONE
-from mechanism.core.joints._kernels import update_point_rows
+from mechanism.core.joints._kernels import update_point_rows, update_points
 from mechanism.core.model._kernels import (
     CF_V0,
     CF_V1,
@@ -57,6 +58,7 @@ from mechanism.core.model._kernels import (
     _clearance_forces,
     accelerations,
     approach_step,
+    crank_angle,
     derived_outputs,
     entry_depth_ratio,
     journal_travel_ratio,
@@ -237,7 +239,7 @@ _EPS = 2.220446049250313e-16
 REFRESH_AFTER = 10
 
 
-@njit(cache=True)
+@njit_noalloc()
 def record_sample(model, ws, rec, i, t, y, vimp, scratch, counters):
     """Write output sample ``i`` of state ``y`` at time ``t``: one right-hand-side
     evaluation gives q̈, λ and the contact quantities, from which the derived outputs
@@ -272,7 +274,7 @@ def record_batch(model, ws, rec, i0, times, states, vimp, counters):
     return STATUS_OK
 
 
-@njit(cache=True)
+@njit_noalloc()
 def _dense_eval(kind, dense, th, h, yout):
     """The continuous extension of the last step at θ = (t − t₀)/h into ``yout``."""
     n2 = yout.shape[0]
@@ -296,11 +298,13 @@ def _dense_eval(kind, dense, th, h, yout):
             )
 
 
-@njit(cache=True)
-def _crank_at(model, ws, kind, dense, th, h, yout, light):
+@njit_noalloc()
+def _crank_at(model, ws, kind, dense, th, h, yout):
+    """Crank angle on the dense output at θ (the state is left in ``yout``)."""
     _dense_eval(kind, dense, th, h, yout)
-    light_outputs(model, ws, yout, light)
-    return light[0]
+    n = model.n_dof
+    update_points(yout[:n], yout[n:], model.pt_i, model.pt_f, ws.pci, ws.pcf)
+    return crank_angle(model, ws.pcf)
 
 
 @njit(cache=True)
@@ -309,9 +313,8 @@ def _sections(model, ws, out, kind, dense, told, h, vimp, scratch, yout, counter
     φ + 2πk during the step, located on the dense output by the Illinois method to
     round-off in the angle."""
     strobe = out.strobe
-    light = np.empty(3)
     sense = strobe[STROBE_DIRECTION]
-    c_end = _crank_at(model, ws, kind, dense, 1.0, h, yout, light)
+    c_end = _crank_at(model, ws, kind, dense, 1.0, h, yout)
     lo = 0.0
     c_lo = strobe[STROBE_ANGLE]
     while sense * (c_end - strobe[STROBE_TARGET]) >= 0.0:
@@ -332,7 +335,7 @@ def _sections(model, ws, out, kind, dense, told, h, vimp, scratch, yout, counter
                 break
             c = (a * fb - b * fa) / (fb - fa)
             c = min(max(c, a), b)
-            fc = sense * (_crank_at(model, ws, kind, dense, c, h, yout, light) - target)
+            fc = sense * (_crank_at(model, ws, kind, dense, c, h, yout) - target)
             if fc >= 0.0:
                 b = c
                 fb = fc
@@ -355,11 +358,11 @@ def _sections(model, ws, out, kind, dense, told, h, vimp, scratch, yout, counter
             out.cursor[1] = i + 1
         strobe[STROBE_TARGET] = target + sense * 2.0 * math.pi
         lo = root
-        c_lo = _crank_at(model, ws, kind, dense, lo, h, yout, light)
+        c_lo = _crank_at(model, ws, kind, dense, lo, h, yout)
     strobe[STROBE_ANGLE] = c_end
 
 
-@njit(cache=True)
+@njit_noalloc()
 def _metrics_from_workspace(met, ws, drive_row):
     """Update the running extremes from the workspace of the last evaluation."""
     for j in range(ws.cj.shape[0]):
@@ -375,7 +378,7 @@ def _metrics_from_workspace(met, ws, drive_row):
             met[MET_TORQUE_MIN] = torque
 
 
-@njit(cache=True)
+@njit_noalloc()
 def _after_step(model, ws, out, kind, dense, told, t, h, vimp, contact, scratch, yout, counters):
     """Record what ``out`` asks for after an accepted step from ``told`` to ``t``.
 
@@ -420,7 +423,7 @@ def _after_step(model, ws, out, kind, dense, told, t, h, vimp, contact, scratch,
         _sections(model, ws, out, kind, dense, told, h, vimp, scratch, yout, counters)
 
 
-@njit(cache=True)
+@njit_noalloc()
 def _wrms(err, y0, y1, rtol, atol):
     s = 0.0
     n = err.shape[0]
@@ -633,7 +636,7 @@ def dopri5_advance(model, ws, loop, out, ctl, t_stop):
     return status
 
 
-@njit(cache=True)
+@njit_noalloc()
 def _entry_fraction(model, ws, y, contact, entry_depth, r_end):
     """Fraction of a step that entered contact too deep to retry with: the step at which
     the penetration, interpolated linearly from the start of the step, is half the

@@ -27,6 +27,7 @@ import math
 import numpy as np
 from numba import njit
 
+from mechanism.core._jit import njit_noalloc
 from mechanism.core.joints._kernels import update_points
 from mechanism.core.model._kernels import (
     CF_FLOOR,
@@ -99,7 +100,7 @@ GROWTH_LAST_T = 2  # time of the last renormalisation
 GROWTH_COLUMNS = 3
 
 
-@njit(cache=True)
+@njit_noalloc()
 def deviation_norm(model, d, tau2, inv_mass):
     """√((δqᵀMδq + τ² δq̇ᵀMδq̇)/m): the mass-weighted size (m) of a deviation.
 
@@ -118,7 +119,7 @@ def deviation_norm(model, d, tau2, inv_mass):
     return math.sqrt(max(s, 0.0) * inv_mass)
 
 
-@njit(cache=True)
+@njit_noalloc()
 def project_tangent(model, ws, ws2, t, y, d, scratch):
     """Project the deviation ``d`` onto the tangent space of the constraint manifold at y.
 
@@ -175,7 +176,7 @@ def project_tangent(model, ws, ws2, t, y, d, scratch):
     return True
 
 
-@njit(cache=True)
+@njit_noalloc()
 def latch_pair(model, ws, ws2, y, yp, vimp, vimp_p, contact, counters):
     """Contact state after an accepted step, decided by the reference ``y``.
 
@@ -204,7 +205,7 @@ def latch_pair(model, ws, ws2, y, yp, vimp, vimp_p, contact, counters):
             vimp_p[j] = ddot_p if ddot_p > floor else floor
 
 
-@njit(cache=True)
+@njit_noalloc()
 def has_worn(model):
     """Whether any clearance joint of the model carries a worn profile."""
     for j in range(model.cw_i.shape[0]):
@@ -213,7 +214,7 @@ def has_worn(model):
     return False
 
 
-@njit(cache=True)
+@njit_noalloc()
 def _same_regions(model, ws, phi):
     """Whether the contact directions in ``ws.cj`` fall in the same worn-profile regions as
     ``phi`` (n_cj, 2) on every worn surface."""
@@ -230,9 +231,9 @@ def _same_regions(model, ws, phi):
     return True
 
 
-@njit(cache=True)
-def _deviation_rate(model, ws, t, ys, ds, f_ref, vimp, vimp_p, yp, fp, kd, phi, worn, fresh,
-                    counters_p):  # fmt: skip
+@njit_noalloc()
+def _deviation_rate(model, ws, t, ys, ds, f_ref, vimp, vimp_p, vimp_m, yp, fp, kd, phi, worn,
+                    fresh, counters_p):  # fmt: skip
     """kd = f(t, ys + ds) − f_ref, f_ref = f(t, ys).
 
     With ``fresh`` the last evaluation in ``ws`` was f(t, ys) and its contact directions are
@@ -256,7 +257,9 @@ def _deviation_rate(model, ws, t, ys, ds, f_ref, vimp, vimp_p, yp, fp, kd, phi, 
         for i in range(n2):
             yp[i] = ys[i] - ds[i]
         # the mirrored copy's latch: the perturbed one reflected through the reference's
-        st = rhs(model, ws, t, yp, 2.0 * vimp - vimp_p, fp, counters_p)
+        for j in range(vimp.shape[0]):
+            vimp_m[j] = 2.0 * vimp[j] - vimp_p[j]
+        st = rhs(model, ws, t, yp, vimp_m, fp, counters_p)
         for i in range(n2):
             kd[i] = f_ref[i] - fp[i]
         return st
@@ -274,14 +277,15 @@ def tangent_start(model, ws, t, y, d, k1, kd1, vimp, vimp_p, counters, counters_
     yp = np.empty_like(y)
     fp = np.empty_like(y)
     phi = np.empty((model.cj_i.shape[0], 2))
+    vimp_m = np.empty_like(vimp)
     st = _deviation_rate(
-        model, ws, t, y, d, k1, vimp, vimp_p, yp, fp, kd1, phi, has_worn(model), True,
+        model, ws, t, y, d, k1, vimp, vimp_p, vimp_m, yp, fp, kd1, phi, has_worn(model), True,
         counters_p,
     )  # fmt: skip
     return STATUS_RUNNING if st == STATUS_OK else st
 
 
-@njit(cache=True)
+@njit_noalloc()
 def renormalize(model, ws, ws2, t, y, d, scratch, size, tau2, inv_mass, growth):
     """Project ``d`` onto the constraint tangent, add ln(|d|/size) to ``growth`` and
     rescale d to ``size``. Returns False on a singular constraint matrix or a zero or
@@ -363,6 +367,7 @@ def tangent_advance(
     err = np.empty(n2)
     scratch = np.empty(n2)
     phi = np.empty((model.cj_i.shape[0], 2))
+    vimp_m = np.empty_like(vimp)
     worn = has_worn(model)
     beta = 0.04
     expo1 = 0.2 - beta * 0.75
@@ -397,7 +402,7 @@ def tangent_advance(
             dtmp[i] = d[i] + h * A21 * kd1[i]
         st |= rhs(model, ws, t + C2 * h, ytmp, vimp, k2, counters)
         st |= _deviation_rate(
-            model, ws, t + C2 * h, ytmp, dtmp, k2, vimp, vimp_p, yp, fp, kd2, phi,
+            model, ws, t + C2 * h, ytmp, dtmp, k2, vimp, vimp_p, vimp_m, yp, fp, kd2, phi,
             worn, True, counters_p,
         )  # fmt: skip
         for i in range(n2):
@@ -405,7 +410,7 @@ def tangent_advance(
             dtmp[i] = d[i] + h * (A31 * kd1[i] + A32 * kd2[i])
         st |= rhs(model, ws, t + C3 * h, ytmp, vimp, k3, counters)
         st |= _deviation_rate(
-            model, ws, t + C3 * h, ytmp, dtmp, k3, vimp, vimp_p, yp, fp, kd3, phi,
+            model, ws, t + C3 * h, ytmp, dtmp, k3, vimp, vimp_p, vimp_m, yp, fp, kd3, phi,
             worn, True, counters_p,
         )  # fmt: skip
         for i in range(n2):
@@ -413,7 +418,7 @@ def tangent_advance(
             dtmp[i] = d[i] + h * (A41 * kd1[i] + A42 * kd2[i] + A43 * kd3[i])
         st |= rhs(model, ws, t + C4 * h, ytmp, vimp, k4, counters)
         st |= _deviation_rate(
-            model, ws, t + C4 * h, ytmp, dtmp, k4, vimp, vimp_p, yp, fp, kd4, phi,
+            model, ws, t + C4 * h, ytmp, dtmp, k4, vimp, vimp_p, vimp_m, yp, fp, kd4, phi,
             worn, True, counters_p,
         )  # fmt: skip
         for i in range(n2):
@@ -421,7 +426,7 @@ def tangent_advance(
             dtmp[i] = d[i] + h * (A51 * kd1[i] + A52 * kd2[i] + A53 * kd3[i] + A54 * kd4[i])
         st |= rhs(model, ws, t + C5 * h, ytmp, vimp, k5, counters)
         st |= _deviation_rate(
-            model, ws, t + C5 * h, ytmp, dtmp, k5, vimp, vimp_p, yp, fp, kd5, phi,
+            model, ws, t + C5 * h, ytmp, dtmp, k5, vimp, vimp_p, vimp_m, yp, fp, kd5, phi,
             worn, True, counters_p,
         )  # fmt: skip
         for i in range(n2):
@@ -433,7 +438,7 @@ def tangent_advance(
             )
         st |= rhs(model, ws, t + h, ytmp, vimp, k6, counters)
         st |= _deviation_rate(
-            model, ws, t + h, ytmp, dtmp, k6, vimp, vimp_p, yp, fp, kd6, phi,
+            model, ws, t + h, ytmp, dtmp, k6, vimp, vimp_p, vimp_m, yp, fp, kd6, phi,
             worn, True, counters_p,
         )  # fmt: skip
         for i in range(n2):
@@ -445,7 +450,7 @@ def tangent_advance(
             )
         st |= rhs(model, ws, t + h, ynew, vimp, k7, counters)
         st |= _deviation_rate(
-            model, ws, t + h, ynew, dnew, k7, vimp, vimp_p, yp, fp, kd7, phi,
+            model, ws, t + h, ynew, dnew, k7, vimp, vimp_p, vimp_m, yp, fp, kd7, phi,
             worn, True, counters_p,
         )  # fmt: skip
         if st != STATUS_OK:
@@ -490,7 +495,7 @@ def tangent_advance(
             # phi holds the reference's contact directions at y from the last stage (or
             # from the evaluation after a projection)
             st = _deviation_rate(
-                model, ws, t, y, d, k1, vimp, vimp_p, yp, fp, kd1, phi, worn, projection,
+                model, ws, t, y, d, k1, vimp, vimp_p, vimp_m, yp, fp, kd1, phi, worn, projection,
                 counters_p,
             )  # fmt: skip
             if st != STATUS_OK:

@@ -15,6 +15,10 @@ solved by the Schur complement with the constant M⁻¹ (assembled once)::
 
 Φq is sparse (a row touches the coordinates of at most two points), so W and Φq W are
 built from each row's nonzero columns.
+
+Kernels that allocate nothing are compiled without numba's reference counting
+(:func:`mechanism.core._jit.njit_noalloc`; here and in the joint, contact, wear and
+integrator kernels they call), which halves the cost of a right-hand side.
 """
 
 from __future__ import annotations
@@ -24,6 +28,7 @@ import math
 import numpy as np
 from numba import njit
 
+from mechanism.core._jit import njit_noalloc
 from mechanism.core._status import STATUS_NONFINITE, STATUS_OK, STATUS_SINGULAR
 from mechanism.core.bodies._ancf_kernels import beams_force_add, beams_strain_energy
 from mechanism.core.contact._kernels import (
@@ -114,7 +119,7 @@ JOINT_PIN = 0
 JOINT_PRISMATIC = 1
 
 
-@njit(cache=True)
+@njit_noalloc()
 def evaluate_constraints(model, ws, t, q, v):
     """Update the point cache and fill ``ws.phi``, ``ws.phiq``, ``ws.phit``, ``ws.gam``."""
     update_points(q, v, model.pt_i, model.pt_f, ws.pci, ws.pcf)
@@ -136,7 +141,7 @@ def evaluate_constraints(model, ws, t, q, v):
     )
 
 
-@njit(cache=True)
+@njit_noalloc()
 def worn_contact(cw_i, cw_f, cw_h, cw_k, j, r_bearing, r_journal, clearance, stiffness,
                  phi_b, phi_j):  # fmt: skip
     """Local clearance c(φ_b, φ_j) (m) and stiffness K_n of clearance joint ``j``.
@@ -161,7 +166,7 @@ def worn_contact(cw_i, cw_f, cw_h, cw_k, j, r_bearing, r_journal, clearance, sti
     return c, kn
 
 
-@njit(cache=True)
+@njit_noalloc()
 def worn_clearance_rate(cw_i, cw_s, j, pcf, bearing, journal, ex, ey, phi_b, phi_j):
     """dc/dt = h_b'(φ_b) φ̇_b + h_j'(φ_j) φ̇_j (m/s) of a worn joint (0 when unworn).
 
@@ -189,7 +194,7 @@ def worn_clearance_rate(cw_i, cw_s, j, pcf, bearing, journal, ex, ey, phi_b, phi
     return out
 
 
-@njit(cache=True)
+@njit_noalloc()
 def _clearance_forces(model, pci, pcf, vimp, gen, cj, counters):
     cj_i = model.cj_i
     cj_f = model.cj_f
@@ -231,7 +236,7 @@ def _clearance_forces(model, pci, pcf, vimp, gen, cj, counters):
         cj[j, CJ_K] = kn
 
 
-@njit(cache=True)
+@njit_noalloc()
 def _cholesky_solve(s, b, m):
     """Solve S x = b in place (S symmetric positive definite, overwritten by its factor).
 
@@ -264,7 +269,7 @@ def _cholesky_solve(s, b, m):
     return True
 
 
-@njit(cache=True)
+@njit_noalloc()
 def _schur_arrays(phiq, minv, blk_lo, blk_hi, nzn, nzj, w, s):
     m, n = phiq.shape
     for k in range(m):
@@ -294,13 +299,13 @@ def _schur_arrays(phiq, minv, blk_lo, blk_hi, nzn, nzj, w, s):
             s[ll, k] = acc
 
 
-@njit(cache=True)
+@njit_noalloc()
 def _schur(model, ws):
     """W = M⁻¹Φqᵀ and S = Φq W from the current Φq, using each row's nonzero columns."""
     _schur_arrays(ws.phiq, model.minv, model.blk_lo, model.blk_hi, ws.nz_n, ws.nz_j, ws.w, ws.s)
 
 
-@njit(cache=True)
+@njit_noalloc()
 def accelerations(model, ws, t, q, v, vimp, acc, counters):
     """Solve the equations of motion for q̈ (into ``acc``) and λ (into ``ws.lam``).
 
@@ -322,7 +327,9 @@ def accelerations(model, ws, t, q, v, vimp, acc, counters):
         model.spline_c, pci, pcf, phi, phiq, phit, gam,
     )  # fmt: skip
     # Q = gravity − elastic/damping forces of the ANCF beams + contact/friction
-    gen[:] = model.gravity_force
+    gravity = model.gravity_force
+    for i in range(gen.shape[0]):
+        gen[i] = gravity[i]
     if model.beam_i.shape[0] > 0:
         beams_force_add(model.beam_i, model.beam_f, q, v, -1.0, gen)
     if model.cj_i.shape[0] > 0:
@@ -333,7 +340,7 @@ def accelerations(model, ws, t, q, v, vimp, acc, counters):
     )  # fmt: skip
 
 
-@njit(cache=True)
+@njit_noalloc()
 def _block_solve(minv, blk_lo, blk_hi, x, out):
     """out = M⁻¹x block by block, as a sum of the columns of the symmetric M⁻¹ (read as
     its contiguous rows) over slices: no reduction and no bounds read per element, so the
@@ -353,7 +360,7 @@ def _block_solve(minv, blk_lo, blk_hi, x, out):
         j = hi
 
 
-@njit(cache=True)
+@njit_noalloc()
 def _solve(minv, blk_lo, blk_hi, alpha, beta, phi, phiq, phit, gam, gen, v, a0, w, s, lam,
            nzn, nzj, acc):  # fmt: skip
     n = a0.shape[0]
@@ -398,7 +405,7 @@ def _solve(minv, blk_lo, blk_hi, alpha, beta, phi, phiq, phit, gam, gen, v, a0, 
     return STATUS_OK if ok else STATUS_NONFINITE
 
 
-@njit(cache=True)
+@njit_noalloc()
 def rhs(model, ws, t, y, vimp, dydt, counters):
     """First-order form y = [q; q̇], ẏ = [q̇; q̈]. Returns the status of :func:`accelerations`."""
     n = model.n_dof
@@ -407,7 +414,7 @@ def rhs(model, ws, t, y, vimp, dydt, counters):
     return accelerations(model, ws, t, y[:n], y[n:], vimp, dydt[n:], counters)
 
 
-@njit(cache=True)
+@njit_noalloc()
 def _clearance_state(model, ws, y, j):
     """(δ, δ̇, K) of clearance joint ``j`` at state ``y`` (point cache must be current);
     δ and K from the local clearance and stiffness on a worn profile."""
@@ -426,7 +433,7 @@ def _clearance_state(model, ws, y, j):
     return res[4] + c0 - c, res[5] - rate, kn
 
 
-@njit(cache=True)
+@njit_noalloc()
 def update_latch(model, ws, y, vimp, contact, counters):
     """Discrete contact state after an accepted step (the impact-velocity latch).
 
@@ -453,7 +460,7 @@ def update_latch(model, ws, y, vimp, contact, counters):
             vimp[j] = ddot if ddot > floor else floor
 
 
-@njit(cache=True)
+@njit_noalloc()
 def entry_depth_ratio(model, ws, y, contact):
     """Largest δ/c at state ``y`` over the clearance joints that were separated
     (``contact`` = 0) at the last accepted state, or −inf; the implicit integrator rejects
@@ -476,7 +483,7 @@ def entry_depth_ratio(model, ws, y, contact):
     return worst
 
 
-@njit(cache=True)
+@njit_noalloc()
 def approach_step(model, ws, y, acc, fraction):
     """Longest step (s) in which no separated clearance joint's journal can travel more
     than ``fraction`` of its gap to the bearing wall, at state ``y`` with accelerations
@@ -526,7 +533,7 @@ def approach_step(model, ws, y, acc, fraction):
     return limit
 
 
-@njit(cache=True)
+@njit_noalloc()
 def journal_travel_ratio(model, ws, y0, y1):
     """Largest |e(y1) − e(y0)|/c₀ over the clearance joints: how far, in nominal radial
     clearances, a journal centre moved relative to its bearing between two states (0
@@ -550,7 +557,7 @@ def journal_travel_ratio(model, ws, y0, y1):
     return worst
 
 
-@njit(cache=True)
+@njit_noalloc()
 def project(model, ws, t, y, tol, max_iter):
     """Project positions onto Φ(q, t) = 0 and velocities onto Φq q̇ + Φt = 0.
 
@@ -597,7 +604,7 @@ def project(model, ws, t, y, tol, max_iter):
     return True
 
 
-@njit(cache=True)
+@njit_noalloc()
 def mechanical_energy(model, ws, y):
     """Kinetic + gravity + contact potential + beam strain energy (J) of state ``y``.
 
@@ -642,7 +649,7 @@ def energy_series(model, ws, q, v, out):
         out[i] = mechanical_energy(model, ws, y)
 
 
-@njit(cache=True)
+@njit_noalloc()
 def violation_series(model, ws, t, q, v, out):
     """max_k |Φ_k(q, t)| for every sample (m for point rows, rad for angle rows)."""
     for i in range(q.shape[0]):
@@ -653,7 +660,7 @@ def violation_series(model, ws, t, q, v, out):
         out[i] = worst
 
 
-@njit(cache=True)
+@njit_noalloc()
 def crank_angle(model, pcf):
     """Crank angle (rad, unwrapped) from the point cache; 0 without a crank joint."""
     pa = model.out_i[0]
@@ -661,7 +668,7 @@ def crank_angle(model, pcf):
     return pcf[pb, PC_ANG] - pcf[pa, PC_ANG] if pa >= 0 else 0.0
 
 
-@njit(cache=True)
+@njit_noalloc()
 def _slider_kinematics(model, pcf):
     """Slider position s and velocity ṡ along its guide from the point cache, with the
     guide direction (gx, gy), its rate ω and the relative position and velocity (d, ḋ)."""
@@ -687,7 +694,7 @@ def _slider_kinematics(model, pcf):
     return s, sd, gx, gy, w, dx, dy, ddx, ddy
 
 
-@njit(cache=True)
+@njit_noalloc()
 def light_outputs(model, ws, y, out):
     """Crank angle, slider s and ṡ of state ``y`` from positions and velocities alone
     (no right-hand-side evaluation): ``out`` = [crank angle, s, ṡ] (0 where absent),
@@ -711,7 +718,7 @@ def light_outputs(model, ws, y, out):
             out[LIGHT_COLUMNS + 2 * j + 1] = pcf[cj_i[j, 1], PC_Y] - pcf[cj_i[j, 0], PC_Y]
 
 
-@njit(cache=True)
+@njit_noalloc()
 def derived_outputs(model, ws, q, v, a, out, jf):
     """Output quantities of the state whose right-hand side was just evaluated.
 

@@ -19,8 +19,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 
+from mechanism.core._jit import njit_noalloc
 from mechanism.core._status import STATUS_OK, STATUS_REDUCED, STATUS_REJECTED
 from mechanism.core.contact._kernels import effective_curvature, hertz_half_width
 
@@ -34,7 +34,7 @@ INTERP_LINEAR = 1  # linear between region centres (continuous in the angle)
 MAX_INWARD_DEPTH_FRACTION = 1.0 - 1e-6
 
 
-@njit(cache=True)
+@njit_noalloc()
 def wrap_angle(angle: float) -> float:
     """Angle in [0, 2π)."""
     a = angle % TWO_PI
@@ -43,7 +43,7 @@ def wrap_angle(angle: float) -> float:
     return a
 
 
-@njit(cache=True)
+@njit_noalloc()
 def region_index(angle: float, regions: int) -> int:
     """Index of the region containing ``angle`` (rad); 0 for a non-finite angle."""
     if not math.isfinite(angle) or regions <= 0:
@@ -52,7 +52,7 @@ def region_index(angle: float, regions: int) -> int:
     return i % regions
 
 
-@njit(cache=True, inline="always")
+@njit_noalloc(inline="always")
 def _between_centres(angle: float, regions: int) -> tuple[int, float]:
     """Region ``i0`` whose centre precedes the finite ``angle`` and the weight of ``i0 + 1``.
 
@@ -63,7 +63,7 @@ def _between_centres(angle: float, regions: int) -> tuple[int, float]:
     return i0, u - i0
 
 
-@njit(cache=True)
+@njit_noalloc()
 def region_value(values: np.ndarray, angle: float, interpolation: int = 0) -> float:
     """Value of a per-region array at ``angle``; 0 for an empty array."""
     n = values.size
@@ -75,7 +75,7 @@ def region_value(values: np.ndarray, angle: float, interpolation: int = 0) -> fl
     return values[region_index(angle, n)]
 
 
-@njit(cache=True)
+@njit_noalloc()
 def local_clearance(
     clearance: float,
     bearing_depth: np.ndarray,
@@ -95,7 +95,7 @@ def local_clearance(
     )
 
 
-@njit(cache=True)
+@njit_noalloc()
 def smoothed_depth(depth: np.ndarray, i: int, smoothing: int) -> float:
     """Centred moving average of width ``smoothing`` regions at region ``i`` (circular).
 
@@ -114,7 +114,7 @@ def smoothed_depth(depth: np.ndarray, i: int, smoothing: int) -> float:
     return total / smoothing
 
 
-@njit(cache=True)
+@njit_noalloc()
 def surface_curvature(
     radius: float, depth: np.ndarray, i: int, smoothing: int, outward: bool
 ) -> float:
@@ -154,7 +154,7 @@ def surface_curvature(
     return 2.0 * cross / denom
 
 
-@njit(cache=True)
+@njit_noalloc()
 def curvature_at(
     radius: float,
     depth: np.ndarray,
@@ -175,7 +175,7 @@ def curvature_at(
     return surface_curvature(radius, depth, region_index(angle, n), smoothing, outward)
 
 
-@njit(cache=True)
+@njit_noalloc()
 def curvature_profile(
     radius: float, depth: np.ndarray, smoothing: int, outward: bool, out: np.ndarray
 ) -> None:
@@ -184,7 +184,7 @@ def curvature_profile(
         out[i] = surface_curvature(radius, depth, i, smoothing, outward)
 
 
-@njit(cache=True)
+@njit_noalloc()
 def local_effective_radius(
     form: int,
     bearing_radius: float,
@@ -210,7 +210,7 @@ def local_effective_radius(
     )
 
 
-@njit(cache=True)
+@njit_noalloc()
 def local_stiffness(
     effective_modulus: float,
     form: int,
@@ -240,13 +240,13 @@ def local_stiffness(
     return _hertz_stiffness(effective_modulus, r_star)
 
 
-@njit(cache=True, inline="always")
+@njit_noalloc(inline="always")
 def _hertz_stiffness(effective_modulus: float, effective_radius: float) -> float:
     """K_n = (4/3) E* √R* (N m^-1.5)."""
     return 4.0 / 3.0 * effective_modulus * math.sqrt(effective_radius)
 
 
-@njit(cache=True)
+@njit_noalloc()
 def _bounded_effective_radius(
     form: int,
     bearing_radius: float,
@@ -266,7 +266,7 @@ def _bounded_effective_radius(
     return 1.0 / kappa
 
 
-@njit(cache=True)
+@njit_noalloc()
 def local_stiffness_tabulated(
     effective_modulus: float,
     form: int,
@@ -299,7 +299,7 @@ def local_stiffness_tabulated(
     return _hertz_stiffness(effective_modulus, r_star)
 
 
-@njit(cache=True)
+@njit_noalloc()
 def _elliptic_cdf(s: float) -> float:
     """Fraction of a semi-elliptical (Hertz) load on [−1, s] of its support [−1, 1]."""
     if s <= -1.0:
@@ -309,7 +309,7 @@ def _elliptic_cdf(s: float) -> float:
     return 0.5 + (s * math.sqrt(1.0 - s * s) + math.asin(s)) / math.pi
 
 
-@njit(cache=True)
+@njit_noalloc()
 def sector_volume(
     radius: float, length: float, step: float, h1: float, h2: float, outward: bool
 ) -> float:
@@ -319,7 +319,7 @@ def sector_volume(
     return length * step * (h2 - h1) * (radius - 0.5 * (h1 + h2))
 
 
-@njit(cache=True)
+@njit_noalloc()
 def _depth_for_volume(
     radius: float, length: float, step: float, h: float, volume: float, outward: bool
 ) -> float:
@@ -335,7 +335,7 @@ def _depth_for_volume(
     return q / (r + math.sqrt(disc))
 
 
-@njit(cache=True)
+@njit_noalloc()
 def _touched_span(angle: float, half_angle: float, n: int) -> tuple[float, int, int]:
     step = TWO_PI / n
     centre = wrap_angle(angle)
@@ -348,7 +348,7 @@ def _touched_span(angle: float, half_angle: float, n: int) -> tuple[float, int, 
     return centre, lo, hi
 
 
-@njit(cache=True)
+@njit_noalloc()
 def _share(m: int, centre: float, half_angle: float, step: float, lo: int, hi: int) -> float:
     if lo == hi:
         return 1.0
@@ -361,7 +361,7 @@ def _share(m: int, centre: float, half_angle: float, step: float, lo: int, hi: i
     return _elliptic_cdf(s_hi) - _elliptic_cdf(s_lo)
 
 
-@njit(cache=True)
+@njit_noalloc()
 def archard_increment(
     depth: np.ndarray,
     angle: float,
@@ -440,7 +440,7 @@ def archard_increment(
     return (STATUS_REDUCED if scale < 1.0 else STATUS_OK), applied
 
 
-@njit(cache=True)
+@njit_noalloc()
 def worn_volume(depth: np.ndarray, radius: float, length: float, outward: bool) -> float:
     """Total volume (m³) a surface has lost, Σ L Δ h_i (R ± h_i/2)."""
     n = depth.size
@@ -453,7 +453,7 @@ def worn_volume(depth: np.ndarray, radius: float, length: float, outward: bool) 
     return total
 
 
-@njit(cache=True, inline="always")
+@njit_noalloc(inline="always")
 def _tally(
     status: int, applied: float, slot: int, counters: np.ndarray, volumes: np.ndarray
 ) -> None:
@@ -465,7 +465,7 @@ def _tally(
         counters[2] += 1
 
 
-@njit(cache=True)
+@njit_noalloc()
 def archard_history(
     bearing_depth: np.ndarray,
     journal_depth: np.ndarray,
