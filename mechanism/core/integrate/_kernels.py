@@ -61,6 +61,7 @@ from mechanism.core.model._kernels import (
     crank_angle,
     derived_outputs,
     entry_depth_ratio,
+    journal_travel_ratio,
     light_outputs,
     project,
     rhs,
@@ -152,14 +153,47 @@ class Output(NamedTuple):
 
 
 class Jacobian(NamedTuple):
-    """Generalized-α Jacobian buffers: ∂q̈/∂q, ∂q̈/∂q̇ and the column sets (differenced,
-    analytic ANCF, clearance-contact)."""
+    """Generalized-α Jacobian buffers: ∂q̈/∂q, ∂q̈/∂q̇, the column sets (differenced,
+    analytic ANCF, clearance-contact) and the clearance-force linearisations that go
+    with them. Everything a step reads from earlier steps lives here (or in
+    ``LoopState``), so an integration split into pieces follows the same path as one
+    call (:func:`jacobian_buffers`)."""
 
     kq: np.ndarray
     cv: np.ndarray
     fd_cols: np.ndarray
     an_cols: np.ndarray
     contact_cols: np.ndarray
+    dq0: np.ndarray  # (nc, nc) clearance-force derivatives at the Jacobian's state
+    dv0: np.ndarray
+    basis: np.ndarray  # (nc, n) constrained response P M⁻¹ e_cc at the Jacobian's state
+    dqi: np.ndarray  # (nc, nc) derivatives at the last re-linearised Newton iterate
+    dvi: np.ndarray
+    gt: np.ndarray  # (n_cj, nc) ∂v_t/∂q̇_cc of the last linearisation
+    lin: np.ndarray  # (n_cj, LIN_COLUMNS) state of the last re-linearisation
+    flags: np.ndarray  # int64[JF_COLUMNS]
+
+
+JF_BASE_CONTACT = 0  # a joint touches at the Jacobian's state
+JF_LIN_TOUCHING = 1  # a joint touches at the last re-linearisation
+JF_FRESH = 2  # the Jacobian was refreshed whole for the current step
+JF_STALE = 3  # the next refresh may keep the differenced ∂q̈/∂q̇ columns
+JF_COLUMNS = 4
+
+
+def jacobian_buffers(
+    n: int, n_cj: int, fd_cols: np.ndarray, an_cols: np.ndarray, contact_cols: np.ndarray
+) -> Jacobian:
+    """Empty :class:`Jacobian` (not yet valid) for ``n`` coordinates and ``n_cj``
+    clearance joints."""
+    nc = contact_cols.shape[0]
+    return Jacobian(
+        kq=np.zeros((n, n)), cv=np.zeros((n, n)), fd_cols=fd_cols, an_cols=an_cols,
+        contact_cols=contact_cols, dq0=np.zeros((nc, nc)), dv0=np.zeros((nc, nc)),
+        basis=np.zeros((nc, n)), dqi=np.zeros((nc, nc)), dvi=np.zeros((nc, nc)),
+        gt=np.zeros((n_cj, nc)), lin=np.full((n_cj, LIN_COLUMNS), np.nan),
+        flags=np.zeros(JF_COLUMNS, dtype=np.int64),
+    )  # fmt: skip
 
 
 # Dormand–Prince 5(4) tableau (Dormand & Prince 1980; Hairer, Nørsett & Wanner, II.5)
@@ -865,6 +899,11 @@ def _contact_derivatives(model, ws, q, v, vimp, cc, dq, dv, gt, cs):
     return True
 
 
+# Largest relative journal travel per accepted generalized-α step, in nominal radial
+# clearances (docs/simulator.md, "Fixed-step generalized-α on worn profiles")
+TRAVEL_LIMIT = 0.5
+
+
 # A linearisation of the clearance forces is reused while every quantity that sets it
 # has moved by less than this fraction of its scale (docs/ancf.md §8)
 RELINEARISE = 0.01
@@ -1072,7 +1111,9 @@ def genalpha_advance(model, ws, loop, out, ctl, jac, t_stop):
     Newton iteration at O(n·len(cc)) extra work per iterate.
 
     ``state`` = [t, h, Jacobian valid, Newton iterations beyond two per step since the
-    last refresh]. Returns 1 (``t_stop`` reached), 0 (done) or
+    last refresh]; the contact linearisations and refresh flags live in ``jac``, so
+    calls that stop at successive ``t_stop`` follow the path of one call bit for bit.
+    Returns 1 (``t_stop`` reached), 0 (done) or
     a negative failure status.
     """
     y = loop.y
@@ -1118,28 +1159,30 @@ def genalpha_advance(model, ws, loop, out, ctl, jac, t_stop):
     out_counters = np.zeros(counters.shape[0], dtype=np.int64)
     was = np.zeros(contact.shape[0], dtype=contact.dtype)
     nc = cc.shape[0]
-    dq0 = np.zeros((nc, nc))
-    dv0 = np.zeros((nc, nc))
-    dqi = np.zeros((nc, nc))
-    dvi = np.zeros((nc, nc))
+    dq0 = jac.dq0
+    dv0 = jac.dv0
+    dqi = jac.dqi
+    dvi = jac.dvi
+    basis = jac.basis
+    gt = jac.gt
+    lin = jac.lin
+    flags = jac.flags
     delta = np.zeros((nc, nc))
-    basis = np.zeros((nc, n))
     zb = np.zeros((nc, n))
     sm = np.zeros((nc, nc))
     spiv = np.empty(nc, dtype=np.int64)
     wv = np.empty(nc)
-    gt = np.zeros((contact.shape[0], nc))
     cs = _contact_scratch(model, ws)
-    lin = np.full((contact.shape[0], LIN_COLUMNS), np.nan)
-    lin_touching = False
-    base_contact = False
+    lin_touching = flags[JF_LIN_TOUCHING] != 0
+    base_contact = flags[JF_BASE_CONTACT] != 0
     t = state[0]
     h = state[1]
     jac_valid = state[2] > 0.0
+    # the LU factors are rebuilt from kq, cv and h, bit for bit
     h_lu = -1.0
-    fresh = False
+    fresh = flags[JF_FRESH] != 0
     excess = int(state[3])
-    stale = False
+    stale = flags[JF_STALE] != 0
     singular_iterate = False
     status = STATUS_RUNNING
     while True:
@@ -1321,6 +1364,17 @@ def genalpha_advance(model, ws, loop, out, ctl, jac, t_stop):
                 counters[CNT_REJECTED] += 1
                 h *= _entry_fraction(model, ws, y, contact, entry_depth, r_end)
                 continue
+        if nc > 0 and h > ctl.entry_min_step:
+            # A journal that moves more than TRAVEL_LIMIT clearances in one step has jumped
+            # over its impacts (thrown off a worn flank it can cross the whole bearing and
+            # end inside the opposite wall while the contact latch still says "touching",
+            # which the entry test does not see): retried with a step that moves it a
+            # quarter of that.
+            travel = journal_travel_ratio(model, ws, y, yout)
+            if travel > TRAVEL_LIMIT:
+                counters[CNT_REJECTED] += 1
+                h *= max(0.01, 0.25 * TRAVEL_LIMIT / travel)
+                continue
         if fixed_step <= 0.0 and not e <= 1.0:
             counters[CNT_REJECTED] += 1
             h *= max(0.2, 0.9 * e ** (-1.0 / 3.0)) if math.isfinite(e) else 0.2
@@ -1384,4 +1438,8 @@ def genalpha_advance(model, ws, loop, out, ctl, jac, t_stop):
     state[1] = h
     state[2] = 1.0 if jac_valid else 0.0
     state[3] = float(excess)
+    flags[JF_BASE_CONTACT] = 1 if base_contact else 0
+    flags[JF_LIN_TOUCHING] = 1 if lin_touching else 0
+    flags[JF_FRESH] = 1 if fresh else 0
+    flags[JF_STALE] = 1 if stale else 0
     return status

@@ -617,10 +617,7 @@ class GeneralizedAlpha(Integrator):
         if status == ik.STATUS_OK:
             status = ik.STATUS_RUNNING
             fd_cols, an_cols = _jacobian_columns(model)
-            jac = ik.Jacobian(
-                kq=np.zeros((n, n)), cv=np.zeros((n, n)), fd_cols=fd_cols, an_cols=an_cols,
-                contact_cols=_contact_columns(model),
-            )  # fmt: skip
+            jac = ik.jacobian_buffers(n, vimp.shape[0], fd_cols, an_cols, _contact_columns(model))
             if self.step == "max_step":
                 # an unbounded run (e.g. the ideal companion) steps at the output spacing
                 fixed = float(max_step)

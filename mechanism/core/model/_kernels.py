@@ -534,6 +534,30 @@ def approach_step(model, ws, y, acc, fraction):
 
 
 @njit_noalloc()
+def journal_travel_ratio(model, ws, y0, y1):
+    """Largest |e(y1) − e(y0)|/c₀ over the clearance joints: how far, in nominal radial
+    clearances, a journal centre moved relative to its bearing between two states (0
+    without clearance joints). Overwrites the joints' rows of the point cache."""
+    n = model.n_dof
+    worst = 0.0
+    pcf = ws.pcf
+    for j in range(model.cj_i.shape[0]):
+        b = model.cj_i[j, 0]
+        jn = model.cj_i[j, 1]
+        rows = model.cj_i[j, :2]
+        update_point_rows(y0[:n], y0[n:], model.pt_i, model.pt_f, ws.pci, pcf, rows)
+        ex = pcf[jn, PC_X] - pcf[b, PC_X]
+        ey = pcf[jn, PC_Y] - pcf[b, PC_Y]
+        update_point_rows(y1[:n], y1[n:], model.pt_i, model.pt_f, ws.pci, pcf, rows)
+        dx = pcf[jn, PC_X] - pcf[b, PC_X] - ex
+        dy = pcf[jn, PC_Y] - pcf[b, PC_Y] - ey
+        r = math.sqrt(dx * dx + dy * dy) / model.cj_f[j, CF_C]
+        if r > worst:
+            worst = r
+    return worst
+
+
+@njit_noalloc()
 def project(model, ws, t, y, tol, max_iter):
     """Project positions onto Φ(q, t) = 0 and velocities onto Φq q̇ + Φt = 0.
 
