@@ -654,11 +654,11 @@ def _stage_weights(settings: StudySettings, n_conv: int) -> dict[str, float]:
         * speeds
         * flex,
         "after-wear sweeps": settings.revolutions * speeds * flex,
+        "element convergence": n_conv * settings.convergence_revolutions * 10.0,
+        "orbit diagrams over speed": 2 * settings.orbit_revolutions * orbit,
         # two chaos runs (series only, no companion) and two exponents (rigid, tangent)
         "long runs for the chaos analysis and exponents": 2 * long_run * 0.9
         + 2 * (settings.discard_revolutions + settings.exponent_revolutions) * 2.0,
-        "element convergence": n_conv * settings.convergence_revolutions * 10.0,
-        "orbit diagrams over speed": 2 * settings.orbit_revolutions * orbit,
         "chaos analysis and report": 4
         * 0.5e-3
         * min(long_run * settings.chaos_samples_per_revolution, settings.max_samples or math.inf),
