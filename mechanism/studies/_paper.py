@@ -654,11 +654,11 @@ def _stage_weights(settings: StudySettings, n_conv: int) -> dict[str, float]:
         * speeds
         * flex,
         "after-wear sweeps": settings.revolutions * speeds * flex,
+        "element convergence": n_conv * settings.convergence_revolutions * 10.0,
+        "orbit diagrams over speed": 2 * settings.orbit_revolutions * orbit,
         # two chaos runs (series only, no companion) and two exponents (rigid, tangent)
         "long runs for the chaos analysis and exponents": 2 * long_run * 0.9
         + 2 * (settings.discard_revolutions + settings.exponent_revolutions) * 2.0,
-        "element convergence": n_conv * settings.convergence_revolutions * 10.0,
-        "orbit diagrams over speed": 2 * settings.orbit_revolutions * orbit,
         "chaos analysis and report": 4
         * 0.5e-3
         * min(long_run * settings.chaos_samples_per_revolution, settings.max_samples or math.inf),
@@ -667,9 +667,10 @@ def _stage_weights(settings: StudySettings, n_conv: int) -> dict[str, float]:
 
 class _LongRuns:
     """The study's long compiled runs in the process pool, in the order that finishes
-    first: the wear at 150 rpm and the before-wear chaos run start at once; as soon as the
-    profile worn at 150 rpm exists, the after-wear chaos run (the longest chain) and its
-    exponent are queued ahead of the other wear predictions and the before-wear exponent.
+    first: the three wear predictions (short; the after-wear sweeps wait for them) and the
+    before-wear chaos run start at once; as soon as the profile worn at 150 rpm exists,
+    the after-wear chaos run (the longest chain) and its exponent are queued, then the
+    before-wear exponent.
 
     With no pool (``client="serial"``) everything runs here, in that order.
     """
@@ -678,7 +679,11 @@ class _LongRuns:
         self._pool = pool
         self._settings = settings
         before = wear_scene_of(base_scene)
-        self._wear = {150.0: _submit(pool, _predict_worn, _at_speed(base_scene, 150), settings)}
+        # the wear predictions are short, and the after-wear sweeps wait for them
+        self._wear = {
+            float(rpm): _submit(pool, _predict_worn, _at_speed(base_scene, rpm), settings)
+            for rpm in sorted(_SPEEDS, reverse=True)
+        }
         self._states = {"before wear": [_submit(pool, _chaos_run, before, settings)]}
         self._queue = threading.Thread(
             target=self._then, args=(base_scene, before), name="paper-long-runs", daemon=True
@@ -699,11 +704,6 @@ class _LongRuns:
                 _submit(pool, _chaos_run, worn, settings),
                 _submit(pool, _equation_exponent, worn, settings),
             ]
-        for rpm in _SPEEDS:
-            if float(rpm) not in self._wear:
-                self._wear[float(rpm)] = _submit(
-                    pool, _predict_worn, _at_speed(base_scene, rpm), settings
-                )
         self._states["before wear"].append(_submit(pool, _equation_exponent, before, settings))
 
     def _queued(self) -> None:
