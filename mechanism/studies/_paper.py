@@ -532,21 +532,45 @@ def _chaos_run(scene: Any, settings: StudySettings) -> xr.Dataset:
             variables=("crank_angle", "eccentricity_x", "eccentricity_y"),
         )
 
+    # The worn profile's narrow grooves can throw the journal of the fixed-step flexible
+    # model across the bearing (docs/paper-model.md, "Rods of the long runs"): a run that
+    # stops, or whose journal leaves the bearing, is replaced by the rigid-rod run of the
+    # same state, and the report says so.
     try:
-        return run(scene)
+        ds = run(scene)
     except SimulationError as exc:
         if not scene.effects.flexibility:
             raise
-        # The worn profile's narrow grooves can throw the journal of the fixed-step
-        # flexible model across the bearing (docs/paper-model.md, "Rods of the long runs");
-        # the state is then analysed on the rigid-rod model, and the report says so.
-        ds = run(scene.replace({"effects.flexibility": False}))
-        ds.attrs["rods_note"] = (
-            f"the run with flexible rods stopped after "
-            f"{exc.time / period:.0f} of {revolutions:g} revolutions ({exc}); "
-            "its series are from rigid rods"
+        why = (
+            f"the run with flexible rods stopped after {exc.time / period:.0f} of "
+            f"{revolutions:g} revolutions ({exc})"
         )
-        return ds
+    else:
+        room = _bearing_room(scene)
+        reach = float(np.max(np.hypot(ds["eccentricity_x"], ds["eccentricity_y"])))
+        if not scene.effects.flexibility or reach <= room:
+            return ds
+        why = (
+            f"the journal of the run with flexible rods left the bearing (eccentricity up "
+            f"to {reach * 1e3:.3g} mm, the worn bearing leaves {room * 1e3:.3g} mm)"
+        )
+    ds = run(scene.replace({"effects.flexibility": False}))
+    ds.attrs["rods_note"] = f"{why}; its series are from rigid rods"
+    return ds
+
+
+def _bearing_room(scene: Any) -> float:
+    """Largest eccentricity (m) a journal of joint C can reach without leaving its worn
+    bearing: the clearance, the deepest bearing and journal wear, and half a clearance
+    more for the contact's own penetration."""
+    joint = scene.joints["C"]
+    c = float(joint.clearance)
+    worn = 0.0
+    if joint.wear is not None:
+        for profile in (joint.wear.bearing_profile, joint.wear.journal_profile):
+            if profile is not None and len(profile):
+                worn += float(np.max(profile))
+    return 1.5 * c + worn
 
 
 def chaos_analysis_options(settings: StudySettings) -> dict[str, Any]:
@@ -1050,6 +1074,7 @@ def run_paper_study(
             paper_step=dt_paper,
             settings_text=settings_text,
             figures=headline,
+            series_rods=_rods_of(trajectories, settings),
         )
         sections = [summary]
         if profiles:

@@ -206,6 +206,7 @@ def summary_section(
     paper_step: float,
     settings_text: str,
     figures: Sequence[chaoskit.ReportFigure] = (),
+    series_rods: str = "flexible",
 ) -> chaoskit.ReportSection:
     """The report's opening section: verdict per state, exponents, the paper beside ours.
 
@@ -280,8 +281,8 @@ def summary_section(
         chaoskit.ReportTable(
             caption="Largest Lyapunov exponent [95 % interval] of each state: from the "
             "equations of motion (rigid-rod model of the same state) and from the "
-            "journal-centre series X and Y by Wolf's and Rosenstein's methods (flexible "
-            "rods), in 1/s and in bits per sample of the paper's step "
+            "journal-centre series X and Y by Wolf's and Rosenstein's methods "
+            f"({series_rods} rods), in 1/s and in bits per sample of the paper's step "
             f"Δt = {paper_step:.3g} s, beside the paper's Wolf values.",
             data=exponents,
             labels={
@@ -299,8 +300,8 @@ def summary_section(
             "contains 0 does not decide. The exponent from the equations is computed on the "
             "rigid-rod model of the same state (the tangent integration does not support "
             "flexible rods) and compared with the paper's claim; the data estimators run on "
-            "the flexible-rod series and are compared with the paper's value of the same "
-            "series. Only signs are compared: our step, series length and model differ "
+            f"the series ({series_rods} rods) and are compared with the paper's value of the "
+            "same series. Only signs are compared: our step, series length and model differ "
             "(docs/paper-model.md).",
             section="Summary",
         ),

@@ -391,3 +391,29 @@ def test_a_diverged_flexible_long_run_falls_back_to_rigid_rods_and_says_so(monke
     assert note.startswith("the run with flexible rods stopped after 2 of 2 revolutions")
     assert note.endswith("its series are from rigid rods")
     assert paper_study._rods_of({"after wear": ds}, settings) == "flexible (after wear: rigid)"
+
+
+def test_a_flexible_long_run_whose_journal_leaves_the_bearing_falls_back_too(monkeypatch):
+    """A run that completes with the journal outside its worn bearing is not analysed."""
+    import mechanism.studies._paper as paper_study
+
+    real = paper_study.simulate
+
+    def flexible_escapes(scene, **kwargs):
+        ds = real(scene.replace({"effects.flexibility": False}), **kwargs)
+        if scene.effects.flexibility:
+            ds["eccentricity_x"] = ds["eccentricity_x"] * 0.0 + 1.0e-3  # 1 mm: outside
+        return ds
+
+    monkeypatch.setattr(paper_study, "simulate", flexible_escapes)
+    settings = StudySettings(
+        revolutions=2.0, discard_revolutions=1.0, chaos_revolutions=1.0,
+        chaos_samples_per_revolution=100,
+    )  # fmt: skip
+    scene = paper_study.wear_scene_of(mechanism.load_scene("paper"))
+    assert paper_study._bearing_room(scene) == pytest.approx(3.0e-4)  # unworn: 1.5 c
+    ds = paper_study._chaos_run(scene, settings)
+    assert float(abs(ds["eccentricity_x"]).max()) < 3.0e-4
+    assert ds.attrs["rods_note"].startswith(
+        "the journal of the run with flexible rods left the bearing (eccentricity up to 1."
+    )
