@@ -362,6 +362,17 @@ def test_quick_settings_reach_the_verdict_of_the_paper_settings_before_wear():
     assert verdicts["quick"].period == verdicts["paper"].period, verdicts
 
 
+def _one_revolution_state():
+    """Settings of a one-revolution long run and the before-wear state of the study."""
+    import mechanism.studies._paper as paper_study
+
+    settings = StudySettings(
+        revolutions=2.0, discard_revolutions=1.0, chaos_revolutions=1.0,
+        chaos_samples_per_revolution=100,
+    )  # fmt: skip
+    return settings, paper_study.wear_scene_of(mechanism.load_scene("paper"))
+
+
 def test_a_diverged_flexible_long_run_falls_back_to_rigid_rods_and_says_so(monkeypatch):
     """A flexible-rod long run that stops is replaced by the rigid-rod run of the same
     state, and the series carry the reason (the report's summary repeats it)."""
@@ -379,11 +390,7 @@ def test_a_diverged_flexible_long_run_falls_back_to_rigid_rods_and_says_so(monke
         return real(scene, **kwargs)
 
     monkeypatch.setattr(paper_study, "simulate", flexible_fails)
-    settings = StudySettings(
-        revolutions=2.0, discard_revolutions=1.0, chaos_revolutions=1.0,
-        chaos_samples_per_revolution=100,
-    )  # fmt: skip
-    scene = paper_study.wear_scene_of(mechanism.load_scene("paper"))
+    settings, scene = _one_revolution_state()
     ds = paper_study._chaos_run(scene, settings)
     assert calls == [True, False]
     assert ds.sizes["time"] == 2 * 100 + 1
@@ -406,11 +413,7 @@ def test_a_flexible_long_run_whose_journal_leaves_the_bearing_falls_back_too(mon
         return ds
 
     monkeypatch.setattr(paper_study, "simulate", flexible_escapes)
-    settings = StudySettings(
-        revolutions=2.0, discard_revolutions=1.0, chaos_revolutions=1.0,
-        chaos_samples_per_revolution=100,
-    )  # fmt: skip
-    scene = paper_study.wear_scene_of(mechanism.load_scene("paper"))
+    settings, scene = _one_revolution_state()
     assert paper_study._bearing_room(scene) == pytest.approx(3.0e-4)  # unworn: 1.5 c
     ds = paper_study._chaos_run(scene, settings)
     assert float(abs(ds["eccentricity_x"]).max()) < 3.0e-4
