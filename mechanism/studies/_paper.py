@@ -710,14 +710,14 @@ class _LongRuns:
         }
         self._states = {"before wear": [_submit(pool, _chaos_run, before, settings)]}
         self._queue = threading.Thread(
-            target=self._then, args=(base_scene, before), name="paper-long-runs", daemon=True
+            target=self._then, args=(before,), name="paper-long-runs", daemon=True
         )
         if pool is None:
-            self._then(base_scene, before)
+            self._then(before)
         else:
             self._queue.start()
 
-    def _then(self, base_scene: Any, before: Any) -> None:
+    def _then(self, before: Any) -> None:
         pool, settings = self._pool, self._settings
         try:
             worn = self._wear[150.0].result()[0]
@@ -736,11 +736,6 @@ class _LongRuns:
 
     def wear(self) -> dict[float, Future[Any]]:
         """The wear predictions by speed (rpm), in increasing speed."""
-        self._queued()
-        for rpm in _SPEEDS:
-            if float(rpm) not in self._wear:  # the queue stopped early (a broken pool)
-                self._wear[float(rpm)] = Future()
-                self._wear[float(rpm)].set_exception(RuntimeError("the run was not started"))
         return {rpm: self._wear[rpm] for rpm in sorted(self._wear)}
 
     def states(self) -> dict[str, tuple[Future[Any], Future[Any]]]:
