@@ -232,13 +232,11 @@ def _words(text: str) -> str:
 
 
 def test_docs_state_the_same_rule_as_the_docstring() -> None:
-    from tests.conftest import REPO
+    from tests.conftest import verdict_docs_block
 
     doc = classify.__doc__ or ""
     rule = doc[doc.index("**Rule.**") + len("**Rule.**") : doc.index("Parameters")]
-    page = (REPO / "docs" / "verdict.md").read_text(encoding="utf-8")
-    block = page[page.index("<!-- rule") : page.index("<!-- /rule -->")]
-    block = block[block.index("-->") + 3 :]
+    block = verdict_docs_block("rule")
     assert _words(rule).rstrip("-") == _words(block)
 
 

@@ -282,13 +282,11 @@ def test_rosenstein_on_state_vectors_matches_the_lorenz_exponent() -> None:
 
 
 def test_docs_state_the_same_motion_rule_as_the_docstring() -> None:
-    from tests.conftest import REPO
+    from tests.conftest import verdict_docs_block
 
     doc = classify_motion.__doc__ or ""
     rule = doc[doc.index("**Rule.**") + len("**Rule.**") : doc.index("**Confidence**")]
-    page = (REPO / "docs" / "verdict.md").read_text(encoding="utf-8")
-    block = page[page.index("<!-- motion rule") : page.index("<!-- /motion rule -->")]
-    block = block[block.index("-->") + 3 :]
+    block = verdict_docs_block("motion rule")
     assert " ".join(rule.split()) == " ".join(block.split())
 
 
