@@ -49,8 +49,9 @@ class LineSpectrum:
         noise) or ``"unresolved"`` (lines explain all but 0.1 % of the variance, yet what is
         left is not white: more lines than extracted, or a weak continuous part).
     method
-        ``"recurrence"`` (folding at ``period_samples``), ``"drive harmonics"`` (every
-        harmonic of a subharmonic of the drive fitted at once) or ``"lines"``.
+        ``"recurrence"`` (folding at ``period_samples``), ``"drive recurrence"`` (folding
+        at whole drive periods), ``"drive harmonics"`` (every harmonic of a subharmonic of
+        the drive fitted at once) or ``"lines"``.
     frequencies, amplitudes
         The significant spectral lines (cycles per time unit; amplitude in the series'
         units), strongest first.
@@ -121,6 +122,38 @@ def _recurrence(x0: np.ndarray, max_period: int, max_residual: float) -> tuple[i
                 return k, frac, p
             best = best if best[0] else (0, frac, p)
     return best
+
+
+def samples_per_drive_period(drive_period: float, dt: float, n: int) -> int | None:
+    """The drive period in samples when it is a whole number to within 1 % of a sample over
+    the record (so folding at it stays in phase to the end), else None."""
+    p = drive_period / dt
+    whole = round(p)
+    if whole < 2 or abs(p - whole) * (n / p) > 0.01:
+        return None
+    return int(whole)
+
+
+def _drive_recurrence(
+    x: np.ndarray, period: int, max_period: int, max_residual: float
+) -> tuple[int, float, float] | None:
+    """Smallest k for which the series folded at k drive periods (``period`` samples each,
+    at least four repeats) leaves nothing or white noise carrying at most ``max_residual``
+    of the variance: (k, residual fraction, Ljung–Box p), else None."""
+    var0 = float(np.var(x))
+    for k in range(1, max_period + 1):
+        lag = k * period
+        if 4 * lag > x.size:
+            break
+        r = _fold(x, lag)
+        frac = float(np.var(r)) / var0
+        if frac <= EXACT:
+            return k, frac, 1.0
+        if frac <= max_residual:
+            p = ljung_box_p(r)
+            if p >= WHITE_P:
+                return k, frac, p
+    return None
 
 
 # ---------------------------------------------------------------- line extraction
@@ -414,7 +447,11 @@ def line_spectrum(
     smallest :math:`k` whose residual is exactly zero (below :math:`10^{-8}` of the
     variance) or white (Ljung–Box over 20 lags, :math:`p \ge 10^{-3}`) while carrying at
     most ``max_residual`` of the variance is the period: :math:`|x_{n+k} - x_n|` is then
-    measurement noise only.
+    measurement noise only. A forced series (``drive_period`` given) sampled a whole number
+    :math:`P` of times per drive period (to within 1 % of a sample over the record) is
+    folded the same way at :math:`kP` samples, :math:`k = 1, \ldots,` ``max_period``, over
+    the whole series and with at least four repeats: a forced impact orbit has harmonics up
+    to the Nyquist frequency, more than lines can be extracted, yet repeats exactly.
 
     **Lines.** Otherwise the strongest line of the Hann-windowed, four-times zero-padded
     spectrum is located, refined to the maximum of the windowed DTFT (Laskar's frequency
@@ -457,7 +494,8 @@ def line_spectrum(
         Only the last ``max_samples`` samples are analysed (the cost grows with the length
         and the number of lines; exactness does not need more).
     fold
-        Try the folding test first (off for forced series, whose period counts drive periods).
+        Try the folding test at lags of samples first (off for forced series, whose period
+        counts drive periods; they are folded at whole drive periods instead).
 
     Returns
     -------
@@ -469,12 +507,31 @@ def line_spectrum(
     diffusion", Physica D 67, 257–281 (1993); G. M. Ljung and G. E. P. Box, Biometrika 65,
     297–303 (1978).
     """
-    x0 = np.asarray(x, dtype=np.float64)[-max_samples:]
+    x_all = np.asarray(x, dtype=np.float64)
+    x0 = x_all[-max_samples:]
     x0 = x0 - float(np.mean(x0))
     n = x0.size
     var0 = float(np.var(x0))
     empty = np.zeros(0)
     common = {"frequencies": empty, "amplitudes": empty}
+    if drive_period is not None:
+        # A forced response sampled a whole number of times per drive period repeats after
+        # k drive periods: folding there is exact whatever its number of harmonics (an
+        # impact orbit has harmonics up to the Nyquist frequency, more than lines can be
+        # extracted). The whole series is folded: it is cheap and sees more repeats.
+        per = samples_per_drive_period(drive_period, dt, x_all.size)
+        found = None if per is None else _drive_recurrence(
+            x_all - float(np.mean(x_all)), per, max_period, max_residual
+        )
+        if found is not None:
+            k, frac, p = found
+            return LineSpectrum(
+                kind="periodic", method="drive recurrence",
+                base_frequencies=np.array([1.0 / (k * drive_period)]),
+                fundamental_period=k * drive_period, period_samples=None,
+                maxima_per_period=None, residual_fraction=frac, white_p=p,
+                n_cycles=x_all.size * dt / drive_period, **common,
+            )  # fmt: skip
     if fold:
         k, frac, p = _recurrence(x0, max_period, max_residual)
         if k:

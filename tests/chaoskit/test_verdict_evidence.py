@@ -233,3 +233,55 @@ def test_a_broadband_spectrum_outweighs_a_regular_looking_section() -> None:
         assert out == "undetermined"
         assert needs[0] == (f"a longer series: the section looks regular ({kind}) but the "
                             "spectrum is not lines")  # fmt: skip
+
+
+def impact_orbit(n_periods: int, *, spp: int = 100, period: int = 1, seed: int = 0) -> np.ndarray:
+    """A forced impact-like response: within each drive period the signal rebounds off a
+    wall (|sin| kinks and a short decaying ring), so its harmonics reach the Nyquist
+    frequency — more than lines can be extracted. ``period`` > 1 alternates the rebound
+    height, a period-``period`` orbit of the drive."""
+    phase = np.arange(n_periods * spp) / spp  # drive periods
+    cycle = np.floor(phase).astype(int)
+    frac = phase - cycle
+    height = 1.0 + 0.3 * (cycle % period)
+    ring = np.exp(-frac * 25.0) * np.sin(2 * np.pi * 9.0 * frac)
+    return height * np.abs(np.sin(np.pi * frac)) ** 0.5 + 0.2 * ring
+
+
+@pytest.mark.parametrize("period", [1, 2, 3])
+def test_a_forced_impact_orbit_repeats_after_whole_drive_periods(period: int) -> None:
+    """Sampled a whole number of times per drive period, a forced orbit with harmonics up to
+    the Nyquist frequency is found by folding at k drive periods (line extraction leaves it
+    unresolved: more harmonics than lines)."""
+    x = impact_orbit(60, period=period)
+    res = line_spectrum(x, dt=0.01, drive_period=1.0, fold=False)
+    assert res.kind == "periodic" and res.method == "drive recurrence"
+    np.testing.assert_allclose(res.fundamental_period, period, rtol=1e-12)
+    assert res.residual_fraction < 1e-20
+    v = classify(x, dt=0.01, drive_period=1.0, rng=0)
+    assert (v.label, v.period) == ("periodic", period)
+
+
+def test_drive_recurrence_takes_white_measurement_noise_but_not_drift() -> None:
+    x = impact_orbit(60, period=2)
+    noisy = x + 0.02 * np.random.default_rng(3).standard_normal(x.size)
+    res = line_spectrum(noisy, dt=0.01, drive_period=1.0, fold=False)
+    assert res.kind == "periodic" and res.fundamental_period == pytest.approx(2.0)
+    # a drive period that is not a whole number of samples over the record is not folded
+    # (its phase would slip by more than 1 % of a sample by the end)
+    from chaoskit.verdict._lines import samples_per_drive_period
+
+    assert samples_per_drive_period(1.0, 0.01, 6000) == 100
+    assert samples_per_drive_period(1.0 + 1e-5, 0.01, 6000) is None
+    # a slow drift of the orbit (a transient not yet over) is neither nothing nor white
+    drift = x * (1.0 + 0.05 * np.exp(-np.arange(x.size) / 2000.0))
+    res = line_spectrum(drift, dt=0.01, drive_period=1.0, fold=False)
+    assert res.method != "drive recurrence"
+
+
+def test_a_chaotic_forced_flow_does_not_fold() -> None:
+    ds = duffing_x(0.5, 120)
+    x = ds["x"].values
+    dt = float(ds["time"][1] - ds["time"][0])
+    res = line_spectrum(x, dt=dt, drive_period=DRIVE, fold=False)
+    assert res.method != "drive recurrence" and res.kind != "periodic"
