@@ -40,7 +40,9 @@ def test_points_are_those_of_a_sections_run(diagram) -> None:
     assert ds.eccentricity.attrs["units"] == "m"
     assert (ds.status.values == "ok").all()
     scene = mechanism.load_scene(SCENE).replace({"drive.speed_rpm": SPEEDS[1]})
-    alone = mechanism.simulate(scene, revolutions=5, record="sections", discard=2)
+    alone = mechanism.simulate(
+        scene, revolutions=5, record="sections", discard=2, rtol=1e-8, atol=1e-8
+    )  # the orbit diagram's tolerance (the exponent's), not the scene's
     expected = np.hypot(alone.eccentricity_x.values, alone.eccentricity_y.values)
     np.testing.assert_array_equal(ds.eccentricity.isel({"drive.speed_rpm": 1}).values, expected)
     np.testing.assert_array_equal(ds.time.isel({"drive.speed_rpm": 1}).values, alone.time.values)
@@ -94,7 +96,8 @@ def test_the_exponent_is_the_one_from_the_equations(tmp_path) -> None:
 
 
 def test_the_exponent_hook_fills_the_lower_panel(tmp_path, monkeypatch) -> None:
-    def stand_in(scene, *, revolutions, discard):
+    def stand_in(scene, *, revolutions, discard, rtol, atol):
+        assert rtol == atol == 1e-8  # the points' tolerance
         speed = scene.drive.speed_rpm
         return speed / 1000.0 - 4.0, speed / 1000.0 - 4.5, speed / 1000.0 - 3.5
 
@@ -106,6 +109,23 @@ def test_the_exponent_hook_fills_the_lower_panel(tmp_path, monkeypatch) -> None:
     axes = mechanism.plot_bifurcation(ds)
     assert len(axes) == 2
     assert axes[1].get_ylabel() == "λ (1/s)"
+
+
+def test_a_regular_orbit_is_one_point_at_the_diagram_tolerance(tmp_path) -> None:
+    """The rigid paper scene at 60 rpm is period-1 (its exponent from the equations is
+    negative): at the scene's rtol = atol = 1e-5 its strobes scatter by integration error
+    (0.14 µm measured over 40 revolutions), at the diagram's default 1e-8 they coincide."""
+    scene = mechanism.load_scene("paper").replace({"effects.flexibility": False})
+    common = {"parameter": "drive.speed_rpm", "values": [60.0], "revolutions": 16,
+              "discard": 8, "client": "serial"}  # fmt: skip
+    tight = mechanism.bifurcation(scene, store=tmp_path / "tight", **common)
+    loose = mechanism.bifurcation(scene, store=tmp_path / "loose", rtol=None, atol=None, **common)
+    spread = {k: float(np.ptp(d.eccentricity.values)) for k, d in (("tight", tight),
+                                                                   ("loose", loose))}
+    assert spread["tight"] < 1e-10  # m: one point
+    assert spread["loose"] > 1e-9  # integration scatter at the scene's tolerance
+    with pytest.raises(ValueError, match="rtol"):
+        mechanism.bifurcation(scene, rtol=2.0, **common)
 
 
 def test_thousands_of_points_stay_visible() -> None:
@@ -171,3 +191,11 @@ def test_command_line(tmp_path) -> None:
     assert bad.exit_code == 2
     assert "START:STOP:COUNT" in bad.output
     assert "Traceback" not in bad.output
+    for tol in ("loose", "5"):
+        bad = runner.invoke(
+            app,
+            ["bifurcation", SCENE, "--param", "drive.speed_rpm", "--values", "3000",
+             "--scheduler", "serial", "--tolerance", tol],
+        )  # fmt: skip
+        assert bad.exit_code == 2, bad.output
+        assert "Traceback" not in bad.output
