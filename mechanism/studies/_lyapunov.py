@@ -184,8 +184,8 @@ def lyapunov_exponent(
     law; the contact latch is decided by the reference, and a step is accepted when both
     the reference's error estimate and the deviation's (relative to its size,
     ``deviation_rtol``) pass. Every ``renormalize_every`` accepted steps the deviation is
-    projected onto the tangent space of the constraints (Φq δq = 0, Φq δq̇ + (Φq q̇)_q δq = 0) and rescaled
-    to ε in the mass-weighted norm
+    projected onto the tangent space of the constraints (Φq δq = 0,
+    Φq δq̇ + (Φq q̇)_q δq = 0) and rescaled to ε in the mass-weighted norm
 
     .. math:: \|d\|^2 = (\delta q^\top M \delta q + \tau^2 \delta\dot q^\top M
               \delta\dot q) / m_\mathrm{total},
