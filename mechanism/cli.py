@@ -32,6 +32,7 @@ from mechanism import (
     sweep,
 )
 from mechanism.studies._bifurcation import parse_values
+from mechanism.studies._lyapunov import DEFAULT_DEVIATION_RTOL
 from mechanism.studies._sweep_store import write_netcdf
 
 app = typer.Typer(
@@ -627,13 +628,18 @@ def lyapunov_command(
         0.0, "--discard", help="Transient left out: drive periods (with --revolutions) or s."
     ),
     perturbation: float = typer.Option(
-        1e-9, "--perturbation", help="Deviation size relative to the smallest clearance."
+        1e-7, "--perturbation", help="Deviation size relative to the smallest clearance."
     ),
     renormalize_every: int = typer.Option(
         1, "--renormalize-every", help="Accepted steps between renormalisations."
     ),
     rtol: float | None = typer.Option(None, "--rtol", help="Relative tolerance (default 1e-8)."),
     atol: float | None = typer.Option(None, "--atol", help="Absolute tolerance (default 1e-8)."),
+    deviation_rtol: float = typer.Option(
+        DEFAULT_DEVIATION_RTOL,
+        "--deviation-rtol",
+        help="Relative tolerance of the deviation's error per step (0: the reference's steps).",
+    ),
     output: str | None = typer.Option(
         None, "-o", "--output", help="Write the running estimate to this netCDF file."
     ),
@@ -653,6 +659,7 @@ def lyapunov_command(
             renormalize_every=renormalize_every,
             rtol=rtol,
             atol=atol,
+            deviation_rtol=deviation_rtol,
             progress=progress,
         )
     except ValueError as exc:

@@ -1,8 +1,9 @@
 """Reference trajectory and renormalised deviation on one step sequence (Python layer).
 
 :func:`integrate_tangent` drives the compiled loop of ``_tangent_kernels``: it advances a
-state and a deviation of fixed size by the same Dormand–Prince steps, renormalising the
-deviation every few accepted steps, and returns the accumulated log growth at the
+state and a deviation of fixed size by the same Dormand–Prince steps (its rate the
+derivative of the right-hand side along it, by finite differences of that size),
+renormalising the deviation every few accepted steps, and returns the accumulated log growth at the
 requested stop times. The largest Lyapunov exponent of a scene
 (:func:`mechanism.lyapunov_exponent`) is built on it.
 """
@@ -138,6 +139,7 @@ def integrate_tangent(
     time_scale: float,
     approach_floor: float = 0.0,
     projection: bool = False,
+    deviation_rtol: float = 0.0,
     max_steps: int = 200_000_000,
     progress: bool = False,
     label: str = "lyapunov",
@@ -159,6 +161,10 @@ def integrate_tangent(
         below it).
     renormalize_every
         Accepted steps between renormalisations (also done at every stop).
+    deviation_rtol
+        > 0: a step is also rejected when the deviation's error estimate exceeds this
+        fraction of its size (mass-weighted norm); 0: the reference's error alone decides,
+        and the steps are those of ``simulate`` at the same settings.
     time_scale
         τ (s) of the deviation norm.
 
@@ -183,7 +189,7 @@ def integrate_tangent(
     counters_p = np.zeros(k.CNT_COLUMNS, dtype=np.int64)
     growth = np.zeros(tk.GROWTH_COLUMNS)
     vimp, contact = _initial_latch(model, y)
-    vimp_p = vimp.copy()
+    dvimp = np.zeros_like(vimp)  # deviation of the latched impact velocities (m/s)
     t0, t_end = float(stops[0]), float(stops[-1])
     times = [t0]
     logs = [0.0]
@@ -195,17 +201,20 @@ def integrate_tangent(
         state[2] = 1e-4
         status = ik.STATUS_RUNNING
     if status == ik.STATUS_RUNNING:
-        status = tk.tangent_start(km, ws, t0, y, d, k1, kd1, vimp, vimp_p, counters, counters_p)
+        status = tk.tangent_start(
+            km, ws, t0, y, d, k1, kd1, vimp, dvimp, counters, counters_p, size,
+            float(time_scale), inv_mass,
+        )  # fmt: skip
     bar = _Progress(progress, t0, t_end, label)
     try:
         for t_stop in stops[1:]:
             if status != ik.STATUS_RUNNING:
                 break
             status = tk.tangent_advance(
-                km, ws, ws2, y, d, k1, kd1, state, vimp, vimp_p, contact, counters,
+                km, ws, ws2, y, d, k1, kd1, state, vimp, dvimp, contact, counters,
                 counters_p, growth, float(t_stop), t_end, rtol, atol, max_step, projection,
                 max_steps, int(renormalize_every), size, tau2, inv_mass,
-                float(approach_floor), APPROACH_FRACTION,
+                float(approach_floor), APPROACH_FRACTION, float(deviation_rtol),
             )  # fmt: skip
             if status in (ik.STATUS_RUNNING, 0):
                 times.append(float(state[0]))

@@ -1,19 +1,32 @@
 """Compiled Dormand–Prince 5(4) of a state and its deviation (largest Lyapunov exponent).
 
-A reference state y and a small deviation d are advanced by the *same* Runge–Kutta steps:
-every stage evaluates the compiled right-hand side f at the reference stage value y_s and at
-y_s + d_s, and the deviation's stage derivative is their difference,
+A reference state y and a deviation d are advanced by the *same* Runge–Kutta steps. At
+every stage the deviation's rate is the directional derivative of the compiled
+right-hand side f along d, by finite differences (the tangent map computed by finite
+differences, Parker & Chua 1989, §3.4), taken in two parts so that each is well above
+round-off and inside the linear regime:
 
-    d' ≈ f(t, y + d) − f(t, y)       (a directional finite difference of f along d),
+    d' ≈ [f(t, y + c_q d_q) − f(t, y)]/c_q + [f(t, y + c_v d_v) − f(t, y)]/c_v,
 
-so d follows the variational equation d' = (∂f/∂y) d to first order in |d|. Step size and
-accept/reject are decided from the reference's error estimate alone, and the contact
-state (the impact-velocity latch and the in-contact flags) is advanced from the reference
-at the same accepted steps: the two states never differ by their step sequence or by when
-an impact is counted, only by the dynamics (Benettin et al. 1980; the tangent map computed
-by finite differences, Parker & Chua 1989, §3.4). Each copy keeps its own latched impact
-velocity (its own approach speed at the accepted step the reference last saw separated),
-so the dependence of the damping on the approach speed is part of the deviation.
+d_q and d_v the position and velocity parts of d, each scaled (c_q, c_v) to the size
+``size`` in the mass-weighted norm (the position rows are exact: d_q' = d_v). A
+deviation of a stiff contact is mostly velocity; evaluated as it is, its position part
+can be a few ulps of the coordinates. Each shifted state is evaluated on the reference's
+branch of the contact law (in or out of contact, zone of the friction ramp, clamped
+force, bounded approach speed, worn-profile region): when it lies on another one, the
+difference is taken on the reference's side, f(y) − f(y − c·part), the one-sided
+derivative of the reference's piece.
+
+The contact state (the impact-velocity latch and the in-contact flags) is decided by the
+reference at the accepted steps; the latched impact velocity has its own deviation
+(its derivative along d when latched, frozen in contact), part of the linearised state:
+it is rescaled with d at every renormalisation.
+
+Step size and accept/reject follow the reference's error estimate and, with
+``deviation_rtol`` > 0, the deviation's own (relative to its size): without it, where
+the reference rides a stiff friction ramp at the explicit method's stability limit, the
+deviation grows by the integrator's amplification, not the mechanism's (Benettin et al.
+1980).
 
 Every ``every`` accepted steps (and at each chunk end) the deviation is projected onto
 the tangent space of the constraint manifold and rescaled to its initial size; the log of
@@ -28,11 +41,18 @@ import numpy as np
 from numba import njit
 
 from mechanism.core._jit import njit_noalloc
+from mechanism.core.contact._kernels import APPROACH_BOUNDED, APPROACH_RATIO, FRICTION_AMBROSIO
 from mechanism.core.joints._kernels import update_points
 from mechanism.core.model._kernels import (
     CF_FLOOR,
+    CF_V0,
+    CF_V1,
+    CJ_DELTA,
+    CJ_DELTA_DOT,
+    CJ_FN,
     CJ_PHI_B,
     CJ_PHI_J,
+    CJ_VT,
     CNT_CONTACT_EVENTS,
     CNT_REJECTED,
     CNT_STEPS,
@@ -177,20 +197,52 @@ def project_tangent(model, ws, ws2, t, y, d, scratch):
 
 
 @njit_noalloc()
-def latch_pair(model, ws, ws2, y, yp, vimp, vimp_p, contact, counters):
-    """Contact state after an accepted step, decided by the reference ``y``.
+def part_norms(model, d, inv_mass):
+    """(√(δqᵀMδq/m), √(δq̇ᵀMδq̇/m)): the mass-weighted sizes of the position part (m) and
+    of the velocity part (m/s) of a deviation."""
+    n = model.n_dof
+    sq = 0.0
+    sv = 0.0
+    for i in range(n):
+        xq = 0.0
+        xv = 0.0
+        for j in range(model.blk_lo[i], model.blk_hi[i]):
+            xq += model.mass[i, j] * d[j]
+            xv += model.mass[i, j] * d[n + j]
+        sq += d[i] * xq
+        sv += d[n + i] * xv
+    return math.sqrt(max(sq, 0.0) * inv_mass), math.sqrt(max(sv, 0.0) * inv_mass)
 
-    Like :func:`mechanism.core.model._kernels.update_latch`: a joint the reference sees penetrating
-    is in contact (both latches frozen; an event counted on entry); one it sees separated
-    tracks the approach speed, each copy its own (``vimp`` from y, ``vimp_p`` from the
-    perturbed state ``yp``), floored at ``impact_velocity_floor``.
+
+@njit_noalloc()
+def _shift(y, d, lo, hi, c, out):
+    """out = y with c·d added to the components lo:hi."""
+    for i in range(y.shape[0]):
+        out[i] = y[i]
+    for i in range(lo, hi):
+        out[i] = y[i] + c * d[i]
+
+
+@njit_noalloc()
+def latch_pair(model, ws, ws2, y, d, vimp, dvimp, contact, counters, yp, size, tau, inv_mass):
+    """Contact state after an accepted step, decided by the reference ``y``, and the
+    deviation ``dvimp`` of the latched impact velocity.
+
+    Like :func:`mechanism.core.model._kernels.update_latch`: a joint the reference sees
+    penetrating is in contact (latch and its deviation frozen; an event counted on entry);
+    one it sees separated tracks the approach speed δ̇, floored at
+    ``impact_velocity_floor``. The latch's deviation is the derivative of that value along
+    ``d`` on the reference's branch: (∂δ̇/∂y)·d by finite differences (the position and
+    the velocity part of d each scaled to ``size``, as in :func:`_deviation_rate`), 0 when
+    the reference is held at the floor.
     """
     ncj = model.cj_i.shape[0]
     if ncj == 0:
         return
     n = model.n_dof
+    n2 = y.shape[0]
     update_points(y[:n], y[n:], model.pt_i, model.pt_f, ws.pci, ws.pcf)
-    update_points(yp[:n], yp[n:], model.pt_i, model.pt_f, ws2.pci, ws2.pcf)
+    tracking = False
     for j in range(ncj):
         delta, ddot, _ = _clearance_state(model, ws, y, j)
         if delta > 0.0:
@@ -200,9 +252,33 @@ def latch_pair(model, ws, ws2, y, yp, vimp, vimp_p, contact, counters):
         else:
             contact[j] = 0
             floor = model.cj_f[j, CF_FLOOR]
-            vimp[j] = ddot if ddot > floor else floor
+            dvimp[j] = 0.0
+            if ddot > floor:
+                vimp[j] = ddot
+                tracking = True
+            else:
+                vimp[j] = floor
+    if not tracking:
+        return
+    pq, pv = part_norms(model, d, inv_mass)
+    for half in range(2):
+        if half == 0:
+            if not pq > 0.0:
+                continue
+            c = size / pq
+            _shift(y, d, 0, n, c, yp)
+        else:
+            if not pv > 0.0:
+                continue
+            c = size / (tau * pv)
+            _shift(y, d, n, n2, c, yp)
+        update_points(yp[:n], yp[n:], model.pt_i, model.pt_f, ws2.pci, ws2.pcf)
+        for j in range(ncj):
+            if contact[j] != 0 or not vimp[j] > model.cj_f[j, CF_FLOOR]:
+                continue
+            _, ddot, _ = _clearance_state(model, ws, y, j)
             _, ddot_p, _ = _clearance_state(model, ws2, yp, j)
-            vimp_p[j] = ddot_p if ddot_p > floor else floor
+            dvimp[j] += (ddot_p - ddot) / c
 
 
 @njit_noalloc()
@@ -232,64 +308,132 @@ def _same_regions(model, ws, phi):
 
 
 @njit_noalloc()
-def _deviation_rate(model, ws, t, ys, ds, f_ref, vimp, vimp_p, vimp_m, yp, fp, kd, phi, worn,
-                    fresh, counters_p):  # fmt: skip
-    """kd = f(t, ys + ds) − f_ref, f_ref = f(t, ys).
+def _branch(model, cj, j, vimp):
+    """Which smooth piece of the contact law clearance joint ``j`` is on, from its row of
+    ``ws.cj`` after an evaluation with latched impact velocity ``vimp``: 0 separated,
+    else 1 + 2 × friction zone of the Ambrósio law (0 below v0, 1 on the ramp, 2 above
+    v1) + 8 if the force is clamped at 0 + 16 if the bounded approach speed is active."""
+    if not cj[j, CJ_DELTA] > 0.0:
+        return 0.0
+    code = 1.0
+    if model.cj_i[j, 3] == FRICTION_AMBROSIO:
+        speed = abs(cj[j, CJ_VT])
+        if speed > model.cj_f[j, CF_V0]:
+            code += 2.0
+        if speed >= model.cj_f[j, CF_V1]:
+            code += 2.0
+    if cj[j, CJ_FN] == 0.0:
+        code += 8.0
+    if (model.cj_i[j, 2] & APPROACH_BOUNDED) != 0 and cj[j, CJ_DELTA_DOT] > APPROACH_RATIO * vimp:
+        code += 16.0
+    return code
 
-    With ``fresh`` the last evaluation in ``ws`` was f(t, ys) and its contact directions are
-    copied to ``phi``; otherwise ``phi`` already holds them.
 
-    On a worn profile (``worn``) the depths are tabulated per region, so the clearance jumps
-    where the contact direction crosses a region boundary. When the perturbed state lies in
-    another region than the reference, the difference is taken on the reference's side,
-    kd = f_ref − f(t, ys − ds): the deviation sees the profile's slope, never the jump of
-    its tabulation.
+@njit_noalloc()
+def _same_branch(model, ws, vimp_p, ref, worn):
+    """Whether the last evaluation in ``ws`` lies on the reference's branches ``ref``
+    (column 2 of (n_cj, 3): :func:`_branch`; columns 0, 1: the contact directions, compared
+    by worn-profile region when ``worn``)."""
+    for j in range(ref.shape[0]):
+        if _branch(model, ws.cj, j, vimp_p[j]) != ref[j, 2]:
+            return False
+    return not worn or _same_regions(model, ws, ref)
+
+
+@njit_noalloc()
+def _half_rate(model, ws, t, ys, ds, lo, hi, c, f_ref, vimp, dvimp, latch, vimp_p, yp, fp, kd,
+               ref, worn, counters_p):  # fmt: skip
+    """Add (a(ys + c·ds[lo:hi]) − a(ys))/c to the acceleration rows of ``kd``, on the
+    reference's branch (mirrored, (a(ys) − a(ys − c·ds[lo:hi]))/c, when the shifted state
+    is on another one); with ``latch`` the latched impact velocity is shifted by c·dvimp."""
+    n2 = ys.shape[0]
+    n = n2 // 2
+    sign = 1.0
+    while True:
+        _shift(ys, ds, lo, hi, sign * c, yp)
+        for j in range(vimp.shape[0]):
+            vimp_p[j] = vimp[j] + sign * c * dvimp[j] if latch else vimp[j]
+        st = rhs(model, ws, t, yp, vimp_p, fp, counters_p)
+        if sign < 0.0 or _same_branch(model, ws, vimp_p, ref, worn):
+            break
+        sign = -1.0
+    for i in range(n, n2):
+        kd[i] += sign * (fp[i] - f_ref[i]) / c
+    return st
+
+
+@njit_noalloc()
+def _deviation_rate(model, ws, t, ys, ds, f_ref, vimp, dvimp, vimp_p, yp, fp, kd, ref, worn,
+                    fresh, size, tau, inv_mass, counters_p):  # fmt: skip
+    """kd = (∂f/∂y)(t, ys)·ds + (∂f/∂δ̇⁻)·dvimp, f_ref = f(t, ys), by finite differences.
+
+    The position rows are exact (kd_q = ds_q̇). The acceleration rows are the sum of two
+    one-sided directional differences, one along the position part of ``ds`` and one
+    along its velocity part (with the latch deviation ``dvimp``), each scaled so that its
+    mass-weighted size is ``size`` (m; the velocity part's τ|δq̇| = ``size``), and the
+    results scaled back. Linear in ds to first order, and each difference is well above
+    round-off: the deviation of a stiff contact is mostly velocity, its position part
+    can be 1e-5 of its size, a few ulps of the coordinates if it were evaluated as it is.
+
+    Each shifted state is evaluated on the reference's branch of the contact law (contact,
+    friction-ramp zone, clamp, approach bound, worn-profile region; :func:`_same_branch`):
+    when it lies on another one, the difference is taken on the reference's side,
+    (f(ys) − f(ys − c·part))/c, so the deviation follows the one-sided derivative of the
+    reference's piece, never the kink or the jump between pieces.
+
+    With ``fresh`` the last evaluation in ``ws`` was f(t, ys) and its branches are stored
+    in ``ref``; otherwise ``ref`` already holds them.
     """
     n2 = ys.shape[0]
-    if worn and fresh:
-        for j in range(phi.shape[0]):
-            phi[j, 0] = ws.cj[j, CJ_PHI_B]
-            phi[j, 1] = ws.cj[j, CJ_PHI_J]
-    for i in range(n2):
-        yp[i] = ys[i] + ds[i]
-    st = rhs(model, ws, t, yp, vimp_p, fp, counters_p)
-    if worn and not _same_regions(model, ws, phi):
-        for i in range(n2):
-            yp[i] = ys[i] - ds[i]
-        # the mirrored copy's latch: the perturbed one reflected through the reference's
-        for j in range(vimp.shape[0]):
-            vimp_m[j] = 2.0 * vimp[j] - vimp_p[j]
-        st = rhs(model, ws, t, yp, vimp_m, fp, counters_p)
-        for i in range(n2):
-            kd[i] = f_ref[i] - fp[i]
-        return st
-    for i in range(n2):
-        kd[i] = fp[i] - f_ref[i]
+    n = n2 // 2
+    if fresh:
+        for j in range(ref.shape[0]):
+            ref[j, 0] = ws.cj[j, CJ_PHI_B]
+            ref[j, 1] = ws.cj[j, CJ_PHI_J]
+            ref[j, 2] = _branch(model, ws.cj, j, vimp[j])
+    for i in range(n):
+        kd[i] = ds[n + i]
+        kd[n + i] = 0.0
+    pq, pv = part_norms(model, ds, inv_mass)
+    st = STATUS_OK
+    if pq > 0.0:
+        st |= _half_rate(
+            model, ws, t, ys, ds, 0, n, size / pq, f_ref, vimp, dvimp, False, vimp_p, yp, fp,
+            kd, ref, worn, counters_p,
+        )  # fmt: skip
+    if pv > 0.0:
+        st |= _half_rate(
+            model, ws, t, ys, ds, n, n2, size / (tau * pv), f_ref, vimp, dvimp, True, vimp_p,
+            yp, fp, kd, ref, worn, counters_p,
+        )  # fmt: skip
     return st
 
 
 @njit(cache=True)
-def tangent_start(model, ws, t, y, d, k1, kd1, vimp, vimp_p, counters, counters_p):
-    """k1 = f(t, y) and kd1 = f(t, y + d) − k1; returns a status."""
+def tangent_start(model, ws, t, y, d, k1, kd1, vimp, dvimp, counters, counters_p, size, tau,
+                  inv_mass):  # fmt: skip
+    """k1 = f(t, y) and kd1 = the deviation's rate (:func:`_deviation_rate`); returns a
+    status."""
     st = rhs(model, ws, t, y, vimp, k1, counters)
     if st != STATUS_OK:
         return st
     yp = np.empty_like(y)
     fp = np.empty_like(y)
-    phi = np.empty((model.cj_i.shape[0], 2))
-    vimp_m = np.empty_like(vimp)
+    ref = np.empty((model.cj_i.shape[0], 3))
+    vimp_p = np.empty_like(vimp)
     st = _deviation_rate(
-        model, ws, t, y, d, k1, vimp, vimp_p, vimp_m, yp, fp, kd1, phi, has_worn(model), True,
-        counters_p,
+        model, ws, t, y, d, k1, vimp, dvimp, vimp_p, yp, fp, kd1, ref, has_worn(model), True,
+        size, tau, inv_mass, counters_p,
     )  # fmt: skip
     return STATUS_RUNNING if st == STATUS_OK else st
 
 
 @njit_noalloc()
-def renormalize(model, ws, ws2, t, y, d, scratch, size, tau2, inv_mass, growth):
+def renormalize(model, ws, ws2, t, y, d, dvimp, scratch, size, tau2, inv_mass, growth):
     """Project ``d`` onto the constraint tangent, add ln(|d|/size) to ``growth`` and
-    rescale d to ``size``. Returns False on a singular constraint matrix or a zero or
-    non-finite deviation."""
+    rescale d and the latch deviation ``dvimp`` (part of the linearised state) to
+    ``size``. Returns False on a singular constraint matrix or a zero or non-finite
+    deviation."""
     if not project_tangent(model, ws, ws2, t, y, d, scratch):
         return False
     r = deviation_norm(model, d, tau2, inv_mass)
@@ -301,6 +445,8 @@ def renormalize(model, ws, ws2, t, y, d, scratch, size, tau2, inv_mass, growth):
     f = size / r
     for i in range(d.shape[0]):
         d[i] *= f
+    for j in range(dvimp.shape[0]):
+        dvimp[j] *= f
     return True
 
 
@@ -315,7 +461,7 @@ def tangent_advance(
     kd1,
     state,
     vimp,
-    vimp_p,
+    dvimp,
     contact,
     counters,
     counters_p,
@@ -333,14 +479,18 @@ def tangent_advance(
     inv_mass,
     approach_floor,
     approach_fraction,
+    deviation_rtol,
 ):
     """Advance reference and deviation to ``t_stop`` (≤ ``t_end``), landing on it, and
     renormalise there.
 
-    The reference is stepped exactly as :func:`mechanism.core.integrate._kernels.dopri5_advance`
-    steps it (same controller, error norm, maximum step, approach bound of the clearance
-    joints, latch and optional projection);
-    the deviation rides along. Every ``every`` accepted steps, and at the end, the
+    With ``deviation_rtol`` = 0 the reference is stepped exactly as
+    :func:`mechanism.core.integrate._kernels.dopri5_advance` steps it (same controller,
+    error norm, maximum step, approach bound of the clearance joints, latch and optional
+    projection) and the deviation rides along; with ``deviation_rtol`` > 0 the error
+    passed to the controller is the larger of the reference's and the deviation's
+    (its embedded error estimate in the mass-weighted norm over ``deviation_rtol`` × its
+    size). Every ``every`` accepted steps, and at the end, the
     deviation is renormalised (:func:`renormalize`). ``state`` = [t, h, facold, last step
     rejected, accepted steps since the last renormalisation]. Returns ``STATUS_RUNNING``
     when ``t_stop`` < ``t_end`` was reached, 0 at ``t_end``, or a negative failure status.
@@ -366,9 +516,10 @@ def tangent_advance(
     fp = np.empty(n2)
     err = np.empty(n2)
     scratch = np.empty(n2)
-    phi = np.empty((model.cj_i.shape[0], 2))
-    vimp_m = np.empty_like(vimp)
+    ref = np.empty((model.cj_i.shape[0], 3))
+    vimp_p = np.empty_like(vimp)
     worn = has_worn(model)
+    tau = math.sqrt(tau2)
     beta = 0.04
     expo1 = 0.2 - beta * 0.75
     t = state[0]
@@ -402,32 +553,32 @@ def tangent_advance(
             dtmp[i] = d[i] + h * A21 * kd1[i]
         st |= rhs(model, ws, t + C2 * h, ytmp, vimp, k2, counters)
         st |= _deviation_rate(
-            model, ws, t + C2 * h, ytmp, dtmp, k2, vimp, vimp_p, vimp_m, yp, fp, kd2, phi,
-            worn, True, counters_p,
+            model, ws, t + C2 * h, ytmp, dtmp, k2, vimp, dvimp, vimp_p, yp, fp, kd2,
+            ref, worn, True, size, tau, inv_mass, counters_p,
         )  # fmt: skip
         for i in range(n2):
             ytmp[i] = y[i] + h * (A31 * k1[i] + A32 * k2[i])
             dtmp[i] = d[i] + h * (A31 * kd1[i] + A32 * kd2[i])
         st |= rhs(model, ws, t + C3 * h, ytmp, vimp, k3, counters)
         st |= _deviation_rate(
-            model, ws, t + C3 * h, ytmp, dtmp, k3, vimp, vimp_p, vimp_m, yp, fp, kd3, phi,
-            worn, True, counters_p,
+            model, ws, t + C3 * h, ytmp, dtmp, k3, vimp, dvimp, vimp_p, yp, fp, kd3,
+            ref, worn, True, size, tau, inv_mass, counters_p,
         )  # fmt: skip
         for i in range(n2):
             ytmp[i] = y[i] + h * (A41 * k1[i] + A42 * k2[i] + A43 * k3[i])
             dtmp[i] = d[i] + h * (A41 * kd1[i] + A42 * kd2[i] + A43 * kd3[i])
         st |= rhs(model, ws, t + C4 * h, ytmp, vimp, k4, counters)
         st |= _deviation_rate(
-            model, ws, t + C4 * h, ytmp, dtmp, k4, vimp, vimp_p, vimp_m, yp, fp, kd4, phi,
-            worn, True, counters_p,
+            model, ws, t + C4 * h, ytmp, dtmp, k4, vimp, dvimp, vimp_p, yp, fp, kd4,
+            ref, worn, True, size, tau, inv_mass, counters_p,
         )  # fmt: skip
         for i in range(n2):
             ytmp[i] = y[i] + h * (A51 * k1[i] + A52 * k2[i] + A53 * k3[i] + A54 * k4[i])
             dtmp[i] = d[i] + h * (A51 * kd1[i] + A52 * kd2[i] + A53 * kd3[i] + A54 * kd4[i])
         st |= rhs(model, ws, t + C5 * h, ytmp, vimp, k5, counters)
         st |= _deviation_rate(
-            model, ws, t + C5 * h, ytmp, dtmp, k5, vimp, vimp_p, vimp_m, yp, fp, kd5, phi,
-            worn, True, counters_p,
+            model, ws, t + C5 * h, ytmp, dtmp, k5, vimp, dvimp, vimp_p, yp, fp, kd5,
+            ref, worn, True, size, tau, inv_mass, counters_p,
         )  # fmt: skip
         for i in range(n2):
             ytmp[i] = y[i] + h * (
@@ -438,8 +589,8 @@ def tangent_advance(
             )
         st |= rhs(model, ws, t + h, ytmp, vimp, k6, counters)
         st |= _deviation_rate(
-            model, ws, t + h, ytmp, dtmp, k6, vimp, vimp_p, vimp_m, yp, fp, kd6, phi,
-            worn, True, counters_p,
+            model, ws, t + h, ytmp, dtmp, k6, vimp, dvimp, vimp_p, yp, fp, kd6,
+            ref, worn, True, size, tau, inv_mass, counters_p,
         )  # fmt: skip
         for i in range(n2):
             ynew[i] = y[i] + h * (
@@ -450,8 +601,8 @@ def tangent_advance(
             )
         st |= rhs(model, ws, t + h, ynew, vimp, k7, counters)
         st |= _deviation_rate(
-            model, ws, t + h, ynew, dnew, k7, vimp, vimp_p, vimp_m, yp, fp, kd7, phi,
-            worn, True, counters_p,
+            model, ws, t + h, ynew, dnew, k7, vimp, dvimp, vimp_p, yp, fp, kd7,
+            ref, worn, True, size, tau, inv_mass, counters_p,
         )  # fmt: skip
         if st != STATUS_OK:
             status = STATUS_SINGULAR
@@ -461,6 +612,16 @@ def tangent_advance(
                 E1 * k1[i] + E3 * k3[i] + E4 * k4[i] + E5 * k5[i] + E6 * k6[i] + E7 * k7[i]
             )
         e = _wrms(err, y, ynew, rtol, atol)
+        if deviation_rtol > 0.0:
+            # the deviation's own error estimate, relative to its size
+            for i in range(n2):
+                err[i] = h * (
+                    E1 * kd1[i] + E3 * kd3[i] + E4 * kd4[i] + E5 * kd5[i] + E6 * kd6[i]
+                    + E7 * kd7[i]
+                )
+            scale = max(deviation_norm(model, d, tau2, inv_mass),
+                        deviation_norm(model, dnew, tau2, inv_mass))  # fmt: skip
+            e = max(e, deviation_norm(model, err, tau2, inv_mass) / (deviation_rtol * scale))
         if not math.isfinite(e):
             counters[CNT_REJECTED] += 1
             h *= 0.1
@@ -476,9 +637,8 @@ def tangent_advance(
                 d[i] = dnew[i]
                 k1[i] = k7[i]
             counters[CNT_STEPS] += 1
-            for i in range(n2):
-                yp[i] = y[i] + d[i]
-            latch_pair(model, ws, ws2, y, yp, vimp, vimp_p, contact, counters)
+            latch_pair(model, ws, ws2, y, d, vimp, dvimp, contact, counters, yp, size, tau,
+                       inv_mass)  # fmt: skip
             if projection:
                 if not project(model, ws, t, y, 1e-12, 5):
                     status = STATUS_SINGULAR
@@ -486,17 +646,17 @@ def tangent_advance(
                 rhs(model, ws, t, y, vimp, k1, counters)
             since += 1
             if since >= every or t >= t_stop or t >= t_end:
-                if not renormalize(model, ws, ws2, t, y, d, scratch, size, tau2, inv_mass,
-                                   growth):  # fmt: skip
+                if not renormalize(model, ws, ws2, t, y, d, dvimp, scratch, size, tau2,
+                                   inv_mass, growth):  # fmt: skip
                     status = STATUS_NONFINITE
                     break
                 since = 0
-            # the perturbed copy's latch (or the rescaling) may have changed its rate
-            # phi holds the reference's contact directions at y from the last stage (or
-            # from the evaluation after a projection)
+            # the latch's deviation (or the projection) may have changed the rate; ref
+            # holds the reference's branches at y from the last stage (or from the
+            # evaluation after a projection)
             st = _deviation_rate(
-                model, ws, t, y, d, k1, vimp, vimp_p, vimp_m, yp, fp, kd1, phi, worn, projection,
-                counters_p,
+                model, ws, t, y, d, k1, vimp, dvimp, vimp_p, yp, fp, kd1, ref, worn, projection,
+                size, tau, inv_mass, counters_p,
             )  # fmt: skip
             if st != STATUS_OK:
                 status = STATUS_SINGULAR
