@@ -459,9 +459,10 @@ def test_flexible_paper_scene_friction_on_an_ancf_journal_needs_almost_no_reject
 
 @pytest.mark.slow
 def test_flexible_journal_entering_a_worn_profile_is_not_refined_forever() -> None:
-    """On a worn profile the penetration can jump when the contact angle crosses between
-    regions; the entry-depth retry must accept such a jump instead of halving the step
-    towards zero (it reached 190 000 rejected steps in 0.02 s before the guard)."""
+    """With the worn clearance tabulated per region the penetration jumped when the contact
+    angle crossed between regions, and the entry-depth retry halved the step towards zero
+    (190 000 rejected steps in 0.02 s before its guard; 109 with it). On the continuous
+    surface the entry is resolved like any other: 6 rejected steps of 2004."""
     from mechanism.core.integrate import GeneralizedAlpha
 
     pred = mechanism.predict_wear(
