@@ -80,7 +80,9 @@ class WornProfile:
 
     Region i covers body-frame angles [i Δ, (i+1) Δ), Δ = 2π/regions. The bearing surface
     grows outward (local radius R_b + h_b), the journal shrinks inward (R_j − h_j), so the
-    local clearance is c(φ_b, φ_j) = c₀ + h_b(φ_b) + h_j(φ_j) ≥ c₀ > 0.
+    local clearance is c(φ_b, φ_j) = c₀ + h_b(φ_b) + h_j(φ_j) ≥ c₀ > 0. Wear is held per
+    region; h(φ) is the continuous surface through the region depths at the region
+    centres (periodic monotone cubic, C1, never below zero; docs/contact-and-wear.md §5).
 
     Parameters
     ----------
