@@ -80,32 +80,93 @@ def test_region_index_boundaries_and_wrap_around() -> None:
 # --- local clearance -------------------------------------------------------------------
 
 
+def _periodic_pchip(values: np.ndarray):
+    """scipy's PCHIP through the region centres of three periods (independent reference)."""
+    from scipy.interpolate import PchipInterpolator
+
+    n = values.size
+    centres = (np.arange(-n, 2 * n) + 0.5) * 2 * np.pi / n
+    curve = PchipInterpolator(centres, np.tile(values, 3))
+    return lambda angle, nu=0: curve(np.mod(angle, 2 * np.pi), nu)
+
+
 def test_local_clearance_grows_by_exactly_the_local_depth() -> None:
     rng = np.random.default_rng(7)
     hb = rng.uniform(0, 3e-5, N)
     hj = rng.uniform(0, 1e-5, N)
     p = profile(hb, hj)
+    # at the region centres the surface passes through the region depths (the centre
+    # angles round to ~1e-16 of a region, the slopes reach ~3e-3 m/rad)
+    rev = p.angle[::-1]
+    assert_allclose(p.local_clearance(p.angle, rev) - C0, hb + hj[::-1], rtol=0, atol=1e-17)
+    # between them it is the periodic monotone cubic (PCHIP) through the centres
     phi_b = rng.uniform(-10, 10, 2000)
     phi_j = rng.uniform(-10, 10, 2000)
-    ib = np.floor(np.mod(phi_b, 2 * np.pi) / (2 * np.pi / N)).astype(int) % N
-    ij = np.floor(np.mod(phi_j, 2 * np.pi) / (2 * np.pi / N)).astype(int) % N
     got = p.local_clearance(phi_b, phi_j)
-    assert_allclose(got - C0, hb[ib] + hj[ij], rtol=1e-12, atol=1e-21)
+    want = _periodic_pchip(hb)(phi_b) + _periodic_pchip(hj)(phi_j)
+    # the wrapped angles round to ~1e-15 rad, the slopes reach ~3e-3 m/rad
+    assert_allclose(got - C0, want, rtol=0, atol=1e-17)
     # the kernel the integrator calls gives the same numbers
     for x, y, c in zip(phi_b[:50], phi_j[:50], got[:50], strict=True):
         assert wk.local_clearance(C0, p.bearing_depth, p.journal_depth, x, y) == c
     # a bearing-only profile (empty journal array) in the kernel
     empty = np.zeros(0)
-    assert wk.local_clearance(C0, p.bearing_depth, empty, phi_b[0], 0.3) == C0 + hb[ib[0]]
+    assert wk.local_clearance(C0, p.bearing_depth, empty, phi_b[0], 0.3) == pytest.approx(
+        C0 + _periodic_pchip(hb)(phi_b[0]), rel=0, abs=1e-18
+    )
 
 
-def test_linear_interpolation_hits_region_values_at_centres_and_is_continuous() -> None:
-    hb = arc_wear(2e-5, 60, 140)
+def test_worn_surface_is_continuous_and_smooth_across_region_boundaries() -> None:
+    """The tabulation into regions must not make the clearance jump (the worn surface is
+    smooth): at every region boundary the clearance and its angular slope are continuous,
+    and the slope the penetration rate uses is the derivative of the clearance."""
+    rng = np.random.default_rng(3)
+    hb = arc_wear(4e-5, 60, 140) + rng.uniform(0, 5e-6, N) * (rng.uniform(size=N) > 0.5)
     p = profile(hb)
-    assert_allclose(p.local_clearance(p.angle, interpolation="linear") - C0, hb, atol=1e-18)
-    fine = np.linspace(0, 2 * np.pi, 100_001)
-    c = p.local_clearance(fine, interpolation="linear")
-    assert np.max(np.abs(np.diff(c))) < 2e-5 * 360 / 100_000 * 4
+    boundary = np.arange(N) * 2 * np.pi / N
+    eps = 1e-9  # rad; a region is 1.7e-2 rad
+    below = p.local_clearance(boundary - eps)
+    above = p.local_clearance(boundary + eps)
+    largest_step = np.max(np.abs(np.diff(np.r_[hb, hb[0]])))
+    assert largest_step > 1e-6  # region values differ by up to µm at the boundaries
+    # C0: the jump is what the largest slope can do in 2 eps (piecewise constant: µm)
+    slope_bound = 3 * largest_step * N / (2 * np.pi)
+    assert np.max(np.abs(above - below)) <= slope_bound * 2 * eps
+    # C1: the slope is continuous (a kink would leave a step of order largest_step / Δ)
+    s_below = p.wear_depth_slope(boundary - eps)
+    s_above = p.wear_depth_slope(boundary + eps)
+    curvature_bound = 24 * largest_step * (N / (2 * np.pi)) ** 2
+    assert np.max(np.abs(s_above - s_below)) <= curvature_bound * 2 * eps
+    # the slope is the derivative of the clearance (central difference, O(h²), away from
+    # the region centres where the cubic pieces meet)
+    x = (rng.integers(0, N, 500) + 0.5 + rng.uniform(0.05, 0.95, 500)) * 2 * np.pi / N
+    h = 1e-6
+    numeric = (p.local_clearance(x + h) - p.local_clearance(x - h)) / (2 * h)
+    assert_allclose(p.wear_depth_slope(x), numeric, rtol=0, atol=1e-7 * slope_bound)
+    assert_allclose(p.wear_depth_slope(x), _periodic_pchip(hb)(x, 1), rtol=1e-9, atol=1e-15)
+
+
+def test_worn_surface_never_overshoots_its_region_depths() -> None:
+    # a groove with steep flanks and an isolated pit: an ordinary cubic spline would dip
+    # below zero beside them (negative depth = a clearance below c₀)
+    hb = np.zeros(N)
+    hb[100:110] = 5e-5
+    hb[200] = 2e-5
+    p = profile(hb)
+    fine = np.linspace(0, 2 * np.pi, 200_001)
+    depth = p.wear_depth(fine)
+    assert depth.min() >= 0.0
+    ulp = 1e-15 * hb.max()  # the cubic's weights sum to 1 up to rounding
+    assert depth.max() <= hb.max() + ulp
+    assert np.all(p.local_clearance(fine) >= C0)
+    # between two centres the depth stays between the two region values
+    i = np.floor(np.mod(fine / (2 * np.pi / N) - 0.5, N)).astype(int)
+    lo = np.minimum(hb[i], hb[(i + 1) % N])
+    hi = np.maximum(hb[i], hb[(i + 1) % N])
+    assert np.all(depth >= lo - ulp) and np.all(depth <= hi + ulp)
+    # an extremum of the regions is an extremum of the surface, reached at the centre
+    assert p.wear_depth(p.angle[200]) == pytest.approx(2e-5, rel=1e-12)
+    assert p.wear_depth_slope(p.angle[200]) == pytest.approx(0.0, abs=1e-12)
 
 
 def test_a_profile_deeper_than_the_clearance_stays_valid() -> None:
@@ -263,24 +324,11 @@ def test_tabulated_local_stiffness_equals_the_on_the_fly_one() -> None:
     rng = np.random.default_rng(2)
     for phi_b, phi_j in rng.uniform(-7, 7, (200, 2)):
         for form in (0, 1):
-            for interp in (wk.INTERP_REGION, wk.INTERP_LINEAR):
-                direct = wk.local_stiffness(
-                    E_STAR,
-                    form,
-                    RB,
-                    RJ,
-                    p.bearing_depth,
-                    p.journal_depth,
-                    phi_b,
-                    phi_j,
-                    5,
-                    10.0,
-                    interp,
-                )
-                table = wk.local_stiffness_tabulated(
-                    E_STAR, form, RB, RJ, kb, kj, phi_b, phi_j, 10.0, interp
-                )
-                assert_allclose(table, direct, rtol=1e-14)
+            direct = wk.local_stiffness(
+                E_STAR, form, RB, RJ, p.bearing_depth, p.journal_depth, phi_b, phi_j, 5, 10.0
+            )
+            table = wk.local_stiffness_tabulated(E_STAR, form, RB, RJ, kb, kj, phi_b, phi_j, 10.0)
+            assert_allclose(table, direct, rtol=1e-14)
     empty = np.zeros(0)
     K0 = hertz_stiffness(RB, RJ, STEEL, STEEL, "sum-of-radii")
     assert_allclose(

@@ -100,7 +100,6 @@ class KernelModel(NamedTuple):
     cw_f: np.ndarray  # (n_cj, 2) [E*, radius ratio limit]
     cw_h: np.ndarray  # flat wear depths (m) of all worn surfaces
     cw_k: np.ndarray  # flat tabulated curvatures (1/m) of the same regions
-    cw_s: np.ndarray  # flat slopes dh/dφ (m/rad) of the smoothed depths, same regions
     out_i: np.ndarray  # [crank point a, crank point b, guide point, slider point] (−1: none)
     out_f: np.ndarray  # [ux, uy] slider guide axis in the guide body's frame
     jt_i: np.ndarray  # (n_ideal, 3) [JOINT_PIN | JOINT_PRISMATIC, first row, guide point]
@@ -401,9 +400,10 @@ def _worn_tables(
 ) -> tuple[list[int], list[float]]:
     """Worn-profile row of one clearance joint; appends its depth and curvature arrays.
 
-    ``flat`` cycles through depth, curvature and slope arrays; offsets index their
-    concatenations. The slope dh/dφ of the smoothed depth (central difference) gives the
-    rate of the local clearance while the contact moves over a worn flank.
+    ``flat`` alternates depth and curvature arrays; offsets index their concatenations.
+    The kernels read both through the continuous surface of
+    ``mechanism.core.wear._kernels.surface_value`` (and its slope for the rate of the local
+    clearance while the contact moves over a worn flank).
     An unworn joint (both profiles empty) gets ``CW_WORN = 0`` and no arrays, so its
     contact runs the unworn code path.
     """
@@ -412,7 +412,7 @@ def _worn_tables(
     if not (joint.wear.bearing_profile or joint.wear.journal_profile):
         return row_i, row_f
     profile = WornProfile.from_joint(joint)
-    offset = sum(a.size for a in flat[0::3])
+    offset = sum(a.size for a in flat[0::2])
     row_i[k.CW_WORN] = 1
     row_i[k.CW_FORM] = p.stiffness_form_code if p.form is not None else -1
     for depth, radius, outward, col in (
@@ -424,13 +424,9 @@ def _worn_tables(
             continue  # an unworn surface: empty slice, nominal clearance and curvature
         kappa = np.empty(depth.size)
         wk.curvature_profile(radius, depth, profile.smoothing_regions, outward, kappa)
-        smooth = np.array(
-            [wk.smoothed_depth(depth, i, profile.smoothing_regions) for i in range(depth.size)]
-        )
-        slope = (np.roll(smooth, -1) - np.roll(smooth, 1)) * (depth.size / (4.0 * np.pi))
         row_i[col] = offset
         row_i[col + 1] = depth.size
-        flat.extend((depth, kappa, slope))
+        flat.extend((depth, kappa))
         offset += depth.size
     return row_i, row_f
 
@@ -727,9 +723,8 @@ def _kernel_model(
         cj_f=_arr_f(joints.cj_f, k.CF_COLUMNS),
         cw_i=_arr_i([w[0] for w in joints.worn], k.CW_COLUMNS),
         cw_f=_arr_f([w[1] for w in joints.worn], 2),
-        cw_h=np.ascontiguousarray(np.concatenate([np.zeros(0), *cw_h[0::3]])),
-        cw_k=np.ascontiguousarray(np.concatenate([np.zeros(0), *cw_h[1::3]])),
-        cw_s=np.ascontiguousarray(np.concatenate([np.zeros(0), *cw_h[2::3]])),
+        cw_h=np.ascontiguousarray(np.concatenate([np.zeros(0), *cw_h[0::2]])),
+        cw_k=np.ascontiguousarray(np.concatenate([np.zeros(0), *cw_h[1::2]])),
         out_i=np.array(
             [
                 *(crank_points if crank_points is not None else (-1, -1)),

@@ -52,7 +52,7 @@ from mechanism.core.joints._kernels import (
     update_point_rows,
     update_points,
 )
-from mechanism.core.wear._kernels import local_clearance, local_stiffness_tabulated, region_value
+from mechanism.core.wear._kernels import local_clearance, local_stiffness_tabulated, surface_slope
 
 # light samples: crank angle, slider s, ṡ, then e_x, e_y of each clearance joint
 LIGHT_COLUMNS = 3
@@ -147,8 +147,10 @@ def worn_contact(cw_i, cw_f, cw_h, cw_k, j, r_bearing, r_journal, clearance, sti
     """Local clearance c(φ_b, φ_j) (m) and stiffness K_n of clearance joint ``j``.
 
     Unworn joints return (c₀, K). A worn one reads the local clearance
-    c₀ + h_b(φ_b) + h_j(φ_j) and K_n = (4/3)E*√R*_n from the curvatures tabulated once per
-    profile (docs/paper-model.md §6); the damping of the force laws scales with K, so it follows.
+    c₀ + h_b(φ_b) + h_j(φ_j) of the continuous worn surfaces (the monotone cubic through the
+    region depths, ``mechanism.core.wear._kernels.surface_value``) and K_n = (4/3)E*√R*_n
+    from the curvatures tabulated once per profile and interpolated by the same cubic
+    (docs/paper-model.md §6); the damping of the force laws scales with K, so it follows.
     """
     if cw_i[j, CW_WORN] == 0:
         return clearance, stiffness
@@ -167,12 +169,13 @@ def worn_contact(cw_i, cw_f, cw_h, cw_k, j, r_bearing, r_journal, clearance, sti
 
 
 @njit_noalloc()
-def worn_clearance_rate(cw_i, cw_s, j, pcf, bearing, journal, ex, ey, phi_b, phi_j):
+def worn_clearance_rate(cw_i, cw_h, j, pcf, bearing, journal, ex, ey, phi_b, phi_j):
     """dc/dt = h_b'(φ_b) φ̇_b + h_j'(φ_j) φ̇_j (m/s) of a worn joint (0 when unworn).
 
     The local clearance changes while the contact direction moves over a worn flank, so the
-    penetration rate is δ̇ = d|e|/dt − dc/dt; h' is the slope of the smoothed profile
-    (tabulated in ``cw_s``) and φ̇ = (e × ė)/|e|² minus each part's rotation rate.
+    penetration rate is δ̇ = d|e|/dt − dc/dt; h' is the exact angular derivative of the
+    continuous surface that gives c (``surface_slope``), so δ̇ is the time derivative of δ,
+    and φ̇ = (e × ė)/|e|² minus each part's rotation rate.
     """
     if cw_i[j, CW_WORN] == 0:
         return 0.0
@@ -188,9 +191,9 @@ def worn_clearance_rate(cw_i, cw_s, j, pcf, bearing, journal, ex, ey, phi_b, phi
     jn = cw_i[j, CW_J_N]
     out = 0.0
     if bn > 0:
-        out += region_value(cw_s[bo : bo + bn], phi_b) * (rate - pcf[bearing, PC_RATE])
+        out += surface_slope(cw_h[bo : bo + bn], phi_b) * (rate - pcf[bearing, PC_RATE])
     if jn > 0:
-        out += region_value(cw_s[jo : jo + jn], phi_j) * (rate - pcf[journal, PC_RATE])
+        out += surface_slope(cw_h[jo : jo + jn], phi_j) * (rate - pcf[journal, PC_RATE])
     return out
 
 
@@ -213,7 +216,7 @@ def _clearance_forces(model, pci, pcf, vimp, gen, cj, counters):
                 cw_i, model.cw_f, model.cw_h, model.cw_k, j, rb, rj, c0, kn, phib, phij
             )
             delta += c0 - c
-            ddot -= worn_clearance_rate(cw_i, model.cw_s, j, pcf, b, jn, ex, ey, phib, phij)
+            ddot -= worn_clearance_rate(cw_i, model.cw_h, j, pcf, b, jn, ex, ey, phib, phij)
         fn = 0.0
         ft = 0.0
         if delta > 0.0:
@@ -427,7 +430,7 @@ def _clearance_state(model, ws, y, j):
         res[7], res[8],
     )  # fmt: skip
     rate = worn_clearance_rate(
-        model.cw_i, model.cw_s, j, ws.pcf, model.cj_i[j, 0], model.cj_i[j, 1], res[0], res[1],
+        model.cw_i, model.cw_h, j, ws.pcf, model.cj_i[j, 0], model.cj_i[j, 1], res[0], res[1],
         res[7], res[8],
     )  # fmt: skip
     return res[4] + c0 - c, res[5] - rate, kn

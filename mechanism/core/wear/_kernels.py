@@ -5,6 +5,14 @@ covers body-frame angles [i Δ, (i+1) Δ), Δ = 2π/n, and holds a wear depth h_
 The bearing grows outward (local radius R_b + h), the journal shrinks inward (R_j − h).
 An empty depth array means an unworn surface.
 
+Wear is *accumulated* per region (Archard, below), but the surface the contact sees is
+continuous: :func:`surface_value` interpolates the region values as a periodic monotone
+cubic Hermite curve through the region centres (Fritsch–Butland slopes, the equal-spacing
+case of PCHIP), which is C1 in the angle, passes through every region value and never
+leaves the range of its two neighbouring values (so a depth never dips below zero). The
+local clearance, its angular rate (:func:`surface_slope`) and the smoothed curvature of the
+contact law all use that one curve.
+
 The volume of material a region has lost is the annular sector between the nominal and
 the worn radius, V_i = L Δ h_i (R ± h_i/2); the Archard kernels distribute a worn volume
 over regions and invert this formula, so the summed volume is conserved to round-off
@@ -25,10 +33,6 @@ from mechanism.core._status import STATUS_OK, STATUS_REDUCED, STATUS_REJECTED
 from mechanism.core.contact._kernels import effective_curvature, hertz_half_width
 
 TWO_PI = 2.0 * math.pi
-
-INTERP_REGION = 0  # the value of the region that contains the angle (paper bookkeeping)
-INTERP_LINEAR = 1  # linear between region centres (continuous in the angle)
-
 
 # A journal region may lose at most this fraction of its radius (worn-through guard).
 MAX_INWARD_DEPTH_FRACTION = 1.0 - 1e-6
@@ -63,16 +67,83 @@ def _between_centres(angle: float, regions: int) -> tuple[int, float]:
     return i0, u - i0
 
 
+@njit_noalloc(inline="always")
+def _node_slope(before: float, here: float, after: float) -> float:
+    """Fritsch–Butland slope (per region width) at a node from its two neighbours.
+
+    The harmonic mean of the two secants where they have the same sign, else 0: an
+    extremum of the data stays an extremum of the curve and the curve is monotone between
+    nodes (the harmonic mean is at most twice the smaller secant).
+    """
+    d0 = here - before
+    d1 = after - here
+    if not d0 * d1 > 0.0:
+        return 0.0
+    return 2.0 * d0 * d1 / (d0 + d1)
+
+
+@njit_noalloc(inline="always")
+def _hermite(a: float, b: float, c: float, d: float, w: float) -> float:
+    """Monotone cubic between nodes b (w = 0) and c (w = 1); a, d their outer neighbours."""
+    m0 = _node_slope(a, b, c)
+    m1 = _node_slope(b, c, d)
+    w2 = w * w
+    w3 = w2 * w
+    return (
+        (2.0 * w3 - 3.0 * w2 + 1.0) * b
+        + (w3 - 2.0 * w2 + w) * m0
+        + (3.0 * w2 - 2.0 * w3) * c
+        + (w3 - w2) * m1
+    )
+
+
+@njit_noalloc(inline="always")
+def _hermite_rate(a: float, b: float, c: float, d: float, w: float) -> float:
+    """d/dw of :func:`_hermite` (per region width)."""
+    m0 = _node_slope(a, b, c)
+    m1 = _node_slope(b, c, d)
+    w2 = w * w
+    return (
+        6.0 * (w2 - w) * (b - c)
+        + (3.0 * w2 - 4.0 * w + 1.0) * m0
+        + (3.0 * w2 - 2.0 * w) * m1
+    )
+
+
 @njit_noalloc()
-def region_value(values: np.ndarray, angle: float, interpolation: int = 0) -> float:
-    """Value of a per-region array at ``angle``; 0 for an empty array."""
+def surface_value(values: np.ndarray, angle: float) -> float:
+    """Value at ``angle`` of the continuous curve through per-region ``values``.
+
+    The periodic monotone cubic through the region centres (module docstring): equal to
+    ``values[i]`` at the centre of region i, C1 everywhere, within the range of the two
+    nearest region values. 0 for an empty array; ``values[0]`` for a non-finite angle
+    (memory safety; the state is already NaN then).
+    """
     n = values.size
     if n == 0:
         return 0.0
-    if interpolation == INTERP_LINEAR and math.isfinite(angle):
-        i0, w = _between_centres(angle, n)
-        return (1.0 - w) * values[i0 % n] + w * values[(i0 + 1) % n]
-    return values[region_index(angle, n)]
+    if not math.isfinite(angle):
+        return values[0]
+    i0, w = _between_centres(angle, n)
+    return _hermite(
+        values[(i0 - 1) % n], values[i0 % n], values[(i0 + 1) % n], values[(i0 + 2) % n], w
+    )
+
+
+@njit_noalloc()
+def surface_slope(values: np.ndarray, angle: float) -> float:
+    """Derivative d/dφ (per rad) at ``angle`` of the curve of :func:`surface_value`.
+
+    0 for an empty array or a non-finite angle.
+    """
+    n = values.size
+    if n == 0 or not math.isfinite(angle):
+        return 0.0
+    i0, w = _between_centres(angle, n)
+    rate = _hermite_rate(
+        values[(i0 - 1) % n], values[i0 % n], values[(i0 + 1) % n], values[(i0 + 2) % n], w
+    )
+    return rate * n / TWO_PI
 
 
 @njit_noalloc()
@@ -82,16 +153,15 @@ def local_clearance(
     journal_depth: np.ndarray,
     bearing_angle: float,
     journal_angle: float,
-    interpolation: int = 0,
 ) -> float:
-    """Local radial clearance c = c₀ + h_b(φ_b) + h_j(φ_j) (m).
+    """Local radial clearance c = c₀ + h_b(φ_b) + h_j(φ_j) (m) on the continuous surfaces.
 
     ``bearing_angle`` and ``journal_angle`` are the contact direction in each body's frame.
     """
     return (
         clearance
-        + region_value(bearing_depth, bearing_angle, interpolation)
-        + region_value(journal_depth, journal_angle, interpolation)
+        + surface_value(bearing_depth, bearing_angle)
+        + surface_value(journal_depth, journal_angle)
     )
 
 
@@ -161,18 +231,25 @@ def curvature_at(
     angle: float,
     smoothing: int,
     outward: bool,
-    interpolation: int = 0,
 ) -> float:
-    """Signed curvature (1/m) of a worn surface at ``angle``; 1/R for an unworn one."""
+    """Signed curvature (1/m) of a worn surface at ``angle``; 1/R for an unworn one.
+
+    The region-centre curvatures of :func:`surface_curvature`, interpolated by the same
+    monotone cubic as the depth (:func:`surface_value` of :func:`curvature_profile`).
+    """
     n = depth.size
     if n < 3:
         return 1.0 / radius
-    if interpolation == INTERP_LINEAR and math.isfinite(angle):
-        i0, w = _between_centres(angle, n)
-        k0 = surface_curvature(radius, depth, i0 % n, smoothing, outward)
-        k1 = surface_curvature(radius, depth, (i0 + 1) % n, smoothing, outward)
-        return (1.0 - w) * k0 + w * k1
-    return surface_curvature(radius, depth, region_index(angle, n), smoothing, outward)
+    if not math.isfinite(angle):
+        return surface_curvature(radius, depth, 0, smoothing, outward)
+    i0, w = _between_centres(angle, n)
+    return _hermite(
+        surface_curvature(radius, depth, (i0 - 1) % n, smoothing, outward),
+        surface_curvature(radius, depth, i0 % n, smoothing, outward),
+        surface_curvature(radius, depth, (i0 + 1) % n, smoothing, outward),
+        surface_curvature(radius, depth, (i0 + 2) % n, smoothing, outward),
+        w,
+    )
 
 
 @njit_noalloc()
@@ -195,7 +272,6 @@ def local_effective_radius(
     journal_angle: float,
     smoothing: int,
     radius_ratio_limit: float,
-    interpolation: int = 0,
 ) -> float:
     """Local effective radius R* (m) from the smoothed local curvatures of both surfaces.
 
@@ -203,8 +279,8 @@ def local_effective_radius(
     ``radius_ratio_limit`` (≥ 1) of the unworn R*: a locally flat or bulging worn patch
     would otherwise give an infinite or negative R*, where the Hertz model does not apply.
     """
-    kb = curvature_at(bearing_radius, bearing_depth, bearing_angle, smoothing, True, interpolation)
-    kj = curvature_at(journal_radius, journal_depth, journal_angle, smoothing, False, interpolation)
+    kb = curvature_at(bearing_radius, bearing_depth, bearing_angle, smoothing, True)
+    kj = curvature_at(journal_radius, journal_depth, journal_angle, smoothing, False)
     return _bounded_effective_radius(
         form, bearing_radius, journal_radius, kb, kj, radius_ratio_limit
     )
@@ -222,7 +298,6 @@ def local_stiffness(
     journal_angle: float,
     smoothing: int,
     radius_ratio_limit: float,
-    interpolation: int = 0,
 ) -> float:
     """Local contact stiffness K_n = (4/3) E* √R*_n (N m^-1.5) of a worn joint."""
     r_star = local_effective_radius(
@@ -235,7 +310,6 @@ def local_stiffness(
         journal_angle,
         smoothing,
         radius_ratio_limit,
-        interpolation,
     )
     return _hertz_stiffness(effective_modulus, r_star)
 
@@ -277,7 +351,6 @@ def local_stiffness_tabulated(
     bearing_angle: float,
     journal_angle: float,
     radius_ratio_limit: float,
-    interpolation: int = 0,
 ) -> float:
     """:func:`local_stiffness` from curvatures tabulated once per profile, O(1) per call.
 
@@ -288,11 +361,11 @@ def local_stiffness_tabulated(
     if bearing_curvature.size == 0:
         kb = 1.0 / bearing_radius
     else:
-        kb = region_value(bearing_curvature, bearing_angle, interpolation)
+        kb = surface_value(bearing_curvature, bearing_angle)
     if journal_curvature.size == 0:
         kj = 1.0 / journal_radius
     else:
-        kj = region_value(journal_curvature, journal_angle, interpolation)
+        kj = surface_value(journal_curvature, journal_angle)
     r_star = _bounded_effective_radius(
         form, bearing_radius, journal_radius, kb, kj, radius_ratio_limit
     )

@@ -31,22 +31,14 @@ from . import _kernels as wk
 if TYPE_CHECKING:
     from mechanism.core.scene import ClearanceRevolute, WearSettings
 
-__all__ = ["DEFAULT_RADIUS_RATIO_LIMIT", "Interpolation", "Surface", "WornProfile"]
+__all__ = ["DEFAULT_RADIUS_RATIO_LIMIT", "Surface", "WornProfile"]
 
 Surface = Literal["bearing", "journal"]
-Interpolation = Literal["region", "linear"]
 
 #: Default bound on the local R* relative to the unworn R* (both ways).
 DEFAULT_RADIUS_RATIO_LIMIT = 10.0
 
-_INTERPOLATION = {"region": wk.INTERP_REGION, "linear": wk.INTERP_LINEAR}
 _MIN_REGIONS = 3  # the three-point curvature needs a neighbour on each side
-
-
-def interpolation_code(interpolation: str) -> int:
-    """Kernel code of an interpolation name (``"region"`` or ``"linear"``)."""
-    name = check_choice(interpolation, name="interpolation", choices=tuple(_INTERPOLATION))
-    return _INTERPOLATION[name]
 
 
 def _depth_array(values: Any, *, name: str) -> np.ndarray:
@@ -88,7 +80,9 @@ class WornProfile:
 
     Region i covers body-frame angles [i Δ, (i+1) Δ), Δ = 2π/regions. The bearing surface
     grows outward (local radius R_b + h_b), the journal shrinks inward (R_j − h_j), so the
-    local clearance is c(φ_b, φ_j) = c₀ + h_b(φ_b) + h_j(φ_j) ≥ c₀ > 0.
+    local clearance is c(φ_b, φ_j) = c₀ + h_b(φ_b) + h_j(φ_j) ≥ c₀ > 0. Wear is held per
+    region; h(φ) is the continuous surface through the region depths at the region
+    centres (periodic monotone cubic, C1, never below zero; docs/contact-and-wear.md §5).
 
     Parameters
     ----------
@@ -289,23 +283,26 @@ class WornProfile:
         out = np.vectorize(lambda x: wk.region_index(x, self.regions), otypes=[np.int64])(a)
         return int(out) if out.ndim == 0 else out
 
-    def wear_depth(
-        self, angle: Any, *, surface: Surface = "bearing", interpolation: Interpolation = "region"
-    ) -> Any:
-        """Wear depth (m) of a surface at body-frame angle(s) (rad)."""
+    def wear_depth(self, angle: Any, *, surface: Surface = "bearing") -> Any:
+        """Wear depth (m) of the continuous worn surface at body-frame angle(s) (rad).
+
+        The monotone cubic through the region depths at the region centres: the region's
+        depth at its centre, C1 in the angle, never outside the range of the two nearest
+        region depths (docs/contact-and-wear.md §5).
+        """
         depth = self._depth(surface)
-        code = interpolation_code(interpolation)
         a = _angles(angle, "angle")
-        out = np.vectorize(lambda x: wk.region_value(depth, x, code), otypes=[np.float64])(a)
+        out = np.vectorize(lambda x: wk.surface_value(depth, x), otypes=[np.float64])(a)
         return _scalar_or_array(out)
 
-    def local_clearance(
-        self,
-        bearing_angle: Any,
-        journal_angle: Any = 0.0,
-        *,
-        interpolation: Interpolation = "region",
-    ) -> Any:
+    def wear_depth_slope(self, angle: Any, *, surface: Surface = "bearing") -> Any:
+        """Angular derivative dh/dφ (m/rad) of :meth:`wear_depth` at angle(s) (rad)."""
+        depth = self._depth(surface)
+        a = _angles(angle, "angle")
+        out = np.vectorize(lambda x: wk.surface_slope(depth, x), otypes=[np.float64])(a)
+        return _scalar_or_array(out)
+
+    def local_clearance(self, bearing_angle: Any, journal_angle: Any = 0.0) -> Any:
         """Local radial clearance c₀ + h_b(φ_b) + h_j(φ_j) (m) at contact angles (rad).
 
         Examples
@@ -315,12 +312,11 @@ class WornProfile:
         >>> round(p.with_depth(bearing_depth=hb).local_clearance(np.radians(90.5)), 9)
         0.00021
         """
-        code = interpolation_code(interpolation)
         b = _angles(bearing_angle, "bearing_angle")
         j = _angles(journal_angle, "journal_angle")
         c0, hb, hj = self.clearance, self.bearing_depth, self.journal_depth
         out = np.vectorize(
-            lambda x, y: wk.local_clearance(c0, hb, hj, x, y, code), otypes=[np.float64]
+            lambda x, y: wk.local_clearance(c0, hb, hj, x, y), otypes=[np.float64]
         )(b, j)
         return _scalar_or_array(out)
 
@@ -360,22 +356,21 @@ class WornProfile:
         *,
         form: StiffnessForm = "sum-of-radii",
         radius_ratio_limit: float = DEFAULT_RADIUS_RATIO_LIMIT,
-        interpolation: Interpolation = "region",
     ) -> Any:
         """Local R* (m) from the smoothed local curvatures of bearing and journal.
 
         1/R* = κ_j − κ_b (``"conformal"``) or κ_j + κ_b (``"sum-of-radii"``), bounded within a
-        factor ``radius_ratio_limit`` of the unworn R*.
+        factor ``radius_ratio_limit`` of the unworn R*; the region-centre curvatures are
+        interpolated by the same monotone cubic as the depth.
         """
         code = form_code(form)
         limit = self._ratio_limit(radius_ratio_limit)
-        icode = interpolation_code(interpolation)
         b = _angles(bearing_angle, "bearing_angle")
         j = _angles(journal_angle, "journal_angle")
         args = (self.bearing_radius, self.journal_radius, self.bearing_depth, self.journal_depth)
         s = self.smoothing_regions
         out = np.vectorize(
-            lambda x, y: wk.local_effective_radius(code, *args, x, y, s, limit, icode),
+            lambda x, y: wk.local_effective_radius(code, *args, x, y, s, limit),
             otypes=[np.float64],
         )(b, j)
         return _scalar_or_array(out)
@@ -388,7 +383,6 @@ class WornProfile:
         effective_modulus: float,
         form: StiffnessForm = "sum-of-radii",
         radius_ratio_limit: float = DEFAULT_RADIUS_RATIO_LIMIT,
-        interpolation: Interpolation = "region",
     ) -> Any:
         """Local stiffness K_n = (4/3) E* √R*_n (N m^-1.5) at contact angles (rad).
 
@@ -407,7 +401,6 @@ class WornProfile:
                 journal_angle,
                 form=form,
                 radius_ratio_limit=radius_ratio_limit,
-                interpolation=interpolation,
             )
         )
         return _scalar_or_array(4.0 / 3.0 * e_star * np.sqrt(r_star))
