@@ -596,12 +596,13 @@ def combine(
         both_positive
         and surrogates_rejected is True
         and lines in ("broadband", "unresolved")
-        and section not in ("clusters", "closed-curve")
+        # a regular-looking section does not count against a broadband spectrum either
+        and (section not in ("clusters", "closed-curve") or broadband_decides)
         and (section == "scattered" or (lines == "broadband" and long_enough))
     ):
         label = "chaotic"
-        agree = "both exponents are" if kantz_positive is None else (
-            "two of the three exponents are"
+        agree = (
+            "both exponents are" if kantz_positive is None else ("two of the three exponents are")
         )
         reason = (
             f"{agree} clearly positive, the data are more predictable than their "
@@ -703,9 +704,10 @@ def _needs_referee(
     if lines is None or lines.kind not in ("broadband", "unresolved"):
         return False
     section = "none" if structure is None else structure.kind
-    if section in ("clusters", "closed-curve"):
+    broadband_decides = lines.kind == "broadband" and long_enough
+    if section in ("clusters", "closed-curve") and not broadband_decides:
         return False
-    return section == "scattered" or (lines.kind == "broadband" and long_enough)
+    return section == "scattered" or broadband_decides
 
 
 def _any_rejected(*tests: SurrogateResult | None) -> bool | None:
@@ -835,8 +837,9 @@ def classify(
 
     **Confidence** is the fraction of the pieces of evidence that could have decided
     (present and not neutral: line spectrum, section, each exponent — the referee's when
-    it ran —, 0–1 test, surrogate test) that agree with the label (``Verdict.votes``): e.g. for *periodic*, an exponent
-    that is not clearly positive and :math:`K \le 0.2` agree, a clearly positive exponent
+    it ran —, 0–1 test, surrogate test) that agree with the label (``Verdict.votes``):
+    e.g. for *periodic*, an exponent that is not clearly positive and :math:`K \le 0.2`
+    agree, a clearly positive exponent
     disagrees; the surrogate test is neutral for regular labels, the exponents for
     *noise-like*, a section with fewer than 20 points always, and a three-frequency
     torus's scattered section for *quasi-periodic*.
@@ -1032,9 +1035,7 @@ def classify(
     n_cycles, unit = _cycles(inp, x.size, time_scale)
     kantz = None
     kantz_positive = None
-    if _needs_referee(
-        positives, structure, lines, surrogates, n_cycles >= rule.min_cycles
-    ):
+    if _needs_referee(positives, structure, lines, surrogates, n_cycles >= rule.min_cycles):
         try:
             kantz = lyapunov_kantz(x, embedding_dim=embedding_dim, lag=lag, dt=inp.dt)
             kantz_positive = _positive(kantz, time_scale, rule)

@@ -233,6 +233,14 @@ def test_a_broadband_spectrum_outweighs_a_regular_looking_section() -> None:
         assert out == "undetermined"
         assert needs[0] == (f"a longer series: the section looks regular ({kind}) but the "
                             "spectrum is not lines")  # fmt: skip
+        # ... nor against chaos, when two exponents and the surrogate test say chaotic;
+        # the section's vote lowers the confidence
+        label, _, conf, _, votes, _ = combine(
+            structure=_structure(kind, 1),
+            lines="broadband",
+            **{**args, "rosenstein_positive": True},
+        )
+        assert label == "chaotic" and votes["section"] == "opposes" and conf < 1.0
 
 
 def impact_orbit(n_periods: int, *, spp: int = 100, period: int = 1, seed: int = 0) -> np.ndarray:
