@@ -45,7 +45,8 @@ REGULAR = ("periodic", "quasi-periodic", "equilibrium")
 FIELDS = [
     "name", "family", "n", "truth", "true_period", "decidable", "status", "label", "period",
     "confidence", "correct", "lines", "section", "needs", "reason", "n_cycles", "lag",
-    "embedding_dim", "noise_level", "rosenstein_growth", "wolf_growth", "zero_one_k",
+    "embedding_dim", "noise_level", "rosenstein_growth", "wolf_growth", "kantz_growth",
+    "zero_one_k",
     "surrogate_p", "surrogate_effect", "build_s", "classify_s", "classify_cpu_s",
 ]  # fmt: skip
 
@@ -144,6 +145,7 @@ def _evidence(v: Any) -> dict[str, Any]:
         "noise_level": round(float(v.noise_level), 4),
         "rosenstein_growth": growth(v.rosenstein),
         "wolf_growth": growth(v.wolf),
+        "kantz_growth": growth(v.kantz),  # the referee, when it ran
         "zero_one_k": "" if v.zero_one is None else round(float(v.zero_one.k), 3),
         "surrogate_p": "" if s is None else round(float(s.p_value), 3),
         "surrogate_effect": "" if s is None else round(float(s.effect), 4),

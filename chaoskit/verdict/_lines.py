@@ -520,8 +520,10 @@ def line_spectrum(
         # impact orbit has harmonics up to the Nyquist frequency, more than lines can be
         # extracted). The whole series is folded: it is cheap and sees more repeats.
         per = samples_per_drive_period(drive_period, dt, x_all.size)
-        found = None if per is None else _drive_recurrence(
-            x_all - float(np.mean(x_all)), per, max_period, max_residual
+        found = (
+            None
+            if per is None
+            else _drive_recurrence(x_all - float(np.mean(x_all)), per, max_period, max_residual)
         )
         if found is not None:
             k, frac, p = found

@@ -24,7 +24,7 @@ from .._validate import (
     extreme_peak_exponent,
 )
 from ..embedding import estimate_delay, estimate_embedding_dim
-from ..lyapunov import lyapunov_rosenstein, lyapunov_wolf
+from ..lyapunov import lyapunov_kantz, lyapunov_rosenstein, lyapunov_wolf
 from ..sections import poincare_section, stroboscopic_map
 from ._clusters import SectionStructure, section_structure
 from ._lines import LineSpectrum, line_spectrum
@@ -161,9 +161,14 @@ class Verdict:
         maps).
     rosenstein_positive, wolf_positive
         Whether each MLE is clearly positive (None if missing).
-    delay, dimension, rosenstein, wolf, structure, section, zero_one, surrogates, lines
+    kantz_positive
+        Whether Kantz's exponent, the referee computed only when exactly one of the two
+        others is clearly positive and everything else a chaotic label needs holds, is
+        clearly positive (None when it was not computed or failed).
+    delay, dimension, rosenstein, wolf, kantz, structure, section, zero_one, surrogates, lines
         The evidence itself: :class:`~chaoskit.DelayResult`,
-        :class:`~chaoskit.DimensionResult`, two :class:`~chaoskit.LyapunovResult`, the
+        :class:`~chaoskit.DimensionResult`, two :class:`~chaoskit.LyapunovResult` (and
+        the :class:`~chaoskit.KantzResult` when the referee ran), the
         :class:`SectionStructure` of the section points in ``section`` (a Dataset along
         ``crossing``), :class:`ZeroOneResult`, :class:`SurrogateResult` and the
         recurrence / line-spectrum analysis (``lines.kind``: ``"periodic"``,
@@ -197,11 +202,13 @@ class Verdict:
     noise_level: float = float("nan")
     rosenstein_positive: bool | None = None
     wolf_positive: bool | None = None
+    kantz_positive: bool | None = None
     # The evidence objects carry curves and point sets: kept out of the repr.
     delay: Any = field(default=None, repr=False)
     dimension: Any = field(default=None, repr=False)
     rosenstein: Any = field(default=None, repr=False)
     wolf: Any = field(default=None, repr=False)
+    kantz: Any = field(default=None, repr=False)
     structure: SectionStructure | None = field(default=None, repr=False)
     section: xr.Dataset | None = field(default=None, repr=False)
     zero_one: ZeroOneResult | None = field(default=None, repr=False)
@@ -533,6 +540,7 @@ def combine(
     n_cycles: float = float("inf"),
     cycle_unit: str = "characteristic times",
     low_dim_rejected: bool | None = None,
+    kantz_positive: bool | None = None,
 ) -> tuple[Label, int | None, float, str, dict[str, Vote], tuple[str, ...]]:
     """Apply the rule of :func:`classify` to the evidence.
 
@@ -540,10 +548,15 @@ def combine(
     ``lines_period`` its period, ``lines_bases`` its number of base frequencies,
     ``n_cycles`` the characteristic times the series spans
     (``cycle_unit`` names them), ``low_dim_rejected`` whether a surrogate test repeated
-    in a few delay coordinates, a delay or one sample ahead, rejected (None: none ran).
+    in a few delay coordinates, a delay or one sample ahead, rejected (None: none ran),
+    ``kantz_positive`` whether the referee exponent is clearly positive (None: not run).
     Returns label, period, confidence, reason, votes and needs.
     """
-    both_positive = rosenstein_positive is True and wolf_positive is True
+    exponents = {"Rosenstein": rosenstein_positive, "Wolf": wolf_positive}
+    if kantz_positive is not None:
+        exponents["Kantz"] = kantz_positive
+    # two estimators must agree on a clearly positive exponent
+    both_positive = sum(pos is True for pos in exponents.values()) >= 2
     long_enough = n_cycles >= rule.min_cycles
     section = "none" if structure is None else structure.kind
     # a spectrum that is not lines, over enough cycles, outweighs a regular-looking section
@@ -583,12 +596,16 @@ def combine(
         both_positive
         and surrogates_rejected is True
         and lines in ("broadband", "unresolved")
-        and section not in ("clusters", "closed-curve")
+        # a regular-looking section does not count against a broadband spectrum either
+        and (section not in ("clusters", "closed-curve") or broadband_decides)
         and (section == "scattered" or (lines == "broadband" and long_enough))
     ):
         label = "chaotic"
+        agree = (
+            "both exponents are" if kantz_positive is None else ("two of the three exponents are")
+        )
         reason = (
-            "both exponents are clearly positive, the data are more predictable than their "
+            f"{agree} clearly positive, the data are more predictable than their "
             "IAAFT surrogates, and neither the spectrum nor the section is regular"
         )
     else:
@@ -626,7 +643,7 @@ def combine(
                     "noise nor determinism is shown"
                 )
             elif surrogates_rejected is not False:
-                for name, pos in (("Rosenstein", rosenstein_positive), ("Wolf", wolf_positive)):
+                for name, pos in exponents.items():
                     if pos is False:
                         needs.append(
                             f"a clearly positive {name} exponent (λ₁T ≥ {rule.min_growth:g}, "
@@ -651,7 +668,11 @@ def combine(
         label,
         structure=structure,
         lines=lines,
-        positives={"rosenstein": rosenstein_positive, "wolf": wolf_positive},
+        positives={
+            "rosenstein": rosenstein_positive,
+            "wolf": wolf_positive,
+            **({} if kantz_positive is None else {"kantz": kantz_positive}),
+        },
         k=zero_one_k,
         rejected=surrogates_rejected,
         long_enough=long_enough,
@@ -664,6 +685,29 @@ def combine(
         counted = [v for v in votes.values() if v in ("supports", "opposes")]
         confidence = sum(v == "supports" for v in counted) / len(counted) if counted else 0.0
     return label, period, confidence, reason, votes, tuple(needs)
+
+
+def _needs_referee(
+    positives: dict[str, bool | None],
+    structure: SectionStructure | None,
+    lines: LineSpectrum | None,
+    surrogates: SurrogateResult | None,
+    long_enough: bool,
+) -> bool:
+    """Whether Kantz's exponent can decide: exactly one of Rosenstein's and Wolf's is
+    clearly positive while everything else a chaotic label needs holds (determinism beyond
+    linear noise, a spectrum that is not lines, regular motion ruled out)."""
+    if sum(pos is True for pos in positives.values()) != 1:
+        return False
+    if surrogates is None or not surrogates.rejected:
+        return False
+    if lines is None or lines.kind not in ("broadband", "unresolved"):
+        return False
+    section = "none" if structure is None else structure.kind
+    broadband_decides = lines.kind == "broadband" and long_enough
+    if section in ("clusters", "closed-curve") and not broadband_decides:
+        return False
+    return section == "scattered" or broadband_decides
 
 
 def _any_rejected(*tests: SurrogateResult | None) -> bool | None:
@@ -778,9 +822,10 @@ def classify(
       three delay coordinates, nor in three coordinates one sample ahead (a flow whose
       orbits separate within one delay is unpredictable a delay ahead, data and
       surrogates alike);
-    * else *chaotic* if both exponents are clearly positive, the surrogate test rejects,
-      the spectrum is broadband or unresolved, and regular motion is ruled out by a
-      scattered section or by a broadband spectrum over at least ``rule.min_cycles``
+    * else *chaotic* if two exponent estimates are clearly positive — Rosenstein's and
+      Wolf's, or, when exactly one of them is, Kantz's as referee —, the surrogate test
+      rejects, the spectrum is broadband or unresolved, and regular motion is ruled out by
+      a scattered section or by a broadband spectrum over at least ``rule.min_cycles``
       characteristic times;
     * else *undetermined*, and ``Verdict.needs`` says what would decide: more drive
       periods or oscillations, more section points, a clearly positive exponent, an
@@ -791,9 +836,10 @@ def classify(
     consistent with chaos and with noise alike, and enters the confidence only.
 
     **Confidence** is the fraction of the pieces of evidence that could have decided
-    (present and not neutral: line spectrum, section, each exponent, 0–1 test, surrogate
-    test) that agree with the label (``Verdict.votes``): e.g. for *periodic*, an exponent
-    that is not clearly positive and :math:`K \le 0.2` agree, a clearly positive exponent
+    (present and not neutral: line spectrum, section, each exponent — the referee's when
+    it ran —, 0–1 test, surrogate test) that agree with the label (``Verdict.votes``):
+    e.g. for *periodic*, an exponent that is not clearly positive and :math:`K \le 0.2`
+    agree, a clearly positive exponent
     disagrees; the surrogate test is neutral for regular labels, the exponents for
     *noise-like*, a section with fewer than 20 points always, and a three-frequency
     torus's scattered section for *quasi-periodic*.
@@ -987,6 +1033,14 @@ def classify(
     except (ValueError, np.linalg.LinAlgError) as exc:
         errors["lines"] = _describe(exc)
     n_cycles, unit = _cycles(inp, x.size, time_scale)
+    kantz = None
+    kantz_positive = None
+    if _needs_referee(positives, structure, lines, surrogates, n_cycles >= rule.min_cycles):
+        try:
+            kantz = lyapunov_kantz(x, embedding_dim=embedding_dim, lag=lag, dt=inp.dt)
+            kantz_positive = _positive(kantz, time_scale, rule)
+        except Exception as exc:  # failure is data, as for the other two
+            errors["kantz"] = _describe(exc)
     label, period, confidence, reason, votes, needs = combine(
         structure=structure,
         rosenstein_positive=positives["rosenstein"],
@@ -1000,6 +1054,7 @@ def classify(
         n_cycles=n_cycles,
         cycle_unit=unit,
         low_dim_rejected=_any_rejected(low_dim, one_step),
+        kantz_positive=kantz_positive,
     )
     return Verdict(
         label=label,
@@ -1018,10 +1073,12 @@ def classify(
         noise_level=float(noise),
         rosenstein_positive=positives["rosenstein"],
         wolf_positive=positives["wolf"],
+        kantz_positive=kantz_positive,
         delay=delay,
         dimension=dimension,
         rosenstein=lyap["rosenstein"],
         wolf=lyap["wolf"],
+        kantz=kantz,
         structure=structure,
         section=section,
         zero_one=zero_one,

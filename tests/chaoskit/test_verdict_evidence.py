@@ -233,6 +233,14 @@ def test_a_broadband_spectrum_outweighs_a_regular_looking_section() -> None:
         assert out == "undetermined"
         assert needs[0] == (f"a longer series: the section looks regular ({kind}) but the "
                             "spectrum is not lines")  # fmt: skip
+        # ... nor against chaos, when two exponents and the surrogate test say chaotic;
+        # the section's vote lowers the confidence
+        label, _, conf, _, votes, _ = combine(
+            structure=_structure(kind, 1),
+            lines="broadband",
+            **{**args, "rosenstein_positive": True},
+        )
+        assert label == "chaotic" and votes["section"] == "opposes" and conf < 1.0
 
 
 def impact_orbit(n_periods: int, *, spp: int = 100, period: int = 1, seed: int = 0) -> np.ndarray:
@@ -285,3 +293,43 @@ def test_a_chaotic_forced_flow_does_not_fold() -> None:
     dt = float(ds["time"][1] - ds["time"][0])
     res = line_spectrum(x, dt=dt, drive_period=DRIVE, fold=False)
     assert res.method != "drive recurrence" and res.kind != "periodic"
+
+
+def test_kantz_referees_when_only_one_exponent_is_clearly_positive() -> None:
+    args = {"zero_one_k": 1.0, "surrogates_rejected": True, "rule": RULE,
+            "structure": _structure("scattered"), "lines": "broadband"}  # fmt: skip
+    one = {"rosenstein_positive": True, "wolf_positive": False}
+    # without the referee one exponent is not enough
+    label, *_, needs = combine(**one, **args)
+    assert label == "undetermined" and any("Wolf" in n for n in needs)
+    # the referee agreeing makes two: chaotic, and its vote counts
+    label, _, conf, reason, votes, _ = combine(**one, kantz_positive=True, **args)
+    assert label == "chaotic" and reason.startswith("two of the three exponents")
+    assert votes["kantz"] == "supports" and votes["wolf"] == "opposes"
+    assert conf == pytest.approx(6 / 7)  # all but Wolf of: lines, section, 3 exponents, 0–1, surr.
+    # the referee disagreeing: undetermined, and both shortfalls are named
+    label, *_, needs = combine(**one, kantz_positive=False, **args)
+    assert label == "undetermined"
+    assert any("Wolf" in n for n in needs) and any("Kantz" in n for n in needs)
+
+
+def test_a_noisy_chaotic_map_is_decided_by_the_referee() -> None:
+    """The logistic map at r = 3.9 with white noise at 20 dB SNR (N = 2000): Wolf's
+    exponent is clearly positive, Rosenstein's is not (noise flattens its divergence curve
+    at small separations), Kantz's averages over ε-neighbourhoods above the noise level and
+    is: the verdict is chaotic (it was undetermined with Rosenstein alone as the second)."""
+    x = systems.logistic(2000, r=3.9, discard=5000)
+    x = x + np.std(x) * 10 ** (-20 / 20) * np.random.default_rng(7).standard_normal(x.size)
+    v = classify(x, rng=1)
+    assert v.rosenstein_positive is False and v.wolf_positive is True
+    assert v.kantz_positive is True and v.kantz is not None
+    assert v.label == "chaotic"
+    # the Lyapunov exponent of the logistic map at r = 3.9 is 0.49 per iteration
+    assert 0.3 < v.kantz.mle < 0.7
+
+
+def test_the_referee_is_not_run_when_it_cannot_decide() -> None:
+    v = classify(systems.logistic(2000, r=3.9, discard=5000), rng=1)  # both agree
+    assert v.label == "chaotic" and v.kantz is None and "kantz" not in v.votes
+    v = classify(np.random.default_rng(2).standard_normal(2000), rng=1)  # noise
+    assert v.kantz is None

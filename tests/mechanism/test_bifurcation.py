@@ -120,8 +120,9 @@ def test_a_regular_orbit_is_one_point_at_the_diagram_tolerance(tmp_path) -> None
               "discard": 8, "client": "serial"}  # fmt: skip
     tight = mechanism.bifurcation(scene, store=tmp_path / "tight", **common)
     loose = mechanism.bifurcation(scene, store=tmp_path / "loose", rtol=None, atol=None, **common)
-    spread = {k: float(np.ptp(d.eccentricity.values)) for k, d in (("tight", tight),
-                                                                   ("loose", loose))}
+    spread = {
+        k: float(np.ptp(d.eccentricity.values)) for k, d in (("tight", tight), ("loose", loose))
+    }
     assert spread["tight"] < 1e-10  # m: one point
     assert spread["loose"] > 1e-9  # integration scatter at the scene's tolerance
     with pytest.raises(ValueError, match="rtol"):
