@@ -76,8 +76,6 @@ from mechanism.core.model._kernels import (
     update_latch,
 )
 
-from ._deviation_kernels import deviation_norm, project_tangent
-
 __all__ = [
     "STATUS_MAX_STEPS",
     "STATUS_NONFINITE",
@@ -200,7 +198,7 @@ class Deviation(NamedTuple):
     state, solving its own implicit equation with the reference's Newton matrix
     (:func:`_deviation_step`); the contact state is the reference's, each copy keeps its
     own impact-velocity latch (:func:`_deviation_latch`); every ``every`` accepted steps
-    and at the end of every chunk the deviation is projected, measured and rescaled
+    and at the end of every chunk the deviation is measured and rescaled
     (:func:`_deviation_renormalize`)."""
 
     d: np.ndarray  # (2n,) [δq; δq̇]
@@ -210,7 +208,6 @@ class Deviation(NamedTuple):
     growth: np.ndarray  # float64[DEV_COLUMNS]
     counters: np.ndarray  # int64[CNT_COLUMNS]: the deviation's evaluations
     ws: Any  # workspace of the deviation's evaluations (the reference's is left alone)
-    ws2: Any  # second workspace (the projection's finite difference)
     f0: np.ndarray  # (n,) q̈ at the reference's accepted state (scratch from here on)
     f1: np.ndarray  # (n,)
     fel: np.ndarray  # (n,) −(elastic + damping forces) of the beams at the reference state
@@ -1302,28 +1299,34 @@ def _deviation_latch(model, dev, y, contact):
         dev.vimp[j] = ddot if ddot > floor else floor
 
 
-@njit(cache=True, error_model="numpy")
-def _deviation_renormalize(model, dev, t, y):
-    """Project the deviation onto the constraints' tangent space at the reference state
-    ``y``, add ln(|d|/size) to the growth and rescale to ``dev.size``. The acceleration
-    and pseudo-acceleration deviations move with the projection by the change of the
-    copy's q̈ it makes (δq̈ = a(y + d) − a(y) with a(y) = ``dev.f0`` of the step), and are
-    rescaled with d. Returns a status."""
+@njit_noalloc()
+def deviation_size(model, d, tau2, inv_mass):
+    """√((δqᵀMδq + τ² δq̇ᵀMδq̇)/m_total) (m): the norm of the rigid tangent integration
+    (``_tangent_kernels.deviation_norm``, tested equal) for the generalized-α one."""
+    n = model.n_dof
+    s = 0.0
+    for i in range(n):
+        xq = 0.0
+        xv = 0.0
+        for j in range(model.blk_lo[i], model.blk_hi[i]):
+            xq += model.mass[i, j] * d[j]
+            xv += model.mass[i, j] * d[n + j]
+        s += d[i] * xq + tau2 * d[n + i] * xv
+    return math.sqrt(max(s, 0.0) * inv_mass)
+
+
+@njit_noalloc()
+def _deviation_renormalize(model, dev, t):
+    """Add ln(|d|/size) to the growth and rescale the deviation — (δq, δq̇), and with them
+    δq̈ and the pseudo-accelerations' deviation, so the copy stays a consistent
+    generalized-α state — to ``dev.size``. Unlike the rigid case the deviation is not
+    projected onto the constraints' tangent space: a mass-orthogonal correction moves
+    the rods' end nodes against their interior nodes and excites the stiff axial modes
+    (docs/mechanism-lyapunov.md §1). Returns a status."""
     n = model.n_dof
     d = dev.d
-    dacc = dev.dacc
-    dapse = dev.dapse
     growth = dev.growth
-    if not project_tangent(model, dev.ws, dev.ws2, t, y, d, dev.scratch):
-        return STATUS_SINGULAR
-    st = _copy_accelerations(model, dev, t, y[:n], y[n:], d[:n], d[n:], dev.vimp, dev.f1)
-    if st != STATUS_OK:
-        return st
-    for i in range(n):
-        shift = dev.f1[i] - dev.f0[i] - dacc[i]
-        dacc[i] += shift
-        dapse[i] += shift
-    size = deviation_norm(model, d, dev.tau2, dev.inv_mass)
+    size = deviation_size(model, d, dev.tau2, dev.inv_mass)
     if not (size > 0.0 and math.isfinite(size)):
         return STATUS_NONFINITE
     growth[DEV_LOG] += math.log(size / dev.size)
@@ -1334,8 +1337,8 @@ def _deviation_renormalize(model, dev, t, y):
     for i in range(2 * n):
         d[i] *= f
     for i in range(n):
-        dacc[i] *= f
-        dapse[i] *= f
+        dev.dacc[i] *= f
+        dev.dapse[i] *= f
     return STATUS_OK
 
 
@@ -1714,7 +1717,7 @@ def genalpha_advance(model, ws, loop, out, ctl, jac, t_stop, dev):
             _deviation_latch(model, dev, y, contact)
             dev.growth[DEV_SINCE] += 1.0
             if dev.growth[DEV_SINCE] >= dev.every or t >= t_stop or t >= t_end:
-                dst = _deviation_renormalize(model, dev, t, y)
+                dst = _deviation_renormalize(model, dev, t)
                 if dst != STATUS_OK:
                     status = STATUS_NONFINITE
                     break

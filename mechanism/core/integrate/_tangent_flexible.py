@@ -94,14 +94,14 @@ def integrate_tangent_flexible(
     d = np.ascontiguousarray(d0, dtype=np.float64).copy()
     tau2 = float(time_scale) ** 2
     inv_mass = _inv_mass(model)
-    size = float(ik.deviation_norm(km, d, tau2, inv_mass))
+    size = float(ik.deviation_size(km, d, tau2, inv_mass))
     counters_d = np.zeros(k.CNT_COLUMNS, dtype=np.int64)
     vimp, _ = _initial_latch(model, y)
     t0 = float(stops[0])
     dev = ik.Deviation(
         d=d, dacc=np.zeros(n), dapse=np.zeros(n), vimp=vimp.copy(),
         growth=np.zeros(ik.DEV_COLUMNS), counters=counters_d, ws=model.workspace(),
-        ws2=model.workspace(), f0=np.zeros(n), f1=np.zeros(n), fel=np.zeros(n),
+        f0=np.zeros(n), f1=np.zeros(n), fel=np.zeros(n),
         dx=np.zeros(n), res=np.zeros(n), dqn=np.zeros(n), dvn=np.zeros(n),
         yp=np.zeros(2 * n), scratch=np.zeros(2 * n), size=size, tau2=tau2,
         inv_mass=inv_mass, every=int(renormalize_every), tol=float(newton_tolerance),
