@@ -101,7 +101,7 @@ def _paper_reference(t_end: float, perturbation: float = 1e-9):
 
 
 def test_reference_takes_the_steps_of_simulate() -> None:
-    """The flexible paper scene over 1/20 revolution (1 250 steps, impacts and friction
+    """The flexible paper scene over 1/20 revolution (500 steps, impacts and friction
     included): the reference's steps, rejections, Newton iterations and Jacobians are
     ``simulate``'s, and it ends in the same state."""
     t_end = 0.02

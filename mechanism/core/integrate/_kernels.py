@@ -230,14 +230,15 @@ DEV_COUNT = 1  # renormalisations done
 DEV_LAST_T = 2  # time of the last renormalisation
 DEV_SINCE = 3  # accepted steps since the last renormalisation
 DEV_NEWTON = 4  # Newton iterations of the copy
-DEV_UNCONVERGED = 5  # steps whose copy did not meet its Newton test in max_newton
+DEV_UNCONVERGED = 5  # steps whose copy ended max_newton iterations above DEV_FLOOR
 DEV_COLUMNS = 6
 #: the beams' forces of the perturbed copy are differenced along its deviation at this
 #: largest coordinate change (m): the axial stiffness turns an ulp of a slope into a force
 #: far above the deviation's own (docs/mechanism-lyapunov.md §1)
 DEV_REACH = 1e-7
 #: a copy's Newton iteration that stops converging (at the round-off of its
-#: coordinates) above this share of the deviation's size counts as unconverged
+#: coordinates) below this share of the deviation's size has converged; one that ends
+#: its iterations above it counts as unconverged
 DEV_FLOOR = 1e-3
 
 
@@ -1228,6 +1229,7 @@ def _deviation_step(model, dev, t, h, qn, vn, vimp, am, af, gm, bt, cq, cvv, jm,
         dx[i] = dacc[i]
     converged = False
     prev = np.inf
+    conv = np.inf
     for _ in range(dev.max_newton):
         for i in range(n):
             da = c0 * dx[i] + c1 * dacc[i] + c2 * dapse[i]
@@ -1263,7 +1265,7 @@ def _deviation_step(model, dev, t, h, qn, vn, vimp, am, af, gm, bt, cq, cvv, jm,
             converged = True
             break
         prev = conv
-    if not converged:
+    if not converged and conv > DEV_FLOOR:
         growth[DEV_UNCONVERGED] += 1.0
     for i in range(n):
         da = c0 * dx[i] + c1 * dacc[i] + c2 * dapse[i]

@@ -53,7 +53,8 @@ class TangentIntegration:
     final_state, final_deviation : numpy.ndarray
     newton_iterations, unconverged_steps : int
         Generalized-α only: the perturbed copy's Newton iterations, and the steps whose
-        copy did not meet its Newton test (0 for Dormand–Prince).
+        copy ended its iterations with an update above 1e-3 of the deviation's size (0
+        for Dormand–Prince).
     """
 
     t: np.ndarray

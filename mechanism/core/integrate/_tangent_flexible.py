@@ -30,10 +30,12 @@ if TYPE_CHECKING:
 __all__ = ["integrate_tangent_flexible"]
 
 #: the copy's Newton iteration stops when its update is below this share of the
-#: deviation's size (one part in a million per step: a bias far below 1 % of the
-#: exponent over the ten thousand steps of a drive period)
+#: deviation's size (0.01 nats per drive period of ten thousand steps even if every
+#: error had one sign), or earlier at the round-off of the copy's coordinates
+#: (``_kernels.DEV_FLOOR``)
 NEWTON_TOLERANCE = 1e-6
-#: Newton iterations of the copy per step before the step is counted as unconverged
+#: Newton iterations of the copy per step; a step that ends them with an update above
+#: ``_kernels.DEV_FLOOR`` of the deviation's size is counted as unconverged
 MAX_NEWTON = 12
 
 
