@@ -232,6 +232,7 @@ DEV_SINCE = 3  # accepted steps since the last renormalisation
 DEV_NEWTON = 4  # Newton iterations of the copy
 DEV_UNCONVERGED = 5  # steps whose copy ended max_newton iterations above DEV_FLOOR
 DEV_COLUMNS = 6
+DEV_DEPTH = 5  # iterates the copy's Newton mixes (Anderson acceleration)
 #: the beams' forces of the perturbed copy are differenced along its deviation at this
 #: largest coordinate change (m): the axial stiffness turns an ulp of a slope into a force
 #: far above the deviation's own (docs/mechanism-lyapunov.md §1)
@@ -1184,8 +1185,8 @@ def _copy_accelerations(model, dev, t, q, v, dq, dv, vimp, acc):
 
 
 @njit(cache=True, error_model="numpy")
-def _deviation_step(model, dev, t, h, qn, vn, vimp, am, af, gm, bt, cq, cvv, jm, piv, smw, cc,
-                    zb, delta, sm, spiv, wv):  # fmt: skip
+def _deviation_step(model, dev, t, h, qn, vn, vimp, am, af, gm, bt, cq, cvv, jm, piv, cc, zb,
+                    dq0, dv0, base_contact, cs, sm, spiv, wv):  # fmt: skip
     """Advance the deviation ``dev`` over the step of size ``h`` the reference just
     accepted, ending at time ``t`` in the state (``qn``, ``vn``).
 
@@ -1198,8 +1199,12 @@ def _deviation_step(model, dev, t, h, qn, vn, vimp, am, af, gm, bt, cq, cvv, jm,
     the pseudo-accelerations' deviation. The difference form shares the reference's own
     Newton residual (its iterate solves its equation only to the tolerance, far more than
     the deviation's size) with the copy. Newton with the reference's iteration matrix
-    (``jm``, and its contact correction when ``smw``) from the last step's δq̈, until the
-    update is below ``dev.tol`` of the deviation's size. Returns a status.
+    (the LU factors ``jm`` at h, frozen at the Jacobian's state) whose clearance-contact
+    columns are re-linearised at the accepted state (the Sherman–Morrison–Woodbury
+    correction of the reference's loop; the reference's own last linearisation may lie
+    before its last update, on the other side of a friction ramp whose slope is a
+    damper of 1e8 1/s), from the last step's δq̈, until the update is below ``dev.tol``
+    of the deviation's size. Returns a status.
     """
     n = qn.shape[0]
     d = dev.d
@@ -1225,12 +1230,33 @@ def _deviation_step(model, dev, t, h, qn, vn, vimp, am, af, gm, bt, cq, cvv, jm,
     st = _copy_accelerations(model, dev, t, qn, vn, dqn, dqn, vimp, f0)
     if st != STATUS_OK:
         return st
+    nc = cc.shape[0]
+    smw = False
+    delta = np.zeros((nc, nc))
+    if nc > 0:
+        dqc = np.zeros((nc, nc))
+        dvc = np.zeros((nc, nc))
+        gtc = np.zeros((dev.vimp.shape[0], nc))
+        touching = _contact_derivatives(model, dev.ws, qn, vn, vimp, cc, dqc, dvc, gtc, cs)
+        smw = touching or base_contact
+        if smw:
+            for a in range(nc):
+                for b in range(nc):
+                    delta[a, b] = -cq * (dqc[a, b] - dq0[a, b]) - cvv * (dvc[a, b] - dv0[a, b])
     for i in range(n):
         dx[i] = dacc[i]
     converged = False
     prev = np.inf
     conv = np.inf
-    for _ in range(dev.max_newton):
+    # Anderson mixing of the last DEV_DEPTH iterates: the frozen matrix contracts some
+    # directions slowly (the reference tolerates a contraction up to 0.9), which the
+    # copy, held to 1e-6 of its size, cannot; mixing removes a few such directions
+    hx = np.zeros((DEV_DEPTH, n))
+    hf = np.zeros((DEV_DEPTH, n))
+    xprev = np.zeros(n)
+    fprev = np.zeros(n)
+    stored = 0
+    for it in range(dev.max_newton):
         for i in range(n):
             da = c0 * dx[i] + c1 * dacc[i] + c2 * dapse[i]
             dqn[i] = d[i] + h * d[n + i] + h * h * ((0.5 - bt) * dapse[i] + bt * da)
@@ -1250,21 +1276,58 @@ def _deviation_step(model, dev, t, h, qn, vn, vimp, am, af, gm, bt, cq, cvv, jm,
         for i in range(n):
             num += (cq * r[i]) ** 2 + tau2 * (cvv * r[i]) ** 2
             den += dqn[i] ** 2 + tau2 * dvn[i] ** 2
-            dx[i] += r[i]
         growth[DEV_NEWTON] += 1.0
         if not math.isfinite(num):
             return STATUS_NONFINITE
         conv = math.sqrt(num / den) if den > 0.0 else 0.0
-        if conv <= dev.tol:
-            converged = True
-            break
         # the copy's coordinates carry the round-off of the reference's (an ulp of q
         # against a deviation of 1e-13 m), so its equation holds only to about 1e-6 of
         # the deviation: an update below DEV_FLOOR that no longer halves has reached it
-        if conv <= DEV_FLOOR and conv >= 0.5 * prev:
+        if conv <= dev.tol or (conv <= DEV_FLOOR and conv >= 0.5 * prev):
+            for i in range(n):
+                dx[i] += r[i]
             converged = True
             break
         prev = conv
+        if it > 0:
+            slot = (it - 1) % DEV_DEPTH
+            for i in range(n):
+                hx[slot, i] = dx[i] - xprev[i]
+                hf[slot, i] = r[i] - fprev[i]
+            stored = min(stored + 1, DEV_DEPTH)
+        for i in range(n):
+            xprev[i] = dx[i]
+            fprev[i] = r[i]
+        mixed = False
+        if stored > 0:
+            a = np.zeros((stored, stored))
+            g = np.zeros(stored)
+            apiv = np.zeros(stored, dtype=np.int64)
+            trace = 0.0
+            for u in range(stored):
+                for w in range(stored):
+                    acc = 0.0
+                    for i in range(n):
+                        acc += hf[u, i] * hf[w, i]
+                    a[u, w] = acc
+                acc = 0.0
+                for i in range(n):
+                    acc += hf[u, i] * r[i]
+                g[u] = acc
+                trace += a[u, u]
+            for u in range(stored):
+                a[u, u] += 1e-12 * trace
+            if trace > 0.0 and _lu_factor(a, apiv):
+                _lu_solve(a, apiv, g)
+                for i in range(n):
+                    acc = dx[i] + r[i]
+                    for u in range(stored):
+                        acc -= g[u] * (hx[u, i] + hf[u, i])
+                    dx[i] = acc
+                mixed = True
+        if not mixed:
+            for i in range(n):
+                dx[i] += r[i]
     if not converged and conv > DEV_FLOOR:
         growth[DEV_UNCONVERGED] += 1.0
     for i in range(n):
@@ -1516,7 +1579,6 @@ def genalpha_advance(model, ws, loop, out, ctl, jac, t_stop, dev):
         iters = 0
         prev = np.inf
         st = STATUS_OK
-        smw = False
         for it in range(max_newton):
             for i in range(n):
                 anew[i] = ((1.0 - af) * x[i] + af * acc[i] - am * apse[i]) / (1.0 - am)
@@ -1537,8 +1599,7 @@ def genalpha_advance(model, ws, loop, out, ctl, jac, t_stop, dev):
                     touching = _contact_derivatives(model, ws, qn, vn, vimp, cc, dqi, dvi, gt, cs)
                     _record_linearisation(ws.cj, vimp, lin)
                     lin_touching = touching
-            smw = touching or base_contact
-            if smw:
+            if touching or base_contact:
                 for a in range(nc):
                     for b in range(nc):
                         delta[a, b] = -cq * (dqi[a, b] - dq0[a, b]) - cvv * (dvi[a, b] - dv0[a, b])
@@ -1690,7 +1751,8 @@ def genalpha_advance(model, ws, loop, out, ctl, jac, t_stop, dev):
                     yout, out_counters)  # fmt: skip
         if dev is not None:
             dst = _deviation_step(model, dev, t, h, qn, vn, vimp, am, af, gm, bt, cq, cvv, jm,
-                                  piv, smw, cc, zb, delta, sm, spiv, wv)  # fmt: skip
+                                  piv, cc, zb, dq0, dv0, base_contact, cs, sm, spiv,
+                                  wv)  # fmt: skip
         for i in range(n):
             q[i] = qn[i]
             v[i] = vn[i]
