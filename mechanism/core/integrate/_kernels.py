@@ -1381,9 +1381,10 @@ def deviation_size(model, d, tau2, inv_mass):
 
 
 @njit_noalloc()
-def _deviation_renormalize(model, dev, t):
+def _deviation_renormalize(model, dev, t, vimp):
     """Add ln(|d|/size) to the growth and rescale the deviation — (δq, δq̇), and with them
-    δq̈ and the pseudo-accelerations' deviation, so the copy stays a consistent
+    δq̈, the pseudo-accelerations' deviation and the difference of the copy's latched
+    impact velocities from the reference's ``vimp``, so the copy stays a consistent
     generalized-α state — to ``dev.size``. Unlike the rigid case the deviation is not
     projected onto the constraints' tangent space: a mass-orthogonal correction moves
     the rods' end nodes against their interior nodes and excites the stiff axial modes
@@ -1404,6 +1405,10 @@ def _deviation_renormalize(model, dev, t):
     for i in range(n):
         dev.dacc[i] *= f
         dev.dapse[i] *= f
+    # the copy's latched impact velocities are part of its state: their difference from
+    # the reference's is rescaled with the rest
+    for j in range(vimp.shape[0]):
+        dev.vimp[j] = vimp[j] + f * (dev.vimp[j] - vimp[j])
     return STATUS_OK
 
 
@@ -1781,7 +1786,7 @@ def genalpha_advance(model, ws, loop, out, ctl, jac, t_stop, dev):
             _deviation_latch(model, dev, y, contact)
             dev.growth[DEV_SINCE] += 1.0
             if dev.growth[DEV_SINCE] >= dev.every or t >= t_stop or t >= t_end:
-                dst = _deviation_renormalize(model, dev, t)
+                dst = _deviation_renormalize(model, dev, t, vimp)
                 if dst != STATUS_OK:
                     status = STATUS_NONFINITE
                     break
