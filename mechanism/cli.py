@@ -633,8 +633,12 @@ def lyapunov_command(
     renormalize_every: int = typer.Option(
         1, "--renormalize-every", help="Accepted steps between renormalisations."
     ),
-    rtol: float | None = typer.Option(None, "--rtol", help="Relative tolerance (default 1e-8)."),
-    atol: float | None = typer.Option(None, "--atol", help="Absolute tolerance (default 1e-8)."),
+    rtol: float | None = typer.Option(
+        None, "--rtol", help="Relative tolerance (default 1e-8; a flexible scene's own)."
+    ),
+    atol: float | None = typer.Option(
+        None, "--atol", help="Absolute tolerance (default 1e-8; a flexible scene's own)."
+    ),
     deviation_rtol: float = typer.Option(
         DEFAULT_DEVIATION_RTOL,
         "--deviation-rtol",

@@ -2,7 +2,9 @@
 
 The two-trajectory (Benettin) method on the full state [q; q̇], with the second trajectory
 kept as a small deviation that shares the reference's step sequence and contact events
-(:func:`mechanism.core.integrate.integrate_tangent`); see ``docs/mechanism-lyapunov.md``.
+(:func:`mechanism.core.integrate.integrate_tangent` on Dormand–Prince steps for a rigid
+scene, :func:`mechanism.core.integrate.integrate_tangent_flexible` on generalized-α steps
+for a flexible one); see ``docs/mechanism-lyapunov.md``.
 """
 
 from __future__ import annotations
@@ -18,10 +20,13 @@ from chaoskit.contract import check_int, check_positive
 from mechanism.core import SimulationError, default_step, drive_period, step_limits
 from mechanism.core.integrate import (
     Dopri5,
+    GeneralizedAlpha,
     SolverStats,
     initial_deviation,
     integrate_tangent,
+    integrate_tangent_flexible,
     length_scale,
+    resolve_method,
 )
 from mechanism.core.model import assemble, initial_state
 from mechanism.core.scene import Scene
@@ -183,9 +188,14 @@ def lyapunov_exponent(
     along its position and its velocity part, on the reference's branch of the contact
     law; the contact latch is decided by the reference, and a step is accepted when both
     the reference's error estimate and the deviation's (relative to its size,
-    ``deviation_rtol``) pass. Every ``renormalize_every`` accepted steps the deviation is
-    projected onto the tangent space of the constraints (Φq δq = 0,
-    Φq δq̇ + (Φq q̇)_q δq = 0) and rescaled to ε in the mass-weighted norm
+    ``deviation_rtol``) pass. A flexible scene (ANCF beams) is integrated by the scene's
+    generalized-α method instead, exactly as :func:`mechanism.simulate` integrates it;
+    after every step the reference accepts, the perturbed copy takes the same step with
+    its own implicit solve (its acceleration and pseudo-acceleration deviations are
+    carried along; ``deviation_rtol`` does not apply there). Every ``renormalize_every``
+    accepted steps the deviation is projected onto the tangent space of the constraints
+    (Φq δq = 0, Φq δq̇ + (Φq q̇)_q δq = 0; rigid models) and rescaled to ε in the
+    mass-weighted norm
 
     .. math:: \|d\|^2 = (\delta q^\top M \delta q + \tau^2 \delta\dot q^\top M
               \delta\dot q) / m_\mathrm{total},
@@ -199,7 +209,8 @@ def lyapunov_exponent(
     Parameters
     ----------
     scene : mechanism.scene.Scene
-        A rigid mechanism (``effects.flexibility = false`` for scenes with ANCF beams).
+        A rigid or flexible mechanism (a flexible one with a generalized-α
+        ``solver.method``, as ``"auto"`` resolves it, and ``solver.projection = false``).
     revolutions : float, optional
         Simulated drive periods, discarded ones included.
     t_end : float, optional
@@ -215,8 +226,11 @@ def lyapunov_exponent(
         Accepted steps between renormalisations (≥ 1); it also happens at every
         segment end.
     rtol, atol : float, optional
-        Tolerances of the reference; default 1e-8 (not ``scene.solver``'s: the exponent
-        is tolerance-independent only well below the usual 1e-5).
+        Tolerances of the reference; default 1e-8 for a rigid scene (not
+        ``scene.solver``'s: with Dormand–Prince the exponent is tolerance-independent
+        only well below the usual 1e-5), ``scene.solver``'s for a flexible one (the
+        fixed-step generalized-α reads them only in its Newton test, and its reference
+        then takes the steps of :func:`mechanism.simulate`).
     max_step : float, optional
         Largest step (s), and then the only bound. Default: the step limits of
         :func:`mechanism.simulate` (``scene.solver.max_step`` if set; else, with active
@@ -243,7 +257,8 @@ def lyapunov_exponent(
     Raises
     ------
     ValueError
-        On bad arguments, a flexible model, or a scene without a degree of freedom.
+        On bad arguments, a flexible model without a generalized-α method or with
+        projection, or a scene without a degree of freedom.
     SimulationError
         When the integration fails.
 
@@ -296,12 +311,25 @@ def lyapunov_exponent(
     if deviation_rtol > 0.1:
         raise ValueError(f"deviation_rtol must be in [0, 0.1]; got {deviation_rtol!r}.")
     solver = scene.solver
-    rtol = check_positive(DEFAULT_TOLERANCE if rtol is None else rtol, name="rtol")
-    atol = check_positive(DEFAULT_TOLERANCE if atol is None else atol, name="atol")
     model = assemble(scene)
+    flexible = bool(model.beams)
+    method: Dopri5 | GeneralizedAlpha = Dopri5()
+    if flexible:
+        resolved = resolve_method(solver.method, model)
+        if not isinstance(resolved, GeneralizedAlpha):
+            raise ValueError(
+                "the exponent of a flexible scene rides on generalized-alpha steps; set "
+                f"solver.method to 'auto' or a generalized-alpha method (got {solver.method!r})."
+            )
+        if solver.projection:
+            raise ValueError("the exponent of a flexible scene needs solver.projection = false.")
+        method = resolved
+    default_tol = (solver.rtol, solver.atol) if flexible else (DEFAULT_TOLERANCE,) * 2
+    rtol = check_positive(default_tol[0] if rtol is None else rtol, name="rtol")
+    atol = check_positive(default_tol[1] if atol is None else atol, name="atol")
     if max_step is None:
-        # the step limits of mechanism.simulate with Dormand–Prince: the same step rule
-        max_step, floor = step_limits(model, Dopri5(), default_step(scene, duration))
+        # the step limits of mechanism.simulate with its integrator: the same step rule
+        max_step, floor = step_limits(model, method, default_step(scene, duration))
     else:
         max_step, floor = check_positive(max_step, name="max_step"), 0.0
 
@@ -315,12 +343,19 @@ def lyapunov_exponent(
     n_seg = max(1, round((duration - t_discard) / segment))
     kept = t_discard + (duration - t_discard) * np.arange(n_seg + 1) / n_seg
     stops = np.concatenate([[0.0], kept]) if t_discard > 0.0 else kept
-    run = integrate_tangent(
-        model, y0, d0, stops, rtol=rtol, atol=atol, max_step=max_step,
-        renormalize_every=every, time_scale=tau, approach_floor=floor,
-        projection=solver.projection, deviation_rtol=deviation_rtol,
-        progress=progress, label=f"{scene.name} (lyapunov)",
-    )  # fmt: skip
+    if isinstance(method, GeneralizedAlpha):
+        run = integrate_tangent_flexible(
+            model, y0, d0, stops, method=method, rtol=rtol, atol=atol, max_step=max_step,
+            renormalize_every=every, time_scale=tau, approach_floor=floor,
+            progress=progress, label=f"{scene.name} (lyapunov)",
+        )  # fmt: skip
+    else:
+        run = integrate_tangent(
+            model, y0, d0, stops, rtol=rtol, atol=atol, max_step=max_step,
+            renormalize_every=every, time_scale=tau, approach_floor=floor,
+            projection=solver.projection, deviation_rtol=deviation_rtol,
+            progress=progress, label=f"{scene.name} (lyapunov)",
+        )  # fmt: skip
     if not run.stats.success:
         raise SimulationError(
             f"exponent of {scene.name!r}: the integration failed after t = {run.t[-1]:.6g} s: "

@@ -303,9 +303,14 @@ def test_prescribed_motion_has_no_exponent() -> None:
         mechanism.lyapunov_exponent(rigid_paper({"effects.clearance": False}), revolutions=1)
 
 
-def test_flexible_scene_is_refused_clearly() -> None:
-    with pytest.raises(ValueError, match=r"effects\.flexibility = false"):
-        mechanism.lyapunov_exponent(mechanism.load_scene("paper"), revolutions=1)
+def test_flexible_scene_needs_generalized_alpha_without_projection() -> None:
+    """A flexible scene's exponent rides on generalized-α steps (tests in
+    test_lyapunov_flexible.py); an explicit method or a projection is refused clearly."""
+    paper = mechanism.load_scene("paper")
+    with pytest.raises(ValueError, match=r"solver\.method"):
+        mechanism.lyapunov_exponent(paper.replace({"solver.method": "dopri5"}), revolutions=1)
+    with pytest.raises(ValueError, match=r"solver\.projection = false"):
+        mechanism.lyapunov_exponent(paper.replace({"solver.projection": True}), revolutions=1)
 
 
 @pytest.mark.parametrize(
@@ -346,9 +351,11 @@ def test_result_dataset_has_units_and_the_settings() -> None:
 
 def test_cli_bad_input_exits_2_without_traceback(tmp_path) -> None:
     runner = CliRunner()
-    res = runner.invoke(app, ["lyapunov", "paper", "--revolutions", "2"])
+    res = runner.invoke(
+        app, ["lyapunov", "paper", "--set", "solver.method=dopri5", "--revolutions", "2"]
+    )
     assert res.exit_code == 2
-    assert "effects.flexibility = false" in res.output
+    assert "generalized-alpha" in res.output
     assert "Traceback" not in res.output
     res = runner.invoke(
         app,

@@ -1,7 +1,8 @@
 """Integrators: compiled Dormand–Prince 5(4) (default), scipy ``solve_ivp`` methods and an
 implicit generalized-α method for stiff contact. Pass a name or a strategy object as
 ``method=`` to :func:`mechanism.simulate`. :func:`integrate_tangent` advances a state and
-a renormalised deviation on one step sequence (the largest Lyapunov exponent)."""
+a renormalised deviation on one step sequence (the largest Lyapunov exponent), and
+:func:`integrate_tangent_flexible` does so on generalized-α steps (flexible models)."""
 
 from ._methods import (
     METHODS,
@@ -22,6 +23,7 @@ from ._tangent import (
     integrate_tangent,
     length_scale,
 )
+from ._tangent_flexible import integrate_tangent_flexible
 
 __all__ = [
     "METHODS",
@@ -37,6 +39,7 @@ __all__ = [
     "deviation_size",
     "initial_deviation",
     "integrate_tangent",
+    "integrate_tangent_flexible",
     "length_scale",
     "resolve_method",
 ]

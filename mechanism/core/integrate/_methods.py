@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, Literal, NamedTuple
 
@@ -601,6 +602,34 @@ class GeneralizedAlpha(Integrator):
         label: str = "simulate",
         record: RecordPlan = FULL,
     ) -> Integration:
+        return self._advance(
+            model, y0, t_out, rtol=rtol, atol=atol, max_step=max_step,
+            approach_floor=approach_floor, projection=projection, progress=progress,
+            label=label, record=record,
+        )  # fmt: skip
+
+    def _advance(
+        self,
+        model: Model,
+        y0: np.ndarray,
+        t_out: np.ndarray,
+        *,
+        rtol: float,
+        atol: float,
+        max_step: float,
+        approach_floor: float = 0.0,
+        projection: bool = False,
+        progress: bool = False,
+        label: str = "simulate",
+        record: RecordPlan = FULL,
+        deviation: ik.Deviation | None = None,
+        stops: np.ndarray | None = None,
+        on_stop: Callable[[float], None] | None = None,
+    ) -> Integration:
+        """:meth:`integrate`, optionally carrying a :class:`~._kernels.Deviation` along
+        (the largest Lyapunov exponent): the loop then stops at every time of ``stops``
+        (the first accepted step at or after it; the steps do not depend on the stops)
+        and calls ``on_stop`` with the time reached."""
         km = model.kernel
         n = model.n_dof
         ws = model.workspace()
@@ -638,10 +667,13 @@ class GeneralizedAlpha(Integrator):
                 contact=contact, counters=counters,
             )  # fmt: skip
             bar = _Progress(progress, t0, t_end, label)
+            chunks = _chunks(t0, t_end, progress) if stops is None else [float(x) for x in stops]
             try:
-                for t_stop in _chunks(t0, t_end, progress):
-                    status = ik.genalpha_advance(km, ws, loop, out, ctl, jac, t_stop)
+                for t_stop in chunks:
+                    status = ik.genalpha_advance(km, ws, loop, out, ctl, jac, t_stop, deviation)
                     bar.update(loop.step[0])
+                    if on_stop is not None and status in (ik.STATUS_RUNNING, ik.STATUS_OK):
+                        on_stop(float(loop.step[0]))
                     if status != ik.STATUS_RUNNING:
                         break
             finally:

@@ -616,7 +616,11 @@ def tangent_advance(
             # the deviation's own error estimate, relative to its size
             for i in range(n2):
                 err[i] = h * (
-                    E1 * kd1[i] + E3 * kd3[i] + E4 * kd4[i] + E5 * kd5[i] + E6 * kd6[i]
+                    E1 * kd1[i]
+                    + E3 * kd3[i]
+                    + E4 * kd4[i]
+                    + E5 * kd5[i]
+                    + E6 * kd6[i]
                     + E7 * kd7[i]
                 )
             scale = max(deviation_norm(model, d, tau2, inv_mass),

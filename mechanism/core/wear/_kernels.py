@@ -103,11 +103,7 @@ def _hermite_rate(a: float, b: float, c: float, d: float, w: float) -> float:
     m0 = _node_slope(a, b, c)
     m1 = _node_slope(b, c, d)
     w2 = w * w
-    return (
-        6.0 * (w2 - w) * (b - c)
-        + (3.0 * w2 - 4.0 * w + 1.0) * m0
-        + (3.0 * w2 - 2.0 * w) * m1
-    )
+    return 6.0 * (w2 - w) * (b - c) + (3.0 * w2 - 4.0 * w + 1.0) * m0 + (3.0 * w2 - 2.0 * w) * m1
 
 
 @njit_noalloc()

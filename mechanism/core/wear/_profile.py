@@ -315,9 +315,9 @@ class WornProfile:
         b = _angles(bearing_angle, "bearing_angle")
         j = _angles(journal_angle, "journal_angle")
         c0, hb, hj = self.clearance, self.bearing_depth, self.journal_depth
-        out = np.vectorize(
-            lambda x, y: wk.local_clearance(c0, hb, hj, x, y), otypes=[np.float64]
-        )(b, j)
+        out = np.vectorize(lambda x, y: wk.local_clearance(c0, hb, hj, x, y), otypes=[np.float64])(
+            b, j
+        )
         return _scalar_or_array(out)
 
     def smoothed_depth(self, *, surface: Surface = "bearing") -> np.ndarray:

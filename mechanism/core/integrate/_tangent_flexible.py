@@ -1,0 +1,148 @@
+"""Reference trajectory and renormalised deviation on one generalized-α step sequence.
+
+:func:`integrate_tangent_flexible` is :func:`~mechanism.core.integrate.integrate_tangent`
+for a flexible model (ANCF beams), which is integrated by the implicit generalized-α
+method: the reference runs in the compiled loop of :func:`GeneralizedAlpha.integrate
+<mechanism.core.integrate.GeneralizedAlpha>` — the same code, the same steps, rejections
+and Jacobian refreshes as :func:`mechanism.simulate` — and after each step it accepts, a
+perturbed copy takes the same step with its own implicit solve
+(:class:`~mechanism.core.integrate._kernels.Deviation`). docs/mechanism-lyapunov.md, §1.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import time
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from mechanism.core.bodies._ancf_kernels import beams_force_add
+from mechanism.core.model import _kernels as k
+
+from . import _kernels as ik
+from ._methods import GeneralizedAlpha, RecordPlan, _initial_latch
+from ._tangent import TangentIntegration, _inv_mass
+
+if TYPE_CHECKING:
+    from mechanism.core.model import Model
+
+__all__ = ["integrate_tangent_flexible"]
+
+#: the copy's Newton iteration stops when its update is below this share of the
+#: deviation's size (0.01 nats per drive period of ten thousand steps even if every
+#: error had one sign), or earlier at the round-off of the copy's coordinates
+#: (``_kernels.DEV_FLOOR``)
+NEWTON_TOLERANCE = 1e-6
+#: Newton iterations of the copy per step; a step that ends them with an update above
+#: ``_kernels.DEV_FLOOR`` of the deviation's size is counted as unconverged
+MAX_NEWTON = 12
+
+
+def integrate_tangent_flexible(
+    model: Model,
+    y0: np.ndarray,
+    d0: np.ndarray,
+    t_stops: np.ndarray,
+    *,
+    method: GeneralizedAlpha,
+    rtol: float,
+    atol: float,
+    max_step: float,
+    renormalize_every: int,
+    time_scale: float,
+    approach_floor: float = 0.0,
+    newton_tolerance: float = NEWTON_TOLERANCE,
+    max_newton: int = MAX_NEWTON,
+    progress: bool = False,
+    label: str = "lyapunov",
+) -> TangentIntegration:
+    """Integrate ``y0`` by ``method`` from ``t_stops[0]`` and its deviation ``d0`` along.
+
+    Parameters
+    ----------
+    model
+        Assembled mechanism (flexible or not: any model the generalized-α method runs).
+    y0, d0
+        Initial state [q; q̇] and deviation; the deviation's acceleration is that of the
+        perturbed state, a(y0 + d0) − a(y0), and so is its pseudo-acceleration (the
+        integrator starts its own from the acceleration).
+    t_stops
+        Increasing times (s); the first is the start, the last the end. The growth is
+        read at the first accepted step at or after each (the steps are the reference's,
+        which does not land on them), and the deviation is renormalised there.
+    method
+        The generalized-α integrator of the reference (as :func:`mechanism.simulate`
+        resolves it).
+    rtol, atol, max_step, approach_floor
+        As for ``method.integrate``: the reference's step control.
+    renormalize_every
+        Accepted steps between renormalisations (also at every stop).
+    time_scale
+        τ (s) of the deviation norm.
+    newton_tolerance, max_newton
+        The copy's Newton test (relative to the deviation's size) and iteration limit.
+
+    Returns
+    -------
+    TangentIntegration
+        ``t`` holds the times reached at the stops; ``stats`` are the reference's (its
+        ``function_evaluations`` count both copies); fewer rows when the run failed.
+    """
+    km = model.kernel
+    n = model.n_dof
+    stops = np.ascontiguousarray(t_stops, dtype=np.float64)
+    y = np.ascontiguousarray(y0, dtype=np.float64).copy()
+    d = np.ascontiguousarray(d0, dtype=np.float64).copy()
+    tau2 = float(time_scale) ** 2
+    inv_mass = _inv_mass(model)
+    size = float(ik.deviation_size(km, d, tau2, inv_mass))
+    counters_d = np.zeros(k.CNT_COLUMNS, dtype=np.int64)
+    vimp, _ = _initial_latch(model, y)
+    t0 = float(stops[0])
+    dev = ik.Deviation(
+        d=d, dacc=np.zeros(n), dapse=np.zeros(n), vimp=vimp.copy(),
+        growth=np.zeros(ik.DEV_COLUMNS), counters=counters_d, ws=model.workspace(),
+        f0=np.zeros(n), f1=np.zeros(n), fel=np.zeros(n),
+        dx=np.zeros(n), res=np.zeros(n), dqn=np.zeros(n), dvn=np.zeros(n),
+        yp=np.zeros(2 * n), scratch=np.zeros(2 * n), size=size, tau2=tau2,
+        inv_mass=inv_mass, every=int(renormalize_every), tol=float(newton_tolerance),
+        max_newton=int(max_newton),
+    )  # fmt: skip
+    # the copy starts with its own acceleration, a(y0 + d0) − a(y0), and so do its
+    # pseudo-accelerations (the integrator starts its own from the acceleration)
+    beams_force_add(km.beam_i, km.beam_f, y[:n], y[n:], -1.0, dev.fel)
+    zero = np.zeros(n)
+    ik._copy_accelerations(km, dev, t0, y[:n], y[n:], zero, zero, vimp, dev.f0)
+    ik._copy_accelerations(km, dev, t0, y[:n], y[n:], d[:n], d[n:], vimp, dev.f1)
+    dev.dacc[:] = dev.f1 - dev.f0
+    dev.dapse[:] = dev.dacc
+    times = [t0]
+    logs = [0.0]
+
+    def read(t: float) -> None:
+        times.append(t)
+        logs.append(float(dev.growth[ik.DEV_LOG]))
+
+    start = time.perf_counter()
+    run = method._advance(
+        model, y, stops, rtol=rtol, atol=atol, max_step=max_step,
+        approach_floor=approach_floor, projection=False, progress=progress, label=label,
+        record=RecordPlan(grid="light"), deviation=dev, stops=stops[1:], on_stop=read,
+    )  # fmt: skip
+    wall = time.perf_counter() - start
+    stats = dataclasses.replace(
+        run.stats,
+        function_evaluations=run.stats.function_evaluations + int(counters_d[k.CNT_FEV]),
+        wall_time=wall,
+    )
+    return TangentIntegration(
+        t=np.array(times),
+        log_growth=np.array(logs),
+        renormalizations=int(dev.growth[ik.DEV_COUNT]),
+        stats=stats,
+        final_state=run.final_state,
+        final_deviation=d,
+        newton_iterations=int(dev.growth[ik.DEV_NEWTON]),
+        unconverged_steps=int(dev.growth[ik.DEV_UNCONVERGED]),
+    )
