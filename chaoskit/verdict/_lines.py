@@ -107,21 +107,22 @@ def _fold(x0: np.ndarray, k: int) -> np.ndarray:
     return x0 - np.resize(template, x0.size)
 
 
-def _recurrence(x0: np.ndarray, max_period: int, max_residual: float) -> tuple[int, float, float]:
-    """Smallest k whose folding residual is white (or exact) and small; (0, …) if none."""
+def _first_repeat(
+    x0: np.ndarray, lags: range, max_residual: float
+) -> tuple[int, float, float] | None:
+    """The first lag whose folding residual is nothing (below ``EXACT`` of the variance) or
+    white and at most ``max_residual`` of it: (lag, residual fraction, Ljung–Box p)."""
     var0 = float(np.var(x0))
-    best = (0, 1.0, 0.0)
-    for k in range(1, min(max_period, x0.size // 10) + 1):
-        r = _fold(x0, k)
+    for lag in lags:
+        r = _fold(x0, lag)
         frac = float(np.var(r)) / var0
         if frac <= EXACT:
-            return k, frac, 1.0
+            return lag, frac, 1.0
         if frac <= max_residual:
             p = ljung_box_p(r)
             if p >= WHITE_P:
-                return k, frac, p
-            best = best if best[0] else (0, frac, p)
-    return best
+                return lag, frac, p
+    return None
 
 
 def samples_per_drive_period(drive_period: float, dt: float, n: int) -> int | None:
@@ -132,28 +133,6 @@ def samples_per_drive_period(drive_period: float, dt: float, n: int) -> int | No
     if whole < 2 or abs(p - whole) * (n / p) > 0.01:
         return None
     return int(whole)
-
-
-def _drive_recurrence(
-    x: np.ndarray, period: int, max_period: int, max_residual: float
-) -> tuple[int, float, float] | None:
-    """Smallest k for which the series folded at k drive periods (``period`` samples each,
-    at least four repeats) leaves nothing or white noise carrying at most ``max_residual``
-    of the variance: (k, residual fraction, Ljung–Box p), else None."""
-    var0 = float(np.var(x))
-    for k in range(1, max_period + 1):
-        lag = k * period
-        if 4 * lag > x.size:
-            break
-        r = _fold(x, lag)
-        frac = float(np.var(r)) / var0
-        if frac <= EXACT:
-            return k, frac, 1.0
-        if frac <= max_residual:
-            p = ljung_box_p(r)
-            if p >= WHITE_P:
-                return k, frac, p
-    return None
 
 
 # ---------------------------------------------------------------- line extraction
@@ -520,13 +499,11 @@ def line_spectrum(
         # impact orbit has harmonics up to the Nyquist frequency, more than lines can be
         # extracted). The whole series is folded: it is cheap and sees more repeats.
         per = samples_per_drive_period(drive_period, dt, x_all.size)
-        found = (
-            None
-            if per is None
-            else _drive_recurrence(x_all - float(np.mean(x_all)), per, max_period, max_residual)
-        )
-        if found is not None:
-            k, frac, p = found
+        # at least four repeats of the folding lag
+        lags = range(per, min(max_period * per, x_all.size // 4) + 1, per) if per else range(0)
+        found = _first_repeat(x_all - float(np.mean(x_all)), lags, max_residual)
+        if found is not None and per:
+            k, frac, p = found[0] // per, found[1], found[2]
             return LineSpectrum(
                 kind="periodic", method="drive recurrence",
                 base_frequencies=np.array([1.0 / (k * drive_period)]),
@@ -535,8 +512,9 @@ def line_spectrum(
                 n_cycles=x_all.size * dt / drive_period, **common,
             )  # fmt: skip
     if fold:
-        k, frac, p = _recurrence(x0, max_period, max_residual)
-        if k:
+        found = _first_repeat(x0, range(1, min(max_period, n // 10) + 1), max_residual)
+        if found is not None:
+            k, frac, p = found
             return LineSpectrum(
                 kind="periodic", method="recurrence", base_frequencies=np.array([1.0 / (k * dt)]),
                 fundamental_period=k * dt, period_samples=k, maxima_per_period=None,
