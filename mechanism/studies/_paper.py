@@ -15,7 +15,8 @@ The study is built from the public pieces, nothing is computed a second way:
   docs/paper-model.md §7 (``peak_contact_force``, ``max_penetration``, ...);
 * :func:`mechanism.predict_wear` gives the worn scene at 30, 90 and 150 rpm;
 * :func:`mechanism.element_convergence` gives the rod-strain convergence table;
-* :func:`mechanism.lyapunov_exponent` gives the exponent from the equations (rigid rods);
+* :func:`mechanism.lyapunov_exponent` gives the exponent from the equations (on the
+  series' model, and with rigid rods beside it);
 * :func:`mechanism.bifurcation` gives the orbit diagrams over crank speed;
 * :func:`chaoskit.report` analyses the journal-centre motion before and after wear (the
   chaos table) and assembles the page.
@@ -213,7 +214,8 @@ class StudySettings:
         Output samples per revolution of the analysed series; the integration step stays
         the paper's T/10000.
     exponent_revolutions
-        Revolutions of :func:`mechanism.lyapunov_exponent` per state (rigid-rod model).
+        Revolutions of :func:`mechanism.lyapunov_exponent` per state (on the model of the
+        analysed series; with flexible rods also on the rigid-rod model).
     orbit_speeds, orbit_revolutions, orbit_discard_revolutions, orbit_flexible_rods
         The orbit diagrams over crank speed before and after wear
         (:func:`mechanism.bifurcation`): speeds (rpm), revolutions per speed, transient,
@@ -587,11 +589,18 @@ def chaos_analysis_options(settings: StudySettings) -> dict[str, Any]:
     }
 
 
-def _equation_exponent(scene: Any, settings: StudySettings) -> Any:
-    """:func:`mechanism.lyapunov_exponent` of the rigid-rod model of a state (pool task)."""
-    rigid = scene.replace({"effects.flexibility": False})
+def _equation_exponent(scene: Any, settings: StudySettings, *, rigid: bool = False) -> Any:
+    """:func:`mechanism.lyapunov_exponent` of a state (pool task): on the model of the
+    analysed series (flexible rods when ``settings.flexible_rods``, at the long runs' step
+    T/10000), or on the rigid-rod model with ``rigid``."""
+    if rigid or not settings.flexible_rods:
+        model = scene.replace({"effects.flexibility": False})
+    else:
+        period = 60.0 / abs(float(scene.drive.speed_rpm))
+        step = min(scene.solver.max_step or math.inf, period / _PAPER_SAMPLES)
+        model = scene.replace({"effects.flexibility": True, "solver.max_step": step})
     return lyapunov_exponent(
-        rigid,
+        model,
         revolutions=settings.discard_revolutions + settings.exponent_revolutions,
         discard=settings.discard_revolutions,
     )
@@ -680,9 +689,13 @@ def _stage_weights(settings: StudySettings, n_conv: int) -> dict[str, float]:
         "after-wear sweeps": settings.revolutions * speeds * flex,
         "element convergence": n_conv * settings.convergence_revolutions * 10.0,
         "orbit diagrams over speed": 2 * settings.orbit_revolutions * orbit,
-        # two chaos runs (series only, no companion) and two exponents (rigid, tangent)
+        # two chaos runs (series only, no companion) and two exponents on the series'
+        # model (a flexible tangent revolution about 1.6 chaos-run ones), with flexible
+        # rods also the two rigid-rod ones
         "long runs for the chaos analysis and exponents": 2 * long_run * 0.9
-        + 2 * (settings.discard_revolutions + settings.exponent_revolutions) * 2.0,
+        + 2
+        * (settings.discard_revolutions + settings.exponent_revolutions)
+        * ((1.5 + 2.0) if settings.flexible_rods else 2.0),
         "chaos analysis and report": 4
         * 0.5e-3
         * min(long_run * settings.chaos_samples_per_revolution, settings.max_samples or math.inf),
@@ -729,6 +742,14 @@ class _LongRuns:
                 _submit(pool, _equation_exponent, worn, settings),
             ]
         self._states["before wear"].append(_submit(pool, _equation_exponent, before, settings))
+        # the rigid-rod model's exponent beside the flexible one (short)
+        for state, scene in (("after wear", worn), ("before wear", before)):
+            if scene is not None and state in self._states:
+                self._states[state].append(
+                    _submit(pool, _equation_exponent, scene, settings, rigid=True)
+                    if settings.flexible_rods
+                    else None
+                )
 
     def _queued(self) -> None:
         if self._queue.is_alive():
@@ -738,10 +759,11 @@ class _LongRuns:
         """The wear predictions by speed (rpm), in increasing speed."""
         return {rpm: self._wear[rpm] for rpm in sorted(self._wear)}
 
-    def states(self) -> dict[str, tuple[Future[Any], Future[Any]]]:
-        """(chaos run, exponent) of each state whose scene exists."""
+    def states(self) -> dict[str, tuple[Future[Any], Future[Any], Future[Any] | None]]:
+        """(chaos run, exponent on the series' model, rigid-rod exponent or None when the
+        series are rigid) of each state whose scene exists."""
         self._queued()
-        return {state: (f[0], f[1]) for state, f in self._states.items() if len(f) == 2}
+        return {state: (f[0], f[1], f[2]) for state, f in self._states.items() if len(f) == 3}
 
 
 def _at_speed(scene: Any, rpm: float) -> Any:
@@ -778,7 +800,8 @@ def run_paper_study(
     4. **chaos**: per state (before, after wear at 150 rpm) a run of
        ``chaos_revolutions`` revolutions after the transient at T/10000 with flexible rods,
        analysed by :func:`chaoskit.report` (verdict, delay, embedding, Wolf and Rosenstein
-       exponents), beside :func:`mechanism.lyapunov_exponent` of the rigid-rod model;
+       exponents), beside :func:`mechanism.lyapunov_exponent` of the same model (and of
+       the rigid-rod one);
     5. **element convergence**: :func:`mechanism.element_convergence`;
     6. **orbit diagrams** over crank speed before and after wear
        (:func:`mechanism.bifurcation`).
@@ -944,19 +967,31 @@ def run_paper_study(
                     unavailable.append(f"orbit diagram {state}: {type(exc).__name__}: {exc}")
         trajectories: dict[str, xr.Dataset] = {}
         equations: dict[str, Any] = {}
+        rigid_equations: dict[str, Any] = {}
         with stages.stage("long runs for the chaos analysis and exponents"):
-            for state, (chaos_future, exponent_future) in long_runs.states().items():
+            for state, futures in long_runs.states().items():
+                chaos_future, exponent_future, rigid_future = futures
                 try:
                     trajectories[state] = chaos_future.result()
                 except Exception as exc:
                     unavailable.append(f"chaos run {state} failed: {type(exc).__name__}: {exc}")
-                try:
-                    equations[state] = exponent_future.result()
-                except Exception as exc:
-                    equations[state] = None
-                    unavailable.append(
-                        f"exponent from the equations, {state}: {type(exc).__name__}: {exc}"
-                    )
+                for store, future, model in (
+                    (equations, exponent_future, "the series' model"),
+                    (rigid_equations, rigid_future, "rigid rods"),
+                ):
+                    if future is None:
+                        continue
+                    try:
+                        store[state] = future.result()
+                    except Exception as exc:
+                        store[state] = None
+                        unavailable.append(
+                            f"exponent from the equations ({model}), {state}: "
+                            f"{type(exc).__name__}: {exc}"
+                        )
+                # series that fell back to rigid rods are judged with the rigid exponent
+                if "rods_note" in getattr(trajectories.get(state), "attrs", {}):
+                    equations[state] = rigid_equations.pop(state, None)
 
     # ---- tables (ours, in the paper's units)
     c0 = _DEFAULT_CLEARANCE
@@ -1066,6 +1101,7 @@ def run_paper_study(
             paper_chaos=paper["chaos"],
             claims=claims,
             equations=equations,
+            rigid_equations=rigid_equations,
             paper_step=dt_paper,
             settings_text=settings_text,
             figures=headline,

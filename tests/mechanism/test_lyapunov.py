@@ -135,10 +135,11 @@ def benettin_closed_form(
     *,
     interval: float = 0.25,
     tol: float = 1e-11,
-) -> float:
-    """Largest exponent (1/s) of the first tangent vector ``first`` over [0, t_end]: the
-    frame [first, e₂, e₃, e₄] is re-orthonormalised by QR (in the mass metric) every
-    ``interval`` s and the log of R₁₁ accumulated."""
+) -> np.ndarray:
+    """Log growth of the first tangent vector ``first`` over each ``interval`` of [0,
+    t_end] (its sum over t_end is the largest exponent, 1/s): the frame [first, e₂, e₃,
+    e₄] is re-orthonormalised by QR (in the mass metric) every ``interval`` s and the log
+    of R₁₁ recorded."""
     frame = np.eye(4)
     frame[:, 0] = first
     x = np.array([theta[0], theta[1], 0.0, 0.0])
@@ -146,15 +147,15 @@ def benettin_closed_form(
     q, r = np.linalg.qr(chol.T @ frame)
     frame = np.linalg.solve(chol.T, q * np.sign(np.diag(r)))
     z = np.concatenate([x, frame.ravel()])
-    total = 0.0
+    logs = []
     for t0 in np.arange(0.0, t_end - 1e-12, interval):
         sol = si.solve_ivp(_flow, (t0, t0 + interval), z, method="DOP853", rtol=tol, atol=tol)
         z = sol.y[:, -1].copy()
         chol = np.linalg.cholesky(_metric(z[:4]))
         q, r = np.linalg.qr(chol.T @ z[4:].reshape(4, 4))
-        total += math.log(abs(r[0, 0]))
+        logs.append(math.log(abs(r[0, 0])))
         z[4:] = np.linalg.solve(chol.T, q * np.sign(np.diag(r))).ravel()
-    return total / t_end
+    return np.asarray(logs)
 
 
 def _joint_angle_deviation(scene: Scene) -> np.ndarray:
@@ -172,7 +173,7 @@ def test_double_pendulum_matches_closed_form_variational_equations() -> None:
     scene = double_pendulum(*THETA0)
     horizon = 8.0
     result = mechanism.lyapunov_exponent(scene, t_end=horizon, perturbation=1e-9)
-    reference = benettin_closed_form(THETA0, _joint_angle_deviation(scene), horizon)
+    reference = benettin_closed_form(THETA0, _joint_angle_deviation(scene), horizon).sum() / horizon
     assert reference > 1.0  # chaotic: ≥ 8 nats over the horizon
     np.testing.assert_allclose(result.exponent, reference, rtol=1e-3)  # measured 1.7e-4
     assert result.drive_period is None
@@ -180,15 +181,25 @@ def test_double_pendulum_matches_closed_form_variational_equations() -> None:
 
 
 @pytest.mark.slow
-def test_double_pendulum_converged_exponent_within_5_percent() -> None:
-    """1200 s runs (trajectories decorrelated after about 15 s, so the two estimates are
-    independent time averages over the chaotic sea) agree within 5 % (measured 1.7 %)."""
+def test_double_pendulum_converged_exponent_agrees_within_its_uncertainty() -> None:
+    """1200 s runs. The two trajectories decorrelate after about 15 s (chaos amplifies the
+    integrators' different errors), so the two estimates are independent time averages
+    over the chaotic sea, each uncertain by about ±14 % (95 %, batch means): their
+    difference is asserted within the combined 95 % interval, not within a fixed 5 %
+    (measured: 1.899 [1.63, 2.17] against 2.140 s⁻¹, 11 % apart, both intervals holding
+    the other estimate). The same-trajectory agreement is the test above (0.02 %)."""
     scene = double_pendulum(*THETA0, tol=1e-9)
-    t_end = 1200.0
-    result = mechanism.lyapunov_exponent(scene, t_end=t_end, discard=20.0)
+    t_end, discard = 1200.0, 20.0
+    result = mechanism.lyapunov_exponent(scene, t_end=t_end, discard=discard)
     first = _joint_angle_deviation(scene)
-    reference = benettin_closed_form(THETA0, first, t_end, interval=1.0, tol=1e-9)
-    np.testing.assert_allclose(result.exponent, reference, rtol=0.05)
+    logs = benettin_closed_form(THETA0, first, t_end, interval=1.0, tol=1e-9)[int(discard) :]
+    batches = logs[: logs.size // 10 * 10].reshape(10, -1).mean(axis=1)  # per second
+    reference = float(logs.mean())
+    half_reference = 2.262 * batches.std(ddof=1) / math.sqrt(10)  # t(0.975, 9)
+    half_result = 0.5 * (result.ci[1] - result.ci[0])
+    assert result.exponent > 1.0 and reference > 1.0  # both chaotic
+    assert abs(result.exponent - reference) <= math.hypot(half_result, half_reference)
+    assert half_result < 0.2 * result.exponent and half_reference < 0.2 * reference
 
 
 def test_small_oscillation_is_regular() -> None:
@@ -317,6 +328,7 @@ def test_flexible_scene_needs_generalized_alpha_without_projection() -> None:
     ("kwargs", "match"),
     [
         ({"revolutions": 2, "perturbation": 0.1}, "perturbation"),
+        ({"revolutions": 2, "perturbation": 5e-4}, r"perturbation must be in \(0, 1e-4\]"),
         ({"revolutions": 2, "discard": 2}, "discard"),
         ({"revolutions": 2, "renormalize_every": 0}, "renormalize_every"),
         ({"revolutions": 2, "t_end": 1.0}, "exactly one"),

@@ -138,3 +138,33 @@ def test_summary_section_puts_the_paper_beside_ours_with_agreement() -> None:
         data.at["after wear", "why"],
     )
     assert section.text == "Settings: test."
+
+
+def test_summary_shows_the_flexible_exponent_with_its_rigid_rod_companion() -> None:
+    """The series' model first (flexible rods), the rigid-rod model of the state beside it;
+    each labelled by the model its result ran."""
+    states = ["before wear"]
+    index = pd.MultiIndex.from_product([["X"], states], names=["variable", "state"])
+    chaos = pd.DataFrame({"mle_wolf": [2.0], "mle_rosenstein": [3.0]}, index=index)
+    flexible = SimpleNamespace(exponent=40.0, ci=(35.0, 45.0), settings={"model": "flexible"})
+    rigid = SimpleNamespace(exponent=9.0, ci=(5.0, 13.0), settings={"model": "rigid"})
+    section = summary_section(
+        states=states,
+        motions={"before wear": _motion("chaotic", 0.9)},
+        chaos=chaos,
+        paper_chaos=mechanism.paper_tables()["chaos"],
+        claims=mechanism.paper_claims(),
+        equations={"before wear": flexible},
+        rigid_equations={"before wear": rigid},
+        paper_step=0.4 / 10_000,
+        settings_text="Settings: test.",
+    )
+    rows = section.items[1].data
+    assert rows.loc["before wear"].index.tolist()[:2] == [
+        "equations (flexible rods)",
+        "equations (rigid rods)",
+    ]
+    assert rows.at[("before wear", "equations (flexible rods)"), "per_s"] == 40.0
+    assert rows.at[("before wear", "equations (rigid rods)"), "per_s"] == 9.0
+    # the paper calls the state before wear not chaotic
+    assert rows.at[("before wear", "equations (rigid rods)"), "sign"] == "contradicts claim"
