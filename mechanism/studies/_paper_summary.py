@@ -189,7 +189,7 @@ def _agrees(ours: str, claim: str) -> str:
 
 
 def _model_of(result: Any) -> str:
-    """"flexible" or "rigid": the model a :func:`mechanism.lyapunov_exponent` result ran."""
+    """The model a :func:`mechanism.lyapunov_exponent` result ran: "flexible" or "rigid"."""
     settings = getattr(result, "settings", None) or {}
     return str(settings.get("model", "rigid"))
 
