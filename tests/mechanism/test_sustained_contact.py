@@ -234,3 +234,48 @@ def test_worn_paper_scene_spike_is_a_damping_artefact_and_the_rule_removes_it() 
     chi = k.hysteresis_factor(k.LAW_LANKARANI_NIKRAVESH, 0.9)
     assert ratios["latched"] > 10.0
     assert ratios["bounded"] <= 1.0 + k.APPROACH_RATIO * chi + 1e-9
+
+
+def test_the_fixed_step_latch_carries_a_worn_contact_driven_past_twice_its_speed() -> None:
+    """``update_latch(..., carry_worn=True)`` (the fixed-step generalized-α): a worn joint in
+    contact driven in faster than APPROACH_RATIO × its latched speed latches δ̇/APPROACH_RATIO;
+    nothing else changes — an unworn joint, the other integrators, a contact driven in
+    slower, one restoring (docs/simulator.md, "Fixed-step generalized-α on worn
+    profiles")."""
+    from mechanism.core.model import _kernels as mk
+    from mechanism.core.model import assemble, initial_state
+
+    floor = 1e-3
+    base = drop_scene("lankarani-nikravesh", 0.9, floor=floor)
+    joint = base.joints["H"]
+    assert isinstance(joint, ClearanceRevolute)
+    worn_joint = dataclasses.replace(
+        joint, wear=dataclasses.replace(joint.wear, bearing_profile=tuple([2e-5] * 360))
+    )
+    worn = dataclasses.replace(base, joints={"H": worn_joint})
+
+    def latched(scene: Scene, rate: float, carry: bool) -> tuple[float, float]:
+        """(latch after the update, δ̇) of the pin 10 µm into the wall below, moving down at
+        ``rate`` (δ̇ = rate), in contact with the latch at the floor."""
+        model = assemble(scene)
+        ws = model.workspace()
+        q, v = initial_state(model)
+        c = 5e-4 + (2e-5 if scene is worn else 0.0)
+        q[1] = -(c + 1e-5)
+        v[1] = -rate
+        y = np.concatenate([q, v])
+        vimp = np.array([floor])
+        contact = np.array([1], dtype=np.int64)
+        counters = np.zeros(mk.CNT_COLUMNS, dtype=np.int64)
+        mk.update_latch(model.kernel, ws, y, vimp, contact, counters, carry)
+        delta, ddot, _ = mk._clearance_state(model.kernel, ws, y, 0)
+        assert delta == pytest.approx(1e-5, rel=1e-6) and contact[0] == 1
+        return float(vimp[0]), float(ddot)
+
+    vimp, ddot = latched(worn, 0.1, True)
+    assert ddot == pytest.approx(0.1, rel=1e-12)
+    assert vimp == ddot / k.APPROACH_RATIO
+    assert latched(worn, 0.1, False)[0] == floor  # Dormand–Prince, adaptive generalized-α
+    assert latched(base, 0.1, True)[0] == floor  # an unworn joint
+    assert latched(worn, 1.5 * floor, True)[0] == floor  # below twice the latched speed
+    assert latched(worn, -0.1, True)[0] == floor  # restoring

@@ -43,7 +43,7 @@ from mechanism.core.bodies._ancf_kernels import (
     beams_force_add,
     beams_jacobian_add,
 )
-from mechanism.core.contact._kernels import FRICTION_NONE
+from mechanism.core.contact._kernels import APPROACH_RATIO, FRICTION_NONE
 from mechanism.core.joints._kernels import constraint_rows, update_point_rows, update_points
 from mechanism.core.model._kernels import (
     CF_FLOOR,
@@ -1342,11 +1342,12 @@ def _deviation_step(model, dev, t, h, qn, vn, vimp, am, af, gm, bt, cq, cvv, jm,
 
 
 @njit_noalloc()
-def _deviation_latch(model, dev, y, contact):
+def _deviation_latch(model, dev, y, contact, carry_worn):
     """The perturbed copy's impact-velocity latch after an accepted step: the reference
     decides contact (``contact``, already updated); a joint it sees separated tracks the
     copy's own approach speed at y + d, floored as :func:`update_latch` does; one in
-    contact keeps the copy's latched value."""
+    contact keeps the copy's latched value, raised from the copy's own δ̇ as
+    :func:`update_latch` raises it with ``carry_worn`` on a worn joint."""
     ncj = model.cj_i.shape[0]
     if ncj == 0:
         return
@@ -1356,10 +1357,15 @@ def _deviation_latch(model, dev, y, contact):
         yp[i] = y[i] + dev.d[i]
     ws = dev.ws
     for j in range(ncj):
-        if contact[j] != 0:
+        carry = carry_worn and model.cw_i[j, CW_WORN] != 0
+        if contact[j] != 0 and not carry:
             continue
         update_point_rows(yp[:n], yp[n:], model.pt_i, model.pt_f, ws.pci, ws.pcf, model.cj_i[j, :2])
         _, ddot, _ = _clearance_state(model, ws, yp, j)
+        if contact[j] != 0:
+            if ddot > APPROACH_RATIO * dev.vimp[j]:
+                dev.vimp[j] = ddot / APPROACH_RATIO
+            continue
         floor = model.cj_f[j, CF_FLOOR]
         dev.vimp[j] = ddot if ddot > floor else floor
 
@@ -1767,7 +1773,7 @@ def genalpha_advance(model, ws, loop, out, ctl, jac, t_stop, dev):
         changed = False
         for j in range(contact.shape[0]):
             was[j] = contact[j]
-        update_latch(model, ws, y, vimp, contact, counters)
+        update_latch(model, ws, y, vimp, contact, counters, fixed_step > 0.0)
         for j in range(contact.shape[0]):
             if was[j] != contact[j]:
                 changed = True
@@ -1783,7 +1789,7 @@ def genalpha_advance(model, ws, loop, out, ctl, jac, t_stop, dev):
             if dst != STATUS_OK:
                 status = STATUS_SINGULAR if dst == STATUS_SINGULAR else STATUS_NONFINITE
                 break
-            _deviation_latch(model, dev, y, contact)
+            _deviation_latch(model, dev, y, contact, fixed_step > 0.0)
             dev.growth[DEV_SINCE] += 1.0
             if dev.growth[DEV_SINCE] >= dev.every or t >= t_stop or t >= t_end:
                 dst = _deviation_renormalize(model, dev, t, vimp)

@@ -32,6 +32,7 @@ from mechanism.core._jit import njit_noalloc
 from mechanism.core._status import STATUS_NONFINITE, STATUS_OK, STATUS_SINGULAR
 from mechanism.core.bodies._ancf_kernels import beams_force_add, beams_strain_energy
 from mechanism.core.contact._kernels import (
+    APPROACH_RATIO,
     FRICTION_NONE,
     contact_potential,
     friction_force,
@@ -437,7 +438,7 @@ def _clearance_state(model, ws, y, j):
 
 
 @njit_noalloc()
-def update_latch(model, ws, y, vimp, contact, counters):
+def update_latch(model, ws, y, vimp, contact, counters, carry_worn=False):
     """Discrete contact state after an accepted step (the impact-velocity latch).
 
     While a joint is separated (δ ≤ 0) its impact velocity tracks the approach speed δ̇
@@ -445,6 +446,14 @@ def update_latch(model, ws, y, vimp, contact, counters):
     state penetrates, the value is frozen until separation and a contact event is
     counted. Separated states feel no contact force, so updating the latch never changes
     the right-hand side at the current state.
+
+    With ``carry_worn`` (the fixed-step generalized-α), a worn joint in contact whose
+    accepted state is driven in faster than ``APPROACH_RATIO`` times its latched speed
+    latches δ̇/``APPROACH_RATIO`` instead: on a worn flank a sliding journal separates and
+    re-enters at a grazing δ̇ (the latch holds the floor) and is then carried in at its
+    sliding speed, and the damping χ̂Kδⁿ/δ̇⁻ of such a latch is a damper far stiffer than a
+    fixed step can follow (docs/simulator.md, "Fixed-step generalized-α on worn
+    profiles").
     """
     if model.cj_i.shape[0] == 0:
         return
@@ -457,6 +466,8 @@ def update_latch(model, ws, y, vimp, contact, counters):
             if contact[j] == 0:
                 contact[j] = 1
                 counters[CNT_CONTACT_EVENTS] += 1
+            if carry_worn and model.cw_i[j, CW_WORN] != 0 and ddot > APPROACH_RATIO * vimp[j]:
+                vimp[j] = ddot / APPROACH_RATIO
         else:
             contact[j] = 0
             floor = model.cj_f[j, CF_FLOOR]
