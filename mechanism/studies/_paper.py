@@ -646,15 +646,15 @@ def _pool(client: Any, n_workers: int | None) -> Any:
     return ProcessPoolExecutor(max_workers=max(1, workers), mp_context=get_context("spawn"))
 
 
-def _submit(pool: Any, fn: Any, *args: Any) -> Any:
+def _submit(pool: Any, fn: Any, *args: Any, **kwargs: Any) -> Any:
     if pool is None:
         done: Future[Any] = Future()
         try:
-            done.set_result(fn(*args))
+            done.set_result(fn(*args, **kwargs))
         except Exception as exc:
             done.set_exception(exc)
         return done
-    return pool.submit(fn, *args)
+    return pool.submit(fn, *args, **kwargs)
 
 
 def _folder_size(folder: Path) -> int:

@@ -8,6 +8,7 @@ it, and that our numbers are the reductions of the stored trajectories. The real
 
 from __future__ import annotations
 
+import contextlib
 import importlib.util
 import math
 import os
@@ -420,3 +421,29 @@ def test_a_flexible_long_run_whose_journal_leaves_the_bearing_falls_back_too(mon
     assert ds.attrs["rods_note"].startswith(
         "the journal of the run with flexible rods left the bearing (eccentricity up to 1."
     )
+
+
+@pytest.mark.parametrize("threads", [False, True])
+def test_long_runs_queue_both_exponents_with_flexible_rods(monkeypatch, threads):
+    """With flexible rods each state gets its chaos run, the exponent on the series' model
+    and the rigid-rod one; with rigid rods no companion. (Stand-ins for the runs; with
+    ``threads`` the queue runs in its thread and submits to a pool, as the study does.)"""
+    from concurrent.futures import ThreadPoolExecutor
+
+    import mechanism.studies._paper as paper_study
+
+    monkeypatch.setattr(paper_study, "_predict_worn", lambda scene, s: (scene, None, "worn"))
+    monkeypatch.setattr(paper_study, "_chaos_run", lambda scene, s: "series")
+    monkeypatch.setattr(
+        paper_study, "_equation_exponent", lambda scene, s, *, rigid=False: ("λ", rigid)
+    )
+    base = mechanism.load_scene("paper")
+    for flexible, third in ((True, ("λ", True)), (False, None)):
+        settings = StudySettings(flexible_rods=flexible)
+        with ThreadPoolExecutor(2) if threads else contextlib.nullcontext() as pool:
+            states = paper_study._LongRuns(pool, base, settings).states()
+            assert set(states) == {"before wear", "after wear"}
+            for chaos, exponent, rigid in states.values():
+                assert chaos.result() == "series"
+                assert exponent.result() == ("λ", False)
+                assert (rigid.result() if rigid is not None else None) == third
