@@ -205,10 +205,13 @@ def _with_rule(scene: Scene, rule: str) -> Scene:
 
 
 @pytest.mark.slow
-def test_worn_paper_scene_spike_is_a_damping_artefact_and_the_rule_removes_it() -> None:
+def test_worn_paper_scene_bounded_rule_keeps_every_force_within_its_bound() -> None:
     """2000 cycles of paper wear (grown with the latched rule, as in docs/wear.md §5): the
-    latched law's largest force is > 10× the elastic one; the bounded rule keeps every
-    sample within (1 + 2χ̂) K_n δⁿ."""
+    bounded rule keeps every sample within (1 + 2χ̂) K_n δⁿ. On the worn clearance
+    tabulated per region the latched law's largest force there was 19.5× the elastic one
+    (the contact angle crossing depth steps threw δ̇ about); on the continuous worn
+    surface it is 1.83×, so the spike itself is tested on a contact driven in from rest
+    (above), and here the latched law is only checked to stay finite and positive."""
     from mechanism.core.wear import WornProfile
 
     pred = mechanism.predict_wear(
@@ -232,7 +235,7 @@ def test_worn_paper_scene_spike_is_a_damping_artefact_and_the_rule_removes_it() 
         on = delta > 0
         ratios[rule] = float((force[on] / (kn[on] * delta[on] ** 1.5)).max())
     chi = k.hysteresis_factor(k.LAW_LANKARANI_NIKRAVESH, 0.9)
-    assert ratios["latched"] > 10.0
+    assert 0.0 < ratios["latched"] < np.inf
     assert ratios["bounded"] <= 1.0 + k.APPROACH_RATIO * chi + 1e-9
 
 
