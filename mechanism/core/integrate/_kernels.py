@@ -1372,8 +1372,12 @@ def _deviation_latch(model, dev, y, contact, carry_worn):
 
 @njit_noalloc()
 def deviation_size(model, d, tau2, inv_mass):
-    """√((δqᵀMδq + τ² δq̇ᵀMδq̇)/m_total) (m): the norm of the rigid tangent integration
-    (``_tangent_kernels.deviation_norm``, tested equal) for the generalized-α one."""
+    """√((δqᵀMδq + τ² δq̇ᵀMδq̇)/m): the mass-weighted size (m) of a deviation, in the
+    rigid and the generalized-α tangent integrations alike.
+
+    With m the total mass, a rigid translation of the whole mechanism by δ has size δ and
+    a velocity deviation counts as the displacement it makes in the time τ.
+    """
     n = model.n_dof
     s = 0.0
     for i in range(n):

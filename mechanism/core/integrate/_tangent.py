@@ -81,7 +81,7 @@ def _inv_mass(model: Model) -> float:
 def deviation_size(model: Model, d: np.ndarray, *, time_scale: float) -> float:
     """Mass-weighted size (m) √((δqᵀMδq + τ²δq̇ᵀMδq̇)/m_total) of a state deviation ``d``."""
     d = np.ascontiguousarray(d, dtype=np.float64)
-    return float(tk.deviation_norm(model.kernel, d, time_scale**2, _inv_mass(model)))
+    return float(ik.deviation_size(model.kernel, d, time_scale**2, _inv_mass(model)))
 
 
 def length_scale(model: Model, y0: np.ndarray) -> float:
@@ -130,7 +130,7 @@ def initial_deviation(
     ws, ws2 = model.workspace(), model.workspace()
     if not tk.project_tangent(model.kernel, ws, ws2, float(t0), y, d, np.empty(y.size)):
         raise ValueError("the constraint Jacobian is singular at the initial state.")
-    r = tk.deviation_norm(model.kernel, d, time_scale**2, _inv_mass(model))
+    r = ik.deviation_size(model.kernel, d, time_scale**2, _inv_mass(model))
     return np.ascontiguousarray(d * (size / r))
 
 
@@ -189,7 +189,7 @@ def integrate_tangent(
     d = np.ascontiguousarray(d0, dtype=np.float64).copy()
     tau2 = float(time_scale) ** 2
     inv_mass = _inv_mass(model)
-    size = float(tk.deviation_norm(km, d, tau2, inv_mass))
+    size = float(ik.deviation_size(km, d, tau2, inv_mass))
     k1 = np.zeros_like(y)
     kd1 = np.zeros_like(y)
     state = np.zeros(5)

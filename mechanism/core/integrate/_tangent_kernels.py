@@ -107,6 +107,7 @@ from ._kernels import (
     STATUS_SINGULAR,
     STATUS_STEP_TOO_SMALL,
     _wrms,
+    deviation_size,
 )
 
 _EPS = 2.220446049250313e-16
@@ -118,25 +119,6 @@ GROWTH_LOG = 0  # Σ ln(|d| / size) over the renormalisations
 GROWTH_COUNT = 1  # renormalisations done
 GROWTH_LAST_T = 2  # time of the last renormalisation
 GROWTH_COLUMNS = 3
-
-
-@njit_noalloc()
-def deviation_norm(model, d, tau2, inv_mass):
-    """√((δqᵀMδq + τ² δq̇ᵀMδq̇)/m): the mass-weighted size (m) of a deviation.
-
-    With m the total mass, a rigid translation of the whole mechanism by δ has size δ and
-    a velocity deviation counts as the displacement it makes in the time τ.
-    """
-    n = model.n_dof
-    s = 0.0
-    for i in range(n):
-        xq = 0.0
-        xv = 0.0
-        for j in range(model.blk_lo[i], model.blk_hi[i]):
-            xq += model.mass[i, j] * d[j]
-            xv += model.mass[i, j] * d[n + j]
-        s += d[i] * xq + tau2 * d[n + i] * xv
-    return math.sqrt(max(s, 0.0) * inv_mass)
 
 
 @njit_noalloc()
@@ -436,7 +418,7 @@ def renormalize(model, ws, ws2, t, y, d, dvimp, scratch, size, tau2, inv_mass, g
     deviation."""
     if not project_tangent(model, ws, ws2, t, y, d, scratch):
         return False
-    r = deviation_norm(model, d, tau2, inv_mass)
+    r = deviation_size(model, d, tau2, inv_mass)
     if not (r > 0.0 and math.isfinite(r)):
         return False
     growth[GROWTH_LOG] += math.log(r / size)
@@ -623,9 +605,9 @@ def tangent_advance(
                     + E6 * kd6[i]
                     + E7 * kd7[i]
                 )
-            scale = max(deviation_norm(model, d, tau2, inv_mass),
-                        deviation_norm(model, dnew, tau2, inv_mass))  # fmt: skip
-            e = max(e, deviation_norm(model, err, tau2, inv_mass) / (deviation_rtol * scale))
+            scale = max(deviation_size(model, d, tau2, inv_mass),
+                        deviation_size(model, dnew, tau2, inv_mass))  # fmt: skip
+            e = max(e, deviation_size(model, err, tau2, inv_mass) / (deviation_rtol * scale))
         if not math.isfinite(e):
             counters[CNT_REJECTED] += 1
             h *= 0.1
