@@ -144,8 +144,26 @@ def test_fuzz_load_analyze_classify_never_crash(x: np.ndarray) -> None:
     table = analyze(ds, rng=0, n_surrogates=3, rule=CHEAP)
     assert table.sizes["variable"] == 1
     try:
-        verdict = classify(x, dt=0.01, rng=0, n_surrogates=3, rule=CHEAP)
+        # analyze gives each variable its own stream spawned from rng: the same one here
+        stream = np.random.default_rng(0).spawn(1)[0]
+        verdict = classify(x, dt=0.01, rng=stream, n_surrogates=3, rule=CHEAP)
     except ValueError as err:
         assert str(err) and "\n" not in str(err)
     else:
         assert verdict.label == str(table["label"].item())
+
+
+@pytest.mark.parametrize(
+    "spikes", [{0: 1.0, 1: 6.44986434e-195}, {0: 0.0, 132: -1.0}], ids=["zero", "level"]
+)
+def test_a_constant_series_with_isolated_spikes_is_analysed_alike_both_ways(spikes) -> None:
+    """Two cases the fuzz test found: a series constant but for one or two samples (its
+    trimmed part has no spread: the surrogate statistic is 0, not 0/0), through
+    ``analyze`` and through ``classify`` with the stream ``analyze`` gives it."""
+    x = np.full(200, 0.0 if 1 in spikes else -0.125)
+    for i, value in spikes.items():
+        x[i] = value
+    table = analyze(load_trajectory(x, dt=0.01), rng=0, n_surrogates=3, rule=CHEAP)
+    stream = np.random.default_rng(0).spawn(1)[0]
+    verdict = classify(x, dt=0.01, rng=stream, n_surrogates=3, rule=CHEAP)
+    assert verdict.label == str(table["label"].item())
