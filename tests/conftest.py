@@ -6,9 +6,16 @@ import os
 from pathlib import Path
 
 import matplotlib
+from hypothesis import settings
 
 matplotlib.use("Agg")
 os.environ.setdefault("MPLBACKEND", "Agg")
+
+# The default run draws the same examples every time (a red run is reproducible and a
+# green one stays green); HYPOTHESIS_PROFILE=explore searches afresh, as a fuzz run should.
+settings.register_profile("default", derandomize=True)
+settings.register_profile("explore", derandomize=False)
+settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "default"))
 
 REPO = Path(__file__).resolve().parents[1]
 
