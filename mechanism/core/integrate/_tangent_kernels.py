@@ -13,7 +13,7 @@ d_q and d_v the position and velocity parts of d, each scaled (c_q, c_v) to the 
 deviation of a stiff contact is mostly velocity; evaluated as it is, its position part
 can be a few ulps of the coordinates. Each shifted state is evaluated on the reference's
 branch of the contact law (in or out of contact, zone of the friction ramp, clamped
-force, bounded approach speed, worn-profile region): when it lies on another one, the
+force, bounded approach speed): when it lies on another one, the
 difference is taken on the reference's side, f(y) − f(y − c·part), the one-sided
 derivative of the reference's piece.
 
@@ -50,15 +50,10 @@ from mechanism.core.model._kernels import (
     CJ_DELTA,
     CJ_DELTA_DOT,
     CJ_FN,
-    CJ_PHI_B,
-    CJ_PHI_J,
     CJ_VT,
     CNT_CONTACT_EVENTS,
     CNT_REJECTED,
     CNT_STEPS,
-    CW_B_N,
-    CW_J_N,
-    CW_WORN,
     STATUS_OK,
     _cholesky_solve,
     _clearance_state,
@@ -68,7 +63,6 @@ from mechanism.core.model._kernels import (
     project,
     rhs,
 )
-from mechanism.core.wear._kernels import region_index
 
 from ._kernels import (
     A21,
@@ -264,32 +258,6 @@ def latch_pair(model, ws, ws2, y, d, vimp, dvimp, contact, counters, yp, size, t
 
 
 @njit_noalloc()
-def has_worn(model):
-    """Whether any clearance joint of the model carries a worn profile."""
-    for j in range(model.cw_i.shape[0]):
-        if model.cw_i[j, CW_WORN] != 0:
-            return True
-    return False
-
-
-@njit_noalloc()
-def _same_regions(model, ws, phi):
-    """Whether the contact directions in ``ws.cj`` fall in the same worn-profile regions as
-    ``phi`` (n_cj, 2) on every worn surface."""
-    cw_i = model.cw_i
-    for j in range(cw_i.shape[0]):
-        if cw_i[j, CW_WORN] == 0:
-            continue
-        nb = cw_i[j, CW_B_N]
-        if nb > 0 and region_index(ws.cj[j, CJ_PHI_B], nb) != region_index(phi[j, 0], nb):
-            return False
-        nj = cw_i[j, CW_J_N]
-        if nj > 0 and region_index(ws.cj[j, CJ_PHI_J], nj) != region_index(phi[j, 1], nj):
-            return False
-    return True
-
-
-@njit_noalloc()
 def _branch(model, cj, j, vimp):
     """Which smooth piece of the contact law clearance joint ``j`` is on, from its row of
     ``ws.cj`` after an evaluation with latched impact velocity ``vimp``: 0 separated,
@@ -312,19 +280,18 @@ def _branch(model, cj, j, vimp):
 
 
 @njit_noalloc()
-def _same_branch(model, ws, vimp_p, ref, worn):
+def _same_branch(model, ws, vimp_p, ref):
     """Whether the last evaluation in ``ws`` lies on the reference's branches ``ref``
-    (column 2 of (n_cj, 3): :func:`_branch`; columns 0, 1: the contact directions, compared
-    by worn-profile region when ``worn``)."""
+    (one :func:`_branch` code per clearance joint)."""
     for j in range(ref.shape[0]):
-        if _branch(model, ws.cj, j, vimp_p[j]) != ref[j, 2]:
+        if _branch(model, ws.cj, j, vimp_p[j]) != ref[j]:
             return False
-    return not worn or _same_regions(model, ws, ref)
+    return True
 
 
 @njit_noalloc()
 def _half_rate(model, ws, t, ys, ds, lo, hi, c, f_ref, vimp, dvimp, latch, vimp_p, yp, fp, kd,
-               ref, worn, counters_p):  # fmt: skip
+               ref, counters_p):  # fmt: skip
     """Add (a(ys + c·ds[lo:hi]) − a(ys))/c to the acceleration rows of ``kd``, on the
     reference's branch (mirrored, (a(ys) − a(ys − c·ds[lo:hi]))/c, when the shifted state
     is on another one); with ``latch`` the latched impact velocity is shifted by c·dvimp."""
@@ -336,7 +303,7 @@ def _half_rate(model, ws, t, ys, ds, lo, hi, c, f_ref, vimp, dvimp, latch, vimp_
         for j in range(vimp.shape[0]):
             vimp_p[j] = vimp[j] + sign * c * dvimp[j] if latch else vimp[j]
         st = rhs(model, ws, t, yp, vimp_p, fp, counters_p)
-        if sign < 0.0 or _same_branch(model, ws, vimp_p, ref, worn):
+        if sign < 0.0 or _same_branch(model, ws, vimp_p, ref):
             break
         sign = -1.0
     for i in range(n, n2):
@@ -345,7 +312,7 @@ def _half_rate(model, ws, t, ys, ds, lo, hi, c, f_ref, vimp, dvimp, latch, vimp_
 
 
 @njit_noalloc()
-def _deviation_rate(model, ws, t, ys, ds, f_ref, vimp, dvimp, vimp_p, yp, fp, kd, ref, worn,
+def _deviation_rate(model, ws, t, ys, ds, f_ref, vimp, dvimp, vimp_p, yp, fp, kd, ref,
                     fresh, size, tau, inv_mass, counters_p):  # fmt: skip
     """kd = (∂f/∂y)(t, ys)·ds + (∂f/∂δ̇⁻)·dvimp, f_ref = f(t, ys), by finite differences.
 
@@ -358,7 +325,7 @@ def _deviation_rate(model, ws, t, ys, ds, f_ref, vimp, dvimp, vimp_p, yp, fp, kd
     can be 1e-5 of its size, a few ulps of the coordinates if it were evaluated as it is.
 
     Each shifted state is evaluated on the reference's branch of the contact law (contact,
-    friction-ramp zone, clamp, approach bound, worn-profile region; :func:`_same_branch`):
+    friction-ramp zone, clamp, approach bound; :func:`_same_branch`):
     when it lies on another one, the difference is taken on the reference's side,
     (f(ys) − f(ys − c·part))/c, so the deviation follows the one-sided derivative of the
     reference's piece, never the kink or the jump between pieces.
@@ -370,9 +337,7 @@ def _deviation_rate(model, ws, t, ys, ds, f_ref, vimp, dvimp, vimp_p, yp, fp, kd
     n = n2 // 2
     if fresh:
         for j in range(ref.shape[0]):
-            ref[j, 0] = ws.cj[j, CJ_PHI_B]
-            ref[j, 1] = ws.cj[j, CJ_PHI_J]
-            ref[j, 2] = _branch(model, ws.cj, j, vimp[j])
+            ref[j] = _branch(model, ws.cj, j, vimp[j])
     for i in range(n):
         kd[i] = ds[n + i]
         kd[n + i] = 0.0
@@ -381,12 +346,12 @@ def _deviation_rate(model, ws, t, ys, ds, f_ref, vimp, dvimp, vimp_p, yp, fp, kd
     if pq > 0.0:
         st |= _half_rate(
             model, ws, t, ys, ds, 0, n, size / pq, f_ref, vimp, dvimp, False, vimp_p, yp, fp,
-            kd, ref, worn, counters_p,
+            kd, ref, counters_p,
         )  # fmt: skip
     if pv > 0.0:
         st |= _half_rate(
             model, ws, t, ys, ds, n, n2, size / (tau * pv), f_ref, vimp, dvimp, True, vimp_p,
-            yp, fp, kd, ref, worn, counters_p,
+            yp, fp, kd, ref, counters_p,
         )  # fmt: skip
     return st
 
@@ -401,10 +366,10 @@ def tangent_start(model, ws, t, y, d, k1, kd1, vimp, dvimp, counters, counters_p
         return st
     yp = np.empty_like(y)
     fp = np.empty_like(y)
-    ref = np.empty((model.cj_i.shape[0], 3))
+    ref = np.empty(model.cj_i.shape[0])
     vimp_p = np.empty_like(vimp)
     st = _deviation_rate(
-        model, ws, t, y, d, k1, vimp, dvimp, vimp_p, yp, fp, kd1, ref, has_worn(model), True,
+        model, ws, t, y, d, k1, vimp, dvimp, vimp_p, yp, fp, kd1, ref, True,
         size, tau, inv_mass, counters_p,
     )  # fmt: skip
     return STATUS_RUNNING if st == STATUS_OK else st
@@ -498,9 +463,8 @@ def tangent_advance(
     fp = np.empty(n2)
     err = np.empty(n2)
     scratch = np.empty(n2)
-    ref = np.empty((model.cj_i.shape[0], 3))
+    ref = np.empty(model.cj_i.shape[0])
     vimp_p = np.empty_like(vimp)
-    worn = has_worn(model)
     tau = math.sqrt(tau2)
     beta = 0.04
     expo1 = 0.2 - beta * 0.75
@@ -536,7 +500,7 @@ def tangent_advance(
         st |= rhs(model, ws, t + C2 * h, ytmp, vimp, k2, counters)
         st |= _deviation_rate(
             model, ws, t + C2 * h, ytmp, dtmp, k2, vimp, dvimp, vimp_p, yp, fp, kd2,
-            ref, worn, True, size, tau, inv_mass, counters_p,
+            ref, True, size, tau, inv_mass, counters_p,
         )  # fmt: skip
         for i in range(n2):
             ytmp[i] = y[i] + h * (A31 * k1[i] + A32 * k2[i])
@@ -544,7 +508,7 @@ def tangent_advance(
         st |= rhs(model, ws, t + C3 * h, ytmp, vimp, k3, counters)
         st |= _deviation_rate(
             model, ws, t + C3 * h, ytmp, dtmp, k3, vimp, dvimp, vimp_p, yp, fp, kd3,
-            ref, worn, True, size, tau, inv_mass, counters_p,
+            ref, True, size, tau, inv_mass, counters_p,
         )  # fmt: skip
         for i in range(n2):
             ytmp[i] = y[i] + h * (A41 * k1[i] + A42 * k2[i] + A43 * k3[i])
@@ -552,7 +516,7 @@ def tangent_advance(
         st |= rhs(model, ws, t + C4 * h, ytmp, vimp, k4, counters)
         st |= _deviation_rate(
             model, ws, t + C4 * h, ytmp, dtmp, k4, vimp, dvimp, vimp_p, yp, fp, kd4,
-            ref, worn, True, size, tau, inv_mass, counters_p,
+            ref, True, size, tau, inv_mass, counters_p,
         )  # fmt: skip
         for i in range(n2):
             ytmp[i] = y[i] + h * (A51 * k1[i] + A52 * k2[i] + A53 * k3[i] + A54 * k4[i])
@@ -560,7 +524,7 @@ def tangent_advance(
         st |= rhs(model, ws, t + C5 * h, ytmp, vimp, k5, counters)
         st |= _deviation_rate(
             model, ws, t + C5 * h, ytmp, dtmp, k5, vimp, dvimp, vimp_p, yp, fp, kd5,
-            ref, worn, True, size, tau, inv_mass, counters_p,
+            ref, True, size, tau, inv_mass, counters_p,
         )  # fmt: skip
         for i in range(n2):
             ytmp[i] = y[i] + h * (
@@ -572,7 +536,7 @@ def tangent_advance(
         st |= rhs(model, ws, t + h, ytmp, vimp, k6, counters)
         st |= _deviation_rate(
             model, ws, t + h, ytmp, dtmp, k6, vimp, dvimp, vimp_p, yp, fp, kd6,
-            ref, worn, True, size, tau, inv_mass, counters_p,
+            ref, True, size, tau, inv_mass, counters_p,
         )  # fmt: skip
         for i in range(n2):
             ynew[i] = y[i] + h * (
@@ -584,7 +548,7 @@ def tangent_advance(
         st |= rhs(model, ws, t + h, ynew, vimp, k7, counters)
         st |= _deviation_rate(
             model, ws, t + h, ynew, dnew, k7, vimp, dvimp, vimp_p, yp, fp, kd7,
-            ref, worn, True, size, tau, inv_mass, counters_p,
+            ref, True, size, tau, inv_mass, counters_p,
         )  # fmt: skip
         if st != STATUS_OK:
             status = STATUS_SINGULAR
@@ -641,7 +605,7 @@ def tangent_advance(
             # holds the reference's branches at y from the last stage (or from the
             # evaluation after a projection)
             st = _deviation_rate(
-                model, ws, t, y, d, k1, vimp, dvimp, vimp_p, yp, fp, kd1, ref, worn, projection,
+                model, ws, t, y, d, k1, vimp, dvimp, vimp_p, yp, fp, kd1, ref, projection,
                 size, tau, inv_mass, counters_p,
             )  # fmt: skip
             if st != STATUS_OK:
