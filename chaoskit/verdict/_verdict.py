@@ -556,11 +556,22 @@ def combine(
     if kantz_positive is not None:
         exponents["Kantz"] = kantz_positive
     # two estimators must agree on a clearly positive exponent
-    both_positive = sum(pos is True for pos in exponents.values()) >= 2
+    n_positive = sum(pos is True for pos in exponents.values())
+    both_positive = n_positive >= 2
     long_enough = n_cycles >= rule.min_cycles
     section = "none" if structure is None else structure.kind
     # a spectrum that is not lines, over enough cycles, outweighs a regular-looking section
     broadband_decides = lines == "broadband" and long_enough
+    # where nothing looks regular (broadband spectrum, scattered section), the 0–1 test is
+    # the second witness of sensitive dependence beside one clearly positive exponent (the
+    # surrogate test, required below, rules out the noise that fools it)
+    zero_one_witness = (
+        n_positive == 1
+        and zero_one_k is not None
+        and zero_one_k >= rule.zero_one_chaotic
+        and broadband_decides
+        and section == "scattered"
+    )
     # clusters alone make a period only where the spectrum cannot speak against them: a
     # spectrum of lines that are not one period's harmonics (unresolved, or a torus's)
     # contradicts k tight clusters (chaotic flows sampled coarsely show both)
@@ -593,7 +604,7 @@ def combine(
         label = "noise-like"
         reason = "the spectrum is not lines; the surrogate test cannot reject linear noise"
     elif (
-        both_positive
+        (both_positive or zero_one_witness)
         and surrogates_rejected is True
         and lines in ("broadband", "unresolved")
         # a regular-looking section does not count against a broadband spectrum either
@@ -601,11 +612,18 @@ def combine(
         and (section == "scattered" or (lines == "broadband" and long_enough))
     ):
         label = "chaotic"
-        agree = (
-            "both exponents are" if kantz_positive is None else ("two of the three exponents are")
-        )
+        if both_positive:
+            head = (
+                "both exponents are" if kantz_positive is None else "two of the three exponents are"
+            ) + " clearly positive"
+        else:
+            (name,) = (n for n, pos in exponents.items() if pos is True)
+            head = (
+                f"the {name} exponent is clearly positive and the 0–1 test finds the motion "
+                f"irregular (K = {zero_one_k:.2f})"
+            )
         reason = (
-            f"{agree} clearly positive, the data are more predictable than their "
+            f"{head}, the data are more predictable than their "
             "IAAFT surrogates, and neither the spectrum nor the section is regular"
         )
     else:
@@ -826,14 +844,19 @@ def classify(
       Wolf's, or, when exactly one of them is, Kantz's as referee —, the surrogate test
       rejects, the spectrum is broadband or unresolved, and regular motion is ruled out by
       a scattered section or by a broadband spectrum over at least ``rule.min_cycles``
-      characteristic times;
+      characteristic times; one clearly positive estimate suffices when the 0–1 test
+      finds the motion irregular (:math:`K \ge` ``rule.zero_one_chaotic``), the surrogate
+      test rejects, the section is scattered and the spectrum broadband over at least
+      ``rule.min_cycles`` characteristic times;
     * else *undetermined*, and ``Verdict.needs`` says what would decide: more drive
       periods or oscillations, more section points, a clearly positive exponent, an
       estimator that failed.
 
     Evidence that cannot be computed (e.g. an estimator refusing an exactly periodic series)
-    counts as missing; *chaotic* needs all of its pieces. The 0–1 test never decides: it is
-    consistent with chaos and with noise alike, and enters the confidence only.
+    counts as missing; *chaotic* needs all of its pieces. The 0–1 test alone never decides:
+    it is consistent with chaos and with noise alike. Only where the surrogate test has
+    ruled out linear noise and the spectrum and the section rule out regular motion does
+    it stand in for a second exponent estimate.
 
     **Confidence** is the fraction of the pieces of evidence that could have decided
     (present and not neutral: line spectrum, section, each exponent — the referee's when

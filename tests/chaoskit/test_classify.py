@@ -146,8 +146,10 @@ def test_rule_noise_beats_positive_exponents() -> None:
 
 
 def test_rule_chaos_needs_every_piece() -> None:
+    # K between the thresholds: the 0–1 test cannot stand in for an exponent (tested in
+    # test_verdict_evidence.py)
     full = {"structure": _structure("scattered"), "rosenstein_positive": True,
-            "wolf_positive": True, "zero_one_k": 0.95, "surrogates_rejected": True}  # fmt: skip
+            "wolf_positive": True, "zero_one_k": 0.5, "surrogates_rejected": True}  # fmt: skip
     assert combine(**full, rule=RULE)[0] == "chaotic"
     assert combine(**full, rule=RULE)[2] == 1.0
     for key, value in (("rosenstein_positive", False), ("wolf_positive", None),

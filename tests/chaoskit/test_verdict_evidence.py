@@ -296,7 +296,8 @@ def test_a_chaotic_forced_flow_does_not_fold() -> None:
 
 
 def test_kantz_referees_when_only_one_exponent_is_clearly_positive() -> None:
-    args = {"zero_one_k": 1.0, "surrogates_rejected": True, "rule": RULE,
+    # K between the thresholds: the 0–1 test cannot be the second witness
+    args = {"zero_one_k": 0.5, "surrogates_rejected": True, "rule": RULE,
             "structure": _structure("scattered"), "lines": "broadband"}  # fmt: skip
     one = {"rosenstein_positive": True, "wolf_positive": False}
     # without the referee one exponent is not enough
@@ -306,11 +307,39 @@ def test_kantz_referees_when_only_one_exponent_is_clearly_positive() -> None:
     label, _, conf, reason, votes, _ = combine(**one, kantz_positive=True, **args)
     assert label == "chaotic" and reason.startswith("two of the three exponents")
     assert votes["kantz"] == "supports" and votes["wolf"] == "opposes"
-    assert conf == pytest.approx(6 / 7)  # all but Wolf of: lines, section, 3 exponents, 0–1, surr.
+    assert conf == pytest.approx(5 / 6)  # all but Wolf of: lines, section, 3 exponents, surr.
     # the referee disagreeing: undetermined, and both shortfalls are named
     label, *_, needs = combine(**one, kantz_positive=False, **args)
     assert label == "undetermined"
     assert any("Wolf" in n for n in needs) and any("Kantz" in n for n in needs)
+
+
+def test_the_zero_one_test_is_the_second_witness_only_where_nothing_looks_regular() -> None:
+    """One clearly positive exponent and K ≥ rule.zero_one_chaotic make a chaotic label
+    when noise is ruled out (surrogates reject), the section is scattered and the spectrum
+    broadband over enough cycles; take away any one of these and it is undetermined."""
+    base = {"rosenstein_positive": False, "wolf_positive": True, "kantz_positive": False,
+            "zero_one_k": 0.95, "surrogates_rejected": True, "rule": RULE,
+            "structure": _structure("scattered"), "lines": "broadband",
+            "n_cycles": 100.0}  # fmt: skip
+    label, _, conf, reason, votes, needs = combine(**base)
+    assert label == "chaotic" and needs == ()
+    assert reason.startswith("the Wolf exponent is clearly positive and the 0–1 test")
+    assert "K = 0.95" in reason
+    # two of seven pieces disagree (Rosenstein, Kantz): the confidence says so
+    assert votes["zero_one"] == "supports" and conf == pytest.approx(5 / 7)
+    for change in (
+        {"zero_one_k": RULE.zero_one_chaotic - 0.01},  # K does not say irregular
+        {"zero_one_k": None},  # the 0–1 test failed
+        {"wolf_positive": False},  # no exponent at all
+        {"surrogates_rejected": False},  # noise not ruled out (then noise-like)
+        {"structure": _structure("closed-curve")},  # the section looks regular
+        {"structure": _structure("too-few-points")},  # the section cannot say
+        {"lines": "unresolved"},  # the spectrum is not clearly broadband
+        {"n_cycles": 19.0},  # too few cycles for the spectrum to rule out regularity
+    ):
+        label = combine(**{**base, **change})[0]
+        assert label != "chaotic", change
 
 
 def test_a_noisy_chaotic_map_is_decided_by_the_referee() -> None:
