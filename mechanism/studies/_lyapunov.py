@@ -228,8 +228,10 @@ def lyapunov_exponent(
         segment end.
     rtol, atol : float, optional
         Tolerances of the reference; default 1e-8 for a rigid scene (not
-        ``scene.solver``'s: with Dormand–Prince the exponent is tolerance-independent
-        only well below the usual 1e-5), ``scene.solver``'s for a flexible one (the
+        ``scene.solver``'s: on the paper scene the estimate is the same from 1e-5 to 1e-9
+        within its interval and costs the same, since the journals' approach and the
+        deviation's error set the steps, so the tighter one is free;
+        docs/mechanism-lyapunov.md §3), ``scene.solver``'s for a flexible one (the
         fixed-step generalized-α reads them only in its Newton test, and its reference
         then takes the steps of :func:`mechanism.simulate`).
     max_step : float, optional
