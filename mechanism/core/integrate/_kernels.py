@@ -857,29 +857,38 @@ def _project(model, ws, x, out, y, u):
 @njit(cache=True, error_model="numpy")
 def _projected_columns(model, ws, kbuf, cols, out):
     """out[:, j] = −P M⁻¹ kbuf[:, j] for j in ``cols`` (see :func:`_project`), all columns
-    at once with matrix products on the mass blocks (BLAS)."""
+    at once, row by row so that the innermost loop runs along the columns.
+
+    Plain loops, not BLAS: the products are small (the mass blocks, the m constraint rows
+    with their zeros skipped), and a threaded BLAS would spin its threads on the other
+    cores between calls and change the sums' order with the machine's core count."""
     n = out.shape[0]
     m = model.n_rows
     nk = cols.shape[0]
-    x = np.empty((n, nk))
-    for i in range(n):
-        for c in range(nk):
-            x[i, c] = -kbuf[i, cols[c]]
-    y = np.empty((n, nk))
+    y = np.zeros((n, nk))
     i = 0
     while i < n:
         lo = model.blk_lo[i]
         hi = model.blk_hi[i]
-        y[lo:hi, :] = np.dot(
-            np.ascontiguousarray(model.minv[lo:hi, lo:hi]), np.ascontiguousarray(x[lo:hi, :])
-        )
+        for r in range(lo, hi):
+            for l in range(lo, hi):
+                a = model.minv[r, l]
+                if a != 0.0:
+                    for c in range(nk):
+                        y[r, c] -= a * kbuf[l, cols[c]]
         i = hi
     if m == 0:
         for i in range(n):
             for c in range(nk):
                 out[i, cols[c]] = y[i, c]
         return
-    u = np.dot(np.ascontiguousarray(ws.phiq[:m, :n]), y)
+    u = np.zeros((m, nk))
+    for r in range(m):
+        for i in range(n):
+            a = ws.phiq[r, i]
+            if a != 0.0:
+                for c in range(nk):
+                    u[r, c] += a * y[i, c]
     for c in range(nk):
         for r in range(m):
             acc = u[r, c]
@@ -891,10 +900,12 @@ def _projected_columns(model, ws, kbuf, cols, out):
             for k in range(r + 1, m):
                 acc -= ws.s[k, r] * u[k, c]
             u[r, c] = acc / ws.s[r, r]
-    z = np.dot(np.ascontiguousarray(ws.w[:n, :m]), u)
     for i in range(n):
         for c in range(nk):
-            out[i, cols[c]] = y[i, c] - z[i, c]
+            acc = y[i, c]
+            for r in range(m):
+                acc -= ws.w[i, r] * u[r, c]
+            out[i, cols[c]] = acc
 
 
 @njit(cache=True, error_model="numpy")
