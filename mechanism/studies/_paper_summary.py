@@ -63,7 +63,8 @@ class Stages:
     Parameters
     ----------
     weights
-        ``{stage name: prior cost}`` in run order.
+        ``{stage name: prior cost}`` in run order. A stage of prior cost 0 is timed and
+        listed but left out of the estimate (its cost is not proportional to the others').
     enabled
         Print (to ``stream``) or stay silent.
     """
@@ -115,8 +116,9 @@ class Stages:
             spent = time.perf_counter() - t
             self.cpu_times[name] = process_tree_cpu_time() - cpu
             self.times[name] = spent
-            self._done_time += spent
-            self._done_weight += self._weights[name]
+            if self._weights[name] > 0.0:
+                self._done_time += spent
+                self._done_weight += self._weights[name]
 
     def summary(self) -> pd.DataFrame:
         """Wall and CPU minutes of each stage run so far, with a total row."""

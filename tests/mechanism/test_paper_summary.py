@@ -5,6 +5,7 @@ from __future__ import annotations
 import io
 import math
 import re
+import time
 from types import SimpleNamespace
 
 import numpy as np
@@ -14,7 +15,7 @@ import xarray as xr
 
 import chaoskit
 import mechanism
-from mechanism.studies._paper import COLUMNS, _wear_comparison
+from mechanism.studies._paper import COLUMNS, _compile_kernels, _wear_comparison
 from mechanism.studies._paper_summary import Stages, motion_verdict, summary_section
 
 
@@ -59,6 +60,31 @@ def test_stages_print_each_stage_with_the_time_left_scaled_by_measured_cost() ->
     with Stages({"a": 1.0}, enabled=False, stream=silent).stage("a"):
         pass
     assert silent.getvalue() == ""
+
+
+def test_a_stage_of_no_prior_cost_is_timed_but_left_out_of_the_estimate() -> None:
+    """The kernels' compilation takes minutes on a fresh install and seconds after: it is
+    listed, but its time must not scale the estimate of the stages after it."""
+    stream = io.StringIO()
+    stages = Stages({"compile": 0.0, "a": 1.0, "b": 3.0}, stream=stream)
+    with stages.stage("compile"):
+        time.sleep(0.05)
+    with stages.stage("a"):
+        pass
+    assert "estimating time left" in stream.getvalue().splitlines()[1]
+    stages._done_time = 10.0  # a: 10 s for a weight of 1, the compilation not counted
+    with stages.stage("b"):
+        pass
+    assert "about 30 s left" in stream.getvalue().splitlines()[2]
+    assert stages.times["compile"] >= 0.05 and "compile" in stages.summary().index
+
+
+def test_the_kernels_compile_once_per_path_and_load_from_the_cache_after() -> None:
+    """The study compiles every compiled path in its pool before the workers start; each
+    part runs its tiny problems and returns the CPU time (compiled already by the time
+    the tests get here: a few seconds)."""
+    for part in ("flexible", "rigid"):
+        assert _compile_kernels(part) > 0.0
 
 
 def test_wear_table_ratios_compare_magnitudes_of_negative_quantities() -> None:
