@@ -652,8 +652,13 @@ def _compile_kernels(part: str) -> float:
             output_step=period / 1000,
             variables=("crank_angle", "eccentricity_x", "eccentricity_y"),
         )
-        predict_wear(scene, updates=1, cycles_per_update=1.0, settle_revolutions=0.0,
-                     output_step=period / 2500)  # fmt: skip
+        predict_wear(
+            scene,
+            updates=1,
+            cycles_per_update=1.0,
+            settle_revolutions=0.0,
+            output_step=period / 2500,
+        )
         lyapunov_exponent(scene, revolutions=0.02, discard=0.01)
     else:
         rigid = scene.replace({"solver.max_step": None})
@@ -917,7 +922,10 @@ def run_paper_study(
             # compile once, in the pool's processes, before the workers start
             with stages.stage("compiling the kernels (first run only)"):
                 for future in [_submit(pool, _compile_kernels, p) for p in ("flexible", "rigid")]:
-                    future.result()
+                    # a speed-up only: a path that fails here fails again, with its
+                    # message, in the run that needs it
+                    with contextlib.suppress(Exception):
+                        future.result()
         backend = context.enter_context(
             _session_client(client, n_workers, len(_CLEARANCES) * len(_SPEEDS))
         )
