@@ -35,6 +35,7 @@ from pathlib import Path
 import numpy as np
 
 import mechanism
+from chaoskit.contract import atomic_write
 from mechanism.core import default_step, step_limits
 from mechanism.core.integrate import Dopri5, initial_deviation
 from mechanism.core.model import assemble, initial_state
@@ -128,12 +129,14 @@ def main() -> None:
                 "pairs": dt.size, "mean_time_s": f"{mean:.4e}", "cpu_s": f"{cpu:.1f}",
             })  # fmt: skip
             print(rows[-1], flush=True)
-    tmp = OUT.with_suffix(".csv.tmp")
-    with tmp.open("w", newline="") as fh:
-        writer = csv.DictWriter(fh, fieldnames=FIELDS)
-        writer.writeheader()
-        writer.writerows(rows)
-    tmp.replace(OUT)
+
+    def write(path: Path) -> None:
+        with path.open("w", newline="") as fh:
+            writer = csv.DictWriter(fh, fieldnames=FIELDS)
+            writer.writeheader()
+            writer.writerows(rows)
+
+    atomic_write(OUT, write)
 
 
 if __name__ == "__main__":
