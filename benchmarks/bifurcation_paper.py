@@ -13,6 +13,14 @@ and the load average at the start, sampled every 10 s during the run (mean and
 largest) and at the end. Run with
 
     NUMBA_NUM_THREADS=1 python benchmarks/bifurcation_paper.py speed [--exponent]
+    NUMBA_NUM_THREADS=1 python benchmarks/bifurcation_paper.py speed --exponent \
+        --exponent-revolutions 30 --exponent-discard 10   # the exponent over fewer
+
+With fewer exponent revolutions than the points' the run is compared, value by value, with
+the stored diagram whose exponent kept all of them (``bifurcation-speed-exponent.nc``): the
+difference of the exponents, the width of the intervals, and whether each value is read the
+same way (interval above 0, or reaching 0 or below); the comparison is printed and added to
+``docs/benchmarks/bifurcation-exponent-accuracy.csv``.
     NUMBA_NUM_THREADS=1 python benchmarks/bifurcation_paper.py clearance --values 5e-5:5e-4:46
     python benchmarks/bifurcation_paper.py speed --replot   # figure from the stored Dataset
 """
@@ -22,6 +30,7 @@ from __future__ import annotations
 import argparse
 import csv
 import datetime
+import io
 import json
 import logging
 import os
@@ -30,18 +39,22 @@ import time
 from pathlib import Path
 
 import matplotlib
+import numpy as np
 import xarray as xr
 
 import mechanism
+from chaoskit.contract import atomic_write
 from mechanism.studies._paper_summary import process_tree_cpu_time
 from mechanism.studies._sweep_store import write_netcdf
 
 OUT = Path(__file__).resolve().parents[1] / "docs" / "benchmarks"
 COST = OUT / "bifurcation-cost.csv"
+ACCURACY = OUT / "bifurcation-exponent-accuracy.csv"
 KEYS = {"speed": "drive.speed_rpm", "clearance": "joints.C.clearance"}
 DEFAULT_VALUES = {"speed": "30:300:60", "clearance": "5e-5:5e-4:46"}
 COST_FIELDS = [
-    "date", "sweep", "values", "revolutions", "discard", "exponent", "workers", "ok",
+    "date", "sweep", "values", "revolutions", "discard", "exponent", "exponent_revolutions",
+    "exponent_discard", "workers", "ok",
     "wall_s", "worker_cpu_s", "simulation_cpu_s", "exponent_cpu_s", "cpu_s_per_revolution",
     "load_start", "load_mean", "load_max", "load_end",
 ]  # fmt: skip
@@ -101,9 +114,14 @@ def main() -> None:
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--store", type=Path, default=None)
     parser.add_argument("--exponent", action="store_true", help="also the exponent at every value")
+    parser.add_argument("--exponent-revolutions", type=float, default=None)
+    parser.add_argument("--exponent-discard", type=float, default=None)
     parser.add_argument("--replot", action="store_true", help="redraw from the stored Dataset")
     args = parser.parse_args()
+    args.exponent |= args.exponent_revolutions is not None or args.exponent_discard is not None
     name = f"bifurcation-{args.sweep}" + ("-exponent" if args.exponent else "")
+    if args.exponent_revolutions is not None:
+        name += f"-{args.exponent_revolutions:g}"
     if args.replot:
         with xr.open_dataset(OUT / f"{name}.nc", engine="h5netcdf") as stored:
             _figure(stored.load(), name)
@@ -134,6 +152,8 @@ def main() -> None:
             client=client,
             store=store,
             exponent=args.exponent,
+            exponent_revolutions=args.exponent_revolutions,
+            exponent_discard=args.exponent_discard,
             progress=True,
         )
         wall = time.perf_counter() - start
@@ -143,6 +163,8 @@ def main() -> None:
     sim = sum(_point_cpu_seconds(store, "solver_cpu_time").values())
     exp = sum(_point_cpu_seconds(store, "solver_exponent_cpu_time").values())
     ok = int((ds.status.values == "ok").sum())
+    kept = args.exponent_revolutions or args.revolutions - args.discard
+    discarded = args.discard if args.exponent_discard is None else args.exponent_discard
     revs = len(values) * args.revolutions
     row = {
         "date": datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%d %H:%M"),
@@ -151,6 +173,8 @@ def main() -> None:
         "revolutions": f"{args.revolutions:g}",
         "discard": f"{args.discard:g}",
         "exponent": int(args.exponent),
+        "exponent_revolutions": "" if not args.exponent else f"{kept:g}",
+        "exponent_discard": "" if not args.exponent else f"{discarded:g}",
         "workers": args.workers,
         "ok": ok,
         "wall_s": f"{wall:.0f}",
@@ -171,12 +195,7 @@ def main() -> None:
         f"{cpu / 2 / 60:.1f} min); per value (all runs of the store): simulations "
         f"{sim / 60:.1f} min, exponents {exp / 60:.1f} min"
     )
-    new = not COST.exists()
-    with COST.open("a", newline="") as fh:
-        writer = csv.DictWriter(fh, fieldnames=COST_FIELDS)
-        if new:
-            writer.writeheader()
-        writer.writerow(row)
+    _append(COST, COST_FIELDS, row)
     ds.attrs.update(
         benchmark_revolutions=args.revolutions,
         benchmark_discard=args.discard,
@@ -188,6 +207,63 @@ def main() -> None:
     OUT.mkdir(parents=True, exist_ok=True)
     write_netcdf(ds, OUT / f"{name}.nc")
     _figure(ds, name)
+    reference = OUT / f"bifurcation-{args.sweep}-exponent.nc"
+    if args.exponent_revolutions is not None and reference.exists():
+        with xr.open_dataset(reference, engine="h5netcdf") as full:
+            _compare(ds, full.load(), args, kept, discarded, cpu)
+
+
+def _append(path: Path, fields: list[str], row: dict[str, object]) -> None:
+    """Add a row to a CSV file, atomically; older rows get blanks in new columns."""
+    rows: list[dict[str, object]] = []
+    if path.exists():
+        with path.open(newline="") as fh:
+            rows = list(csv.DictReader(fh))
+    rows.append(row)
+    buffer = io.StringIO()
+    writer = csv.DictWriter(buffer, fieldnames=fields, restval="")
+    writer.writeheader()
+    writer.writerows(rows)
+    text = buffer.getvalue()
+    atomic_write(path, lambda tmp: tmp.write_text(text))
+
+
+def _reading(ds: xr.Dataset) -> np.ndarray:
+    """Per value: "chaotic" when the exponent's interval lies above 0, "regular" otherwise."""
+    return np.where(ds["lyapunov_exponent_low"].values > 0.0, "chaotic", "regular")
+
+
+def _compare(
+    ds: xr.Dataset, full: xr.Dataset, args: argparse.Namespace, kept: float,
+    discarded: float, cpu: float,
+) -> None:  # fmt: skip
+    """The exponent over fewer revolutions against the stored one over all of them."""
+    key = KEYS[args.sweep]
+    full = full.sel({key: ds[key].values}, method="nearest")
+    ok = (ds.status.values == "ok") & (full.status.values == "ok")
+    lam, ref = ds.lyapunov_exponent.values[ok], full.lyapunov_exponent.values[ok]
+    width = (ds.lyapunov_exponent_high - ds.lyapunov_exponent_low).values[ok]
+    ref_width = (full.lyapunov_exponent_high - full.lyapunov_exponent_low).values[ok]
+    same = _reading(ds)[ok] == _reading(full)[ok]
+    inside = (ref >= ds.lyapunov_exponent_low.values[ok]) & (
+        ref <= ds.lyapunov_exponent_high.values[ok]
+    )
+    row = {
+        "date": datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%d %H:%M"),
+        "sweep": args.sweep,
+        "values": int(ok.sum()),
+        "exponent_revolutions": f"{kept:g}",
+        "exponent_discard": f"{discarded:g}",
+        "reference_revolutions": f"{full.lyapunov_exponent.attrs.get('revolutions_kept', 100):g}",
+        "same_reading": int(same.sum()),
+        "reference_inside_interval": int(inside.sum()),
+        "median_abs_difference": f"{np.median(np.abs(lam - ref)):.3g}",
+        "median_width_ratio": f"{np.median(width / np.maximum(ref_width, 1e-12)):.3g}",
+        "worker_cpu_s": f"{cpu:.0f}",
+        "differently_read": " ".join(f"{v:.4g}" for v in ds[key].values[ok][~same]),
+    }
+    print(row)
+    _append(ACCURACY, list(row), row)
 
 
 if __name__ == "__main__":

@@ -58,7 +58,7 @@ def main(
     """mechanism command line."""
 
 
-# --- scenes (issue 5, scene loading): commands below this line only ---
+# --- scenes (scene loading): commands below this line only ---
 import contextlib  # noqa: E402
 import os  # noqa: E402
 import warnings  # noqa: E402
@@ -194,7 +194,7 @@ def show_command(
     typer.echo(resolved.to_json() if as_json else resolved.to_toml(), nl=as_json)
 
 
-# --- simulation (issue 5, core): commands below this line only ---
+# --- simulation (core): commands below this line only ---
 
 
 @app.command("simulate")
@@ -269,7 +269,7 @@ def simulate_command(
     )
 
 
-# --- wear (issue 7): commands below this line only ---
+# --- wear: commands below this line only ---
 
 
 @app.command("wear")
@@ -314,7 +314,7 @@ def wear_command(
     )
 
 
-# --- flexibility (issue 6): commands below this line only ---
+# --- flexibility: commands below this line only ---
 
 
 @app.command("convergence")
@@ -364,7 +364,7 @@ def convergence_command(
         typer.echo(f"{path}: written")
 
 
-# --- sweeps (issue 8): commands below this line only ---
+# --- sweeps: commands below this line only ---
 
 GRID_HELP = (
     "A swept key and its values, e.g. --grid joints.C.clearance=1e-4,2e-4 "
@@ -498,6 +498,23 @@ def bifurcation_command(
     variables: list[str] | None = typer.Option(
         None, "--var", help="Section variable (default: the journal eccentricity). Repeatable."
     ),
+    exponent: bool = typer.Option(
+        False,
+        "--exponent",
+        help="Also the largest Lyapunov exponent of every value from the equations of "
+        "motion, drawn under the points.",
+    ),
+    exponent_revolutions: float | None = typer.Option(
+        None,
+        "--exponent-revolutions",
+        help="Revolutions the exponent keeps (default: those of the points; implies "
+        "--exponent); fewer cost less and widen its interval.",
+    ),
+    exponent_discard: float | None = typer.Option(
+        None,
+        "--exponent-discard",
+        help="Revolutions the exponent discards first (default: --discard).",
+    ),
     tolerance: str = typer.Option(
         "1e-8",
         "--tolerance",
@@ -528,6 +545,8 @@ def bifurcation_command(
             f"expected a number in (0, 1) or 'scene'; got {tolerance!r}", param_hint="--tolerance"
         ) from None
     resolved = load_scene_option(scene, set_options)
+    # either exponent option asks for the exponent
+    exponent = exponent or exponent_revolutions is not None or exponent_discard is not None
     try:
         ds = bifurcation(
             resolved,
@@ -538,6 +557,9 @@ def bifurcation_command(
             revolutions=revolutions,
             discard=discard,
             variables=tuple(variables) if variables else ("eccentricity",),
+            exponent=exponent,
+            exponent_revolutions=exponent_revolutions,
+            exponent_discard=exponent_discard,
             client=scheduler,
             n_workers=workers,
             store=store,
@@ -564,7 +586,7 @@ def bifurcation_command(
         typer.echo(f"figure: {figure}")
 
 
-# --- paper study (issue 8): commands below this line only ---
+# --- paper study: commands below this line only ---
 
 
 @app.command("paper")
@@ -611,7 +633,7 @@ def paper_command(
     typer.echo(f"wall time: {study.wall_time:.1f} s; output: {study.output_size / 1e6:.1f} MB")
 
 
-# --- chaos from the equations (issue 16): commands below this line only ---
+# --- chaos from the equations: commands below this line only ---
 
 
 @app.command("lyapunov")

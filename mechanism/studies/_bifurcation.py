@@ -66,6 +66,8 @@ class _SectionPoint:
     exponent: bool
     rtol: float | None = None
     atol: float | None = None
+    exponent_revolutions: float | None = None
+    exponent_discard: float | None = None
 
     def __call__(self, scene: Any, *, revolutions: float) -> xr.Dataset:
         # the tolerance is the error control's: a flexible model's fixed-step
@@ -85,8 +87,14 @@ class _SectionPoint:
         )
         if self.exponent and ds.attrs.get("solver_status") == 0:
             cpu = time.process_time()
+            discard = self.discard if self.exponent_discard is None else self.exponent_discard
+            kept = (
+                revolutions - self.discard
+                if self.exponent_revolutions is None
+                else self.exponent_revolutions
+            )
             value, low, high = largest_exponent(
-                scene, revolutions=revolutions, discard=self.discard, **tolerance
+                scene, revolutions=discard + kept, discard=discard, **tolerance
             )
             # the exponent's one-core cost beside the simulation's (``solver_cpu_time``);
             # the sweep keeps ``solver_*`` attributes in the value's summary
@@ -97,7 +105,15 @@ class _SectionPoint:
                 ("largest Lyapunov exponent", "its 95 % interval, low", "its 95 % interval, high"),
                 strict=True,
             ):
-                ds[name] = xr.DataArray(float(number), attrs={"units": "s-1", "long_name": what})
+                ds[name] = xr.DataArray(
+                    float(number),
+                    attrs={
+                        "units": "s-1",
+                        "long_name": what,
+                        "revolutions_kept": kept,
+                        "revolutions_discarded": discard,
+                    },
+                )
         return ds
 
 
@@ -176,6 +192,8 @@ def bifurcation(
     variables: Sequence[str] = (ECCENTRICITY,),
     phase: float = 0.0,
     exponent: bool = False,
+    exponent_revolutions: float | None = None,
+    exponent_discard: float | None = None,
     rtol: float | None = ORBIT_TOLERANCE,
     atol: float | None = ORBIT_TOLERANCE,
     client: Any = None,
@@ -215,7 +233,14 @@ def bifurcation(
     exponent
         Also estimate the largest Lyapunov exponent of every value from the equations of
         motion (variables ``lyapunov_exponent`` and its 95 % interval
-        ``lyapunov_exponent_low`` / ``_high``, 1/s).
+        ``lyapunov_exponent_low`` / ``_high``, 1/s), by default over the same
+        revolutions as the points.
+    exponent_revolutions, exponent_discard
+        Revolutions the exponent keeps and the transient it discards before them (default:
+        those of the points). The exponent costs about three times the points per
+        revolution, so a diagram over many values can keep fewer for it: its interval
+        widens about as the inverse square root of the kept revolutions, which
+        ``docs/sweeps.md`` measures against the cost.
     rtol, atol
         Tolerances of the error-controlled integration of a rigid model, for the points
         and the exponent alike (default 1e-8, the exponent's; None: the scene's). At a
@@ -267,9 +292,22 @@ def bifurcation(
     for name, value in (("rtol", rtol), ("atol", atol)):
         if value is not None and not (isinstance(value, int | float) and 0.0 < value < 1.0):
             raise ValueError(f"{name} must be in (0, 1) or None (the scene's); got {value!r}.")
+    for name, value, bound in (
+        ("exponent_revolutions", exponent_revolutions, "> 0"),
+        ("exponent_discard", exponent_discard, ">= 0"),
+    ):
+        if value is None:
+            continue
+        if not exponent:
+            raise ValueError(f"{name} applies to the exponent; pass exponent=True with it.")
+        number = not isinstance(value, bool) and isinstance(value, int | float)
+        if not (number and math.isfinite(value) and (value > 0 if bound == "> 0" else value >= 0)):
+            raise ValueError(f"{name} must be a number {bound} (revolutions); got {value!r}.")
     simulator = _SectionPoint(
         discard=float(discard), phase=float(phase), exponent=bool(exponent),
         rtol=None if rtol is None else float(rtol), atol=None if atol is None else float(atol),
+        exponent_revolutions=None if exponent_revolutions is None else float(exponent_revolutions),
+        exponent_discard=None if exponent_discard is None else float(exponent_discard),
     )  # fmt: skip
     with _store_folder(store) as folder:
         summary = sweep(

@@ -218,8 +218,11 @@ class StudySettings:
         Output samples per revolution of the analysed series; the integration step stays
         the paper's T/10000.
     exponent_revolutions
-        Revolutions of :func:`mechanism.lyapunov_exponent` per state (on the model of the
-        analysed series; with flexible rods also on the rigid-rod model).
+        Revolutions of :func:`mechanism.lyapunov_exponent` per state, on the model of the
+        analysed series.
+    rigid_rod_exponent
+        With flexible rods, also the exponent of each state with rigid rods (a check that
+        the answer does not hang on the rod model; the quick settings leave it out).
     orbit_speeds, orbit_revolutions, orbit_discard_revolutions, orbit_flexible_rods
         The orbit diagrams over crank speed before and after wear
         (:func:`mechanism.bifurcation`): speeds (rpm), revolutions per speed, transient,
@@ -243,6 +246,7 @@ class StudySettings:
     chaos_revolutions: float = 200.0
     chaos_samples_per_revolution: int = 2000
     exponent_revolutions: float = 100.0
+    rigid_rod_exponent: bool = True
     orbit_speeds: tuple[float, ...] = tuple(float(v) for v in range(30, 151, 15))
     orbit_revolutions: float = 30.0
     orbit_discard_revolutions: float = 15.0
@@ -296,6 +300,7 @@ class StudySettings:
         object.__setattr__(self, "orbit_speeds", speeds)
         object.__setattr__(self, "flexible_rods", bool(self.flexible_rods))
         object.__setattr__(self, "orbit_flexible_rods", bool(self.orbit_flexible_rods))
+        object.__setattr__(self, "rigid_rod_exponent", bool(self.rigid_rod_exponent))
 
     @classmethod
     def paper(cls) -> StudySettings:
@@ -309,7 +314,8 @@ class StudySettings:
         Flexible rods and the 200 analysed revolutions per state are kept; the response
         points run 4 revolutions with output T/2500, the wear 1 update of 10 000 cycles,
         the convergence table 3 meshes over the first impact, the analysed series at most
-        100 000 samples, and the orbit diagrams rigid rods at 7 speeds.
+        100 000 samples, the exponent from the equations 20 revolutions (flexible rods
+        only), and the orbit diagrams rigid rods at 5 speeds.
         """
         return cls(
             revolutions=4.0,
@@ -324,8 +330,9 @@ class StudySettings:
             convergence_revolutions=0.15,
             chaos_revolutions=200.0,
             chaos_samples_per_revolution=1000,
-            exponent_revolutions=30.0,
-            orbit_speeds=(30.0, 50.0, 70.0, 90.0, 110.0, 130.0, 150.0),
+            exponent_revolutions=20.0,
+            rigid_rod_exponent=False,
+            orbit_speeds=(30.0, 60.0, 90.0, 120.0, 150.0),
             orbit_revolutions=30.0,
             orbit_discard_revolutions=10.0,
             orbit_flexible_rods=False,
@@ -631,20 +638,19 @@ def _convergence_run(scene: Any, elements: int, settings: StudySettings) -> list
     ]
 
 
-def _compile_kernels(part: str) -> float:
+def _compile_kernels(part: str, *, rigid_exponent: bool = True) -> float:
     """Run each compiled path of the study once on a tiny problem (pool task), so that
     numba compiles it and writes its cache; returns the CPU seconds spent.
 
     On a fresh install every worker process would otherwise compile the same kernels at
     the same time (about two minutes of CPU each); compiled once here, in the pool's two
     processes in parallel, the others load them from the cache. ``part`` is
-    ``"flexible"`` (the generalized-α runs: full record, the chaos runs' series, wear,
-    the flexible exponent) or ``"rigid"`` (sections, the rigid exponent, the analysis).
+    ``"flexible"`` (the generalized-α runs: full record, the chaos runs' series, wear) or
+    ``"rigid"`` (sections, the rigid exponent when ``rigid_exponent``, the analysis, and
+    last the flexible exponent, so that the two parts take about the same time).
     """
     cpu = time.process_time()
-    scene = load_scene("paper").replace(
-        {"effects.flexibility": part == "flexible", "solver.max_step": _STEP}
-    )
+    scene = load_scene("paper").replace({"effects.flexibility": True, "solver.max_step": _STEP})
     period = 60.0 / abs(float(scene.drive.speed_rpm))
     if part == "flexible":
         simulate(scene, revolutions=0.01, output_step=period / 2500)
@@ -661,15 +667,16 @@ def _compile_kernels(part: str) -> float:
             settle_revolutions=0.0,
             output_step=period / 2500,
         )
-        lyapunov_exponent(scene, revolutions=0.02, discard=0.01)
     else:
-        rigid = scene.replace({"solver.max_step": None})
+        rigid = scene.replace({"effects.flexibility": False, "solver.max_step": None})
         simulate(
             rigid, revolutions=0.2, record="sections", rtol=ORBIT_TOLERANCE, atol=ORBIT_TOLERANCE
         )
-        lyapunov_exponent(rigid, revolutions=0.2, discard=0.1)
+        if rigid_exponent:
+            lyapunov_exponent(rigid, revolutions=0.2, discard=0.1)
         t = np.arange(4000) * 0.05
         chaoskit.classify(np.sin(t) + 0.5 * np.sin(np.sqrt(2.0) * t), dt=0.05)
+        lyapunov_exponent(scene, revolutions=0.02, discard=0.01)
     return time.process_time() - cpu
 
 
@@ -738,12 +745,14 @@ def _stage_weights(settings: StudySettings, n_conv: int) -> dict[str, float]:
         "element convergence": n_conv * settings.convergence_revolutions * 10.0,
         "orbit diagrams over speed": 2 * settings.orbit_revolutions * orbit,
         # two chaos runs (series only, no companion) and two exponents on the series'
-        # model (a flexible tangent revolution about 1.6 chaos-run ones), with flexible
-        # rods also the two rigid-rod ones
+        # model (a flexible tangent revolution about 2.8 chaos-run ones), with flexible
+        # rods and ``rigid_rod_exponent`` also the two rigid-rod ones
         "long runs for the chaos analysis and exponents": 2 * long_run * 0.9
         + 2
         * (settings.discard_revolutions + settings.exponent_revolutions)
-        * ((1.5 + 2.0) if settings.flexible_rods else 2.0),
+        * (
+            (2.8 + (1.3 if settings.rigid_rod_exponent else 0.0)) if settings.flexible_rods else 1.0
+        ),
         "chaos analysis and report": 4
         * 0.5e-3
         * min(long_run * settings.chaos_samples_per_revolution, settings.max_samples or math.inf),
@@ -752,10 +761,12 @@ def _stage_weights(settings: StudySettings, n_conv: int) -> dict[str, float]:
 
 class _LongRuns:
     """The study's long compiled runs in the process pool, in the order that finishes
-    first: the three wear predictions (short; the after-wear sweeps wait for them) and the
-    before-wear chaos run start at once; as soon as the profile worn at 150 rpm exists,
-    the after-wear chaos run (the longest chain) and its exponent are queued, then the
-    before-wear exponent.
+    first: the three wear predictions (short; the after-wear sweeps wait for them) at once;
+    as soon as the profile worn at 150 rpm exists, the after-wear chaos run (the longest
+    run) first, then the before-wear chaos run, the two exponents and, when asked for, the
+    rigid-rod ones. The pool's two processes then finish within a short run of each other
+    (measured on the quick settings: 240 s of CPU for the after-wear chaos run against
+    141 + 62 + 54 s for the rest).
 
     With no pool (``client="serial"``) everything runs here, in that order.
     """
@@ -769,7 +780,7 @@ class _LongRuns:
             float(rpm): _submit(pool, _predict_worn, _at_speed(base_scene, rpm), settings)
             for rpm in sorted(_SPEEDS, reverse=True)
         }
-        self._states = {"before wear": [_submit(pool, _chaos_run, before, settings)]}
+        self._states: dict[str, list[Any]] = {}
         self._queue = threading.Thread(
             target=self._then, args=(before,), name="paper-long-runs", daemon=True
         )
@@ -784,20 +795,34 @@ class _LongRuns:
             worn = self._wear[150.0].result()[0]
         except Exception:
             worn = None
-        if worn is not None:
-            self._states["after wear"] = [
-                _submit(pool, _chaos_run, worn, settings),
-                _submit(pool, _equation_exponent, worn, settings),
-            ]
-        self._states["before wear"].append(_submit(pool, _equation_exponent, before, settings))
-        # the rigid-rod model's exponent beside the flexible one (short)
-        for state, scene in (("after wear", worn), ("before wear", before)):
-            if scene is not None and state in self._states:
-                self._states[state].append(
-                    _submit(pool, _equation_exponent, scene, settings, rigid=True)
-                    if settings.flexible_rods
-                    else None
-                )
+        scenes = {"before wear": before, "after wear": worn}
+        order = [s for s in ("after wear", "before wear") if scenes[s] is not None]
+        runs: dict[str, list[Any]] = {s: [] for s in order}
+        for state in order:
+            runs[state].append(_submit(pool, _chaos_run, scenes[state], settings))
+        for state in order:
+            runs[state].append(_submit(pool, _equation_exponent, scenes[state], settings))
+        # the rigid-rod model's exponent beside the flexible one
+        rigid = settings.flexible_rods and settings.rigid_rod_exponent
+        for state in order:
+            runs[state].append(
+                _submit(pool, _equation_exponent, scenes[state], settings, rigid=True)
+                if rigid
+                else None
+            )
+        self._states = {s: runs[s] for s in ("before wear", "after wear") if s in runs}
+        self._scenes = scenes
+
+    def rigid_exponent(self, state: str) -> Future[Any]:
+        """The rigid-rod exponent of ``state``: the queued one, or queued now (a series
+        that fell back to rigid rods is judged with it even when the settings leave it
+        out)."""
+        self._queued()
+        queued = self._states[state][2]
+        if queued is not None:
+            return queued
+        scene = self._scenes[state]
+        return _submit(self._pool, _equation_exponent, scene, self._settings, rigid=True)
 
     def _queued(self) -> None:
         if self._queue.is_alive():
@@ -925,7 +950,11 @@ def run_paper_study(
         if pool is not None:
             # compile once, in the pool's processes, before the workers start
             with stages.stage("compiling the kernels (first run only)"):
-                for future in [_submit(pool, _compile_kernels, p) for p in ("flexible", "rigid")]:
+                rigid_exponent = settings.rigid_rod_exponent or not settings.flexible_rods
+                for future in [
+                    _submit(pool, _compile_kernels, p, rigid_exponent=rigid_exponent)
+                    for p in ("flexible", "rigid")
+                ]:
                     # a speed-up only: a path that fails here fails again, with its
                     # message, in the run that needs it
                     with contextlib.suppress(Exception):
@@ -1048,7 +1077,15 @@ def run_paper_study(
                         )
                 # series that fell back to rigid rods are judged with the rigid exponent
                 if "rods_note" in getattr(trajectories.get(state), "attrs", {}):
-                    equations[state] = rigid_equations.pop(state, None)
+                    rigid_equations.pop(state, None)
+                    try:
+                        equations[state] = long_runs.rigid_exponent(state).result()
+                    except Exception as exc:
+                        equations[state] = None
+                        unavailable.append(
+                            f"exponent from the equations (rigid rods), {state}: "
+                            f"{type(exc).__name__}: {exc}"
+                        )
 
     # ---- tables (ours, in the paper's units)
     c0 = _DEFAULT_CLEARANCE

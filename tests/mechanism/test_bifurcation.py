@@ -111,6 +111,36 @@ def test_the_exponent_hook_fills_the_lower_panel(tmp_path, monkeypatch) -> None:
     assert axes[1].get_ylabel() == "λ (1/s)"
 
 
+def test_the_exponent_can_keep_fewer_revolutions_than_the_points(tmp_path, monkeypatch) -> None:
+    seen = []
+
+    def stand_in(scene, *, revolutions, discard, rtol, atol):
+        seen.append((revolutions, discard))
+        return 1.0, 0.5, 1.5
+
+    monkeypatch.setattr(bif, "largest_exponent", stand_in)
+    ds = _speeds(
+        tmp_path, values=[3000.0], revolutions=5, discard=2, exponent=True,
+        exponent_revolutions=1.5, exponent_discard=0.5,
+    )  # fmt: skip
+    assert seen == [(2.0, 0.5)]  # 0.5 discarded + 1.5 kept, not the points' 5 and 2
+    assert ds.crossing.values.tolist() == [2, 3, 4, 5]  # the points keep theirs
+    assert ds.lyapunov_exponent.attrs["revolutions_kept"] == 1.5
+    assert ds.lyapunov_exponent.attrs["revolutions_discarded"] == 0.5
+    seen.clear()
+    same = _speeds(tmp_path / "same", values=[3000.0], revolutions=5, discard=2, exponent=True)
+    assert seen == [(5.0, 2.0)]  # by default the points' revolutions and transient
+    assert same.lyapunov_exponent.attrs["revolutions_kept"] == 3.0
+    for kwargs, match in (
+        ({"exponent_revolutions": 0}, "exponent_revolutions must be a number > 0"),
+        ({"exponent_discard": -1}, "exponent_discard must be a number >= 0"),
+        ({"exponent_revolutions": float("nan")}, "exponent_revolutions"),
+        ({"exponent_revolutions": 3, "exponent": False}, "pass exponent=True"),
+    ):
+        with pytest.raises(ValueError, match=match):
+            _speeds(tmp_path / "bad", **{"exponent": True, **kwargs})
+
+
 def test_a_regular_orbit_is_one_point_at_the_diagram_tolerance(tmp_path) -> None:
     """The rigid paper scene at 60 rpm is period-1 (its exponent from the equations is
     negative): at the scene's rtol = atol = 1e-5 its strobes scatter by integration error
@@ -192,6 +222,23 @@ def test_command_line(tmp_path) -> None:
     assert bad.exit_code == 2
     assert "START:STOP:COUNT" in bad.output
     assert "Traceback" not in bad.output
+    with_exponent = runner.invoke(
+        app,
+        ["bifurcation", SCENE, "--param", "drive.speed_rpm", "--values", "3000",
+         "--revolutions", "3", "--discard", "1", "--exponent", "--exponent-revolutions", "1",
+         "--exponent-discard", "0.5", "--scheduler", "serial", "--no-progress",
+         "-o", str(tmp_path / "exponent.nc")],
+    )  # fmt: skip
+    assert with_exponent.exit_code == 0, with_exponent.output
+    with xr.open_dataset(tmp_path / "exponent.nc", engine="h5netcdf") as ds:
+        assert np.isfinite(ds.lyapunov_exponent.values).all()
+        assert ds.lyapunov_exponent.attrs["revolutions_kept"] == 1.0
+    bad = runner.invoke(
+        app,
+        ["bifurcation", SCENE, "--param", "drive.speed_rpm", "--values", "3000",
+         "--scheduler", "serial", "--exponent-revolutions", "-2"],
+    )  # fmt: skip
+    assert bad.exit_code == 2 and "exponent_revolutions must be" in bad.output, bad.output
     for tol in ("loose", "5"):
         bad = runner.invoke(
             app,

@@ -438,12 +438,19 @@ def test_long_runs_queue_both_exponents_with_flexible_rods(monkeypatch, threads)
         paper_study, "_equation_exponent", lambda scene, s, *, rigid=False: ("λ", rigid)
     )
     base = mechanism.load_scene("paper")
-    for flexible, third in ((True, ("λ", True)), (False, None)):
-        settings = StudySettings(flexible_rods=flexible)
+    for flexible, rigid_rods, third in (
+        (True, True, ("λ", True)),
+        (True, False, None),  # the quick settings leave the rigid-rod exponent out
+        (False, True, None),
+    ):
+        settings = StudySettings(flexible_rods=flexible, rigid_rod_exponent=rigid_rods)
         with ThreadPoolExecutor(2) if threads else contextlib.nullcontext() as pool:
-            states = paper_study._LongRuns(pool, base, settings).states()
-            assert set(states) == {"before wear", "after wear"}
-            for chaos, exponent, rigid in states.values():
+            long_runs = paper_study._LongRuns(pool, base, settings)
+            states = long_runs.states()
+            assert list(states) == ["before wear", "after wear"]
+            for state, (chaos, exponent, rigid) in states.items():
                 assert chaos.result() == "series"
                 assert exponent.result() == ("λ", False)
                 assert (rigid.result() if rigid is not None else None) == third
+                # a series that fell back to rigid rods gets its rigid-rod exponent anyway
+                assert long_runs.rigid_exponent(state).result() == ("λ", True)
