@@ -295,8 +295,9 @@ def summary_section(
         ),
         chaoskit.ReportTable(
             caption="Largest Lyapunov exponent [95 % interval] of each state: from the "
-            "equations of motion (of the model of the series, and of the same state with "
-            "rigid rods) and from the journal-centre series X and Y by Wolf's and "
+            "equations of motion (of the model of the series"
+            + (", and of the same state with rigid rods" if rigid_equations else "")
+            + ") and from the journal-centre series X and Y by Wolf's and "
             "Rosenstein's methods "
             f"({series_rods} rods), in 1/s and in bits per sample of the paper's step "
             f"Δt = {paper_step:.3g} s, beside the paper's Wolf values.",
