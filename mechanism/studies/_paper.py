@@ -317,7 +317,7 @@ class StudySettings:
         Flexible rods and the 200 analysed revolutions per state are kept; the response
         points run 4 revolutions with output T/2500, the wear 1 update of 10 000 cycles,
         the convergence table 3 meshes over the first impact, the analysed series at most
-        100 000 samples, the exponent from the equations 20 revolutions (flexible rods
+        100 000 samples, the exponent from the equations 10 revolutions (flexible rods
         only), and the orbit diagrams rigid rods at 5 speeds.
         """
         return cls(
@@ -333,7 +333,7 @@ class StudySettings:
             convergence_revolutions=0.15,
             chaos_revolutions=200.0,
             chaos_samples_per_revolution=1000,
-            exponent_revolutions=20.0,
+            exponent_revolutions=10.0,
             rigid_rod_exponent=False,
             orbit_speeds=(30.0, 60.0, 90.0, 120.0, 150.0),
             orbit_revolutions=30.0,
@@ -725,41 +725,54 @@ def _drop_trajectories(store: Path) -> None:
 
 
 def _stage_weights(settings: StudySettings, n_conv: int) -> dict[str, float]:
-    """Prior cost of each stage in CPU seconds on an idle core (for the time left).
+    """Prior wall time of each stage, in CPU seconds of one core (for the time left).
 
-    Calibrated on a quick run: a flexible revolution at 150 rpm costs about 0.9 s with
-    the step 4e-5 s (1.6 s with the ideal companion), a rigid one about 0.15 of that, and
-    a slower speed v costs 150/v times as much (the step is fixed in time)."""
-    flex = 1.6 if settings.flexible_rods else 0.25
+    Calibrated on the quick settings (CPU seconds per revolution at 150 rpm; a slower
+    speed v costs 150/v times as much, the step being fixed in time): a flexible response
+    point with its ideal companion 1.55 at the output grid T/2500 (2.6 at T/10000; rigid
+    0.25); a rigid orbit revolution 0.08 before wear and 0.29 after (0.18 on average;
+    flexible 1.2, on the paper settings); a convergence run 2 per revolution; a flexible
+    chaos run
+    0.70 before and 1.19 after wear; a flexible exponent 2.8 (rigid 1.3). The long runs
+    (wear, chaos runs, exponents) run in the pool beside the sweeps and the orbit
+    diagrams, and the four processes share the two cores: a dask stage takes about its own
+    CPU time in wall time, the pool doing as much meanwhile, and the long-runs stage is
+    what the pool has left, on two cores. The analysis runs on one core.
+    """
+    flex = (1.2 + 0.35 * settings.samples_per_revolution / 2500) if settings.flexible_rods else 0.25
     speeds = sum(150.0 / v for v in _SPEEDS)
     before_speeds = sum(150.0 / v for v in _BEFORE_SPEEDS)
-    orbit = (1.6 if settings.orbit_flexible_rods else 0.25) * sum(
+    orbit = (1.2 if settings.orbit_flexible_rods else 0.18) * sum(
         150.0 / v for v in settings.orbit_speeds
     )
     long_run = settings.discard_revolutions + settings.chaos_revolutions
+    dask = {
+        "before-wear sweep": len(_CLEARANCES) * settings.revolutions * before_speeds * flex,
+        "after-wear sweeps": settings.revolutions * speeds * flex,
+        "orbit diagrams over speed": 2 * settings.orbit_revolutions * orbit,
+    }
+    exponent = (
+        (2.8 + (1.3 if settings.rigid_rod_exponent else 0.0)) if settings.flexible_rods else 1.3
+    )
+    pool = (
+        0.5 * (settings.wear_updates + 1) * (settings.wear_settle_revolutions + 1) * speeds * flex
+        + 2 * long_run * (0.95 if settings.flexible_rods else 0.2)
+        + 2 * (settings.discard_revolutions + settings.exponent_revolutions) * exponent
+    )
+    samples = min(
+        long_run * settings.chaos_samples_per_revolution, settings.max_samples or math.inf
+    )
     return {
         # left out of the estimate: minutes on a fresh install, seconds with the cache
         "compiling the kernels (first run only)": 0.0,
-        "before-wear sweep": len(_CLEARANCES) * settings.revolutions * before_speeds * flex,
-        "wear prediction at 30, 90, 150 rpm": (settings.wear_updates + 1)
-        * (settings.wear_settle_revolutions + 1)
-        * speeds
-        * flex,
-        "after-wear sweeps": settings.revolutions * speeds * flex,
-        "element convergence": n_conv * settings.convergence_revolutions * 10.0,
-        "orbit diagrams over speed": 2 * settings.orbit_revolutions * orbit,
-        # two chaos runs (series only, no companion) and two exponents on the series'
-        # model (a flexible tangent revolution about 2.8 chaos-run ones), with flexible
-        # rods and ``rigid_rod_exponent`` also the two rigid-rod ones
-        "long runs for the chaos analysis and exponents": 2 * long_run * 0.9
-        + 2
-        * (settings.discard_revolutions + settings.exponent_revolutions)
-        * (
-            (2.8 + (1.3 if settings.rigid_rod_exponent else 0.0)) if settings.flexible_rods else 1.0
-        ),
-        "chaos analysis and report": 4
-        * 0.5e-3
-        * min(long_run * settings.chaos_samples_per_revolution, settings.max_samples or math.inf),
+        "before-wear sweep": dask["before-wear sweep"],
+        # done in the pool while the before-wear sweep runs
+        "wear prediction at 30, 90, 150 rpm": 0.0,
+        "after-wear sweeps": dask["after-wear sweeps"],
+        "element convergence": n_conv * settings.convergence_revolutions * 2.0,
+        "orbit diagrams over speed": dask["orbit diagrams over speed"],
+        "long runs for the chaos analysis and exponents": max(pool - sum(dask.values()), 0.0) / 2.0,
+        "chaos analysis and report": 4 * (8.0 + 0.04e-3 * samples),
     }
 
 
