@@ -10,9 +10,10 @@ beside ours. The published numbers are data (``mechanism/studies/data/paper_tabl
 
 The study is built from the public pieces, nothing is computed a second way:
 
-* sweeps (:func:`mechanism.sweep`) give every response row — clearance × speed (90, 150
-  rpm) before wear, and each speed after wear on the scene worn at that speed — with the metrics of
-  docs/paper-model.md §7 (``peak_contact_force``, ``max_penetration``, ...);
+* sweeps (:func:`mechanism.sweep`) give every response row — clearance × speed (90 and
+  150 rpm) before wear, and each speed after wear on the scene worn at that speed — with
+  the metrics of docs/paper-model.md §7 (``peak_contact_force``, ``max_penetration``,
+  ...);
 * :func:`mechanism.predict_wear` gives the worn scene at 30, 90 and 150 rpm;
 * :func:`mechanism.element_convergence` gives the rod-strain convergence table;
 * :func:`mechanism.lyapunov_exponent` gives the exponent from the equations (on the
@@ -732,12 +733,11 @@ def _stage_weights(settings: StudySettings, n_conv: int) -> dict[str, float]:
     point with its ideal companion 1.55 at the output grid T/2500 (2.6 at T/10000; rigid
     0.25); a rigid orbit revolution 0.08 before wear and 0.29 after (0.18 on average;
     flexible 1.2, on the paper settings); a convergence run 2 per revolution; a flexible
-    chaos run
-    0.70 before and 1.19 after wear; a flexible exponent 2.8 (rigid 1.3). The long runs
-    (wear, chaos runs, exponents) run in the pool beside the sweeps and the orbit
-    diagrams, and the four processes share the two cores: a dask stage takes about its own
-    CPU time in wall time, the pool doing as much meanwhile, and the long-runs stage is
-    what the pool has left, on two cores. The analysis runs on one core.
+    chaos run 0.70 before and 1.19 after wear; a flexible exponent 2.8 (rigid 1.3). The
+    long runs (wear, chaos runs, exponents) run in the pool beside the sweeps and the
+    orbit diagrams, and the four processes share the two cores: a dask stage takes about
+    its own CPU time in wall time, the pool doing as much meanwhile, and the long-runs
+    stage is what the pool has left, on two cores. The analysis runs on one core.
     """
     flex = (1.2 + 0.35 * settings.samples_per_revolution / 2500) if settings.flexible_rods else 0.25
     speeds = sum(150.0 / v for v in _SPEEDS)
