@@ -161,6 +161,25 @@ def test_named_variables_are_the_full_record_values_without_the_companion(scene,
     assert light.nbytes < full_fine.nbytes / 10
 
 
+def test_without_the_companion_the_run_is_the_same_and_the_errors_are_nan(scene, sections):
+    """``companion=False`` drops only the ideal mechanism: the run, its strobes and its own
+    metrics are those with the companion, to the last bit; the errors against the ideal
+    mechanism are NaN and the companion's statistics are absent."""
+    alone = mechanism.simulate(scene, revolutions=3, record="sections", discard=1, companion=False)
+    assert alone.attrs["solver_steps"] == sections.attrs["solver_steps"]
+    np.testing.assert_array_equal(alone.time.values, sections.time.values)
+    np.testing.assert_array_equal(alone.eccentricity_x.values, sections.eccentricity_x.values)
+    for name in ("peak_contact_force", "max_penetration", "driving_torque_extreme"):
+        assert float(alone[name]) == float(sections[name])
+    for name in ("max_displacement_error", "max_speed_error"):
+        assert math.isfinite(float(sections[name])) and math.isnan(float(alone[name]))
+    assert not any(key.startswith("ideal_") for key in alone.attrs)
+    assert any(key.startswith("ideal_solver_") for key in sections.attrs)
+    metrics = mechanism.simulate(scene, revolutions=2, record="metrics", companion=False)
+    assert math.isnan(float(metrics["max_displacement_error"]))
+    assert float(metrics["peak_contact_force"]) > 0.0
+
+
 def test_named_variables_of_flexible_rods_are_the_full_record_values() -> None:
     """The journal of the paper scene sits on an ANCF rod: its eccentricity comes from the
     beam's nodal coordinates (a stale compiled loop once recorded it as a constant)."""
@@ -187,6 +206,7 @@ def test_named_variables_of_flexible_rods_are_the_full_record_values() -> None:
         ({"record": "metrics", "discard": -1}, "discard must be finite and >= 0"),
         ({"record": "sections", "phase": math.nan}, "phase must be a finite angle"),
         ({"record": "metrics", "method": "RK45"}, "records the full trajectory only"),
+        ({"companion": False}, "companion=False applies to record='metrics' and 'sections'"),
     ],
 )
 def test_bad_record_settings_raise(scene, kwargs, match) -> None:

@@ -146,7 +146,7 @@ def to_dataset(
     model: Model,
     run: Integration,
     ideal_model: Model,
-    ideal_run: Integration,
+    ideal_run: Integration | None,
     *,
     attrs: dict[str, Any] | None = None,
     sections: bool = False,
@@ -162,6 +162,7 @@ def to_dataset(
         rec = run.sections
         irec = None
     else:
+        assert ideal_run is not None, "the full record needs the ideal companion"
         rec = run.recording
         n = min(rec.t.size, ideal_run.recording.t.size)
         rec = rec.head(n)
@@ -343,7 +344,7 @@ def _metric(name: str, value: float) -> xr.Variable:
 def metrics_dataset(
     model: Model,
     run: Integration,
-    ideal_run: Integration,
+    ideal_run: Integration | None,
     t_out: np.ndarray,
     *,
     window: float,
@@ -354,7 +355,8 @@ def metrics_dataset(
 
     Peak contact force, penetration and driving torque are the extremes over every
     accepted integrator state; the slider errors compare the light samples of the run and
-    its ideal companion on the output grid ``t_out``. NaN where not simulated.
+    its ideal companion on the output grid ``t_out`` (NaN without a companion). NaN where
+    not simulated.
     """
     assert run.metrics is not None
     met = run.metrics
@@ -366,7 +368,8 @@ def metrics_dataset(
         "max_penetration", max(met[ik.MET_DELTA], 0.0) if touching else nan
     )
     disp = speed = nan
-    light, ideal = run.light, ideal_run.light
+    light = run.light
+    ideal = None if ideal_run is None else ideal_run.light
     if model.slider is not None and light is not None and ideal is not None:
         n = min(light.shape[0], ideal.shape[0])
         keep = np.flatnonzero(t_out[:n] >= window * (1.0 - 1e-12))
@@ -386,7 +389,7 @@ def metrics_dataset(
 def sections_dataset(
     model: Model,
     run: Integration,
-    ideal_run: Integration,
+    ideal_run: Integration | None,
     *,
     metrics: xr.Dataset,
     phase: float,
