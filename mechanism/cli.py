@@ -516,10 +516,11 @@ def bifurcation_command(
         help="Revolutions the exponent discards first (default: --discard).",
     ),
     tolerance: str = typer.Option(
-        "1e-8",
+        "1e-7",
         "--tolerance",
-        help="rtol = atol of a rigid model's error-controlled runs, or 'scene' for the "
-        "scene's own (at 1e-5 a regular orbit's points scatter by up to a micrometre).",
+        help="rtol = atol of a rigid model's error-controlled points, or 'scene' for the "
+        "scene's own (at 1e-5 a regular orbit's points scatter by up to a micrometre); "
+        "the exponent keeps its own 1e-8.",
     ),
     store: Path | None = typer.Option(
         None, "--store", help="Folder for the per-value files; a re-run resumes."

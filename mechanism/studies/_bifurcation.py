@@ -36,18 +36,18 @@ EXPONENT_VARIABLES = ("lyapunov_exponent", "lyapunov_exponent_low", "lyapunov_ex
 _SOURCE = f"mechanism (chaoskit {__version__})"
 
 
-#: Tolerance of the orbit diagram's error-controlled runs (rigid models), the exponent's
-#: default: at a scene's rtol = atol = 1e-5 the step control accepts 10 µm on positions, and
-#: a regular orbit's strobes scatter by up to a micrometre (docs/sweeps.md).
-ORBIT_TOLERANCE = 1e-8
+#: Tolerance of the orbit diagram's error-controlled runs (rigid models): at a scene's
+#: rtol = atol = 1e-5 the step control accepts 10 µm on positions, and a regular orbit's
+#: strobes scatter by up to a micrometre; from 1e-7 on they coincide (docs/sweeps.md).
+ORBIT_TOLERANCE = 1e-7
 
 
 def _scene_exponent(
-    scene: Any, *, revolutions: float, discard: float, **tolerance: float
+    scene: Any, *, revolutions: float, discard: float
 ) -> tuple[float, float, float]:
-    """λ₁ of one value from the equations of motion (:func:`lyapunov_exponent`), with its
-    95 % interval, in 1/s."""
-    result = lyapunov_exponent(scene, revolutions=revolutions, discard=discard, **tolerance)
+    """λ₁ of one value from the equations of motion (:func:`lyapunov_exponent` at its own
+    default tolerances), with its 95 % interval, in 1/s."""
+    result = lyapunov_exponent(scene, revolutions=revolutions, discard=discard)
     low, high = result.ci
     return float(result.exponent), float(low), float(high)
 
@@ -97,9 +97,7 @@ class _SectionPoint:
                 if self.exponent_revolutions is None
                 else self.exponent_revolutions
             )
-            value, low, high = largest_exponent(
-                scene, revolutions=discard + kept, discard=discard, **tolerance
-            )
+            value, low, high = largest_exponent(scene, revolutions=discard + kept, discard=discard)
             # the exponent's one-core cost beside the simulation's (``solver_cpu_time``);
             # the sweep keeps ``solver_*`` attributes in the value's summary
             ds.attrs["solver_exponent_cpu_time"] = time.process_time() - cpu
@@ -247,12 +245,12 @@ def bifurcation(
         widens about as the inverse square root of the kept revolutions, which
         ``docs/sweeps.md`` measures against the cost.
     rtol, atol
-        Tolerances of the error-controlled integration of a rigid model, for the points
-        and the exponent alike (default 1e-8, the exponent's; None: the scene's). At a
-        scene's usual 1e-5 the error accepted on positions is 10 µm and a regular orbit's
-        strobes scatter by up to a micrometre, which reads as a thin band; at 1e-7 and
-        tighter they coincide (``docs/sweeps.md``). Flexible models (fixed-step
-        generalized-α) keep the scene's settings.
+        Tolerances of the error-controlled integration of a rigid model's points (default
+        1e-7; None: the scene's). At a scene's usual 1e-5 the error accepted on positions
+        is 10 µm and a regular orbit's strobes scatter by up to a micrometre, which reads
+        as a thin band; at 1e-7 and tighter they coincide (``docs/sweeps.md``). The
+        exponent runs at :func:`lyapunov_exponent`'s own default, 1e-8 (at 1e-7 it is not
+        converged). Flexible models (fixed-step generalized-α) keep the scene's settings.
     client, n_workers, progress
         As for :func:`mechanism.sweep` (default: a ``LocalCluster``; ``"serial"``: this
         process).
