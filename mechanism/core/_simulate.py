@@ -288,7 +288,7 @@ def simulate(
         ideal mechanism; default). False, for ``record="metrics"`` or ``"sections"`` only,
         leaves it out: ``max_displacement_error`` and ``max_speed_error`` are then NaN, and
         the run costs what the mechanism with clearance costs — at rtol = atol = 1e-8 the
-        rigid paper scene's companion adds a quarter at 150 rpm and two thirds at 30 rpm,
+        rigid paper scene's companion adds a third at 150 rpm and two thirds at 30 rpm,
         the orbit diagrams' case (:func:`mechanism.bifurcation` never runs it).
     progress : bool
         Show a progress bar (tqdm).

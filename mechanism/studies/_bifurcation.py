@@ -81,7 +81,7 @@ class _SectionPoint:
             scene,
             revolutions=revolutions,
             record="sections",
-            # the diagram needs no ideal mechanism: at 1e-8 it cost a quarter (150 rpm) to
+            # the diagram needs no ideal mechanism: at 1e-8 it cost a third (150 rpm) to
             # two thirds (30 rpm) more than the run itself
             companion=False,
             discard=self.discard,
