@@ -1094,15 +1094,17 @@ def run_paper_study(
                         )
                 # series that fell back to rigid rods are judged with the rigid exponent
                 if "rods_note" in getattr(trajectories.get(state), "attrs", {}):
-                    rigid_equations.pop(state, None)
-                    try:
-                        equations[state] = long_runs.rigid_exponent(state).result()
-                    except Exception as exc:
-                        equations[state] = None
-                        unavailable.append(
-                            f"exponent from the equations (rigid rods), {state}: "
-                            f"{type(exc).__name__}: {exc}"
-                        )
+                    if rigid_future is not None:  # collected above, its failure noted
+                        equations[state] = rigid_equations.pop(state, None)
+                    else:
+                        try:
+                            equations[state] = long_runs.rigid_exponent(state).result()
+                        except Exception as exc:
+                            equations[state] = None
+                            unavailable.append(
+                                f"exponent from the equations (rigid rods), {state}: "
+                                f"{type(exc).__name__}: {exc}"
+                            )
 
     # ---- tables (ours, in the paper's units)
     c0 = _DEFAULT_CLEARANCE
