@@ -59,17 +59,39 @@ def _alarm(signum: int, frame: Any) -> None:
     raise _Timeout
 
 
+class _BuiltBefore(Exception):
+    """A series whose build failed in an earlier run (the reason is the message)."""
+
+
+def _failure_path(case: Case, cache: Path) -> Path:
+    return cache_path(case, cache).with_suffix(".failed")
+
+
 def build(case: Case, cache: Path) -> np.ndarray:
-    """The series, from the cache when built before (written atomically)."""
+    """The series, from the cache when built before (written atomically). A build that
+    failed before is not retried: its reason is kept beside the cache entry (``.failed``;
+    delete that file to retry), which saves the minutes a flow that times out costs."""
     path = cache_path(case, cache)
     if path.is_file():
         return np.load(path)
+    failed = _failure_path(case, cache)
+    if failed.is_file():
+        raise _BuiltBefore(failed.read_text(encoding="utf-8").strip())
     x = case.make()
     cache.mkdir(parents=True, exist_ok=True)
     with tempfile.NamedTemporaryFile(dir=cache, suffix=".npy", delete=False) as fh:
         np.save(fh, x)
     os.replace(fh.name, path)
     return x
+
+
+def _remember_failure(case: Case, cache: Path, problem: str) -> None:
+    cache.mkdir(parents=True, exist_ok=True)
+    with tempfile.NamedTemporaryFile(
+        "w", dir=cache, suffix=".failed", delete=False, encoding="utf-8"
+    ) as fh:
+        fh.write(problem + "\n")
+    os.replace(fh.name, _failure_path(case, cache))
 
 
 def _clean(x: np.ndarray) -> str | None:
@@ -96,10 +118,14 @@ def run_case(args: tuple[Case, str]) -> dict[str, Any]:
     try:
         x = build(case, Path(cache))
         problem = _clean(x)
+    except _BuiltBefore as exc:
+        problem = f"{exc} (in an earlier run)"
     except _Timeout:
         problem = f"integration took more than {BUILD_TIMEOUT} s"
+        _remember_failure(case, Path(cache), problem)
     except Exception as exc:  # a generator failing is data: the flow did not integrate
         problem = f"{type(exc).__name__}: {exc}"[:200]
+        _remember_failure(case, Path(cache), problem)
     finally:
         signal.alarm(0)
     row["build_s"] = round(time.perf_counter() - t0, 2)

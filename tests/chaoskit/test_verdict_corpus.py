@@ -63,3 +63,21 @@ def test_ground_truth_periods_come_from_the_equations() -> None:
     assert true_period("henon", {"a": 1.25}) == 7
     assert true_period("duffing", {"gamma": 0.29}) == 4
     assert true_period("logistic", {"r": 3.9}) is None
+
+
+def test_a_series_that_failed_to_build_is_remembered_and_not_retried(tmp_path, monkeypatch):
+    from benchmarks import corpus, verdict_corpus
+
+    calls = []
+
+    def fails(n: int) -> None:
+        calls.append(n)
+        raise ValueError("does not integrate")
+
+    monkeypatch.setitem(corpus.BUILDERS, "fails", fails)
+    case = Case(name="broken", family="dysts", label="chaotic", n=100, builder="fails")
+    first = verdict_corpus.run_case((case, str(tmp_path)))
+    second = verdict_corpus.run_case((case, str(tmp_path)))
+    assert first["status"] == "skipped: ValueError: does not integrate"
+    assert second["status"] == "skipped: ValueError: does not integrate (in an earlier run)"
+    assert calls == [100]  # the second run read the reason and did not build again
