@@ -551,7 +551,8 @@ def wolf_loop(pts, w, lower, upper, dlt, widen, cos_max, evolve, always, grid, i
     the upper bound by ``dlt`` up to ``widen`` times. With no such point the evolved
     neighbour is kept, unless it ran off the data or coincides with the fiducial point;
     then the nearest point beyond ``lower`` is taken. Returns (replacements, replacements
-    meeting the angle condition, intervals kept without replacement).
+    meeting the angle condition, intervals kept without replacement, those of them whose
+    separation had grown above the band).
     """
     n, m = pts.shape
     cell = grid[1]
@@ -563,11 +564,12 @@ def wolf_loop(pts, w, lower, upper, dlt, widen, cos_max, evolve, always, grid, i
     if j < 0:
         j = _nearest_beyond(pts, 0, w, lower, n, members)
     if j < 0:
-        return 0, 0, 0
+        return 0, 0, 0, 0
     i = 0
     replacements = 0
     angle_ok = 0
     kept = 0
+    kept_above = 0
     old = np.empty(m)
     while i + 1 < n:
         i, j, d = evolve_pair(pts, i, j, evolve, n, inc)
@@ -597,6 +599,8 @@ def wolf_loop(pts, w, lower, upper, dlt, widen, cos_max, evolve, always, grid, i
         else:
             if valid:  # Wolf: no acceptable replacement, keep the evolved neighbour
                 kept += 1
+                if d > upper:
+                    kept_above += 1
                 continue
             new = _nearest_beyond(pts, i, w, lower, n, members)
             if new < 0:
@@ -605,4 +609,4 @@ def wolf_loop(pts, w, lower, upper, dlt, widen, cos_max, evolve, always, grid, i
         replacements += 1
         if j + 1 >= n:  # no neighbour with a future left anywhere: stop here
             break
-    return replacements, angle_ok, kept
+    return replacements, angle_ok, kept, kept_above

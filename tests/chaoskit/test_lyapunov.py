@@ -88,6 +88,20 @@ def test_lorenz_x_wolf_10k() -> None:
     assert_allclose(res.mle, LORENZ, rtol=0.10)
 
 
+def test_wolf_bounds_from_below_only_when_its_separations_run_saturated() -> None:
+    """A band no point lies in leaves Wolf no replacement: every interval keeps its evolved
+    neighbour from above the band, the separations run near the attractor's size and the
+    stretching is biased low, so the interval reaches +inf (and only then)."""
+    x = _lorenz_x(10_000, 0)
+    ok = lyapunov_wolf(x, dt=0.01)
+    assert ok.params["saturated_fraction"] < 0.1 and math.isfinite(ok.ci[1])
+    starved = lyapunov_wolf(x, dt=0.01, scale=(1e-6, 2e-6))
+    assert starved.params["saturated_fraction"] > 0.9
+    assert starved.mle < 0.5 * LORENZ  # the bias the open upper end admits
+    assert starved.ci[1] == math.inf and math.isfinite(starved.ci[0])
+    assert "upper end +inf" in starved.ci_method
+
+
 @pytest.mark.parametrize("ic", [0, 1, 2])
 def test_lorenz_x_wolf_50k(ic: int) -> None:
     res = lyapunov_wolf(_lorenz_x(50_000, ic), dt=0.01)
