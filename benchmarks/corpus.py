@@ -164,26 +164,36 @@ def noise(n: int, *, kind: str, seed: int = 0) -> np.ndarray:
     raise ValueError(f"unknown noise kind {kind!r}")
 
 
-# the long integration every dysts series is cut from (the estimator corpus's)
-DYSTS_N, DYSTS_PTS = 20_000, 100
+def dysts_flow(n: int, *, system: str, pts_per_period: int) -> np.ndarray:
+    """First coordinate of a ``dysts`` flow (Gilpin 2021), ``n`` samples at
+    ``pts_per_period`` per characteristic period, from the package's initial condition."""
+    import warnings
+
+    import dysts.flows
+
+    model = getattr(dysts.flows, system)()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # dysts passes a Jacobian DOP853 does not use
+        traj = model.make_trajectory(
+            n,
+            pts_per_period=pts_per_period,
+            resample=True,
+            method="DOP853",
+            rtol=1e-9,
+            atol=1e-9,
+        )
+    if traj is None:
+        raise ValueError(f"{system} did not integrate")
+    return np.asarray(traj)[:, 0]
 
 
 def dysts_long(n: int, *, system: str, pts_per_period: int) -> np.ndarray:
-    """First coordinate of a ``dysts`` flow (Gilpin 2021) from the estimator corpus's
-    integration (:mod:`corpus_flows`: dysts' right-hand side from the package's initial
-    condition, DOP853 at 1e-9 after 20 periods, 100 points per dysts period, 20 000
-    samples; shared cache), every ``100 // pts_per_period``-th sample, the first ``n``: the
-    short series is the estimator corpus's short series, so the tangent exponent that
-    decides whether a row is decidable belongs to the very trajectory classified."""
+    """The same flow from the estimator corpus's integration (:mod:`corpus_flows`: dysts'
+    right-hand side, DOP853 at 1e-9 after 20 periods, ``pts_per_period`` per dysts period),
+    which shares its cache: dysts' own ``make_trajectory`` needs minutes per long series."""
     from benchmarks import corpus_flows
 
-    if DYSTS_PTS % pts_per_period:
-        raise ValueError(f"pts_per_period must divide {DYSTS_PTS}; got {pts_per_period}.")
-    x = corpus_flows.dysts_flow(system, DYSTS_N, pts_per_period=DYSTS_PTS).x
-    out = x[:: DYSTS_PTS // pts_per_period][:n]
-    if out.size < n:
-        raise ValueError(f"{system}: the integration gives {out.size} samples, not {n}.")
-    return np.ascontiguousarray(out)
+    return corpus_flows.dysts_flow(system, n, pts_per_period=pts_per_period).x
 
 
 BUILDERS = {
@@ -196,6 +206,7 @@ BUILDERS = {
     "rossler": rossler,
     "torus": torus,
     "noise": noise,
+    "dysts": dysts_flow,
     "dysts_long": dysts_long,
 }
 
@@ -368,9 +379,9 @@ def dysts_growth() -> dict[str, float]:
 
 
 def dysts_cases(lengths: tuple[int, ...] = LENGTHS) -> list[Case]:
-    """Every chaotic flow of ``dysts`` (first coordinate), both lengths cut from one
-    integration (:func:`dysts_long`): 100 characteristic periods at N = 2000 (20 points
-    per period), 200 at N = 20000 (100 points per period)."""
+    """Every chaotic flow of ``dysts`` (first coordinate): 100 characteristic periods at
+    N = 2000 (20 points per period, dysts' ``make_trajectory``), 200 at N = 20000 (100
+    points per period, integrated as in the estimator corpus, :func:`dysts_long`)."""
     from dysts.systems import get_attractor_list
 
     growth = dysts_growth()
@@ -380,8 +391,8 @@ def dysts_cases(lengths: tuple[int, ...] = LENGTHS) -> list[Case]:
         # for some (Torus: λ₁ = 0) and others separate by less than the verdict resolves
         decidable = growth.get(system, MIN_GROWTH) >= MIN_GROWTH
         for n in lengths:
-            ppp = 20 if n <= 2000 else 100
-            cases.append(Case(f"dysts {system}", "dysts", "chaotic", n, "dysts_long",
+            ppp, builder = (20, "dysts") if n <= 2000 else (100, "dysts_long")
+            cases.append(Case(f"dysts {system}", "dysts", "chaotic", n, builder,
                               {"system": system, "pts_per_period": ppp}, {"dt": 1.0},
                               decidable=decidable))  # fmt: skip
     return cases
