@@ -1,7 +1,7 @@
 """The verdict on a labelled corpus: confusion matrix, runtime and every miss with its reason.
 
-One command (13 minutes of wall time on two shared cores, 7.5 min of CPU; series are cached
-between runs)::
+One command (on two idle cores: 17 min the first time, which builds and caches every
+series, about 8 min afterwards)::
 
     pip install -e ".[bench]"          # dysts, for its chaotic flows
     python benchmarks/verdict_corpus.py
