@@ -34,6 +34,7 @@ import numpy as np  # noqa: E402  (after the thread settings)
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from benchmarks.corpus import Case, cache_path, corpus  # noqa: E402
+from chaoskit.contract import atomic_write  # noqa: E402
 
 REPO = Path(__file__).resolve().parents[1]
 OUT = REPO / "docs" / "benchmarks" / "verdict-corpus.csv"
@@ -86,12 +87,7 @@ def build(case: Case, cache: Path) -> np.ndarray:
 
 
 def _remember_failure(case: Case, cache: Path, problem: str) -> None:
-    cache.mkdir(parents=True, exist_ok=True)
-    with tempfile.NamedTemporaryFile(
-        "w", dir=cache, suffix=".failed", delete=False, encoding="utf-8"
-    ) as fh:
-        fh.write(problem + "\n")
-    os.replace(fh.name, _failure_path(case, cache))
+    atomic_write(_failure_path(case, cache), lambda tmp: tmp.write_text(problem + "\n"))
 
 
 def _clean(x: np.ndarray) -> str | None:
