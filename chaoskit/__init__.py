@@ -30,7 +30,7 @@ _foundation = [
     "validate_trajectory",
 ]
 
-# --- estimators (issue 3): add imports and names below this line only ---
+# --- estimators ---
 from .embedding import (
     DelayCurve,
     DelayResult,
@@ -69,7 +69,7 @@ _estimators: list[str] = [
     "mutual_information",
 ]
 
-# --- views and verdict (issue 4): add imports and names below this line only ---
+# --- views and verdict ---
 from . import plot
 from ._bifurcation import bifurcation_diagram
 from ._portraits import phase_portrait
@@ -115,7 +115,7 @@ _views: list[str] = [
     "zero_one_test",
 ]
 
-# --- report (issue 8): add imports and names below this line only ---
+# --- report ---
 from .reporting import (
     Report,
     ReportFigure,
@@ -134,7 +134,7 @@ _report: list[str] = [
     "report",
 ]
 
-# --- measures toolbox: add imports and names below this line only ---
+# --- measures toolbox ---
 from .complexity import (
     ComplexityResult,
     detrended_fluctuation,

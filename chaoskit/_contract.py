@@ -14,6 +14,8 @@ See ``docs/data-model.md``.
 from __future__ import annotations
 
 import datetime as _dt
+import functools
+import re
 from collections.abc import Mapping
 from typing import Any
 
@@ -25,17 +27,110 @@ from ._version import __version__
 __all__ = [
     "CONVENTIONS",
     "REQUIRED_GLOBAL_ATTRS",
+    "ParameterError",
     "append_history",
     "sampling_interval",
     "stamp",
     "validate_trajectory",
     "variable",
+    "variable_name",
 ]
 
 CONVENTIONS = "CF-1.10"
 REQUIRED_GLOBAL_ATTRS = ("Conventions", "title", "source", "history", "created")
 UNKNOWN_UNITS = "unknown"
 _UNIFORM_RTOL = 1e-6
+
+
+_PLACEHOLDER = re.compile(r"\{\{|\}\}|\{([a-z_]+)(?:=([^{}]*))?\}")
+_NUMBER = re.compile(r"[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?")
+
+
+class ParameterError(ValueError):
+    """A :class:`ValueError` whose message names parameters, worded for Python or a command line.
+
+    The message is a template: ``{name}`` names a parameter and ``{name=value}`` a parameter
+    with a value; ``{to}`` says where the parameters go. ``str(error)`` reads as Python
+    (``dt=``, ``skip_rows=1``, ``nan='drop'``, `` to load_trajectory``);
+    :meth:`render` with ``command_line=True`` reads as options (``--dt``, ``--skip-rows 1``,
+    ``--nan drop``, nothing for ``{to}``). ``{{`` and ``}}`` stand for literal braces, so
+    text from user data goes through :meth:`literal` first.
+
+    Parameters
+    ----------
+    template
+        The message with its placeholders.
+    function
+        The function whose parameters these are (``{to}`` names it), e.g. ``"load_trajectory"``.
+
+    Examples
+    --------
+    >>> err = ParameterError("no time: pass {dt}{to}.", function="load_trajectory")
+    >>> str(err)
+    'no time: pass dt= to load_trajectory.'
+    >>> err.render(command_line=True)
+    'no time: pass --dt.'
+    >>> ParameterError("skip it with {skip_rows=1}").render(command_line=True)
+    'skip it with --skip-rows 1'
+    """
+
+    def __init__(self, template: str, *, function: str | None = None) -> None:
+        self.template = template
+        self.function = function
+        super().__init__(self.render())
+
+    def __reduce__(self) -> Any:  # pickles (dask workers) keep the template, not its rendering
+        return (functools.partial(type(self), self.template, function=self.function), ())
+
+    @staticmethod
+    def literal(text: Any) -> str:
+        """``text`` with its braces doubled, to be put into a template as it is."""
+        return str(text).replace("{", "{{").replace("}", "}}")
+
+    def render(
+        self, *, command_line: bool = False, options: Mapping[str, str] | None = None
+    ) -> str:
+        """The message for Python callers, or with ``command_line`` for a command line whose
+        option for parameter ``name`` is ``options[name]`` (default ``--name-with-dashes``)."""
+        options = options or {}
+
+        def one(match: re.Match[str]) -> str:
+            text = match.group(0)
+            if text in ("{{", "}}"):
+                return text[0]
+            name, value = match.group(1), match.group(2)
+            if name == "to":
+                return "" if command_line or not self.function else f" to {self.function}"
+            if command_line:
+                option = options.get(name, "--" + name.replace("_", "-"))
+                return option if value is None else f"{option} {value}"
+            if value is None:
+                return f"{name}="
+            return f"{name}={value if _NUMBER.fullmatch(value) else repr(value)}"
+
+        return _PLACEHOLDER.sub(one, self.template)
+
+
+_NOT_NAME = re.compile(r"\W+")
+
+
+def variable_name(text: Any) -> str:
+    """``text`` as a variable name of the data contract: letters, digits and underscores,
+    starting with a letter.
+
+    Runs of other characters become one underscore (leading and trailing ones are dropped)
+    and a name that would start with a digit gets the prefix ``x_``. Letters include
+    accented ones. Names that already qualify are returned unchanged.
+
+    Examples
+    --------
+    >>> variable_name("acc y"), variable_name("x-position"), variable_name("2nd sensor")
+    ('acc_y', 'x_position', 'x_2nd_sensor')
+    """
+    name = _NOT_NAME.sub("_", str(text).strip()).strip("_")
+    if not name:
+        return "x"
+    return name if name[0].isalpha() else f"x_{name}"
 
 
 def _now() -> str:
@@ -80,9 +175,11 @@ def _index_name(ds: xr.Dataset) -> str:
         return "time"
     if "step" in ds.coords:
         return "step"
-    raise ValueError(
+    raise ParameterError(
         "the dataset has no 'time' coordinate (float64 seconds) and no 'step' coordinate "
-        "(integers, for maps); pass time= or dt= to load_trajectory."
+        "(integers, for maps); pass {time} (the variable holding the time, s), {dt} (the "
+        "sampling interval, s) or {step} (a map){to}.",
+        function="load_trajectory",
     )
 
 

@@ -7,9 +7,25 @@ netCDF-4 (``.nc``, ``.nc4``, ``.h5``)
 CSV (``.csv``, ``.txt``, ``.tsv``)
     One column per variable. ``save_trajectory`` writes the attributes as a JSON comment
     line (``# chaoskit-attrs: {...}``) above the header so a round trip keeps them; CSV files
-    from elsewhere need no such line.
+    from elsewhere need no such line. Their headers may carry units (``time (s)``,
+    ``acc y [m/s^2]``, ``x / mm``), title lines may be skipped (``skip_rows``), numbers may
+    use a decimal comma (``decimal=","``) and missing values are refused, dropped or
+    interpolated (``nan``).
 npz (``.npz``)
     One array per variable; ``save_trajectory`` adds a ``__chaoskit_attrs__`` JSON entry.
+Files from test rigs (read only)
+    MATLAB ``.mat`` (v4, v5, v7.3), NI TDMS, HDF5, WAV and Parquet, read by
+    :mod:`chaoskit._formats` and :mod:`chaoskit._matlab` into tables that are indexed like a
+    CSV file; a file whose content does not match its suffix is read by its content.
+
+pandas objects with a ``DatetimeIndex``, ``TimedeltaIndex`` or float index, and xarray
+objects with a datetime ``time``, are indexed by their time in seconds.
+
+This module holds the entry points and the dispatch by source, chaoskit's own netCDF and npz
+files, and the atomic writes. The reading steps are :mod:`chaoskit._tables` (tables and
+labelled containers into indexed Datasets, with :mod:`chaoskit._units` for the units in
+headers), :mod:`chaoskit._csvfiles` (text tables), :mod:`chaoskit._missing` (missing values)
+and :mod:`chaoskit._resample` (irregular time stamps).
 """
 
 from __future__ import annotations
@@ -29,16 +45,33 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
-from ._contract import append_history, validate_trajectory
+from . import _formats
+from ._contract import ParameterError, append_history, validate_trajectory
+from ._csvfiles import ATTRS_LINE, apply_payload, read_csv
+from ._missing import NAN_POLICIES, missing_values
+from ._resample import RESAMPLE_METHODS, time_axis
+from ._rig import rig_dataset
+from ._tables import Origin, from_array, from_table, index_labelled, one_line, resolve_variables
+from ._validate import check_choice, check_int
 
-__all__ = ["load_trajectory", "save_trajectory"]
+__all__ = [
+    "IN_MEMORY_LIMIT",
+    "NAN_POLICIES",
+    "RESAMPLE_METHODS",
+    "SPACE_MARGIN",
+    "check_free_space",
+    "load_trajectory",
+    "save_trajectory",
+    "write_netcdf",
+]
+
 
 _NETCDF = {".nc", ".nc4", ".netcdf", ".h5", ".hdf5"}
 _CSV = {".csv", ".txt", ".tsv"}
 _NPZ = {".npz"}
-_ATTRS_LINE = "# chaoskit-attrs: "
 _NPZ_ATTRS = "__chaoskit_attrs__"
-_TIME_NAMES = ("time", "t", "Time", "TIME", "t_s", "time_s")
+_LOAD = "load_trajectory"
+_lit = ParameterError.literal
 
 
 def _format_of(path: Path) -> str:
@@ -53,6 +86,19 @@ def _format_of(path: Path) -> str:
     raise ValueError(f"unknown file format {suffix!r} for {path}; accepted suffixes: {accepted}.")
 
 
+def _read_format(path: Path) -> str:
+    """The reader of ``path`` by its suffix: ``netcdf``, ``csv``, ``npz`` or a rig format of
+    :data:`chaoskit._formats.SUFFIXES`; :func:`_formats.content_format` then corrects a
+    suffix that does not match the content."""
+    suffix = path.suffix.lower()
+    if suffix in _formats.SUFFIXES:
+        return _formats.SUFFIXES[suffix]
+    if suffix in _NETCDF | _CSV | _NPZ:
+        return _format_of(path)
+    accepted = sorted(_NETCDF | _CSV | _NPZ | set(_formats.SUFFIXES))
+    raise ValueError(f"unknown file format {suffix!r} for {path}; accepted suffixes: {accepted}.")
+
+
 def _attrs_payload(ds: xr.Dataset) -> dict[str, Any]:
     return {
         "global": dict(ds.attrs),
@@ -60,170 +106,14 @@ def _attrs_payload(ds: xr.Dataset) -> dict[str, Any]:
     }
 
 
-def _apply_payload(ds: xr.Dataset, payload: dict[str, Any]) -> xr.Dataset:
-    ds.attrs.update(payload.get("global", {}))
-    for name, attrs in payload.get("variables", {}).items():
-        if name in ds.variables:
-            ds[name].attrs.update(attrs)
-    return ds
-
-
-def _integer_steps(values: Any, *, name: str, what: str) -> np.ndarray:
-    steps = pd.to_numeric(pd.Series(values), errors="coerce").to_numpy(dtype=np.float64)
-    if np.isnan(steps).any() or np.any(steps != np.round(steps)):
-        raise ValueError(f"step column {name!r} in {what} must hold integers (iteration numbers).")
-    return steps.astype(np.int64)
-
-
-def _from_table(
-    frame: pd.DataFrame,
-    *,
-    time: str | None,
-    dt: float | None,
-    step: str | None,
-    what: str,
+def _read_npz(
+    path: Path, *, time: str | None, dt: float | None, step: str | None, keep: Any
 ) -> xr.Dataset:
-    """Build a Dataset from a table with one column per variable."""
-    frame = frame.copy()
-    frame.columns = [str(c).strip() for c in frame.columns]
-    duplicated = sorted({c for c in frame.columns if list(frame.columns).count(c) > 1})
-    if duplicated:
-        raise ValueError(f"{what} has duplicate column names {duplicated}; rename them.")
-    if len(frame) == 0:
-        raise ValueError(f"{what} has a header but no data rows.")
-    given = [k for k, v in (("time", time), ("dt", dt), ("step", step)) if v is not None]
-    if len(given) > 1:
-        raise ValueError(
-            f"pass one of time= (a column), dt= (uniform sampling) or step= (a map), not "
-            f"{' and '.join(given)}."
-        )
-    if step is None and time is None and dt is None and "step" in frame.columns:
-        if not any(c in frame.columns for c in _TIME_NAMES):
-            step = "step"  # a map, e.g. as save_trajectory writes it
-    index: tuple[str, np.ndarray]
-    if step is not None:
-        if step in frame.columns:
-            index = ("step", _integer_steps(frame[step], name=step, what=what))
-            frame = frame.drop(columns=[step])
-        elif step == "step":
-            index = ("step", np.arange(len(frame), dtype=np.int64))
-        else:
-            raise ValueError(
-                f"step column {step!r} not found in {what}; columns are {list(frame.columns)} "
-                "(step='step' numbers the rows 0, 1, ...)."
-            )
-    else:
-        tname: str | None
-        if time is not None:
-            if time not in frame.columns:
-                raise ValueError(
-                    f"time column {time!r} not found in {what}; columns are {list(frame.columns)}."
-                )
-            tname = time
-        elif dt is None:
-            tname = next((c for c in _TIME_NAMES if c in frame.columns), None)
-        else:
-            tname = None
-        if tname is not None:
-            t = pd.to_numeric(frame[tname], errors="coerce").to_numpy(dtype=np.float64)
-            if np.isnan(t).any():
-                raise ValueError(
-                    f"time column {tname!r} in {what} has non-numeric or missing values."
-                )
-            frame = frame.drop(columns=[tname])
-        elif dt is not None:
-            t = float(dt) * np.arange(len(frame), dtype=np.float64)
-        else:
-            raise ValueError(
-                f"no time column in {what} (looked for {list(_TIME_NAMES)}); pass "
-                "time='column' (command line: --time), dt=<sampling interval in s> (--dt), or "
-                "step='column' for a map (--step; step='step' numbers the rows)."
-            )
-        index = ("time", t)
-    for col in frame.columns:
-        if not pd.api.types.is_numeric_dtype(frame[col]) or pd.api.types.is_bool_dtype(frame[col]):
-            if not pd.api.types.is_bool_dtype(frame[col]):
-                raise ValueError(
-                    f"column {col!r} in {what} is not numeric (dtype {frame[col].dtype}); "
-                    "pass variables=[...] with the numeric columns only."
-                )
-    if not len(frame.columns):
-        raise ValueError(f"{what} has no data column besides its {index[0]} column.")
-    data_vars = {col: (index[0], frame[col].to_numpy()) for col in frame.columns}
-    return xr.Dataset(data_vars, coords={index[0]: (index[0], index[1])})
-
-
-_DELIMITERS = (",", "\t", ";", "|")
-
-
-def _delimiter(lines: list[str], *, what: str) -> str:
-    """The column delimiter of a header and its first data lines; "," for one column.
-
-    A delimiter counts if every line has the same, non-zero number of it; failing all,
-    whitespace if every line splits into the same number (> 1) of fields.
-    """
-    for sep in _DELIMITERS:
-        counts = {line.count(sep) for line in lines}
-        if len(counts) == 1 and counts.pop() > 0:
-            return sep
-    fields = {len(line.split()) for line in lines}
-    if len(fields) == 1 and fields.pop() > 1:
-        return r"\s+"
-    if all(len(line.split()) <= 1 and not any(d in line for d in _DELIMITERS) for line in lines):
-        return ","  # one column
-    raise ValueError(
-        f"cannot tell the column delimiter of {what}: its first lines do not all hold the "
-        "same number of ',', tab, ';', '|' or blanks; write one column per variable, "
-        "comma-separated, with one header line."
-    )
-
-
-def _read_csv(path: Path, *, time: str | None, dt: float | None, step: str | None) -> xr.Dataset:
-    payload = None
-    skip = 0
-    head: list[str] = []
-    try:
-        with path.open("r", encoding="utf-8-sig") as fh:  # -sig: drop a byte-order mark
-            for line in fh:
-                if not head and line.startswith("#"):
-                    skip += 1
-                    if line.startswith(_ATTRS_LINE):
-                        payload = json.loads(line[len(_ATTRS_LINE) :])
-                    continue
-                if line.strip():
-                    head.append(line.rstrip("\r\n"))
-                if len(head) > 5:
-                    break
-    except UnicodeDecodeError as exc:
-        raise ValueError(f"{path} is not a UTF-8 text file ({exc.reason}).") from None
-    except json.JSONDecodeError:
-        raise ValueError(f"{path} has a damaged {_ATTRS_LINE.strip()} line.") from None
-    if not head:
-        raise ValueError(f"{path} is empty: no header line and no data.")
-    if len(head) == 1:
-        raise ValueError(f"{path} has a header but no data rows.")
-    sep = "\t" if path.suffix.lower() == ".tsv" else _delimiter(head, what=str(path))
-    header = [c.strip() for c in (head[0].split() if sep == r"\s+" else head[0].split(sep))]
-    duplicated = sorted({c for c in header if header.count(c) > 1})
-    if duplicated:
-        raise ValueError(f"{path} has duplicate column names {duplicated}; rename them.")
-    try:
-        frame = pd.read_csv(
-            path, skiprows=skip, sep=sep, encoding="utf-8-sig", engine="python", comment=None
-        )
-    except (pd.errors.ParserError, pd.errors.EmptyDataError) as exc:
-        first = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
-        raise ValueError(f"cannot read {path} as a table: {first}") from None
-    ds = _from_table(frame, time=time, dt=dt, step=step, what=str(path))
-    return _apply_payload(ds, payload) if payload else ds
-
-
-def _read_npz(path: Path, *, time: str | None, dt: float | None, step: str | None) -> xr.Dataset:
     try:
         with np.load(path, allow_pickle=False) as z:
             arrays = {k: z[k] for k in z.files}
     except (OSError, ValueError, zipfile.BadZipFile, EOFError) as exc:
-        raise ValueError(f"{path} is not a readable npz file ({_one_line(exc)}).") from None
+        raise ValueError(f"{path} is not a readable npz file ({one_line(exc)}).") from None
     payload = None
     if _NPZ_ATTRS in arrays:
         payload = json.loads(str(arrays.pop(_NPZ_ATTRS)))
@@ -235,13 +125,16 @@ def _read_npz(path: Path, *, time: str | None, dt: float | None, step: str | Non
         raise ValueError(f"npz entries have different lengths: {lengths}.")
     if not arrays:
         raise ValueError(f"{path} holds no arrays.")
-    ds = _from_table(pd.DataFrame(arrays), time=time, dt=dt, step=step, what=str(path))
-    return _apply_payload(ds, payload) if payload else ds
-
-
-def _one_line(exc: BaseException) -> str:
-    text = str(exc).strip()
-    return text.splitlines()[0] if text else type(exc).__name__
+    ds = from_table(
+        pd.DataFrame(arrays),
+        time=time,
+        dt=dt,
+        step=step,
+        origin=Origin(str(path)),
+        keep=keep,
+        parse_header=payload is None,
+    )
+    return apply_payload(ds, payload) if payload else ds
 
 
 def _read_netcdf(path: Path) -> xr.Dataset:
@@ -250,55 +143,107 @@ def _read_netcdf(path: Path) -> xr.Dataset:
             return opened.load()
     except (OSError, ValueError, KeyError, TypeError) as exc:
         raise ValueError(
-            f"{path} is not a readable netCDF-4 file ({_one_line(exc)}); is it truncated, or "
+            f"{path} is not a readable netCDF-4 file ({one_line(exc)}); is it truncated, or "
             "another format with a .nc suffix?"
         ) from None
 
 
-def _index_labelled(ds: xr.Dataset, *, dt: float | None, step: str | None) -> xr.Dataset:
-    """Give a labelled Dataset without ``time``/``step`` the index that dt= or step= asks for."""
-    if "time" in ds.coords or "step" in ds.coords or not ds.dims:
-        return ds
-    dim = next(iter(ds.dims))
-    if dt is not None:
-        return ds.rename({dim: "time"}).assign_coords(
-            time=float(dt) * np.arange(ds.sizes[dim], dtype=np.float64)
+# ---------------------------------------------------------------- load_trajectory
+
+
+def _read_source(
+    source: Any,
+    *,
+    time: str | None,
+    dt: float | None,
+    step: str | None,
+    variables: Sequence[str] | None,
+    require_uniform: bool,
+    skip_rows: int,
+    decimal: str,
+    group: str | None = None,
+) -> tuple[xr.Dataset, Origin, str]:
+    """The source as a Dataset (not yet checked), where its rows come from, and a phrase
+    saying what it was."""
+    is_path = isinstance(source, (str, os.PathLike))
+    if (skip_rows or decimal != ".") and not (is_path and Path(source).suffix.lower() in _CSV):
+        raise ParameterError(
+            "{skip_rows} and {decimal} apply to text tables (.csv, .txt, .tsv) only.",
+            function=_LOAD,
         )
-    if step is not None:
-        if step != "step" and step not in ds.variables:
-            raise ValueError(f"step variable {step!r} not found; available: {list(ds.variables)}.")
-        if step == "step" or step not in ds.variables:
-            steps = np.arange(ds.sizes[dim], dtype=np.int64)
+    if group is not None and not is_path:
+        raise ParameterError(
+            "{group} applies to files with groups or structs (.mat, .tdms, .h5) only.",
+            function=_LOAD,
+        )
+    if is_path:
+        path = Path(source)
+        fmt = _read_format(path)
+        if not path.exists():
+            raise FileNotFoundError(f"no such trajectory file: {path}")
+        if path.is_dir():
+            raise ValueError(f"{path} is a folder; pass a trajectory file.")
+        fmt = _formats.content_format(path, fmt)
+        if group is not None and fmt not in ("mat", "mat73", "tdms", "hdf5"):
+            raise ParameterError(
+                "{group} applies to files with groups or structs (.mat, .tdms, .h5) only.",
+                function=_LOAD,
+            )
+        if fmt not in ("netcdf", "csv", "npz"):
+            table = _formats.read_rig(
+                path, fmt, group=group, keep=variables, time=time, dt=dt, step=step
+            )
+            ds, origin = rig_dataset(
+                table, time=time, dt=dt, step=step, keep=variables, require_uniform=require_uniform
+            )
+            return ds, origin, f"loaded from {path.name}{table.where}"
+        origin = Origin(str(path), kind="variable" if fmt == "netcdf" else "column")
+        if fmt == "netcdf":
+            ds = index_labelled(_read_netcdf(path), time=time, dt=dt, step=step)
+        elif fmt == "csv":
+            ds, origin = read_csv(
+                path,
+                time=time,
+                dt=dt,
+                step=step,
+                keep=variables,
+                skip_rows=skip_rows,
+                decimal=decimal,
+            )
         else:
-            steps = _integer_steps(ds[step].values, name=step, what="the dataset")
-            ds = ds.drop_vars(step)
-        return ds.rename({dim: "step"}).assign_coords(step=steps)
-    return ds
-
-
-def _from_array(
-    arr: np.ndarray, *, dt: float | None, step: str | None, variables: Sequence[str] | None
-) -> xr.Dataset:
-    if arr.ndim == 1:
-        arr = arr[:, None]
-    if arr.ndim != 2:
-        raise ValueError(
-            f"a numpy array must be 1-D or 2-D (samples × variables); got {arr.shape}."
+            ds = _read_npz(path, time=time, dt=dt, step=step, keep=variables)
+        return ds, origin, f"loaded from {path.name}"
+    if isinstance(source, (xr.Dataset, xr.DataArray)):
+        if isinstance(source, xr.DataArray):
+            ds, text = source.to_dataset(name=str(source.name or "x")), "an xarray.DataArray"
+        else:
+            ds, text = source.copy(), "an xarray.Dataset"
+        ds = index_labelled(ds, time=time, dt=dt, step=step)
+        return ds, Origin(f"the {text.split()[1]}", kind="variable"), f"taken from {text}"
+    if isinstance(source, (pd.DataFrame, pd.Series)):
+        kind = type(source).__name__
+        frame = source if kind == "DataFrame" else source.to_frame(str(source.name or "x"))
+        origin = Origin(f"the {kind}")
+        ds = from_table(
+            frame,
+            time=time if kind == "DataFrame" else None,
+            dt=dt,
+            step=step,
+            origin=origin,
+            keep=variables,
+            require_uniform=require_uniform,
         )
-    if dt is None and step is None:
-        raise ValueError(
-            "a numpy array carries no time: pass dt=<sampling interval in s> for a flow, or "
-            "step='step' for a map (samples numbered 0, 1, ...)."
-        )
-    names = (
-        list(variables)
-        if variables is not None
-        else (["x"] if arr.shape[1] == 1 else [f"x{i}" for i in range(arr.shape[1])])
+        return ds, origin, f"taken from a pandas.{kind}"
+    if isinstance(source, (np.ndarray, list, tuple)):
+        arr = np.asarray(source)
+        if arr.dtype.kind not in "fiub":
+            raise ValueError(f"the array is not numeric (dtype {arr.dtype}).")
+        ds = from_array(arr, dt=dt, step=step, variables=variables)
+        return ds, Origin("the array"), "taken from a numpy array"
+    raise TypeError(
+        f"cannot load a trajectory from {type(source).__name__}; pass a file path, "
+        "DataFrame, xarray object or numpy array."
     )
-    if len(names) != arr.shape[1]:
-        raise ValueError(f"variables names {len(names)} columns but the array has {arr.shape[1]}.")
-    frame = pd.DataFrame(arr, columns=names)
-    return _from_table(frame, time=None, dt=dt, step=step, what="the array")
 
 
 def load_trajectory(
@@ -309,6 +254,11 @@ def load_trajectory(
     step: str | None = None,
     variables: Sequence[str] | None = None,
     require_uniform: bool = False,
+    skip_rows: int = 0,
+    decimal: str = ".",
+    nan: str = "refuse",
+    group: str | None = None,
+    resample: str | None = None,
 ) -> xr.Dataset:
     """Load a trajectory from a file or an in-memory container and validate it.
 
@@ -316,13 +266,20 @@ def load_trajectory(
     ----------
     source
         A path to a netCDF (``.nc``), CSV (``.csv``/``.txt``/``.tsv``) or ``.npz`` file, a
-        :class:`pandas.DataFrame`, an :class:`xarray.Dataset` or ``DataArray``, or a numpy
-        array (1-D, or 2-D with one column per variable).
+        file from a test rig (MATLAB ``.mat`` v4/v5/v7.3, NI ``.tdms``, HDF5 ``.h5``/
+        ``.hdf5``, ``.wav``, ``.parquet``; see "Files from a test rig" in
+        ``docs/data-model.md``), a :class:`pandas.DataFrame` or ``Series``, an
+        :class:`xarray.Dataset` or ``DataArray``, or a numpy array (1-D, or 2-D with one
+        column per variable). A file whose content does not match its suffix (a v7.3
+        ``.mat`` is HDF5) is read by its content.
     time
-        Name of the time column (seconds) in a table. Default: the first of ``time``, ``t``
-        found.
+        Name of the time column of a table (its header as written, e.g. ``"time (ms)"``, or
+        its name part ``"time"``), or of the time variable of a Dataset without a ``time``
+        coordinate. Default: the first of ``time``, ``t``, ... found; else a pandas
+        ``DatetimeIndex``, ``TimedeltaIndex`` or float index (seconds).
     dt
-        Sampling interval in seconds, for sources without a time column.
+        Sampling interval in seconds, for sources without a time column. Refused when it
+        contradicts a time index or time coordinate the source has.
     step
         For a map: the name of the integer iteration column of a table, which becomes the
         ``step`` coordinate. ``step="step"`` on a source without such a column (a numpy array,
@@ -330,15 +287,43 @@ def load_trajectory(
         no time column is read as a map without asking. Give at most one of ``time``,
         ``dt`` and ``step``.
     variables
-        Names of the variables to keep (for a numpy array: the column names).
+        Names of the variables to keep (for a numpy array: the column names). Columns of a
+        table not named here may hold text.
     require_uniform
         Raise if the sampling is not uniform (the estimators need uniform sampling).
+    skip_rows
+        Text tables: lines to skip at the top of the file (title lines) before the header.
+    decimal
+        Text tables: the decimal mark, ``"."`` or ``","`` (then columns are separated by
+        ``;``, tab, ``|`` or blanks).
+    nan
+        What to do with missing values (NaN, empty cells): ``"refuse"`` (raise, naming the
+        column and the line of the file), ``"drop"`` (drop the rows; refused when that
+        would leave gaps in a uniform sampling: rows at the ends only) or ``"interpolate"``
+        (linear in time; rows at either end with nothing to interpolate from are dropped;
+        each variable records the bridged samples in its ``interpolated_samples`` and
+        ``interpolated_gaps`` attributes, and ``history`` says what was done).
+        Infinite values are always refused.
+    group
+        Rig files with several groups or structs: the TDMS group, the HDF5 group
+        (``"run1"`` or ``"/rig/run1"``) or the MATLAB struct (``"rig"``, ``"rig.run1"``) to
+        read. Default: the file's top level, or its only group or struct.
+    resample
+        ``"linear"``: interpolate onto a uniform time grid, of interval ``dt`` if given
+        (then ``dt`` is the new interval, not the file's), else the median interval of the
+        time stamps. Rig files with irregular time stamps (jitter, dropped samples) are
+        refused without it. The method and interval are recorded in the global attributes
+        ``resample_method`` and ``resample_interval`` and in ``history``; missing values
+        are handled (``nan``) before.
 
     Returns
     -------
     xarray.Dataset
         A Dataset following the data contract (``docs/data-model.md``); missing ``units``
         are filled with ``"unknown"`` and missing ``long_name`` with the variable name.
+        Table headers with units (``acc y [m/s^2]``) give the variable ``acc_y`` with
+        ``long_name`` ``"acc y"`` and ``units`` ``"m s-2"``; a time column in ms, min, ...
+        is converted to seconds.
 
     Raises
     ------
@@ -346,8 +331,14 @@ def load_trajectory(
         If the path does not exist.
     ValueError
         With a one-line message for every problem with the content: a folder instead of a
-        file, an unknown suffix, a truncated or foreign file, an undetectable CSV delimiter,
-        duplicate column names, no data rows, a missing time column, non-numeric values.
+        file, an unknown suffix, a truncated or foreign file, an undetectable CSV delimiter
+        (a title line: use ``skip_rows``), duplicate column names, no data rows, a missing
+        time column, non-numeric values (a decimal comma: use ``decimal``), missing values;
+        for rig files also a file with no numeric array, series of unequal lengths, complex
+        or 3-D arrays, a channel without time increment (use ``dt``), irregular time
+        stamps (use ``resample``). A :class:`~chaoskit.contract.ParameterError` when an
+        option fixes the problem; an ``ImportError`` (also a ``ValueError``) naming the
+        ``formats`` extra when a reader's optional package is missing.
 
     Examples
     --------
@@ -363,58 +354,46 @@ def load_trajectory(
             raise ValueError(f"dt must be a finite positive number of seconds; got {dt!r}.")
     if step is not None and (not isinstance(step, str) or not step.strip()):
         raise ValueError(f"step must name a column (or be 'step'); got {step!r}.")
-    origin: str
-    if isinstance(source, (str, os.PathLike)):
-        path = Path(source)
-        fmt = _format_of(path)
-        if not path.exists():
-            raise FileNotFoundError(f"no such trajectory file: {path}")
-        if path.is_dir():
-            raise ValueError(f"{path} is a folder; pass a trajectory file.")
-        if fmt == "netcdf":
-            ds = _read_netcdf(path)
-        elif fmt == "csv":
-            ds = _read_csv(path, time=time, dt=dt, step=step)
-        else:
-            ds = _read_npz(path, time=time, dt=dt, step=step)
-        origin = f"loaded from {path.name}"
-    elif isinstance(source, xr.Dataset):
-        ds, origin = source.copy(), "taken from an xarray.Dataset"
-    elif isinstance(source, xr.DataArray):
-        name = source.name or "x"
-        ds, origin = source.to_dataset(name=str(name)), "taken from an xarray.DataArray"
-    elif isinstance(source, pd.DataFrame):
-        ds = _from_table(source, time=time, dt=dt, step=step, what="the DataFrame")
-        origin = "taken from a pandas.DataFrame"
-    elif isinstance(source, pd.Series):
-        frame = source.to_frame(name=str(source.name or "x"))
-        ds = _from_table(frame, time=None, dt=dt, step=step, what="the Series")
-        origin = "taken from a pandas.Series"
-    elif isinstance(source, (np.ndarray, list, tuple)):
-        arr = np.asarray(source)
-        if arr.dtype.kind not in "fiub":
-            raise ValueError(f"the array is not numeric (dtype {arr.dtype}).")
-        ds = _from_array(arr, dt=dt, step=step, variables=variables)
-        origin, variables = "taken from a numpy array", None
-    else:
-        raise TypeError(
-            f"cannot load a trajectory from {type(source).__name__}; pass a file path, "
-            "DataFrame, xarray object or numpy array."
-        )
-    if isinstance(source, (xr.Dataset, xr.DataArray)) or (
-        isinstance(source, (str, os.PathLike)) and _format_of(Path(source)) == "netcdf"
-    ):
-        ds = _index_labelled(ds, dt=dt, step=step)
-    if variables is not None:
-        missing = [v for v in variables if v not in ds.data_vars]
-        if missing:
-            raise ValueError(f"variables {missing} not found; available: {list(ds.data_vars)}.")
-        ds = ds[list(variables)]
+    skip_rows = check_int(skip_rows, name="skip_rows", minimum=0)
+    decimal = check_choice(decimal, name="decimal", choices=(".", ","))
+    nan = check_choice(nan, name="nan", choices=NAN_POLICIES)
+    if group is not None and (not isinstance(group, str) or not group.strip()):
+        raise ValueError(f"group must name a group or struct of the file; got {group!r}.")
+    if resample is not None:
+        resample = check_choice(resample, name="resample", choices=RESAMPLE_METHODS)
+        if step is not None or isinstance(source, (np.ndarray, list, tuple)):
+            raise ParameterError(
+                "{resample} interpolates between time stamps and "
+                + ("a map has none" if step is not None else "a numpy array has none")
+                + "; pass {dt} alone for evenly spaced samples{to}.",
+                function=_LOAD,
+            )
+    ds, origin, text = _read_source(
+        source,
+        time=time,
+        dt=None if resample else dt,  # with resample, dt is the new grid's interval
+        step=step,
+        variables=variables,
+        require_uniform=require_uniform and not resample,
+        skip_rows=skip_rows,
+        decimal=decimal,
+        group=group,
+    )
+    if variables is not None and not isinstance(source, (np.ndarray, list, tuple)):
+        ds = ds[resolve_variables(variables, ds, origin)]
+    ds, note = missing_values(ds, nan, origin)
+    ds, timing = time_axis(ds, origin, method=resample, dt=dt)
     had_history = "history" in ds.attrs
     ds = validate_trajectory(ds, require_uniform=require_uniform, fill_attrs=True)
     if not had_history:  # foreign data: say where it came from; our own files keep theirs
-        append_history(ds, f"chaoskit.load_trajectory: {origin}")
+        append_history(ds, f"chaoskit.load_trajectory: {text}")
+    for line in (note, timing):
+        if line:
+            append_history(ds, f"chaoskit.load_trajectory: {line}")
     return ds
+
+
+# ---------------------------------------------------------------- save_trajectory
 
 
 def _check_attr_values(ds: xr.Dataset) -> None:
@@ -437,6 +416,8 @@ def _check_attr_values(ds: xr.Dataset) -> None:
 #: Files up to this size are serialised in memory and written with plain file I/O: HDF5
 #: never touches a disk that may fill up (after ENOSPC, h5netcdf's flush can crash Python).
 IN_MEMORY_LIMIT = 512 * 2**20
+
+
 #: Free space required beyond the estimated size of a file (fraction, then bytes).
 SPACE_MARGIN = (0.05, 2**20)
 
@@ -546,7 +527,7 @@ def save_trajectory(ds: xr.Dataset, path: str | os.PathLike[str]) -> Path:
 
         def write_csv(p: Path) -> None:
             with p.open("w", encoding="utf-8", newline="") as fh:
-                fh.write(_ATTRS_LINE + payload + "\n")
+                fh.write(ATTRS_LINE + payload + "\n")
                 frame.to_csv(fh, index=False, float_format="%.17g")
 
         _atomic_write(path, write_csv, nbytes=int(ds.nbytes) * 3)  # ~25 characters a value

@@ -26,6 +26,7 @@ __all__ = [
     "check_positive",
     "check_probability",
     "extreme_peak_exponent",
+    "shown",
 ]
 
 
@@ -70,7 +71,7 @@ def as_series(x: Any, *, name: str = "x", min_length: int = 2) -> np.ndarray:
     hi, lo = float(arr.max()), float(arr.min())
     if hi == lo:  # not np.ptp: hi - lo overflows for samples near the float64 limit
         raise ValueError(
-            f"{name} is constant (every sample equals {arr[0]!r}); delay, dimension and "
+            f"{name} is constant (every sample equals {shown(arr[0])}); delay, dimension and "
             "Lyapunov estimates are undefined for a constant series."
         )
     peak = max(hi, -lo)
@@ -99,10 +100,18 @@ def extreme_peak_exponent(x: np.ndarray) -> int:
     return int(np.frexp(peak)[1])
 
 
+def shown(value: Any) -> str:
+    """``value`` as a message shows it: numpy scalars as plain numbers, not
+    ``np.float64(…)``."""
+    if isinstance(value, np.generic):
+        value = value.item()
+    return repr(value)
+
+
 def check_int(value: Any, *, name: str, minimum: int, maximum: int | None = None) -> int:
     """Return ``value`` as an int in ``[minimum, maximum]`` or raise a ValueError naming it."""
     if isinstance(value, bool) or not isinstance(value, numbers.Integral):
-        raise ValueError(f"{name} must be an integer; got {value!r}.")
+        raise ValueError(f"{name} must be an integer; got {shown(value)}.")
     value = int(value)
     if value < minimum or (maximum is not None and value > maximum):
         upper = "∞" if maximum is None else str(maximum)
@@ -115,10 +124,10 @@ def check_positive(value: Any, *, name: str, allow_zero: bool = False) -> float:
     try:
         out = float(value)
     except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a real number; got {value!r}.") from None
+        raise ValueError(f"{name} must be a real number; got {shown(value)}.") from None
     if not np.isfinite(out) or out < 0.0 or (out == 0.0 and not allow_zero):
         bound = ">= 0" if allow_zero else "> 0"
-        raise ValueError(f"{name} must be finite and {bound}; got {value!r}.")
+        raise ValueError(f"{name} must be finite and {bound}; got {shown(value)}.")
     return out
 
 
@@ -126,7 +135,7 @@ def check_probability(value: Any, *, name: str) -> float:
     """Return ``value`` as a float in (0, 1) or raise a ValueError naming it."""
     out = check_positive(value, name=name)
     if out >= 1.0:
-        raise ValueError(f"{name} must be in (0, 1); got {value!r}.")
+        raise ValueError(f"{name} must be in (0, 1); got {shown(value)}.")
     return out
 
 

@@ -12,36 +12,73 @@ from typing import Any
 
 import pandas as pd
 import typer
+from typer.core import TyperGroup
 
 from . import plot
-from ._io import load_trajectory
+from ._contract import ParameterError
+from ._formats import SUFFIXES as _RIG_SUFFIXES
+from ._io import _CSV, _NPZ, NAN_POLICIES, RESAMPLE_METHODS, load_trajectory
 from ._measures import measure_figures, measures_for_verdicts, measures_text, parse_measures
 from ._paths import unique_filename
 from ._portraits import phase_portrait
 from ._samples import sample_path
-from ._selection import select_series, variable_spec
+from ._selection import expand_variables, parse_variable, select_series, variable_spec
+from ._validate import check_choice, check_positive
 from ._version import __version__
+from .reporting import plural
 from .reporting import report as build_report
 from .verdict import MotionVerdict, classify_motion, classify_variables, verdict_table
 from .verdict._analyze import series_dataset
+
+#: exit status of a command stopped by Ctrl-C (128 + SIGINT, as a shell reports it)
+EXIT_INTERRUPTED = 130
+
+
+class _Commands(TyperGroup):
+    """The command group: Ctrl-C ends any command with one line and exit status 130."""
+
+    def invoke(self, ctx: Any) -> Any:
+        try:
+            return super().invoke(ctx)
+        except KeyboardInterrupt:
+            typer.echo("interrupted", err=True)
+            raise typer.Exit(code=EXIT_INTERRUPTED) from None
+
 
 app = typer.Typer(
     name="chaoskit",
     help="Decide from a trajectory whether the motion is periodic, quasi-periodic or chaotic.",
     no_args_is_help=True,
     add_completion=False,
+    cls=_Commands,
+    # plain (click) help at a fixed 100 columns: long option names, help texts and command
+    # summaries wrap instead of being cut at the terminal's width as in the rich panels,
+    # and flags show no value type
+    rich_markup_mode=None,
+    context_settings={"terminal_width": 100, "max_content_width": 100},
 )
 
 DEFAULT_SAMPLE = "lorenz.nc"  # chaoskit.sample_path finds it wherever chaoskit is installed
+#: Options whose name is not the library parameter's with dashes (``skip_rows`` → ``--skip-rows``).
+OPTIONS = {"variables": "--var"}
+#: ``coverage_content_type`` values (ACDD) of variables that are not the motion itself.
+AUXILIARY = ("auxiliaryInformation", "qualityInformation", "referenceInformation")
 
 
 @contextmanager
 def _user_errors() -> Iterator[None]:
-    """Everyday mistakes (bad input, missing or unreadable files) end in one line and exit 2."""
+    """Everyday mistakes (bad input, missing or unreadable files) end in one line and exit 2.
+
+    A :class:`~chaoskit.contract.ParameterError` is worded with the options of the command
+    line (``--dt``) instead of the library's parameters (``dt=``)."""
     try:
         yield
     except (ValueError, OSError) as exc:
-        text = str(exc).strip() or type(exc).__name__
+        if isinstance(exc, ParameterError):
+            text = exc.render(command_line=True, options=OPTIONS)
+        else:
+            text = str(exc)
+        text = text.strip() or type(exc).__name__
         typer.echo(f"error: {text.splitlines()[0]}", err=True)
         raise typer.Exit(code=2) from None
 
@@ -199,6 +236,77 @@ def _motion_text(mv: MotionVerdict) -> str:
     return "\n".join(lines)
 
 
+def _is_constant(series: Any) -> bool:
+    values = series.values
+    return bool(values.size) and bool(values.min() == values.max())
+
+
+def _default_series(ds: Any, phase: str | None) -> tuple[list[str], str]:
+    """The series ``chaoskit analyze`` takes without ``--var``, and a line saying which and why.
+
+    The variables of the motion: those the file lists in its ``motion_variables`` attribute
+    (blank-separated names), else every series but those marked auxiliary by their
+    ``coverage_content_type``; constant series are left out unless all are constant.
+    """
+    index = "time" if "time" in ds.coords else "step"
+    exclude = [] if phase is None else [variable_spec(ds, phase).name]
+    every = expand_variables(ds, None, exclude=exclude)
+    listed = [
+        n
+        for n in str(ds.attrs.get("motion_variables", "")).split()
+        if n in ds.data_vars and index in ds[n].dims and n not in exclude
+    ]
+    if listed:
+        specs, why = expand_variables(ds, listed), "the motion variables the file names"
+    else:
+        aux = sorted(
+            str(k)
+            for k, v in ds.data_vars.items()
+            if v.attrs.get("coverage_content_type") in AUXILIARY and str(k) not in exclude
+        )
+        specs = [s for s in every if s.name not in aux]
+        why = "every series" if not aux else f"every series but the auxiliary {', '.join(aux)}"
+    constant = [s.alias for s in specs if _is_constant(select_series(ds, s))]
+    chosen = [s.alias for s in specs if s.alias not in constant] or [s.alias for s in specs]
+    if constant and len(chosen) < len(specs):
+        why += f"; {len(constant)} constant {'ones' if len(constant) != 1 else 'one'} left out"
+    shown = ", ".join(chosen[:12]) + (
+        f", ... ({len(chosen) - 12} more)" if len(chosen) > 12 else ""
+    )
+    return chosen, f"series: {shown} ({len(chosen)} of {len(every)}: {why})"
+
+
+def _discard(ds: Any, discard: float) -> Any:
+    """``ds`` without its first ``discard`` seconds (iterations for a map)."""
+    discard = check_positive(discard, name="--discard", allow_zero=True)
+    if discard == 0.0:
+        return ds
+    index = "time" if "time" in ds.coords else "step"
+    first, last = ds[index].values[0], ds[index].values[-1]
+    kept = ds.sel({index: ds[index] >= first + discard})
+    if kept.sizes[index] < 2:
+        unit = "s" if index == "time" else "iterations"
+        raise ValueError(
+            f"--discard {discard:g} leaves {kept.sizes[index]} sample"
+            f"{'s' * (kept.sizes[index] != 1)}: the record spans "
+            f"{float(last - first):g} {unit}."
+        )
+    return kept
+
+
+def _load(path: Path, keep: list[str], *, discard: float = 0.0, **options: Any) -> tuple[Any, str]:
+    """The trajectory as the options read it, the transient dropped, and a line saying how
+    long it is. A table loads only the columns in ``keep`` (when given), so other columns
+    may hold text."""
+    names = None
+    if keep and path.suffix.lower() in _CSV | _NPZ | set(_RIG_SUFFIXES):
+        names = list(dict.fromkeys(parse_variable(v).name for v in keep))
+    ds = _discard(load_trajectory(path, variables=names, **options), discard)
+    index = "time" if "time" in ds.coords else "step"
+    cut = f" after the first {discard:g} {'s' if index == 'time' else 'iterations'}"
+    return ds, f"  {ds.sizes[index]} samples along {index!r}" + (cut if discard else "")
+
+
 def _run_analysis(
     path: Path,
     variables: list[str] | None,
@@ -208,20 +316,41 @@ def _run_analysis(
     phase_variable: str | None,
     seed: int,
     progress: bool,
-    time: str | None = None,
-    dt: float | None = None,
-    step: str | None = None,
     measures: str | None = None,
     motion: str | None = None,
     drive_variables: list[str] | None = None,
+    discard: float = 0.0,
+    **reading: Any,
 ) -> None:
+    """Load, classify and print; ``reading`` holds the options of :func:`load_trajectory`
+    (time, dt, step, skip_rows, decimal, nan, group, resample)."""
     with _user_errors():
+        if drive_period is not None:  # else every variable's analysis fails on it (exit 1)
+            check_positive(drive_period, name="--drive-period")
         names = parse_measures(measures)
-        ds = load_trajectory(path, time=time, dt=dt, step=step)
         off = motion is not None and motion.strip().lower() == "none"
         chosen = (_split_specs(motion) if motion else None) if not off else None
         if motion is not None and not off and not chosen:
             raise ValueError("--motion must name variables (x,y,...) or be 'none'.")
+        every = variables == ["all"]
+        extra = [*(chosen or []), *(drive_variables or []), phase_variable]
+        keep = [] if every or not variables else [*variables, *[e for e in extra if e]]
+        ds, length = _load(path, keep, discard=discard, **reading)
+        if every and "all" not in ds.data_vars:
+            variables = None  # every series, as listed
+        elif variables == ["all"]:
+            every = False  # a variable named "all"
+        from_file = phase_variable is None and drive_period is None
+        phase_variable = _file_phase(ds) if from_file else phase_variable
+        typer.echo(f"{path}: {ds.attrs.get('title', '')}")
+        typer.echo(length)
+        if variables is None and not every:
+            variables, line = _default_series(ds, phase_variable)
+            typer.echo(line)
+            typer.echo("  others: --var NAME (repeat, or comma-separated); every series: --var all")
+        if from_file and phase_variable is not None:
+            typer.echo(f"  drive phase: {phase_variable} (the file's phase_variable attribute)")
+        typer.echo("")
         _, rows = series_dataset(ds, variables=variables or None, phase_variable=phase_variable)
         motion_names = rows
         if chosen is not None:
@@ -251,10 +380,27 @@ def _run_analysis(
                 progress=progress,
             )
         table = verdict_table(verdicts)
-    index = "time" if "time" in ds.coords else "step"
-    typer.echo(f"{path}: {ds.attrs.get('title', '')}")
-    typer.echo(f"  {ds.sizes[index]} samples along {index!r}")
-    typer.echo("")
+    if progress:
+        typer.echo("", err=True)  # end the line of the progress bar
+    _print_results(ds, mv, table, verdicts, figures=figures, measures=names, seed=seed)
+
+
+def _file_phase(ds: Any) -> str | None:
+    """The drive-angle variable the file names in its ``phase_variable`` attribute, if any."""
+    name = ds.attrs.get("phase_variable")
+    return str(name) if isinstance(name, str) and name in ds.data_vars else None
+
+
+def _print_results(
+    ds: Any,
+    mv: MotionVerdict | None,
+    table: Any,
+    verdicts: dict[str, Any],
+    *,
+    figures: Path | None,
+    measures: Any,
+    seed: int,
+) -> None:
     if mv is not None:
         typer.echo(_motion_text(mv))
         typer.echo("")
@@ -263,14 +409,14 @@ def _run_analysis(
     for name, verdict in verdicts.items():
         typer.echo(f"{name}: {verdict.reason}")
     with _user_errors():
-        results = measures_for_verdicts(ds, verdicts, names, rng=seed) if names else None
+        results = measures_for_verdicts(ds, verdicts, measures, rng=seed) if measures else None
     if results:
         typer.echo("")
         typer.echo(measures_text(results))
     if figures is not None:
         with _user_errors():
             written = _write_figures(ds, verdicts, figures, results)
-        typer.echo(f"\n{len(written)} figure(s) written to {figures}")
+        typer.echo(f"\n{len(written)} figure{'s' * (len(written) != 1)} written to {figures}")
     failed = [name for name, v in verdicts.items() if "classify" in v.errors]
     if failed and len(failed) == len(verdicts):
         typer.echo(
@@ -281,12 +427,20 @@ def _run_analysis(
 
 @app.command()
 def analyze(
-    path: Path = typer.Argument(..., help="Trajectory file (netCDF, CSV or npz)."),
+    path: Path = typer.Argument(
+        ...,
+        help="Trajectory file: netCDF, CSV or npz, or from a test rig: MATLAB .mat, NI .tdms, "
+        "HDF5 .h5, .wav, .parquet.",
+    ),
     var: list[str] = typer.Option(
         None,
         "--var",
-        help="Variable to analyse: NAME or NAME[DIM=VALUE] (repeat; default: all). A variable "
-        "with extra dimensions is analysed once per label, e.g. eccentricity_x[joint=C].",
+        "--variables",
+        help="Variable to analyse: NAME or NAME[DIM=VALUE] (repeat, or comma-separated); "
+        "'all' for every series. A variable with extra dimensions is analysed once per "
+        "label, e.g. eccentricity_x[joint=C]. Default: the variables of the motion (those "
+        "the file lists in its motion_variables attribute, else every series not marked "
+        "auxiliary), constant series left out.",
     ),
     figures: Path | None = typer.Option(
         None, "--figures", help="Folder for the figures (PNG), one set per variable."
@@ -295,11 +449,21 @@ def analyze(
         None, "--drive-period", help="Period of an external drive, s (stroboscopic section)."
     ),
     phase_variable: str | None = typer.Option(
-        None, "--phase-variable", help="Drive angle variable, rad (stroboscopic section)."
+        None,
+        "--phase-variable",
+        help="Drive angle variable, rad (stroboscopic section). Default: the one the file "
+        "names in its phase_variable attribute, unless --drive-period is given.",
+    ),
+    discard: float = typer.Option(
+        0.0,
+        "--discard",
+        help="Transient dropped from the start of the trajectory, s (iterations for maps).",
     ),
     seed: int = typer.Option(0, "--seed", help="Seed of the 0-1 test and the surrogates."),
     time: str | None = typer.Option(
-        None, "--time", help="Name of the time column, s (default: time, t, ... if present)."
+        None,
+        "--time",
+        help="Name of the time column (or variable), s (default: time, t, ... if present).",
     ),
     dt: float | None = typer.Option(
         None, "--dt", help="Sampling interval, s, for data without a time column."
@@ -308,6 +472,34 @@ def analyze(
         None,
         "--step",
         help="Map data: the integer iteration column ('--step step' numbers the rows).",
+    ),
+    skip_rows: int = typer.Option(
+        0, "--skip-rows", help="Text tables: lines to skip above the header (a title)."
+    ),
+    decimal: str = typer.Option(
+        ".",
+        "--decimal",
+        help="Text tables: the decimal mark, '.' or ',' (columns then separated by ';', tab, "
+        "'|' or blanks).",
+    ),
+    nan: str = typer.Option(
+        "refuse",
+        "--nan",
+        help="Missing values: refuse (name the line), drop (the rows; only where the "
+        "sampling stays uniform) or interpolate (linear in time).",
+    ),
+    group: str | None = typer.Option(
+        None,
+        "--group",
+        help="Rig files with several groups or structs: the TDMS or HDF5 group, or the "
+        "MATLAB struct, to read.",
+    ),
+    resample: str | None = typer.Option(
+        None,
+        "--resample",
+        help="'linear': interpolate irregular time stamps onto a uniform grid (of --dt if "
+        "given, else their mean interval, gaps left out); rig files with irregular stamps "
+        "need it.",
     ),
     measures: str | None = typer.Option(
         None,
@@ -321,8 +513,8 @@ def analyze(
         "--motion",
         help="Variables of the motion, comma-separated (e.g. x,y or "
         "eccentricity_x[joint=C],eccentricity_y[joint=C]): one verdict for them all, shown "
-        "first. Default: the analysed variables (every time series of the file, "
-        "multi-dimensional ones by label); 'none' or a single variable: per-variable only.",
+        "first. Default: the analysed variables (multi-dimensional ones by label); 'none' or "
+        "a single variable: per-variable only.",
     ),
     drive_variable: list[str] = typer.Option(
         None,
@@ -332,15 +524,21 @@ def analyze(
         "by themselves when --drive-period or --phase-variable is given.",
     ),
 ) -> None:
-    """Classify the motion of a trajectory (all its variables together) and each variable,
+    """Classify the motion of a trajectory (its variables together) and each variable,
     and print the motion verdict, then the evidence table.
 
     Exit status: 0 on success, 2 for bad input (nothing analysed), 1 when the analysis failed
     for every variable.
     """
+    specs = [p for v in var or [] for p in _split_specs(v)]
+    with _user_errors():  # options first: nothing is read for a bad one
+        nan = check_choice(nan, name="--nan", choices=NAN_POLICIES)
+        discard = check_positive(discard, name="--discard", allow_zero=True)
+        if resample is not None:
+            resample = check_choice(resample, name="--resample", choices=RESAMPLE_METHODS)
     _run_analysis(
         path,
-        list(var) if var else None,
+        specs or None,
         figures=figures,
         drive_period=drive_period,
         phase_variable=phase_variable,
@@ -349,6 +547,12 @@ def analyze(
         time=time,
         dt=dt,
         step=step,
+        skip_rows=skip_rows,
+        decimal=decimal,
+        nan=nan,
+        group=group,
+        resample=resample,
+        discard=discard,
         measures=measures,
         motion=motion,
         drive_variables=list(drive_variable) if drive_variable else None,
@@ -480,8 +684,13 @@ def report(
     overview = rep.table("verdict per variable").display()
     typer.echo(overview.droplevel(1, axis=1).to_string())
     typer.echo("")
+    # the answer last, right above the files: the motion verdict of each state
+    typer.echo("Motion verdict per state:" if rep.motions else "Verdict per state:")
+    typer.echo(rep.answer_table().to_string())
+    typer.echo("")
     typer.echo(f"report: {written['html']}")
-    typer.echo(f"markdown: {written['markdown']} ({len(written['figures'])} figure file(s))")
+    figures = plural(len(written["figures"]), "figure file")
+    typer.echo(f"markdown: {written['markdown']} ({figures})")
 
 
 if __name__ == "__main__":

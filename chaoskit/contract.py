@@ -7,12 +7,15 @@ and its error messages read like chaoskit's own.
 Validation
     :func:`as_series`, :func:`check_int`, :func:`check_positive`, :func:`check_probability`,
     :func:`check_choice` turn user input into checked values or raise a one-line
-    :class:`ValueError` naming the parameter and the accepted range.
+    :class:`ValueError` naming the parameter and the accepted range. A
+    :class:`ParameterError` names parameters so that a command line can word the same
+    message with its options (``--dt`` for ``dt=``).
 Provenance
     :func:`stamp` sets the global attributes of the data contract (``Conventions``,
     ``title``, ``source``, ``history``, ``created``); :func:`append_history` adds a line;
     :func:`validate_trajectory` and :func:`sampling_interval` check a Dataset;
-    :func:`variable` builds a variable with its ``units`` and ``long_name``.
+    :func:`variable` builds a variable with its ``units`` and ``long_name``;
+    :func:`variable_name` turns a column header into a variable name of the contract.
 Files
     :func:`atomic_write` writes through a temporary file in the target folder and renames it,
     so a reader never sees a half-written file; :func:`write_netcdf` writes a Dataset that way
@@ -34,11 +37,13 @@ from __future__ import annotations
 from ._contract import (
     CONVENTIONS,
     REQUIRED_GLOBAL_ATTRS,
+    ParameterError,
     append_history,
     sampling_interval,
     stamp,
     validate_trajectory,
     variable,
+    variable_name,
 )
 from ._io import _atomic_write as atomic_write
 from ._io import check_free_space, write_netcdf
@@ -50,6 +55,7 @@ from ._version import __version__
 __all__ = [
     "CONVENTIONS",
     "REQUIRED_GLOBAL_ATTRS",
+    "ParameterError",
     "__version__",
     "append_history",
     "as_series",
@@ -66,5 +72,6 @@ __all__ = [
     "unique_filename",
     "validate_trajectory",
     "variable",
+    "variable_name",
     "write_netcdf",
 ]

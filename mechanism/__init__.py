@@ -52,6 +52,7 @@ from .studies import (
     SweepStoreMismatch,
     WearComparison,
     WearPrediction,
+    WearPredictionError,
     bifurcation,
     chaos_map,
     compare_wear,
@@ -85,6 +86,7 @@ _simulation = ["SimulationError", "SimulationWarning", "integrate", "simulate"]
 _contact_wear = [
     "WearComparison",
     "WearPrediction",
+    "WearPredictionError",
     "WornProfile",
     "archard_wear",
     "compare_wear",

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import shlex
+import signal
 import sys
 import tomllib
 from collections import Counter
@@ -11,6 +12,7 @@ from pathlib import Path
 from typing import Any
 
 import typer
+from typer.core import TyperGroup
 
 import chaoskit
 from chaoskit.contract import __version__
@@ -20,6 +22,7 @@ from mechanism import (
     SceneError,
     SimulationError,
     SimulationWarning,
+    WearPredictionError,
     bifurcation,
     element_convergence,
     list_scenes,
@@ -31,15 +34,53 @@ from mechanism import (
     simulate,
     sweep,
 )
+from mechanism.core.integrate import interrupt_integrations
 from mechanism.studies._bifurcation import parse_values
 from mechanism.studies._lyapunov import DEFAULT_DEVIATION_RTOL
 from mechanism.studies._sweep_store import write_netcdf
+from mechanism.studies._wear_prediction import DEFAULT_MAX_DEPTH_INCREMENT
+
+#: exit status of a command stopped by Ctrl-C (128 + SIGINT, as a shell reports it)
+EXIT_INTERRUPTED = 130
+
+
+def _on_sigint(signum: int, frame: Any) -> None:
+    # integrations in other threads (a run's ideal companion) stop with the main thread,
+    # also while it is only waiting for them
+    interrupt_integrations()
+    raise KeyboardInterrupt
+
+
+class _Commands(TyperGroup):
+    """The command group: Ctrl-C ends any command with one line and exit status 130."""
+
+    def invoke(self, ctx: Any) -> Any:
+        previous = signal.getsignal(signal.SIGINT)
+        if previous is signal.default_int_handler:
+            signal.signal(signal.SIGINT, _on_sigint)
+        try:
+            return super().invoke(ctx)
+        except KeyboardInterrupt:
+            # files a command already wrote (sweep points, bifurcation values) are whole:
+            # each is written atomically, and a re-run with the same --store resumes
+            typer.echo("interrupted", err=True)
+            raise typer.Exit(code=EXIT_INTERRUPTED) from None
+        finally:
+            if previous is signal.default_int_handler:
+                signal.signal(signal.SIGINT, previous)
+
 
 app = typer.Typer(
     name="mechanism",
     help="Simulate planar rigid-flexible mechanisms with clearance joints and wear.",
     no_args_is_help=True,
     add_completion=False,
+    cls=_Commands,
+    # plain (click) help at a fixed 100 columns: long option names, help texts and command
+    # summaries wrap instead of being cut at the terminal's width as in the rich panels,
+    # and flags show no value type
+    rich_markup_mode=None,
+    context_settings={"terminal_width": 100, "max_content_width": 100},
 )
 
 
@@ -61,9 +102,12 @@ def main(
 # --- scenes (scene loading): commands below this line only ---
 import contextlib  # noqa: E402
 import os  # noqa: E402
+import tempfile  # noqa: E402
 import warnings  # noqa: E402
 from collections.abc import Iterator  # noqa: E402
 from typing import TYPE_CHECKING  # noqa: E402
+
+import numpy as np  # noqa: E402
 
 if TYPE_CHECKING:
     from collections.abc import Sequence
@@ -108,32 +152,61 @@ def parse_set_options(options: Sequence[str] | None) -> dict[str, Any]:
 NETCDF_SUFFIXES = (".nc", ".nc4", ".netcdf", ".h5", ".hdf5")
 
 
-def check_output_option(output: str | os.PathLike[str]) -> Path:
-    """The ``-o`` path of a command that writes netCDF, checked before any work: a netCDF
-    suffix, not a folder, in a folder that exists or can be made and is writable. Exits
-    with status 2 and one line naming the problem otherwise."""
+def check_output_option(
+    output: str | os.PathLike[str], *, suffixes: Sequence[str] = NETCDF_SUFFIXES
+) -> Path:
+    """The ``-o`` path of a command that writes netCDF (or a file ending in one of
+    ``suffixes``), checked before any work: the suffix, not a folder, in a folder that
+    exists or can be made and takes a file. Exits with status 2 and one line naming the
+    problem otherwise."""
     path = Path(output)
     problem = None
-    if path.suffix.lower() not in NETCDF_SUFFIXES:
+    if suffixes is NETCDF_SUFFIXES and path.suffix.lower() not in suffixes:
         problem = (
             f"{path}: the output is netCDF; give a name ending in .nc (got "
             f"{path.suffix or 'no suffix'}). Multi-dimensional outputs do not fit CSV or npz; "
             "select 1-D series and convert them with chaoskit.save_trajectory."
         )
+    elif path.suffix.lower() not in suffixes:
+        problem = f"{path}: give a name ending in {', '.join(suffixes)}."
     elif path.is_dir():
-        problem = f"{path} is a folder; give a file name ending in .nc."
+        problem = f"{path} is a folder; give a file name ending in {path.suffix}."
     else:
-        parent = path.parent
-        while not parent.exists() and parent != parent.parent:
-            parent = parent.parent
-        if not parent.is_dir():
-            problem = f"cannot create {path}: {parent} is not a folder."
-        elif not os.access(parent, os.W_OK | os.X_OK):
-            problem = f"cannot write {path}: {parent} is not writable."
+        problem = _folder_problem(path.parent, f"cannot create {path}")
     if problem is not None:
         typer.echo(f"Error: {problem}", err=True)
         raise typer.Exit(code=2)
     return path
+
+
+def check_output_folder(folder: str | os.PathLike[str], option: str = "-o") -> Path:
+    """An output folder (``-o`` of ``paper``, ``--store``), checked before any work: a
+    folder, or one that can be made, that takes a file. Exits with status 2 and one line
+    naming the problem otherwise."""
+    path = Path(folder)
+    problem = _folder_problem(path, f"{option} {path}")
+    if problem is not None:
+        typer.echo(f"Error: {problem}", err=True)
+        raise typer.Exit(code=2)
+    return path
+
+
+def _folder_problem(folder: Path, what: str) -> str | None:
+    """Why no file can be written in ``folder`` (or made under its nearest existing
+    parent), or None. A temporary file is created and removed there, since permission
+    bits do not tell: root passes every ``os.access`` test, yet can create nothing in
+    /proc. Nothing is left behind."""
+    existing = folder
+    while not existing.exists() and existing != existing.parent:
+        existing = existing.parent
+    if not existing.is_dir():
+        return f"{what}: {existing} is not a folder."
+    try:
+        with tempfile.TemporaryFile(dir=existing):
+            pass
+    except OSError as exc:
+        return f"{what}: {existing} is not writable ({exc.strerror or exc})."
+    return None
 
 
 @contextlib.contextmanager
@@ -230,6 +303,19 @@ def simulate_command(
     discard: float = typer.Option(
         0.0, "--discard", help="Revolutions treated as transient by metrics and sections."
     ),
+    variables: list[str] | None = typer.Option(
+        None,
+        "--var",
+        help="Record only this variable (repeatable; full record): crank_angle, "
+        "slider_position, slider_velocity, eccentricity_x, eccentricity_y. A long run then "
+        "holds a few arrays instead of the full state.",
+    ),
+    force: bool = typer.Option(
+        False,
+        "--force",
+        help="Run even when the run is estimated to need more than 80 % of the available "
+        "memory (refused by default).",
+    ),
     progress: bool = typer.Option(True, "--progress/--no-progress", help="Show a progress bar."),
 ) -> None:
     """Simulate a scene and write its trajectory, metrics or sections (netCDF)."""
@@ -247,9 +333,14 @@ def simulate_command(
                 output_step=output_step,
                 record=record,  # type: ignore[arg-type]
                 discard=discard,
+                variables=variables or None,
                 progress=progress,
+                force=force,
             )
-    except (ValueError, SimulationError) as exc:
+    except ValueError as exc:  # a bad option or scene, or a run refused before it starts
+        typer.echo(f"Error: {exc}", err=True)
+        raise typer.Exit(code=2) from None
+    except SimulationError as exc:
         typer.echo(f"Error: {exc}", err=True)
         raise typer.Exit(code=1) from None
     if record != "full":
@@ -261,11 +352,11 @@ def simulate_command(
         )
         return
     write_output(ds, path, chaoskit.save_trajectory)
+    wall = ds.attrs["solver_wall_time"] + ds.attrs.get("ideal_solver_wall_time", 0.0)
     typer.echo(
         f"{path}: {ds.sizes['time']} samples, t_end = {ds.attrs['t_end']:.6g} s, "
         f"{ds.attrs['solver_steps']} steps ({ds.attrs['solver_rejected_steps']} rejected), "
-        f"{ds.attrs['solver_contact_events']} contact events, "
-        f"{ds.attrs['solver_wall_time'] + ds.attrs['ideal_solver_wall_time']:.3g} s"
+        f"{ds.attrs['solver_contact_events']} contact events, {wall:.3g} s"
     )
 
 
@@ -282,36 +373,87 @@ def wear_command(
     ),
     set_options: list[str] | None = typer.Option(None, "--set", metavar="KEY=VALUE", help=SET_HELP),
     max_depth_increment: float = typer.Option(
-        0.25, "--max-depth-increment", help="Largest depth step per update / clearance."
+        DEFAULT_MAX_DEPTH_INCREMENT,
+        "--max-depth-increment",
+        help="Largest depth one sub-update adds, as a fraction of the radial clearance, in "
+        "(0, 1]; a block of cycles that would wear deeper is worn in sub-updates.",
     ),
     settle_revolutions: float = typer.Option(
         2.0, "--settle-revolutions", help="Revolutions simulated before the measured cycle."
     ),
     progress: bool = typer.Option(True, "--progress/--no-progress", help="Show a progress bar."),
 ) -> None:
-    """Predict the worn profile (cycle extrapolation) and write it with the worn scene."""
+    """Predict the worn profile (cycle extrapolation) and write it with the worn scene.
+
+    A state whose penetration exceeds the radial clearance stops the prediction: the
+    finished updates are written with ``status = "failed"`` in the file's attributes, the
+    reason is the last line and the exit status is 1.
+    """
     path = check_output_option(output)
     resolved = load_scene_option(scene, set_options)
     try:
-        pred = predict_wear(
-            resolved,
-            updates=updates,
-            cycles_per_update=cycles_per_update,
-            max_depth_increment=max_depth_increment,
-            settle_revolutions=settle_revolutions,
-            progress=progress,
-        )
-    except (ValueError, SimulationError) as exc:
+        with _warnings_as_lines():
+            pred = predict_wear(
+                resolved,
+                updates=updates,
+                cycles_per_update=cycles_per_update,
+                max_depth_increment=max_depth_increment,
+                settle_revolutions=settle_revolutions,
+                progress=progress,
+            )
+    except ValueError as exc:  # a bad option or scene: a user error
+        typer.echo(f"Error: {exc}", err=True)
+        raise typer.Exit(code=2) from None
+    except WearPredictionError as exc:  # the finished updates are kept
+        if exc.prediction is None:
+            typer.echo(f"Error: {exc}", err=True)
+            raise typer.Exit(code=1) from None
+        pred = exc.prediction
+    except SimulationError as exc:
         typer.echo(f"Error: {exc}", err=True)
         raise typer.Exit(code=1) from None
     ds = pred.to_dataset()
     write_output(ds, path)
+    for line in wear_update_lines(ds):
+        typer.echo(line)
+    if not pred.success:
+        typer.echo(
+            f"{output}: written with the {pred.updates} of {updates} updates that finished "
+            "(status failed)"
+        )
+        typer.echo(f"Error: {pred.reason}", err=True)
+        raise typer.Exit(code=1)
     force = ds["peak_contact_force"].values
     typer.echo(
-        f"{output}: {pred.updates} updates, {float(pred.cycles[-1]):.6g} cycles, "
+        f"{output}: {pred.updates} updates, {float(pred.cycles[-1]):.6g} cycles in "
+        f"{ds.sizes['sub_update']} sub-updates, "
         f"max depth {float(ds['wear_depth'].isel(update=-1).max()):.3g} m, "
         f"peak contact force {force[0]:.4g} -> {force[-1]:.4g} N"
     )
+
+
+def wear_update_lines(ds: Any) -> list[str]:
+    """One line per update state of a wear prediction Dataset: its cycles, peak contact
+    force (last revolution), largest penetration over its run in % of the clearance, and
+    how the next block was split into sub-updates."""
+    lines = []
+    for u in range(ds.sizes["update"]):
+        state = ds.isel(update=u)
+        line = (
+            f"update {u}: {float(state['cycles']):.6g} cycles, peak contact force "
+            f"{float(state['peak_contact_force']):.4g} N (last revolution), penetration up "
+            f"to {100.0 * float(state['penetration_fraction']):.0f} % of the clearance (whole "
+            "run)"
+        )
+        subs = ds["sub_update_cycles"].values[ds["sub_update_of"].values == u]
+        if subs.size > 1:
+            line += (
+                f"; the next {subs.sum():.6g} cycles in {subs.size} sub-updates of "
+                f"{subs.min():.4g}-{subs.max():.4g} cycles (each within "
+                f"{ds.attrs['max_depth_increment']:g} of the clearance)"
+            )
+        lines.append(line)
+    return lines
 
 
 # --- flexibility: commands below this line only ---
@@ -355,7 +497,10 @@ def convergence_command(
             method=method,
             progress=progress,
         )
-    except (ValueError, SimulationError) as exc:
+    except ValueError as exc:  # a bad option or scene: a user error
+        typer.echo(f"Error: {exc}", err=True)
+        raise typer.Exit(code=2) from None
+    except SimulationError as exc:
         typer.echo(f"Error: {exc}", err=True)
         raise typer.Exit(code=1) from None
     typer.echo(table.to_markdown())
@@ -403,6 +548,54 @@ def parse_grid_options(options: Sequence[str]) -> dict[str, list[Any]]:
     return grid
 
 
+#: Default revolutions of ``mechanism sweep``: a motion verdict needs at least 20 drive
+#: periods and 20 section points after the discarded revolution (docs/sweeps.md measures
+#: it: the rigid paper scene at 150 rpm is undetermined at 10 revolutions, chaotic at 25).
+SWEEP_REVOLUTIONS = 25.0
+
+
+def sweep_table(ds: Any) -> str:
+    """The result of every point of a sweep as a fixed-width text table: the grid values,
+    the status, the motion verdict with its confidence (or each variable's verdict) and
+    the peak contact force."""
+    dims = [d for d in ds["status"].dims]
+    stacked = ds.stack(point=dims) if dims else ds.expand_dims("point")
+    header = [*dims, "status"]
+    verdict = "motion_label" in ds or "label" in ds
+    if verdict:
+        header += ["verdict", "confidence"]
+    if "peak_contact_force" in ds:
+        header.append("peak contact force (N)")
+    rows = [header]
+    for i in range(stacked.sizes["point"]):
+        point = stacked.isel(point=i)
+        row = [_cell(point[d].item(), "g") for d in dims] + [str(point["status"].item())]
+        if "motion_label" in ds:
+            row += [str(point["motion_label"].item()) or "—", _cell(point["motion_confidence"])]
+        elif "label" in ds:
+            labels = [str(v) for v in np.atleast_1d(point["label"].values)]
+            row += ["/".join(labels), _cell(np.atleast_1d(point["confidence"].values)[0])]
+        if "peak_contact_force" in ds:
+            row.append(_cell(point["peak_contact_force"], ".4g"))
+        rows.append(row)
+    widths = [max(len(r[i]) for r in rows) for i in range(len(header))]
+    lines = ["  ".join(c.ljust(w) for c, w in zip(r, widths, strict=True)).rstrip() for r in rows]
+    lines.insert(1, "  ".join("-" * w for w in widths))
+    return "\n".join(lines)
+
+
+def _cell(value: Any, fmt: str = ".3g") -> str:
+    """A table cell: numbers plainly (NaN as a dash), anything else as text."""
+    if hasattr(value, "values"):
+        value = value.values
+    value = np.asarray(value).item() if np.ndim(value) == 0 else value
+    if isinstance(value, bool | str) or not isinstance(value, int | float):
+        return str(value) or "—"
+    if isinstance(value, float) and not np.isfinite(value):
+        return "—"
+    return format(value, fmt) if isinstance(value, float) else str(value)
+
+
 def _scheduler_option() -> Any:
     return typer.Option(
         None,
@@ -425,7 +618,11 @@ def sweep_command(
     store: Path = typer.Option(
         ..., "--store", help="Folder for the point files and summary.nc; a re-run resumes."
     ),
-    revolutions: float = typer.Option(3.0, "--revolutions", help="Crank revolutions per point."),
+    revolutions: float = typer.Option(
+        SWEEP_REVOLUTIONS,
+        "--revolutions",
+        help="Crank revolutions per point; a motion verdict needs at least 20 after --discard.",
+    ),
     scheduler: str | None = _scheduler_option(),
     workers: int | None = _workers_option(),
     set_options: list[str] | None = typer.Option(None, "--set", metavar="KEY=VALUE", help=SET_HELP),
@@ -442,6 +639,7 @@ def sweep_command(
     if scheduler is not None and workers is not None:
         raise typer.BadParameter("give --scheduler or --workers, not both", param_hint="--workers")
     parsed = parse_grid_options(grid)
+    check_output_folder(store, "--store")
     resolved = load_scene_option(scene, set_options)
     try:
         analysis = Analysis(
@@ -467,6 +665,9 @@ def sweep_command(
     status = ds["status"].values.ravel()
     counts = ", ".join(f"{(status == s).sum()} {s}" for s in ("ok", "failed", "diverged"))
     typer.echo(ds.attrs["history"].splitlines()[-1].split(" ", 1)[1])
+    typer.echo("")
+    typer.echo(sweep_table(ds))
+    typer.echo("")
     typer.echo(f"{status.size} points: {counts}")
     if "motion_label" in ds:
         motions = [str(v) for v in ds["motion_label"].values.ravel() if str(v)]
@@ -539,6 +740,13 @@ def bifurcation_command(
         raise typer.BadParameter("give --scheduler or --workers, not both", param_hint="--workers")
     if figure is not None and figure.suffix.lower() not in (".png", ".pdf", ".svg"):
         raise typer.BadParameter("the figure must end in .png, .pdf or .svg", param_hint="--figure")
+    # every place a result goes is checked before hours of simulation
+    if output is not None:
+        check_output_option(output)
+    if figure is not None:
+        check_output_option(figure, suffixes=(".png", ".pdf", ".svg"))
+    if store is not None:
+        check_output_folder(store, "--store")
     try:
         tol = None if tolerance.strip() == "scene" else float(tolerance)
     except ValueError:
@@ -576,7 +784,7 @@ def bifurcation_command(
         if state != "ok":
             typer.echo(f"  {state:>8}  {param} = {value}: {message}")
     if output is not None:
-        write_netcdf(ds, output)
+        write_output(ds, output)
         typer.echo(f"dataset: {output}")
     if figure is not None:
         import matplotlib
@@ -617,6 +825,7 @@ def paper_command(
     """Is the press chaotic before and after wear? Reproduce the paper's study and report."""
     if scheduler is not None and workers is not None:
         raise typer.BadParameter("give --scheduler or --workers, not both", param_hint="--workers")
+    check_output_folder(output)
     study = run_paper_study(
         output,
         quick=quick,
@@ -628,6 +837,10 @@ def paper_command(
     )
     for line in study.unavailable:
         typer.echo(f"not available in this version: {line}")
+    # the answer, right above the files: the motion verdict of each state
+    typer.echo("Motion verdict per state:")
+    typer.echo(study.answer.to_string() if study.motions else "  none (no chaos run finished)")
+    typer.echo("")
     typer.echo(f"report: {study.report_html}")
     if study.report_markdown is not None:
         typer.echo(f"markdown: {study.report_markdown}")
@@ -673,6 +886,8 @@ def lyapunov_command(
     progress: bool = typer.Option(True, "--progress/--no-progress", help="Show a progress bar."),
 ) -> None:
     """Largest Lyapunov exponent of a scene from its equations of motion."""
+    if output is not None:
+        check_output_option(output)
     resolved = load_scene_option(scene, set_options)
     if revolutions is None and t_end is None:
         revolutions = 100.0
@@ -706,7 +921,7 @@ def lyapunov_command(
             f"{result.stats.contact_events} contact events, {result.stats.wall_time:.3g} s"
         )
     if output is not None:
-        write_netcdf(result.to_dataset(), output)
+        write_output(result.to_dataset(), Path(output))
         typer.echo(f"wrote {output}")
 
 

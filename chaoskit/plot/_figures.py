@@ -93,8 +93,10 @@ def poincare(
     style = {"s": 6, "color": "C3", "linewidths": 0}
     style.update(kwargs)
     xname = x or names[0]
+    drawn = sec.sizes["crossing"]
     if y is None and len(names) == 1:
         vals = sec[xname].values
+        drawn = max(vals.size - 1, 0)  # pairs of successive points
         ax.scatter(vals[:-1], vals[1:], **style)
         ax.set_xlabel(_label(sec[xname], xname) + " (n)")
         ax.set_ylabel(_label(sec[xname], xname) + " (n+1)")
@@ -104,7 +106,7 @@ def poincare(
         ax.set_xlabel(_label(sec[xname], xname))
         ax.set_ylabel(_label(sec[yname], yname))
     kind = sec.attrs.get("section_kind", "section")
-    ax.set_title(f"{kind} ({sec.sizes['crossing']} points)", fontsize=9)
+    ax.set_title(f"{kind} ({drawn} point{'' if drawn == 1 else 's'} drawn)", fontsize=9)
     return ax
 
 

@@ -6,7 +6,10 @@ captioned tables (pandas DataFrames) and figures (PNG bytes), with whatever tabl
 maps and bifurcation diagrams the caller adds. A :class:`Report` is a list of
 :class:`ReportSection` objects that any caller can assemble or extend
 (:meth:`Report.with_sections`); :meth:`Report.write` writes a self-contained HTML page and
-its Markdown twin. See ``docs/reports.md``.
+its Markdown twin (every string in it escaped as text: :func:`markdown_text`).
+:func:`answer_table` and :meth:`Report.answer_table` give the answer, one row per state, and
+:func:`decided_by` says in one line which evidence decided a verdict. See
+``docs/reports.md``.
 
 The subpackage is ``chaoskit.reporting``; its main names are re-exported from ``chaoskit``
 (``chaoskit.report`` is the function).
@@ -14,11 +17,22 @@ The subpackage is ``chaoskit.reporting``; its main names are re-exported from ``
 
 from __future__ import annotations
 
+from ._answer import (
+    CONFIDENCE_FORMAT,
+    CONFIDENCE_NOTE,
+    answer_table,
+    decided_by,
+    format_confidence,
+    plural,
+)
 from ._build import CHAOS_COLUMNS, Report, SweepMap, VariableSpec, parse_variable, report
 from ._items import MISSING, ReportCode, ReportFigure, ReportSection, ReportTable, format_number
+from ._render import markdown_text
 
 __all__ = [
     "CHAOS_COLUMNS",
+    "CONFIDENCE_FORMAT",
+    "CONFIDENCE_NOTE",
     "MISSING",
     "Report",
     "ReportCode",
@@ -27,7 +41,12 @@ __all__ = [
     "ReportTable",
     "SweepMap",
     "VariableSpec",
+    "answer_table",
+    "decided_by",
+    "format_confidence",
     "format_number",
+    "markdown_text",
     "parse_variable",
+    "plural",
     "report",
 ]

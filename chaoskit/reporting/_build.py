@@ -38,6 +38,7 @@ from .._version import __version__
 from ..sections import poincare_section, stroboscopic_map
 from ..verdict import MotionVerdict, classify_motion, classify_variables, verdict_table
 from ..verdict._rng import as_generator
+from ._answer import CONFIDENCE_FORMAT, CONFIDENCE_NOTE, answer_table, decided_by, plural
 from ._items import MISSING, ReportCode, ReportFigure, ReportSection, ReportTable, format_number
 from ._measures import measure_items
 from ._render import render_html, render_markdown
@@ -285,6 +286,23 @@ class Report:
         """Every figure, in print order."""
         return tuple(i for s in self.sections for i in s.items if isinstance(i, ReportFigure))
 
+    def answer_table(self) -> pd.DataFrame:
+        """The answer, one row per state: verdict, confidence, λ₁ [95 %] and its source.
+
+        From the motion verdicts when the report has them (two or more variables), else
+        from the verdict of the one analysed variable (rows ``state``), or of each variable
+        (rows ``state: variable``). See :func:`chaoskit.reporting.answer_table`; the
+        ``chaoskit report`` command prints it.
+        """
+        if self.motions:
+            return answer_table(self.motions)
+        names = {name for per in self.verdicts.values() for name in per}
+        if len(names) <= 1:
+            return answer_table({s: v for s, per in self.verdicts.items() for v in per.values()})
+        return answer_table(
+            {f"{s}: {n}": v for s, per in self.verdicts.items() for n, v in per.items()}
+        )
+
     def table(self, caption: str) -> ReportTable:
         """The first table whose caption contains ``caption`` (case-insensitive)."""
         for t in self.tables:
@@ -529,14 +547,66 @@ def _rate_units(units: Any) -> str:
     return f"{units} s-1"
 
 
+#: Length units a figure can show a variable in, in metres.
+LENGTH_UNITS = {"m": 1.0, "mm": 1e-3, "µm": 1e-6, "um": 1e-6, "nm": 1e-9}
+
+
+def _check_display_units(
+    display_units: Mapping[str, str] | None, specs: list[VariableSpec]
+) -> dict[str, str]:
+    if display_units is None:
+        return {}
+    if not isinstance(display_units, Mapping):
+        raise ValueError("display_units must be a mapping {variable: unit}, e.g. {'X': 'mm'}.")
+    aliases = [s.alias for s in specs]
+    out = {}
+    for alias, unit in display_units.items():
+        if alias not in aliases:
+            raise ValueError(f"display_units names {alias!r}, not a report variable {aliases}.")
+        if unit not in LENGTH_UNITS:
+            raise ValueError(
+                f"display_units[{alias!r}] = {unit!r}: the accepted units are "
+                f"{', '.join(LENGTH_UNITS)} (a length stored in m)."
+            )
+        out[str(alias)] = str(unit)
+    return out
+
+
+def _display_view(view: xr.Dataset, display_units: Mapping[str, str]) -> xr.Dataset:
+    """``view`` with each variable of ``display_units`` (and its stored rate) converted
+    from its stored length unit to the display unit, for the figures only."""
+    if not display_units:
+        return view
+    out = view.copy()
+    for alias, unit in display_units.items():
+        stored = str(view[alias].attrs.get("units", ""))
+        if stored not in LENGTH_UNITS:
+            raise ValueError(
+                f"display_units[{alias!r}] = {unit!r} needs {alias} stored in a length unit "
+                f"({', '.join(LENGTH_UNITS)}); its units are {stored!r}."
+            )
+        factor = LENGTH_UNITS[stored] / LENGTH_UNITS[unit]
+        for name, units in ((alias, unit), (f"{alias}_dot", f"{unit} s-1")):
+            if name in out:
+                out[name] = (out[name] * factor).assign_attrs({**view[name].attrs, "units": units})
+    return out
+
+
 def _section_points(
     view: xr.Dataset,
     alias: str,
     *,
     drive_period: float | None,
     phase_alias: str | None,
+    used: xr.Dataset | None = None,
 ) -> tuple[xr.Dataset | None, str]:
-    """The (x, dx/dt) stroboscopic points, the return map of maxima, or of a map's samples."""
+    """The (x, dx/dt) stroboscopic points, the return map of maxima, or of a map's samples.
+
+    ``used`` is the section the verdict of ``alias`` used (``Verdict.section``): when it
+    carries the instants of its points (``time``), only the points at those instants are
+    kept, so the figure shows exactly the points the evidence table counts (not, e.g., the
+    initial state or the crossings the verdict's delay embedding left out).
+    """
     if "step" in view.coords:
         x = np.asarray(view[alias].values, dtype=np.float64)
         sec = xr.Dataset(
@@ -555,13 +625,37 @@ def _section_points(
         else:
             sec = stroboscopic_map(pts, period=drive_period, coords=[alias, rate])
             how = f"once per drive period T = {format_number(drive_period)} s (stroboscopic map)"
+        sec = _at_instants(sec, used)
         return sec, f"{alias} against its rate, sampled {how}"
     pts = view[[alias]].assign({rate: portrait[rate]})
     sec = poincare_section(pts, variable=rate, level=0.0, direction="down", coords=[alias])
+    if used is not None and "time" in used.coords:
+        # one point (M_n, M_n+1) per return-map point of the verdict, at its instants
+        pairs = sec.isel(crossing=slice(None, -1)).assign(
+            {f"{alias}_next": ("crossing", sec[alias].values[1:], dict(sec[alias].attrs))}
+        )
+        sec = _at_instants(pairs, used)
     return sec, (
         f"the return map of the successive maxima of {alias} (Poincaré section "
         f"d{alias}/dt = 0, decreasing)"
     )
+
+
+def _at_instants(sec: xr.Dataset, used: xr.Dataset | None) -> xr.Dataset:
+    """The crossings of ``sec`` at the instants of ``used`` (nearest, within a quarter of
+    the spacing of the crossings); ``sec`` itself when ``used`` has no instants."""
+    if used is None or "time" not in used.coords or sec.sizes.get("crossing", 0) == 0:
+        return sec
+    t = np.asarray(sec["time"].values, dtype=np.float64)
+    wanted = np.asarray(used["time"].values, dtype=np.float64)
+    if wanted.size == 0:
+        return sec.isel(crossing=slice(0, 0))
+    spacing = float(np.median(np.diff(t))) if t.size > 1 else math.inf
+    right = np.clip(np.searchsorted(t, wanted), 0, t.size - 1)
+    left = np.maximum(right - 1, 0)
+    nearest = np.where(np.abs(t[left] - wanted) <= np.abs(t[right] - wanted), left, right)
+    close = np.abs(t[nearest] - wanted) <= 0.25 * spacing
+    return sec.isel(crossing=np.unique(nearest[close]))
 
 
 # ----------------------------------------------------------------- tables
@@ -586,6 +680,30 @@ def _chaos_frame(states: list[_State], specs: list[VariableSpec]) -> pd.DataFram
     index = pd.MultiIndex.from_tuples(keys, names=["variable", "state"])
     frame = pd.DataFrame(rows, index=index, columns=list(CHAOS_COLUMNS))
     return frame.astype({c: object for c in ("verdict",)})
+
+
+#: Footnote of the estimates a verdict did not follow (see :func:`_set_aside_marks`).
+SET_ASIDE_MARK = "†"
+SET_ASIDE_NOTE = (
+    f"{SET_ASIDE_MARK} set aside: the verdict of this variable and state did not follow this "
+    "estimate — it points the other way (clearly positive for a regular label, or not clearly "
+    "positive for chaos) and the other evidence decided (votes in the appendix)."
+)
+
+
+def _set_aside_marks(states: list[_State], specs: list[VariableSpec]) -> dict[tuple[Any, str], str]:
+    """Chaos-table cells of the exponents that the row's verdict voted against."""
+    marks: dict[tuple[Any, str], str] = {}
+    for spec in specs:
+        for st in states:
+            v = st.verdicts[spec.alias]
+            if v.label == "undetermined":
+                continue  # nothing was decided, so nothing was set aside
+            for method in ("wolf", "rosenstein"):
+                if v.votes.get(method) == "opposes":
+                    for col in (f"mle_{method}", f"mle_{method}_bits"):
+                        marks[((spec.alias, st.label), col)] = SET_ASIDE_MARK
+    return marks
 
 
 def _chaos_labels(kind: str) -> dict[str, str]:
@@ -668,8 +786,9 @@ def _motion_table(states: list[_State], kind: str) -> ReportTable:
             {
                 "verdict": mv.label if mv.period is None else f"{mv.label} (period {mv.period})",
                 "confidence": mv.confidence,
-                "section": f"{row['motion_section_structure']} "
-                f"({row['motion_section_points']:.0f} points)",
+                "section": _joint_section_text(
+                    row["motion_section_structure"], row["motion_section_points"]
+                ),
                 "mle": row["motion_mle"],
                 "mle_low": row["motion_mle_low"],
                 "mle_high": row["motion_mle_high"],
@@ -677,7 +796,7 @@ def _motion_table(states: list[_State], kind: str) -> ReportTable:
                 "equations_low": row["motion_mle_equations_low"],
                 "equations_high": row["motion_mle_equations_high"],
                 "set_aside": ", ".join((*mv.drive_variables, *mv.constant_variables)) or "—",
-                "why": mv.reason,
+                "why": decided_by(mv),
             }
         )
         index.append(st.label)
@@ -687,7 +806,7 @@ def _motion_table(states: list[_State], kind: str) -> ReportTable:
         "together — their joint section, the largest exponent of their mixed delay "
         "embedding, the exponent from the equations of motion when given, and each "
         "variable's verdict (docs/verdict.md). Variables that follow the drive alone are set "
-        "aside.",
+        'aside; "why" names the evidence that decided.',
         data=pd.DataFrame(rows, index=pd.Index(index, name="state")),
         labels={
             "verdict": "motion verdict",
@@ -703,8 +822,17 @@ def _motion_table(states: list[_State], kind: str) -> ReportTable:
             "equations": ("equations_low", "equations_high"),
         },
         digits=3,
+        formats={"confidence": CONFIDENCE_FORMAT},
+        notes=CONFIDENCE_NOTE,
         section=MOTION,
     )
+
+
+def _joint_section_text(structure: str, points: float) -> str:
+    """``"clusters (198 points)"``; ``"none"`` when there is no joint section."""
+    if not math.isfinite(points):
+        return str(structure)
+    return f"{structure} ({plural(int(points), 'point')})"
 
 
 def _overview_frame(states: list[_State], specs: list[VariableSpec]) -> pd.DataFrame:
@@ -770,6 +898,7 @@ def report(
     bifurcations: Any = None,
     figures: Sequence[ReportFigure] = (),
     measures: Sequence[str] | str = (),
+    display_units: Mapping[str, str] | None = None,
     parameters: Mapping[str, Any] | None = None,
     title: str = "chaoskit report",
     command: str | None = None,
@@ -865,6 +994,10 @@ def report(
         Further measures for every state and variable, in a section of their own (table and
         figures): a subset of ``"d2"``, ``"rqa"``, ``"spectrum"``, ``"sampen"``, ``"dfa"``,
         ``"hurst"`` (a sequence or a comma-separated string, or ``"all"``).
+    display_units
+        ``{variable: unit}``: the unit a length variable is drawn in (``"m"``, ``"mm"``,
+        ``"µm"``, ``"nm"``), e.g. ``{"X": "mm"}`` for journal displacements stored in m.
+        Figures only: the analysis and the tables stay in the stored (SI) units.
     parameters
         Run parameters to list in the provenance (values: numbers, text, JSON-able).
     title
@@ -917,6 +1050,7 @@ def report(
             raise ValueError(f"figures must hold ReportFigure objects; got {type(f).__name__}.")
     phase = parse_variable(phase_variable) if phase_variable is not None else None
     measure_names = parse_measures(measures)
+    shown_units = _check_display_units(display_units, specs)
     if exponents is not None:
         if not isinstance(exponents, Mapping):
             raise ValueError("exponents must be a mapping {state label: exponent}.")
@@ -975,6 +1109,7 @@ def report(
             chaos_reference=chaos_reference,
             reference_name=reference_name,
             chaos_notes=chaos_notes,
+            display_units=shown_units,
         )
         if measure_names:
             seed = int(rng) if isinstance(rng, (int, np.integer)) else 0
@@ -1004,6 +1139,7 @@ def report(
             "phase_variable": None if phase is None else phase.spec,
             "n_surrogates": n_surrogates,
             "rng": rng if isinstance(rng, (int, np.integer)) else repr(rng),
+            **({"display_units": shown_units} if shown_units else {}),
         },
         parameters=parameters,
     )
@@ -1055,10 +1191,12 @@ def _analysis_items(
     chaos_reference: pd.DataFrame | None,
     reference_name: str,
     chaos_notes: str,
+    display_units: Mapping[str, str],
 ) -> None:
     kinds = {v.kind for st in states for v in st.verdicts.values()}
     kind = "map" if kinds == {"map"} else "flow"
-    if any(st.motion is not None for st in states):
+    motion = any(st.motion is not None for st in states)
+    if motion:
         put(_motion_table(states, kind), MOTION)
     described = "; ".join(
         f"{s.alias} = {s.spec} ({states[0].view[s.alias].attrs.get('long_name', s.name)}, "
@@ -1095,6 +1233,12 @@ def _analysis_items(
             raise ValueError("chaos_reference must be indexed by (variable, state).")
         ref = chaos_reference
     dts = sorted({format_number(_sampling_step(st.view)) for st in states})
+    marks = _set_aside_marks(states, specs)
+    notes = " ".join(
+        n
+        for n in (chaos_notes, SET_ASIDE_NOTE if marks else "", "" if motion else CONFIDENCE_NOTE)
+        if n
+    )
     put(
         ReportTable(
             caption=(
@@ -1110,7 +1254,9 @@ def _analysis_items(
             labels=_chaos_labels(kind),
             # beside a reference, one row per quantity keeps the table at five columns
             layout="long" if ref is not None else "wide",
-            notes=chaos_notes,
+            formats={"confidence": CONFIDENCE_FORMAT},
+            marks=marks,
+            notes=notes,
             section="Chaos identification",
         )
     )
@@ -1123,6 +1269,7 @@ def _analysis_items(
             ),
             data=_evidence_frame(states, specs),
             labels=_EVIDENCE_LABELS,
+            formats={"confidence": CONFIDENCE_FORMAT},
             layout="long",
             section=APPENDIX,
         )
@@ -1131,6 +1278,8 @@ def _analysis_items(
     ncols = min(n, 3)
     nrows = math.ceil(n / ncols)
     phase_alias = None if phase is None else phase.alias
+    # the figures show each variable in its display unit; the analysis stays in SI
+    shown = {st.label: _display_view(st.view, display_units) for st in states}
     for spec in specs:
         alias = spec.alias
         if kind != "map":
@@ -1143,13 +1292,13 @@ def _analysis_items(
                     st = states[k]
                     ax.set_title(f"{alias}: {st.label}", fontsize=9)
                     try:
-                        portrait = phase_portrait(st.view, variable=alias)
+                        portrait = phase_portrait(shown[st.label], variable=alias)
                     except ValueError as exc:  # e.g. too short for the derivative filter
                         _empty_panel(ax, f"no phase portrait: {exc}")
                         continue
                     plot.phase_portrait(portrait, ax=ax)
                     ax.set_title(f"{alias}: {st.label}", fontsize=9)
-                    units = st.view[alias].attrs.get("units")
+                    units = shown[st.label][alias].attrs.get("units")
                     _tidy(
                         ax,
                         f"{alias}{_unit_suffix(units)}",
@@ -1184,20 +1333,30 @@ def _analysis_items(
                     ax.set_visible(False)
                     continue
                 st = states[k]
+                view = shown[st.label]
+                title = f"{alias}: {st.label}"
                 try:
                     sec, how["text"] = _section_points(
-                        st.view, alias, drive_period=drive_period, phase_alias=phase_alias
+                        view,
+                        alias,
+                        drive_period=drive_period,
+                        phase_alias=phase_alias,
+                        used=st.verdicts[alias].section,
                     )
                 except ValueError as exc:
                     sec = None
                     _empty_panel(ax, f"no section: {exc}")
                 if sec is not None:
-                    if sec.sizes.get("crossing", 0) < 2:
+                    count = sec.sizes.get("crossing", 0)
+                    one = [v for v in sec.data_vars if sec[v].dims == ("crossing",)]
+                    points = count - 1 if len(one) == 1 else count  # a return map: pairs
+                    title += f", {plural(points, 'point')}"
+                    if count < 2:
                         _empty_panel(ax, "fewer than 2 section points")
                     else:
                         plot.poincare(sec, ax=ax)
-                        units = st.view[alias].attrs.get("units")
-                        if len([v for v in sec.data_vars if sec[v].dims == ("crossing",)]) == 1:
+                        units = view[alias].attrs.get("units")
+                        if len(one) == 1 or f"{alias}_next" in sec:
                             _tidy(
                                 ax,
                                 f"{alias}(n){_unit_suffix(units)}",
@@ -1209,7 +1368,7 @@ def _analysis_items(
                                 f"{alias}{_unit_suffix(units)}",
                                 f"d{alias}/dt{_unit_suffix(_rate_units(units))}",
                             )
-                ax.set_title(f"{alias}: {st.label}", fontsize=9)
+                ax.set_title(title, fontsize=9)
 
         fig = _draw(
             draw_sections,
@@ -1223,7 +1382,9 @@ def _analysis_items(
             dataclasses.replace(
                 fig,
                 caption=f"Poincaré-type map of {alias}: "
-                f"{sections_how.get('text', 'no points')}, for {_states_text(states)}.",
+                f"{sections_how.get('text', 'no points')}, for {_states_text(states)}; "
+                "the points the verdict's section used (their number is the evidence "
+                "table's section points).",
             )
         )
 

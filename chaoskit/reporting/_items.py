@@ -124,6 +124,12 @@ class ReportTable:
         ``"long"`` (one row per data row and column: handy for many columns).
     digits
         Significant digits of our numbers (reference values print with up to 6).
+    formats
+        ``{column: format spec}`` for columns that need a fixed format instead of
+        ``digits``, e.g. ``{"confidence": ".2f"}`` (interval bounds follow their column).
+    marks
+        ``{(row label, column): marker}``: a footnote marker (e.g. ``"†"``) appended to
+        that cell; say what it means in ``notes``.
     notes
         Text shown under the table (e.g. why a value differs from the paper).
     section
@@ -141,6 +147,8 @@ class ReportTable:
     labels: Mapping[str, str] = field(default_factory=dict)
     layout: Literal["wide", "long"] = "wide"
     digits: int = 4
+    formats: Mapping[str, str] = field(default_factory=dict)
+    marks: Mapping[tuple[Any, str], str] = field(default_factory=dict)
     notes: str = ""
     section: str = "Response metrics"
     number: int = 0
@@ -173,12 +181,31 @@ class ReportTable:
                     f"ratio must name two rows of data; missing {missing} "
                     f"(rows: {list(self.data.index)})."
                 )
+        for col, spec in self.formats.items():
+            if col not in self.data.columns:
+                raise ValueError(f"formats names the column {col!r} that data does not have.")
+            try:
+                format(0.5, spec)
+            except (TypeError, ValueError):
+                raise ValueError(
+                    f"formats[{col!r}] = {spec!r} is not a format spec for numbers (e.g. '.2f')."
+                ) from None
+        for key, mark in self.marks.items():
+            if not (isinstance(key, tuple) and len(key) == 2):
+                raise ValueError(f"marks keys must be (row label, column) pairs; got {key!r}.")
+            row, col = key
+            if col not in self.data.columns or row not in self.data.index:
+                raise ValueError(f"marks names the cell {key!r} that data does not have.")
+            if not isinstance(mark, str) or not mark.strip():
+                raise ValueError(f"marks[{key!r}] must be a non-empty string; got {mark!r}.")
         # Our own copies: the report is frozen, so its tables must not change under it.
         object.__setattr__(self, "data", self.data.copy())
         if self.reference is not None:
             object.__setattr__(self, "reference", self.reference.copy())
         object.__setattr__(self, "intervals", dict(self.intervals))
         object.__setattr__(self, "labels", dict(self.labels))
+        object.__setattr__(self, "formats", dict(self.formats))
+        object.__setattr__(self, "marks", dict(self.marks))
 
     # ------------------------------------------------------------------ display
     def _frames(self) -> tuple[pd.DataFrame, pd.DataFrame | None]:
@@ -211,14 +238,21 @@ class ReportTable:
         hidden = {c for pair in self.intervals.values() for c in pair}
         return [c for c in self.data.columns if c not in hidden]
 
+    def _number(self, value: Any, col: str) -> str:
+        spec = self.formats.get(col)
+        if spec is not None and _is_number(value) and math.isfinite(float(value)):
+            return format(float(value), spec)
+        return format_number(value, self.digits)
+
     def _cell(self, frame: pd.DataFrame, row: Any, col: str) -> str:
         value = frame.at[row, col]
-        text = format_number(value, self.digits)
+        text = self._number(value, col)
         if col in self.intervals and text != MISSING:
-            lo, hi = (format_number(frame.at[row, c], self.digits) for c in self.intervals[col])
+            lo, hi = (self._number(frame.at[row, c], col) for c in self.intervals[col])
             if lo != MISSING or hi != MISSING:
                 text = f"{text} [{lo}, {hi}]"
-        return text
+        mark = self.marks.get((row, col))
+        return f"{text} {mark}" if mark else text
 
     def display(self) -> pd.DataFrame:
         """The table as printed: strings, two header levels (column, ours/reference/diff).
@@ -338,8 +372,13 @@ class ReportCode:
 
 @dataclass(frozen=True, kw_only=True, eq=False)
 class ReportSection:
-    """A heading, an optional paragraph and its tables, figures and code blocks in order."""
+    """A heading, an optional paragraph and its tables, figures and code blocks in order.
+
+    ``text`` is printed under the heading, before the items (keep it to what the reader
+    needs first); ``footer`` after the items (settings, costs and other notes).
+    """
 
     title: str
     items: tuple[ReportTable | ReportFigure | ReportCode, ...] = ()
     text: str = ""
+    footer: str = ""

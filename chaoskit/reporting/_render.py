@@ -2,7 +2,10 @@
 
 Both renderers take their cell text from :meth:`ReportTable.display`, so the page and its
 Markdown twin print the same strings. The templates ship as package data in
-``chaoskit/reporting/templates/``.
+``chaoskit/reporting/templates/``. Every string of the report (titles, labels, captions,
+cells, notes) is text, never markup: the HTML template escapes it (Jinja2 autoescape) and
+the Markdown twin passes it through :func:`markdown_text`, so a variable name such as
+``<script>`` or ``a|b`` prints as itself in any viewer.
 """
 
 from __future__ import annotations
@@ -19,14 +22,49 @@ if TYPE_CHECKING:
 
     from ._build import Report
 
-__all__ = ["render_html", "render_markdown", "table_cells"]
+__all__ = ["markdown_text", "render_html", "render_markdown", "table_cells"]
+
+#: Characters that Markdown (CommonMark, GitHub) reads as inline or table syntax: each is
+#: backslash-escaped. ``<``, ``>`` and ``&`` become HTML entities, so no viewer can read
+#: them as a tag or an entity.
+_MD_SYNTAX = re.compile(r"([\\`*_\[\]|])")
+_MD_ENTITIES = {"&": "&amp;", "<": "&lt;", ">": "&gt;"}
+#: What makes a paragraph's first characters a heading, list, quote or rule.
+_MD_BLOCK_START = re.compile(r"^(\d+)([.)])|^([#=+-])")
+
+
+def markdown_text(text: Any, *, block: bool = False) -> str:
+    """``text`` as literal Markdown text on one line: syntax escaped, HTML made inert.
+
+    Backslash-escapes Markdown's inline and table syntax (backslash, backtick, ``*``,
+    ``_``, ``[``, ``]``, ``|``), writes ``<``, ``>`` and ``&`` as HTML entities and joins
+    lines with spaces, so a hostile name (``<script>``, ``a | b``, ``[x](javascript:...)``)
+    renders as itself. With ``block`` (text that starts a paragraph) a leading ``#``,
+    ``-``, ``+``, ``=`` or ``1.`` is escaped too, so it cannot open a heading or a list.
+
+    Examples
+    --------
+    >>> markdown_text("<b>x|y</b> [a](b)")
+    '&lt;b&gt;x\\\\|y&lt;/b&gt; \\\\[a\\\\](b)'
+    """
+    one_line = " ".join(str(text).split())
+    escaped = _MD_SYNTAX.sub(r"\\\1", one_line)
+    if block:
+        escaped = _MD_BLOCK_START.sub(
+            lambda m: f"{m[1]}\\{m[2]}" if m[1] else f"\\{m[3]}", escaped, count=1
+        )
+    return "".join(_MD_ENTITIES.get(c, c) for c in escaped)
+
+
+def _markdown_block(text: Any) -> str:
+    return markdown_text(text, block=True)
 
 
 @cache
 def _environment() -> Environment:
     from jinja2 import Environment, PackageLoader, StrictUndefined, select_autoescape
 
-    return Environment(
+    env = Environment(
         loader=PackageLoader("chaoskit.reporting", "templates"),
         autoescape=select_autoescape(["html", "html.j2"]),
         undefined=StrictUndefined,
@@ -34,6 +72,9 @@ def _environment() -> Environment:
         lstrip_blocks=True,
         keep_trailing_newline=True,
     )
+    env.filters["md"] = markdown_text
+    env.filters["md_block"] = _markdown_block
+    return env
 
 
 def _anchor(text: str) -> str:
@@ -75,7 +116,8 @@ def table_cells(table: ReportTable) -> tuple[list[list[dict[str, Any]]], list[li
     return header, body
 
 
-_NUMERIC = re.compile(r"^[-+−]?(\d[\d.]*([eE][-+]?\d+)?|∞)( \[.*\])?$")
+#: A number, optionally with its interval and a footnote marker (``1.2 [0.5, 2] †``).
+_NUMERIC = re.compile(r"^[-+−]?(\d[\d.]*([eE][-+]?\d+)?|∞)( \[.*\])?( [†‡§¶*]+)?$")
 
 
 def _numeric_columns(body: list[list[str]], n_labels: int) -> list[bool]:
@@ -131,7 +173,7 @@ def _context(report: Report, *, figure_src: Any) -> dict[str, Any]:
                         "kind": "code",
                         "caption": item.caption,
                         "text": item.text,
-                        "language": item.language,
+                        "language": re.sub(r"[^A-Za-z0-9_+-]", "", str(item.language)),
                     }
                 )
         sections.append(
@@ -139,6 +181,7 @@ def _context(report: Report, *, figure_src: Any) -> dict[str, Any]:
                 "title": section.title,
                 "anchor": _anchor(section.title),
                 "text": section.text,
+                "footer": section.footer,
                 "entries": items,
             }
         )
@@ -156,7 +199,7 @@ def render_html(report: Report) -> str:
 
 
 def _md_cell(text: str) -> str:
-    return str(text).replace("\\", "\\\\").replace("|", "\\|").replace("\n", " ")
+    return markdown_text(text)
 
 
 def _md_code_fence(text: str) -> str:

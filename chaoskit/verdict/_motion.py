@@ -21,6 +21,7 @@ from scipy.interpolate import CubicSpline
 
 from .._contract import stamp
 from .._io import load_trajectory
+from .._tables import has_time_index
 from ..lyapunov import lyapunov_rosenstein
 from ..sections import stroboscopic_map
 from ._analyze import classify_variables, series_dataset
@@ -508,7 +509,7 @@ def combine_motion(
             elif section in ("clusters", "closed-curve"):
                 assert structure is not None
                 shape = (
-                    f"{structure.n_clusters} tight cluster(s)"
+                    f"{structure.n_clusters} tight cluster{'s' * (structure.n_clusters != 1)}"
                     if section == "clusters"
                     else "a closed curve"
                 )
@@ -576,6 +577,8 @@ def _bases(voters: Mapping[str, Verdict]) -> int:
 def _as_dataset(data: Any, dt: float | None) -> xr.Dataset:
     if isinstance(data, (xr.Dataset, xr.DataArray)):
         return load_trajectory(data, dt=dt if "time" not in data.coords else None)
+    if has_time_index(data):  # the index sets dt; load_trajectory refuses a contradicting dt=
+        return load_trajectory(data, dt=dt, require_uniform=True)
     arr = np.asarray(getattr(data, "values", data))
     if arr.ndim != 2:
         raise ValueError(f"data must be a Dataset or an (n, k) array; got shape {arr.shape}.")

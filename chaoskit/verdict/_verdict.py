@@ -16,6 +16,7 @@ from scipy.signal import find_peaks, savgol_filter
 from .._contract import sampling_interval, stamp
 from .._io import load_trajectory
 from .._portraits import savgol_derivative
+from .._tables import has_time_index
 from .._validate import (
     as_series,
     check_int,
@@ -296,8 +297,10 @@ def _pick_variable(ds: xr.Dataset, variable: str | None) -> str:
 def _read_input(
     data: Any, *, variable: str | None, dt: float | None, phase_variable: str | None
 ) -> _Input:
+    if has_time_index(data):  # the index sets dt; load_trajectory refuses a contradicting dt=
+        data, dt = load_trajectory(data, dt=dt, require_uniform=True), None
     if isinstance(data, (xr.Dataset, xr.DataArray)):
-        ds = load_trajectory(data, dt=dt if "time" not in data.coords else None)
+        ds = load_trajectory(data, dt=dt)  # refuses a dt= that contradicts a time coordinate
         name = _pick_variable(ds, variable)
         if ds[name].ndim != 1:
             raise ValueError(f"variable {name!r} must be one-dimensional; dims {ds[name].dims}.")
@@ -585,7 +588,10 @@ def combine(
     elif section == "clusters" and not broadband_decides and not lines_contradict_clusters:
         assert structure is not None
         label, period = "periodic", structure.n_clusters
-        reason = f"the section is {period} tight cluster(s) visited in a fixed cyclic order"
+        reason = (
+            f"the section is {period} tight cluster{'s' * (period != 1)} visited in a fixed "
+            "cyclic order"
+        )
     elif lines == "quasi-periodic":
         label = "quasi-periodic"
         reason = (
@@ -646,7 +652,8 @@ def combine(
                 assert structure is not None
                 needs.append(
                     f"a longer or cleaner series: the section is {structure.n_clusters} tight "
-                    f"cluster(s) but the spectrum is not the harmonics of one period ({lines})"
+                    f"cluster{'s' * (structure.n_clusters != 1)} but the spectrum is not the "
+                    f"harmonics of one period ({lines})"
                 )
             elif section == "closed-curve":
                 needs.append(
@@ -871,11 +878,13 @@ def classify(
     ----------
     data
         A trajectory Dataset (``time`` in s: a flow; ``step``: a map) or DataArray, or a
-        1-D array / Series (a map unless ``dt`` is given).
+        1-D array / Series (a map unless ``dt`` is given or the Series has a time index:
+        ``DatetimeIndex``, ``TimedeltaIndex`` or float seconds, which must be uniform).
     variable
         The variable to classify (required if the Dataset has several).
     dt
-        Sampling interval in s for array input without a time axis.
+        Sampling interval in s for array input without a time axis; refused when it
+        contradicts the time of ``data``.
     drive_period
         Period of an external drive, s: use the stroboscopic map.
     phase_variable

@@ -7,13 +7,16 @@ import math
 import time
 from collections.abc import Sequence
 from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass
 from typing import Any, Literal, get_args
 
 import numpy as np
+import psutil
 import xarray as xr
 
 from chaoskit.contract import check_choice, check_positive
 from mechanism.core.model._assemble import Model, assemble, initial_state
+from mechanism.core.model._kernels import LIGHT_COLUMNS
 from mechanism.core.record._record import (
     LIGHT_VARIABLES,
     light_dataset,
@@ -22,12 +25,22 @@ from mechanism.core.record._record import (
     to_dataset,
 )
 
-from ._run_checks import warn_if_deep_penetration, warn_if_large
-from .integrate import GeneralizedAlpha, Integration, Integrator, RecordPlan, resolve_method
-from .scene import AngleProfileDrive, ConstantSpeedDrive, Scene
+from ._run_checks import estimated_run_bytes, warn_if_deep_penetration, warn_if_large
+from .integrate import (
+    Dopri5,
+    GeneralizedAlpha,
+    Integration,
+    Integrator,
+    Recording,
+    RecordPlan,
+    ScipyIVP,
+    resolve_method,
+)
+from .scene import AngleProfileDrive, ConstantSpeedDrive, Scene, validate_scene
 from .wear import add_run_wear
 
 __all__ = [
+    "MEMORY_FRACTION",
     "RECORD_MODES",
     "RecordMode",
     "SimulationError",
@@ -40,6 +53,11 @@ __all__ = [
 
 RecordMode = Literal["full", "metrics", "sections"]
 RECORD_MODES: tuple[str, ...] = get_args(RecordMode)
+
+#: A run estimated to hold more than this fraction of the memory available when it starts
+#: (``psutil.virtual_memory().available``) is refused unless ``force=True``: the rest is
+#: left to the interpreter, the netCDF writer and the other processes of the machine.
+MEMORY_FRACTION = 0.8
 
 
 class SimulationError(RuntimeError):
@@ -72,12 +90,30 @@ def drive_period(scene: Scene) -> float | None:
 
 def output_grid(t_end: float, output_step: float) -> np.ndarray:
     """Uniform output times 0, Δt, 2Δt, … up to the last multiple of Δt not beyond t_end."""
-    count = math.floor(t_end / output_step * (1.0 + 1e-12))
-    if count < 1:
+    return output_step * np.arange(_grid_count(t_end, output_step), dtype=np.float64)
+
+
+def _grid_count(t_end: float, output_step: float) -> int:
+    """Samples of :func:`output_grid`, counted without allocating them (the count may be
+    astronomically large: the run-size check refuses it)."""
+    ratio = t_end / output_step * (1.0 + 1e-12)
+    if not ratio >= 1.0:
         raise ValueError(
-            f"output_step ({output_step!r} s) must not exceed the simulated time ({t_end!r} s)."
+            f"output_step ({float(output_step):g} s) must not exceed the simulated time "
+            f"({float(t_end):g} s)."
         )
-    return output_step * np.arange(count + 1, dtype=np.float64)
+    return math.floor(min(ratio, 1e300)) + 1
+
+
+def _show(value: Any) -> str:
+    """A value for a message: numbers as plain numbers (never ``np.float64(...)``)."""
+    if isinstance(value, np.generic):
+        value = value.item()
+    if isinstance(value, float):
+        return f"{value:g}"
+    if isinstance(value, list | tuple | np.ndarray):
+        return "[" + ", ".join(_show(v) for v in value) + "]"
+    return repr(value)
 
 
 def _duration(scene: Scene, revolutions: float | None, t_end: float | None) -> float:
@@ -108,8 +144,20 @@ def _light_variables(variables: Any, model: Model) -> tuple[str, ...]:
     if not ok:
         raise ValueError(
             f"variables must be a non-empty list of names from {list(LIGHT_VARIABLES)}; "
-            f"got {variables!r}."
+            f"got {_show(variables)}."
         )
+    present = _available_light(model)
+    missing = [v for v in variables if v not in present]
+    if missing:
+        raise ValueError(
+            f"variables {missing} are not outputs of scene {model.scene.name!r} "
+            "(no crank, slider or clearance joint to measure them on)."
+        )
+    return tuple(dict.fromkeys(variables))
+
+
+def _available_light(model: Model) -> tuple[str, ...]:
+    """The light variables ``model`` has (crank, slider and clearance joints present)."""
     absent = {
         "crank_angle": model.crank_points is None,
         "slider_position": model.slider is None,
@@ -117,13 +165,7 @@ def _light_variables(variables: Any, model: Model) -> tuple[str, ...]:
         "eccentricity_x": not model.clearance_joints,
         "eccentricity_y": not model.clearance_joints,
     }
-    missing = [v for v in variables if absent[v]]
-    if missing:
-        raise ValueError(
-            f"variables {missing} are not outputs of scene {model.scene.name!r} "
-            "(no crank, slider or clearance joint to measure them on)."
-        )
-    return tuple(dict.fromkeys(variables))
+    return tuple(v for v in LIGHT_VARIABLES if not absent.get(v, False))
 
 
 def default_step(scene: Scene, duration: float) -> float:
@@ -167,6 +209,151 @@ def step_limits(model: Model, integrator: Integrator, scene_step: float) -> tupl
 def _fixed_step(integrator: Integrator) -> bool:
     """True for the fixed-step generalized-α, whose step is the largest step."""
     return isinstance(integrator, GeneralizedAlpha) and integrator.step == "max_step"
+
+
+@dataclass(frozen=True)
+class _RunSize:
+    """What a run will hold and take, estimated before anything large is allocated."""
+
+    model: Model
+    integrator: Integrator
+    duration: float  # s
+    n_out: int  # output grid samples
+    output_step: float  # s
+    output_key: str  # the key that set the output step and its value, for messages
+    output_fix: str  # the option that changes it
+    largest_step: float  # s; inf: the error control's
+    step_key: str  # the key that set the largest step and its value
+    step_fix: str  # the option that changes it
+    record: str
+    light: tuple[str, ...] | None
+    companion: bool
+    sections: int
+    duration_text: str  # how the duration came about, e.g. "revolutions = 3000 at ..."
+
+
+def _duration_text(scene: Scene, revolutions: float | None, t_end: float | None) -> str:
+    if t_end is not None:
+        return f"t_end = {float(t_end):g} s"
+    drive = scene.drive
+    turns = 1.0 if revolutions is None else float(revolutions)
+    if isinstance(drive, ConstantSpeedDrive):
+        return f"revolutions = {turns:g} at drive.speed_rpm = {drive.speed_rpm:g}"
+    if isinstance(drive, AngleProfileDrive):
+        return f"revolutions = {turns:g} of drive.period = {drive.period:g} s"
+    return f"revolutions = {turns:g}"
+
+
+def _scene_step_text(scene: Scene, scene_step: float) -> str:
+    """The scene's default output step and the key that sets it, for messages."""
+    if scene.solver.output_step is not None:
+        return f"solver.output_step = {scene_step:g} s"
+    return f"the default output step (drive period / 10000) = {scene_step:g} s"
+
+
+def _output_step(
+    scene: Scene, record: str, given: float | None, scene_step: float
+) -> tuple[float, str, str]:
+    """The output step of a run (s), the key that set it with its value, and the option
+    that changes it."""
+    period = drive_period(scene)
+    if given is not None:
+        step = check_positive(given, name="output_step")
+        return step, f"output_step = {step:g} s", "output_step (--output-step)"
+    if record == "full" or period is None:
+        fix = "solver.output_step (or pass output_step, --output-step)"
+        return scene_step, _scene_step_text(scene, scene_step), fix
+    step = period / 1000.0
+    text = f"the default output_step (drive period / 1000) = {step:g} s"
+    return step, text, "output_step (--output-step)"
+
+
+def _step_keys(
+    scene: Scene, integrator: Integrator, max_step: float, approach_floor: float, given: str
+) -> tuple[float, str, str]:
+    """The largest step a run may take (s; inf: its error control's), the key that set it
+    with its value, and the option that changes it."""
+    if scene.solver.max_step is not None:
+        return float(max_step), f"solver.max_step = {max_step:g} s", "solver.max_step"
+    if _fixed_step(integrator):
+        fix = "solver.max_step (or solver.output_step)"
+        return float(max_step), f"the fixed step, {given}", fix
+    if isinstance(integrator, ScipyIVP) and approach_floor > 0.0:
+        # the scipy methods take the approach floor as their largest step
+        return float(approach_floor), f"the approach floor, {given}", "solver.output_step"
+    return math.inf, "", ""
+
+
+def _bytes(size: _RunSize, *, n_out: int, record: str, light: tuple[str, ...] | None) -> int:
+    """Memory (bytes) a run holds at its end for the given record (estimate, no allocation)."""
+    model = size.model
+    runs = 2 if model.clearance_joints and size.companion and light is None else 1
+    light_row = 8 * (LIGHT_COLUMNS + 2 * len(model.clearance_joints))
+    grid = 8 * n_out  # the output times
+    if light is not None:  # the light samples of the run and the Dataset's variables
+        return grid + n_out * (light_row + 8 * len(light))
+    if record == "full":
+        return grid + estimated_run_bytes([model] * runs, n_out)
+    sample = sum(a.nbytes for a in Recording.empty(model, 1))
+    # light samples of each run, and the sections recorded and then stored
+    return grid + runs * n_out * light_row + (runs + 1) * size.sections * sample
+
+
+def _refuse_absurd_step_counts(size: _RunSize) -> None:
+    """Refuse a run whose output grid or step count exceeds the default step limit of the
+    compiled integrators (an integrator built with a smaller ``max_steps`` still runs and
+    fails as data when it reaches it)."""
+    limit = Dopri5().max_steps
+    steps = size.duration / size.largest_step
+    if size.n_out > limit:
+        raise ValueError(
+            f"the output grid would hold {size.n_out:.3g} samples ({size.duration_text}, "
+            f"{size.duration:.3g} s, at {size.output_key}), more than the {limit:.3g} steps "
+            f"an integrator may take (max_steps; each sample costs about a step): raise "
+            f"{size.output_fix}, or simulate less time."
+        )
+    if steps > limit:
+        raise ValueError(
+            f"the run would take at least {steps:.3g} steps ({size.duration_text}, "
+            f"{size.duration:.3g} s, at {size.step_key}), more than the {limit:.3g} an "
+            f"integrator may take (max_steps): it would fail after hours; raise "
+            f"{size.step_fix}, or simulate less time."
+        )
+
+
+def _refuse_runs_larger_than_memory(size: _RunSize, period: float | None) -> None:
+    """Refuse a run estimated above :data:`MEMORY_FRACTION` of the available memory."""
+    nbytes = _bytes(size, n_out=size.n_out, record=size.record, light=size.light)
+    available = int(psutil.virtual_memory().available)
+    budget = MEMORY_FRACTION * available
+    if nbytes <= budget:
+        return
+    fits = [f"output_step >= {_round_up(size.output_step * nbytes / budget)} s (--output-step)"]
+    if size.record == "full" and size.light is None:
+        light = _available_light(size.model)
+        if light and _bytes(size, n_out=size.n_out, record="full", light=light) <= budget:
+            fits.append(f"variables={list(light)} (--var; light samples only)")
+        if period is not None:
+            grid = _grid_count(size.duration, period / 1000.0)
+            if _bytes(size, n_out=grid, record="metrics", light=None) <= budget:
+                fits.append("record='metrics' or 'sections' (--record)")
+    raise ValueError(
+        f"this run would hold about {_size(nbytes)} ({size.n_out:.3g} samples of the "
+        f"{size.record} record at {size.output_key}, {size.duration_text}), more than the "
+        f"{_size(budget)} it may use ({MEMORY_FRACTION:.0%} of the {_size(available)} of "
+        f"memory available); what fits: {'; '.join(fits)}; force=True (--force) runs it "
+        "anyway."
+    )
+
+
+def _size(nbytes: float) -> str:
+    return f"{nbytes / 1e9:.3g} GB" if nbytes >= 1e9 else f"{nbytes / 1e6:.3g} MB"
+
+
+def _round_up(x: float) -> str:
+    """``x`` rounded up to two significant digits (a bound that still holds)."""
+    unit = 10.0 ** (math.floor(math.log10(x)) - 1)
+    return f"{math.ceil(x / unit * (1 - 1e-12)) * unit:.2g}"
 
 
 def _run(
@@ -214,6 +401,7 @@ def simulate(
     companion: bool = True,
     progress: bool = False,
     throw: bool = True,
+    force: bool = False,
 ) -> xr.Dataset:
     """Simulate a mechanism and return its trajectory, its response metrics or its
     stroboscopic section.
@@ -296,6 +484,9 @@ def simulate(
         Raise :class:`SimulationError` when the integrator fails; with False, return the
         samples computed so far with ``solver_status`` < 0 and the reason in
         ``solver_message``.
+    force : bool
+        Run even when the run is estimated to hold more than :data:`MEMORY_FRACTION` of
+        the memory available (default False: refused up front, see Raises).
 
     Returns
     -------
@@ -311,6 +502,20 @@ def simulate(
         ``drive_cycle`` (the layout of :func:`chaoskit.stroboscopic_map`), plus the
         metrics. ``"metrics"``: the metrics. Solver statistics in the ``solver_*``
         attributes, the mode in ``record``. See ``docs/simulator.md``.
+
+    Raises
+    ------
+    mechanism.SceneError
+        The scene is invalid (it is validated here too, for scenes built in Python).
+    ValueError
+        A bad argument, or a run refused before it starts (``docs/simulator.md``, *Runs
+        refused up front*): more output samples, or more steps at the largest step the
+        solver may take, than the compiled integrators' default ``max_steps`` (2e8); or
+        an estimated memory
+        above :data:`MEMORY_FRACTION` of the available memory, unless ``force=True``. The
+        message names the keys that set the size and the options that fit.
+    SimulationError
+        The integrator failed (``throw=True``).
 
     Examples
     --------
@@ -329,15 +534,20 @@ def simulate(
     """
     if not isinstance(scene, Scene):
         raise TypeError(f"scene must be a mechanism Scene; got {type(scene).__name__}.")
+    scene = validate_scene(scene)  # a scene built in Python is checked like a loaded one
     record = check_choice(record, name="record", choices=RECORD_MODES)  # type: ignore[assignment]
     solver = scene.solver
+    revolutions, t_end, rtol, atol, discard, output_step = (
+        x.item() if isinstance(x, np.generic) else x
+        for x in (revolutions, t_end, rtol, atol, discard, output_step)
+    )  # numpy scalars read as Python numbers, also in messages
     duration = _duration(scene, revolutions, t_end)
     rtol = check_positive(solver.rtol if rtol is None else rtol, name="rtol")
     atol = check_positive(solver.atol if atol is None else atol, name="atol")
     period = drive_period(scene)
     discard = check_positive(discard, name="discard", allow_zero=True)
     if isinstance(phase, bool) or not isinstance(phase, int | float) or not math.isfinite(phase):
-        raise ValueError(f"phase must be a finite angle in rad; got {phase!r}.")
+        raise ValueError(f"phase must be a finite angle in rad; got {_show(phase)}.")
     phase = float(phase)
     if variables is not None and record != "full":
         raise ValueError(
@@ -362,14 +572,31 @@ def simulate(
         if not discard * period < duration:
             raise ValueError(
                 f"discard must be below the simulated {duration / period:g} revolutions; "
-                f"got {discard!r}."
+                f"got {discard:g}."
             )
     scene_step = default_step(scene, duration)
-    if output_step is None:
-        output_step = scene_step if record == "full" or period is None else period / 1000.0
-    output_step = check_positive(output_step, name="output_step")
-    if solver.max_step is not None:
-        check_positive(solver.max_step, name="solver.max_step")
+    output_step, output_text, output_fix = _output_step(scene, record, output_step, scene_step)
+    n_out = _grid_count(duration, output_step)
+
+    model = assemble(scene)
+    integrator = resolve_method(solver.method if method is None else method, model)
+    max_step, approach_floor = step_limits(model, integrator, scene_step)
+    light = None if variables is None else _light_variables(variables, model)
+    largest, largest_text, largest_fix = _step_keys(
+        scene, integrator, max_step, approach_floor, _scene_step_text(scene, scene_step)
+    )
+    sections = math.ceil(duration / period - discard) + 2 if record == "sections" and period else 0
+    size = _RunSize(
+        model=model, integrator=integrator, duration=duration, n_out=n_out,
+        output_step=output_step, output_key=output_text, output_fix=output_fix,
+        largest_step=largest, step_key=largest_text, step_fix=largest_fix, record=record,
+        light=light, companion=companion, sections=sections,
+        duration_text=_duration_text(scene, revolutions, t_end),
+    )  # fmt: skip
+    # refused before anything of the run's size is allocated
+    _refuse_absurd_step_counts(size)
+    if not force:
+        _refuse_runs_larger_than_memory(size, period)
     t_out = output_grid(duration, output_step)
     if record == "sections":
         # run a hair past the end so the strobe at the last revolution is always taken
@@ -377,11 +604,6 @@ def simulate(
         # if within the simulated revolutions
         assert period is not None
         t_out = np.append(t_out, duration + 1e-6 * period)
-
-    model = assemble(scene)
-    integrator = resolve_method(solver.method if method is None else method, model)
-    max_step, approach_floor = step_limits(model, integrator, scene_step)
-    light = None if variables is None else _light_variables(variables, model)
     if light is not None:
         # the named variables from the dense output alone; no ideal companion
         plan = ideal_plan = RecordPlan(grid="light")
@@ -392,7 +614,6 @@ def simulate(
     else:
         assert period is not None
         window = discard * period
-        sections = math.ceil(duration / period - discard) + 2 if record == "sections" else 0
         # contact steps longer than the default output step are sampled inside, so the
         # extremes resolve an impact at least as finely as the default full record
         plan = RecordPlan(

@@ -25,7 +25,13 @@ from ._sweep import (
     stroboscopic_points,
     sweep,
 )
-from ._wear_prediction import WearComparison, WearPrediction, compare_wear, predict_wear
+from ._wear_prediction import (
+    WearComparison,
+    WearPrediction,
+    WearPredictionError,
+    compare_wear,
+    predict_wear,
+)
 from ._wear_report import plot_wear_profile, wear_profile_section
 
 __all__ = [
@@ -39,6 +45,7 @@ __all__ = [
     "SweepStoreMismatch",
     "WearComparison",
     "WearPrediction",
+    "WearPredictionError",
     "bifurcation",
     "chaos_map",
     "compare_wear",

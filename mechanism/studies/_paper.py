@@ -51,6 +51,7 @@ import pandas as pd
 import xarray as xr
 
 import chaoskit
+from chaoskit.reporting import answer_table, plural
 from mechanism.core import SimulationError, WornProfile, load_scene, simulate
 from mechanism.core.scene import ClearanceRevolute
 
@@ -232,7 +233,8 @@ class StudySettings:
         (:func:`mechanism.bifurcation`): speeds (rpm), revolutions per speed, transient,
         and whether the rods are flexible there.
     n_surrogates
-        Surrogates per series of the verdict's surrogate test.
+        Surrogates per series of the verdict's surrogate test (at least 19: with fewer
+        the test cannot reach its 5 % level).
     max_samples
         At most this many samples of each analysed series (plain stride); None: all.
     """
@@ -279,7 +281,13 @@ class StudySettings:
         number("exponent_revolutions", 1.0)
         number("orbit_revolutions", 1.0)
         number("orbit_discard_revolutions", 0.0)
-        number("n_surrogates", 0, integer=True)
+        # the surrogate test's rank test needs 1/alpha - 1 surrogates to reach alpha = 0.05
+        number("n_surrogates", 19, integer=True)
+        if self.wear_max_depth_increment > 1.0:
+            raise ValueError(
+                "StudySettings.wear_max_depth_increment must be in (0, 1] (a fraction of the "
+                f"clearance); got {self.wear_max_depth_increment:g}."
+            )
         if self.revolutions <= self.discard_revolutions:
             raise ValueError(
                 f"StudySettings.revolutions ({self.revolutions:g}) must exceed "
@@ -396,6 +404,9 @@ class PaperStudy:
         Wall time of the whole study, s.
     output_size
         Bytes in the output folder at the end.
+    motions
+        ``{state: MotionVerdict}``: the verdict on the motion of each analysed state
+        (:attr:`chaoskit.Report.motions`); :attr:`answer` tabulates it.
     """
 
     tables: Mapping[str, pd.DataFrame]
@@ -409,6 +420,13 @@ class PaperStudy:
     wall_time: float = 0.0
     output_size: int = 0
     sweeps: Mapping[str, xr.Dataset] = field(default_factory=dict, repr=False)
+    motions: Mapping[str, chaoskit.MotionVerdict] = field(default_factory=dict, repr=False)
+
+    @property
+    def answer(self) -> pd.DataFrame:
+        """The answer, one row per state: motion verdict, confidence (two decimals), λ₁
+        [95 %] and its source (:func:`chaoskit.reporting.answer_table`)."""
+        return answer_table(self.motions)
 
     @property
     def complete(self) -> bool:
@@ -513,13 +531,14 @@ def _predict_worn(scene: Any, settings: StudySettings) -> tuple[Any, xr.Dataset 
             raise TypeError("the paper scene's joint C must be a clearance_revolute joint")
         profile = WornProfile.from_joint(joint).to_dataset()
         capped = (
-            f"; {prediction.reduced_updates} update(s) shortened by the safety cap"
+            f"; {plural(prediction.reduced_updates, 'update')} worn in sub-updates of at most "
+            f"{settings.wear_max_depth_increment:g} of the clearance each"
             if prediction.reduced_updates
             else ""
         )
         info = (
             f"{rpm:g} rpm: {float(prediction.cycles[-1]):,.0f} crank cycles in "
-            f"{prediction.updates} update(s){capped}; largest wear depth: bearing "
+            f"{plural(prediction.updates, 'update')}{capped}; largest wear depth: bearing "
             f"{float(np.max(joint.wear.bearing_profile)) * 1e6:.3g} µm, journal "
             f"{float(np.max(joint.wear.journal_profile or [0.0])) * 1e6:.3g} µm"
         )
@@ -601,6 +620,8 @@ def chaos_analysis_options(settings: StudySettings) -> dict[str, Any]:
         "max_samples": settings.max_samples,
         "n_surrogates": settings.n_surrogates,
         "rng": 0,
+        # journal displacements in mm in every figure, as in the stroboscopic maps
+        "display_units": {"X": "mm", "Y": "mm"},
     }
 
 
@@ -1176,14 +1197,19 @@ def run_paper_study(
         tables["chaos"] = chaos
         headline: list[chaoskit.ReportFigure] = []
         if trajectories:
-            fig = strobe_figure(trajectories)
+            # the points the motion verdict counted: one source for the figure and tables
+            fig = strobe_figure(
+                trajectories, motions=rep.motions, discard=analysis_options["discard"]
+            )
             headline.append(
                 chaoskit.ReportFigure.from_matplotlib(
                     fig,
                     caption="Stroboscopic maps of the journal centre of joint C (once per crank "
-                    f"revolution, {settings.chaos_revolutions:g} revolutions after the "
-                    f"transient, {_rods_of(trajectories, settings)} rods, "
-                    "150 rpm, c = 0.2 mm): before and after wear.",
+                    f"revolution over the {plural(settings.chaos_revolutions, 'revolution')} "
+                    f"after the transient, {_rods_of(trajectories, settings)} rods, "
+                    "150 rpm, c = 0.2 mm): before and after wear. The points are those of "
+                    "the joint section the motion verdict counts (its “joint section” "
+                    "column), the initial state and the transient left out.",
                     name="strobe-before-after",
                     section="Summary",
                 )
@@ -1198,12 +1224,13 @@ def run_paper_study(
         )
         settings_text = (
             f"Settings: {'quick' if quick else 'paper'}; chaos from "
-            f"{settings.chaos_revolutions:g} revolutions per state after "
-            f"{settings.discard_revolutions:g} of transient, integration step T/{_PAPER_SAMPLES} "
-            f"(T = {period:g} s at 150 rpm), series sampled at T/"
+            f"{plural(settings.chaos_revolutions, 'revolution')} per state after "
+            f"{plural(settings.discard_revolutions, 'revolution')} of transient, integration "
+            f"step T/{_PAPER_SAMPLES} (T = {period:g} s at 150 rpm), series sampled at T/"
             f"{settings.chaos_samples_per_revolution}; rods "
-            f"{'flexible (ANCF)' if settings.flexible_rods else 'rigid'}; wear worn at each "
-            f"speed for {settings.wear_updates * settings.wear_cycles_per_update:,.0f} crank "
+            f"{'flexible (ANCF)' if settings.flexible_rods else 'rigid'}; the bearing of "
+            "each speed's row is worn at that speed for "
+            f"{settings.wear_updates * settings.wear_cycles_per_update:,.0f} crank "
             f"cycles.{rods_notes} Wall time {wall_so_far / 60:.1f} min until the report. The "
             "model and every reconstruction choice: docs/paper-model.md."
         )
@@ -1258,6 +1285,7 @@ def run_paper_study(
         wall_time=time.perf_counter() - t0,
         output_size=_folder_size(out),
         sweeps={"before": before, **{f"after {k:g} rpm": v for k, v in after.items()}},
+        motions=dict(rep.motions),
     )
 
 
@@ -1282,19 +1310,39 @@ def _orbit_figure(orbits: Mapping[str, xr.Dataset], settings: StudySettings) -> 
     fig = Figure(figsize=(5.0 * len(orbits), 4.0), layout="constrained")
     axes = fig.subplots(1, len(orbits), squeeze=False)[0]
     for ax, (state, ds) in zip(axes, orbits.items(), strict=False):
-        plot_bifurcation(ds, axes=[ax])
+        plot_bifurcation(_orbit_display(ds), axes=[ax])
         ax.set_title(state, fontsize=10)
     rods = "flexible" if settings.orbit_flexible_rods else "rigid (a reduction of --quick)"
     return chaoskit.ReportFigure.from_matplotlib(
         fig,
         caption="Orbit diagrams over crank speed before and after wear (worn at 150 rpm): "
         "journal-centre e_x once per revolution, "
-        f"{settings.orbit_revolutions - settings.orbit_discard_revolutions:g} revolutions "
-        f"per speed after {settings.orbit_discard_revolutions:g} of transient, rods {rods}. "
+        f"{plural(settings.orbit_revolutions - settings.orbit_discard_revolutions, 'revolution')}"
+        f" per speed after {plural(settings.orbit_discard_revolutions, 'revolution')} of "
+        f"transient, rods {rods}. "
         "A period-k motion gives k points above its speed, chaos a band.",
         name="orbit-before-after",
         section="Summary",
     )
+
+
+#: Words for the scene keys the study sweeps, for axis labels.
+_KEY_LABELS = {"drive.speed_rpm": "crank speed", "joints.C.clearance": "radial clearance at C"}
+
+
+def _orbit_display(ds: xr.Dataset) -> xr.Dataset:
+    """An orbit diagram as the report draws it: journal displacements in mm (as in the
+    stroboscopic maps beside it) and the swept parameter named in words."""
+    out = ds.copy()
+    parameter = str(ds.attrs.get("bifurcation_parameter", ""))
+    if parameter in _KEY_LABELS and parameter in out.coords:
+        out = out.assign_coords(
+            {parameter: out[parameter].assign_attrs(long_name=_KEY_LABELS[parameter])}
+        )
+    for name in str(ds.attrs.get("bifurcation_variables", "")).split(","):
+        if name in out.data_vars and out[name].attrs.get("units") == "m":
+            out[name] = (out[name] * 1e3).assign_attrs({**ds[name].attrs, "units": "mm"})
+    return out
 
 
 def _cost_section(stages: Stages) -> chaoskit.ReportSection:
@@ -1327,7 +1375,8 @@ def _with_run_facts(
     wear_info: list[str],
     unavailable: list[str],
 ) -> Any:
-    """The summary's opening paragraph with the wall and CPU time and the output size."""
+    """The summary with the run's facts: what is missing right under the answer; the wall
+    and CPU time, the output size and the wear after the answer's tables and figures."""
     first = rep.sections[0]
     facts = (
         f"Run: wall time {wall / 60:.1f} min, output {size / 1e6:.1f} MB, CPU time "
@@ -1335,9 +1384,10 @@ def _with_run_facts(
         + ("; ".join(wear_info) or "not run")
         + "."
     )
+    text = first.text
     if unavailable:
-        facts += " NOT AVAILABLE: " + "; ".join(unavailable) + "."
-    first = dataclasses.replace(first, text=facts + " " + first.text)
+        text += " NOT AVAILABLE: " + "; ".join(unavailable) + "."
+    first = dataclasses.replace(first, text=text, footer=f"{first.footer} {facts}".strip())
     return dataclasses.replace(rep, sections=(first, *rep.sections[1:]))
 
 
@@ -1372,7 +1422,8 @@ def _table_notes(
     cycles = settings.wear_updates * settings.wear_cycles_per_update
     worn = (
         f"Each speed is worn at its own speed for {cycles:,.0f} crank cycles "
-        f"({settings.wear_updates} update(s) × {settings.wear_cycles_per_update:,.0f}; the paper "
+        f"({plural(settings.wear_updates, 'update')} × {settings.wear_cycles_per_update:,.0f}; "
+        "the paper "
         "gives no cycle count: docs/paper-model.md, “Amount of wear”). "
         + ("; ".join(wear_info) + ". " if wear_info else "")
     )
@@ -1391,16 +1442,19 @@ def _table_notes(
         + common,
         "convergence": "Signed extreme axial strain (µε) over the nodes and element "
         "mid-points of each rod (mechanism.element_convergence), flexible rods, before wear, "
-        f"150 rpm, c = 0.2 mm, over the first {settings.convergence_revolutions:g} "
-        "revolution(s) (the first impact of the concentric start is the largest of a "
+        "150 rpm, c = 0.2 mm, over the first "
+        f"{plural(settings.convergence_revolutions, 'revolution')} (the first impact of the "
+        "concentric start is the largest of a "
         f"revolution), output step T/{settings.samples_per_revolution}. Our strain follows "
         "our contact force (rod 3 carries the joint force axially, docs/paper-model.md, "
         "“Clearance joint location”). "
         + next((f"{_NOT_AVAILABLE}: {u}." for u in unavailable if "convergence" in u), ""),
         "chaos": "Series: journal-centre eccentricity x (X) and y (Y) of joint C "
         "(docs/paper-model.md, “Analysed series”), 150 rpm, c = 0.2 mm, "
-        f"{settings.chaos_revolutions:g} revolutions after the first "
-        f"{settings.discard_revolutions:g}, flexible rods, integration step T/10000. The "
+        f"{plural(settings.chaos_revolutions, 'revolution')} after the first "
+        f"{plural(settings.discard_revolutions, 'revolution')}, "
+        f"{'flexible' if settings.flexible_rods else 'rigid'} rods, integration "
+        "step T/10000. The "
         "paper samples at T/10000 (4e-5 s): its lag and bits per sample refer to that step; "
         "ours refer to the analysed step stated in the caption, so compare lag time (s) and "
         "the MLE in 1/s (the paper's values converted with λ = bits·ln2/Δt). Only the sign "

@@ -23,12 +23,33 @@ import psutil
 import xarray as xr
 
 import chaoskit
+from chaoskit.reporting import (
+    CONFIDENCE_FORMAT,
+    CONFIDENCE_NOTE,
+    decided_by,
+    format_confidence,
+    plural,
+)
 
-__all__ = ["Stages", "motion_verdict", "process_tree_cpu_time", "summary_section"]
+__all__ = [
+    "Stages",
+    "motion_verdict",
+    "process_tree_cpu_time",
+    "strobe_figure",
+    "strobe_points",
+    "summary_section",
+]
 
 _LN2 = math.log(2.0)
 #: Verdict labels that mean "regular" when a claim says "not chaotic".
 _REGULAR = ("periodic", "quasi-periodic", "equilibrium")
+#: Footnote of the exponents that point the other way from the state's motion verdict.
+SET_ASIDE = "†"
+SET_ASIDE_NOTE = (
+    f"{SET_ASIDE} set aside: the estimate points the other way from the state's motion "
+    "verdict (clearly positive for a regular motion, or not clearly positive for chaos), "
+    'which the other evidence decided (Table 1, "why"). '
+)
 
 
 # --------------------------------------------------------------------------- progress
@@ -239,9 +260,13 @@ def summary_section(
     paper_step
         The paper's sampling step (s): bits per sample are λ·Δt/ln 2 at this Δt.
     settings_text
-        One sentence on what was simulated (revolutions, step, rods).
+        One sentence on what was simulated (revolutions, step, rods); printed after the
+        tables and figures (the section opens with the answer in one sentence).
     figures
         Headline figures shown under the tables.
+    settings_text
+        What was simulated, printed at the end of the section, after the answer, its
+        tables and figures.
     series_rods
         What rods the analysed series come from (printed in the captions).
     rigid_equations
@@ -256,8 +281,9 @@ def summary_section(
         agree = _agrees(ours, claim.get("motion", "")) if mv is not None else "—"
         why = "this state was not simulated"
         if mv is not None:
-            said = [r for r in mv.reasons if r.startswith(("the equations", "set aside"))]
-            why = "; ".join([mv.reason, *said])
+            # one line: the evidence that decided over the evidence it overruled
+            aside = [r for r in mv.reasons if r.startswith("set aside")]
+            why = "; ".join([decided_by(mv), *aside])
         answer_rows.append(
             {
                 "verdict": ours,
@@ -268,6 +294,16 @@ def summary_section(
             }
         )
     answer = pd.DataFrame(answer_rows, index=pd.Index(list(states), name="state"))
+    opening = " ".join(
+        f"{state[:1].upper()}{state[1:]}: {row['verdict']}"
+        + (
+            f" (confidence {format_confidence(row['confidence'])})"
+            if math.isfinite(row["confidence"])
+            else ""
+        )
+        + f"; the paper: {row['paper']} ({row['agreement']})."
+        for state, row in zip(states, answer_rows, strict=True)
+    )
 
     exponents = _exponent_rows(
         states=states,
@@ -278,6 +314,7 @@ def summary_section(
         claims=claims,
         to_bits=to_bits,
     )
+    marks = _set_aside(exponents, motions)
     tables = (
         chaoskit.ReportTable(
             caption="The answer: the motion of the journal centre before and after wear, our "
@@ -290,7 +327,10 @@ def summary_section(
                 "agreement": "agreement",
                 "why": "why",
             },
-            digits=2,
+            formats={"confidence": CONFIDENCE_FORMAT},
+            notes='"why" names the evidence that decided our verdict over the evidence it '
+            "overruled (all of it: the motion verdict's table and the appendix). "
+            + CONFIDENCE_NOTE,
             section="Summary",
         ),
         chaoskit.ReportTable(
@@ -313,8 +353,10 @@ def summary_section(
                 "bits": ("bits_low", "bits_high"),
             },
             digits=3,
-            notes="Positive means nearby motions separate (chaos); an interval that "
-            "contains 0 does not decide; an unbounded interval means the estimator found no "
+            marks=marks,
+            notes=(SET_ASIDE_NOTE if marks else "")
+            + "Positive means nearby motions separate (chaos); an interval that contains 0 "
+            "does not decide; an unbounded interval means the estimator found no "
             "straight scaling region. The exponent from the equations follows an "
             "infinitesimal perturbation of the full state (docs/mechanism-lyapunov.md) and is "
             "compared with the paper's claim; the data estimators run on the series "
@@ -326,7 +368,38 @@ def summary_section(
             section="Summary",
         ),
     )
-    return chaoskit.ReportSection(title="Summary", items=(*tables, *figures), text=settings_text)
+    return chaoskit.ReportSection(
+        title="Summary", items=(*tables, *figures), text=opening, footer=settings_text
+    )
+
+
+def _says_chaotic(row: pd.Series, verdict: Any, estimate: str) -> bool | None:
+    """Whether one exponent row points to chaos: the verdict's own call on that estimator
+    ("clearly positive") when the series' verdict has it, else its interval above 0."""
+    method, _, series = estimate.partition(", ")
+    v = getattr(verdict, "variables", {}).get(series) if series else None
+    flag = getattr(v, f"{method.lower()}_positive", None) if v is not None else None
+    if flag is not None:
+        return bool(flag)
+    low = float(row["per_s_low"])
+    if math.isnan(low):
+        return None if math.isnan(float(row["per_s"])) else bool(row["per_s"] > 0.0)
+    return low > 0.0
+
+
+def _set_aside(exponents: pd.DataFrame, motions: Mapping[str, Any]) -> dict[tuple[Any, str], str]:
+    """Exponent cells that point the other way from their state's decided verdict."""
+    marks: dict[tuple[Any, str], str] = {}
+    for (state, estimate), row in exponents.iterrows():
+        mv = motions.get(state)
+        label = getattr(mv, "label", "undetermined")
+        if label not in (*_REGULAR, "chaotic"):
+            continue  # undetermined (nothing decided) or noise-like
+        chaotic = _says_chaotic(row, mv, str(estimate))
+        if chaotic is not None and chaotic != (label == "chaotic"):
+            for col in ("per_s", "bits"):
+                marks[((state, estimate), col)] = SET_ASIDE
+    return marks
 
 
 def _claim_agreement(estimate: tuple[float, float, float], claim: str) -> str:
@@ -428,26 +501,61 @@ def _exponent_rows(
     ).astype({"sign": object})
 
 
-def strobe_figure(trajectories: Mapping[str, xr.Dataset], *, joint: str = "C") -> Any:
-    """Stroboscopic maps (e_x, e_y once per crank revolution) of each state, side by side."""
+def strobe_points(
+    trajectory: xr.Dataset, *, joint: str = "C", motion: Any = None, discard: float = 0.0
+) -> xr.Dataset:
+    """The stroboscopic points (e_x, e_y once per crank revolution, m) a figure shows.
+
+    With ``motion`` (the state's :class:`chaoskit.MotionVerdict`) exactly the points of its
+    joint section: the instants the verdict counted (its "joint section" points), after
+    the transient and never the initial state. Without one, the points after ``discard``
+    (s), the first sample excluded: the initial state is a strobe instant of the crank
+    angle (0 at t = 0) but no point of the motion.
+    """
+    view = trajectory[["eccentricity_x", "eccentricity_y", "crank_angle"]]
+    if "joint" in view.dims:
+        view = view.sel(joint=joint, drop=True)
+    points = chaoskit.stroboscopic_map(
+        view, phase_variable="crank_angle", coords=["eccentricity_x", "eccentricity_y"]
+    )
+    t = np.asarray(points["time"].values, dtype=np.float64)
+    section = getattr(motion, "section", None)
+    if section is not None and "time" in section.coords and t.size:
+        wanted = np.asarray(section["time"].values, dtype=np.float64)
+        spacing = float(np.median(np.diff(t))) if t.size > 1 else math.inf
+        nearest = np.abs(t[:, None] - wanted[None, :]).argmin(axis=0)
+        close = np.abs(t[nearest] - wanted) <= 0.25 * spacing
+        return points.isel(crossing=np.unique(nearest[close]))
+    start = float(view["time"].values[0])
+    slack = 1e-9  # s: a strobe instant found on a sample, up to rounding, is on it
+    keep = (t >= start + discard - slack) & (t > start + slack)
+    return points.isel(crossing=np.flatnonzero(keep))
+
+
+def strobe_figure(
+    trajectories: Mapping[str, xr.Dataset],
+    *,
+    joint: str = "C",
+    motions: Mapping[str, Any] | None = None,
+    discard: float = 0.0,
+) -> Any:
+    """Stroboscopic maps (e_x, e_y once per crank revolution, mm) of each state, side by
+    side: the points of :func:`strobe_points` (those of each state's motion verdict when
+    ``motions`` has it), their number in each panel's title."""
     from matplotlib.figure import Figure
 
     n = max(len(trajectories), 1)
     fig = Figure(figsize=(4.2 * n, 4.0), layout="constrained")
     axes = fig.subplots(1, n, squeeze=False)[0]
     for ax, (state, traj) in zip(axes, trajectories.items(), strict=False):
-        view = traj[["eccentricity_x", "eccentricity_y", "crank_angle"]]
-        if "joint" in view.dims:
-            view = view.sel(joint=joint, drop=True)
-        points = chaoskit.stroboscopic_map(
-            view, phase_variable="crank_angle", coords=["eccentricity_x", "eccentricity_y"]
-        )
+        motion = (motions or {}).get(state)
+        points = strobe_points(traj, joint=joint, motion=motion, discard=discard)
         x = np.asarray(points["eccentricity_x"].values) * 1e3
         y = np.asarray(points["eccentricity_y"].values) * 1e3
         ax.plot(x, y, ".", ms=3, color="C0" if "before" in state else "C3", rasterized=True)
-        ax.set_title(f"{state}: {x.size} points", fontsize=10)
+        ax.set_title(f"{state}: {plural(x.size, 'point')}", fontsize=10)
         ax.set_xlabel("journal-centre e_x (mm)")
-        ax.set_ylabel("e_y (mm)")
+        ax.set_ylabel("journal-centre e_y (mm)")
         ax.set_aspect("equal", adjustable="datalim")
         ax.grid(alpha=0.3)
     return fig

@@ -4,10 +4,13 @@ The wear of one run (:func:`mechanism.core.wear.run_wear`) is part of the core; 
 builds on it:
 
 * :func:`predict_wear` — the update loop of docs/paper-model.md §6 (Flores 2009; Mukras 2010):
-  settle, accumulate one cycle's wear, extrapolate over a block of cycles with the depth
-  increment limited relative to the clearance, smooth, update the profile, repeat.
-* :func:`compare_wear` — the response metrics of docs/paper-model.md §7 before and after wear, side
-  by side with their ratios (metric definitions shared with sweeps, ``_metrics.py``).
+  settle, accumulate one cycle's wear, extrapolate it over a block of cycles worn in
+  sub-updates that each deepen the profile by at most a fraction of the clearance, smooth,
+  update the profile, re-simulate, repeat; every simulated state must keep its
+  penetration within the clearance, or the prediction stops (:class:`WearPredictionError`).
+* :func:`compare_wear` — the response metrics of docs/paper-model.md §7 before and after
+  wear, side by side with their ratios (metric definitions shared with sweeps,
+  ``_metrics.py``).
 
 See ``docs/wear.md``.
 """
@@ -24,19 +27,55 @@ import pandas as pd
 import xarray as xr
 
 from chaoskit.contract import __version__, check_int, check_positive, stamp, variable
-from mechanism.core import Scene, simulate
+from mechanism.core import Scene, SimulationError, simulate
 from mechanism.core.record import METRICS, ROD_STRAIN, response_metrics, window_start
 from mechanism.core.scene import ClearanceRevolute
 from mechanism.core.wear import SURFACES, WornProfile, clearance_joint, run_wear, surface_angle
 
 __all__ = [
+    "DEFAULT_MAX_DEPTH_INCREMENT",
+    "MAX_SUB_UPDATES",
+    "PENETRATION_LIMIT",
     "WearComparison",
     "WearPrediction",
+    "WearPredictionError",
     "compare_wear",
     "predict_wear",
 ]
 
 # --------------------------------------------------------------------------- predict_wear
+
+#: Default of ``max_depth_increment``: the largest depth one sub-update may add, as a
+#: fraction of the radial clearance (docs/wear.md, "Sub-updates").
+DEFAULT_MAX_DEPTH_INCREMENT = 0.025
+#: The hard check: a simulated state whose penetration exceeds this fraction of the joint's
+#: radial clearance stops the prediction (the compliant contact law describes a small overlap).
+PENETRATION_LIMIT = 1.0
+#: Most sub-updates one update may be split into before the prediction stops.
+MAX_SUB_UPDATES = 100
+
+_COMPLETE = "complete"
+_FAILED = "failed"
+
+
+class WearPredictionError(SimulationError):
+    """A wear prediction stopped before its last update.
+
+    ``prediction`` is the :class:`WearPrediction` of the updates that finished, with
+    ``status == "failed"`` and the reason in ``reason`` (the exception text). It is
+    ``None`` only when the exception is built by hand.
+    """
+
+    def __init__(self, message: str, *, prediction: WearPrediction | None = None) -> None:
+        super().__init__(message)
+        self.prediction = prediction
+
+    def __reduce__(self) -> tuple[Any, ...]:  # keeps ``prediction`` across processes
+        return (_wear_prediction_error, (str(self), self.prediction))
+
+
+def _wear_prediction_error(message: str, prediction: Any) -> WearPredictionError:
+    return WearPredictionError(message, prediction=prediction)
 
 
 def _with_profiles(scene: Scene, profiles: dict[str, WornProfile]) -> Scene:
@@ -56,14 +95,19 @@ class WearPrediction:
     Attributes
     ----------
     scene, worn_scene : Scene
-        The starting scene and the scene carrying the final profiles (``simulate`` runs it;
-        ``save_scene``/``load_scene`` round-trip it).
+        The starting scene and the scene carrying the profiles of the last finished update
+        (``simulate`` runs it; ``save_scene``/``load_scene`` round-trip it).
     cycles : numpy.ndarray
-        Cumulative crank cycles of wear at each update state 0…``updates``.
+        Cumulative crank cycles of wear at each finished update state 0, 1, ….
     reduced_updates : int
-        Updates whose block of cycles was shortened by ``max_depth_increment``.
+        Updates whose block of cycles was split into more than one sub-update.
     dataset : xarray.Dataset
         See :meth:`to_dataset`.
+    status : str
+        ``"complete"`` when every update finished, ``"failed"`` when the prediction stopped
+        (then :func:`predict_wear` raised :class:`WearPredictionError` carrying this result).
+    reason : str
+        Why it stopped (one line), or a summary of the hard check when complete.
     """
 
     scene: Scene
@@ -71,17 +115,69 @@ class WearPrediction:
     cycles: np.ndarray
     reduced_updates: int
     dataset: xr.Dataset
+    status: str = _COMPLETE
+    reason: str = ""
 
     @property
     def updates(self) -> int:
-        return int(self.cycles.size - 1)
+        """Finished updates (the requested number unless the prediction failed)."""
+        return max(int(self.cycles.size - 1), 0)
+
+    @property
+    def success(self) -> bool:
+        """True when every requested update finished and passed the hard check."""
+        return self.status == _COMPLETE
 
     def to_dataset(self) -> xr.Dataset:
-        """``wear_depth(update, joint, surface, angle)`` (m), ``worn_volume(update, joint,
-        surface)`` (m³), ``cycles(update)``, ``block_cycles(update)``, the response metrics
-        of each update state (``peak_contact_force(update)``, …), the worn scene as JSON in
-        ``attrs["worn_scene"]`` and the settings in attrs."""
+        """The prediction as a Dataset.
+
+        ``wear_depth(update, joint, surface, angle)`` (m), ``worn_volume(update, joint,
+        surface)`` (m³), ``cycles(update)``, ``block_cycles(update)``,
+        ``sub_updates(update)``, the response metrics of each update state
+        (``peak_contact_force(update)``, … over its last revolution),
+        ``penetration_fraction(update)`` (the hard check over the whole run), the sub-update
+        records ``sub_update_cycles(sub_update)``, ``sub_update_of``,
+        ``sub_update_depth_increment``, ``sub_update_penetration``,
+        ``sub_update_peak_contact_force``, the worn scene as JSON in
+        ``attrs["worn_scene"]``, ``attrs["status"]`` (``"complete"``/``"failed"``),
+        ``attrs["status_reason"]`` and the settings in attrs.
+        """
         return self.dataset.copy()
+
+
+@dataclass(frozen=True)
+class _Check:
+    """The hard check of one simulated state (over the whole run, every clearance joint)."""
+
+    fraction: float  # largest penetration / radial clearance
+    joint: str  # where it is largest (or where a force is not finite)
+    depth: float  # that penetration (m)
+    clearance: float  # that joint's radial clearance (m)
+    force: float  # peak contact force (N)
+    finite: bool  # contact forces and penetrations finite
+
+    @property
+    def passed(self) -> bool:
+        return self.finite and self.fraction <= PENETRATION_LIMIT
+
+
+def _check_state(traj: xr.Dataset, scene: Scene) -> _Check:
+    worst = _Check(0.0, "", 0.0, math.nan, 0.0, True)
+    if "joint" not in traj.dims:
+        return worst
+    force_max = 0.0
+    for name in np.asarray(traj["joint"].values).astype(str):
+        sel = traj.sel(joint=name)
+        force = np.asarray(sel["contact_force"].values, dtype=np.float64)
+        depth = np.asarray(sel["penetration"].values, dtype=np.float64)
+        clearance = float(clearance_joint(scene, name).clearance)
+        if not (np.isfinite(force).all() and np.isfinite(depth).all()):
+            return _Check(math.inf, name, math.nan, clearance, math.nan, False)
+        force_max = max(force_max, float(force.max(initial=0.0)))
+        deepest = float(depth.max(initial=0.0))
+        if deepest / clearance > worst.fraction or not worst.joint:
+            worst = _Check(deepest / clearance, name, deepest, clearance, 0.0, True)
+    return dataclasses.replace(worst, force=force_max)
 
 
 def predict_wear(
@@ -89,7 +185,7 @@ def predict_wear(
     *,
     updates: int,
     cycles_per_update: float,
-    max_depth_increment: float = 0.25,
+    max_depth_increment: float = DEFAULT_MAX_DEPTH_INCREMENT,
     settle_revolutions: float = 2.0,
     method: str | None = None,
     rtol: float | None = None,
@@ -99,18 +195,25 @@ def predict_wear(
 ) -> WearPrediction:
     """Predict the worn profile of every clearance joint by cycle extrapolation.
 
-    For each update u = 0 … ``updates`` − 1 (docs/paper-model.md §6, Flores 2009, Mukras 2010):
+    For each update u = 0 … ``updates`` − 1 (docs/paper-model.md §6, Flores 2009, Mukras 2010)
+    the block of ΔN = ``cycles_per_update`` cycles is worn in sub-updates:
 
     1. simulate ``settle_revolutions`` + 1 crank revolutions with the current profiles
        (the worn geometry shapes the contact) and take the response metrics and the
        Archard wear h_cyc of the last revolution (:func:`run_wear`);
-    2. block ΔN = ``cycles_per_update``, reduced so that no region deepens by more than
-       ``max_depth_increment`` × clearance (and no journal region wears through);
-    3. h ← h + ΔN · smooth(h_cyc) with the joint's ``smoothing_regions`` moving average;
-    4. rebuild the joint's local clearance, curvature and stiffness from h.
+    2. the sub-update takes the cycles left of the block, split into the fewest equal
+       parts for which no region deepens by more than ``max_depth_increment`` × clearance;
+    3. h ← h + ΔN_sub · smooth(h_cyc) with the joint's ``smoothing_regions`` moving average;
+    4. rebuild the joint's local clearance, curvature and stiffness from h, and repeat from
+       1 on the worn state until the block is used up.
 
-    A final run gives the metrics of the worn state. Depths stay finite and ≥ 0, so the
-    local clearance never drops below the nominal one.
+    Every simulated state passes a hard check: its largest penetration over the whole run
+    must not exceed the joint's radial clearance, and its contact forces must be finite.
+    Otherwise — or when the simulation fails, or an update would need more than
+    :data:`MAX_SUB_UPDATES` sub-updates — the prediction stops and raises
+    :class:`WearPredictionError`, whose ``prediction`` holds the updates that finished
+    (``status == "failed"``, the reason also in the dataset's attrs). A returned
+    prediction therefore always has ``status == "complete"``.
 
     Parameters
     ----------
@@ -119,10 +222,10 @@ def predict_wear(
     updates : int
         Number of profile updates (≥ 1; the paper-era practice is 2–10).
     cycles_per_update : float
-        Crank cycles ΔN extrapolated per update (> 0).
+        Crank cycles ΔN extrapolated per update (> 0); all of them are worn.
     max_depth_increment : float
-        Largest depth increment of one update, as a fraction of the joint's clearance
-        (> 0); larger blocks are shortened.
+        Largest depth one sub-update may add, as a fraction of the joint's radial
+        clearance, in (0, 1]; larger blocks are split into sub-updates.
     settle_revolutions : float
         Revolutions simulated before the cycle that is measured (≥ 0).
     method, rtol, atol, output_step
@@ -133,11 +236,16 @@ def predict_wear(
     Returns
     -------
     WearPrediction
+        With ``status == "complete"``; ``to_dataset()`` records the cycles of every
+        sub-update.
 
     Raises
     ------
-    mechanism.SimulationError
-        When a simulation fails.
+    WearPredictionError
+        When a state fails the hard check or its simulation fails (a
+        :class:`mechanism.SimulationError`; ``exc.prediction`` keeps the finished updates).
+    ValueError
+        For bad settings (the parameter and its accepted range are named).
 
     Examples
     --------
@@ -149,12 +257,9 @@ def predict_wear(
     """
     if not isinstance(scene, Scene):
         raise TypeError(f"scene must be a mechanism Scene; got {type(scene).__name__}.")
-    updates = check_int(updates, name="updates", minimum=1)
-    block = check_positive(cycles_per_update, name="cycles_per_update")
-    limit = check_positive(max_depth_increment, name="max_depth_increment")
-    settle = float(settle_revolutions)
-    if not (math.isfinite(settle) and settle >= 0.0):
-        raise ValueError(f"settle_revolutions must be >= 0; got {settle_revolutions!r}.")
+    updates, block, limit, settle = _checked_settings(
+        updates, cycles_per_update, max_depth_increment, settle_revolutions
+    )
     scene = scene.replace({"effects.wear": True})
     names = [n for n, j in scene.joints.items() if isinstance(j, ClearanceRevolute)]
     if not names or not scene.effects.clearance:
@@ -162,147 +267,338 @@ def predict_wear(
     profiles = {n: WornProfile.from_joint(clearance_joint(scene, n)) for n in names}
     if len({p.regions for p in profiles.values()}) != 1:
         raise ValueError("all clearance joints must have the same wear.regions.")
-    kwargs: dict[str, Any] = {
-        "method": method,
-        "rtol": rtol,
-        "atol": atol,
-        "output_step": output_step,
-    }
-
+    loop = _UpdateLoop(
+        scene, names, profiles, block=block, limit=limit, settle=settle,
+        simulate_kwargs={"method": method, "rtol": rtol, "atol": atol, "output_step": output_step},
+    )  # fmt: skip
     bar = None
     if progress:
         from tqdm.auto import tqdm
 
         bar = tqdm(total=updates + 1, desc=f"predict_wear {scene.name}", unit="update")
-    depth_hist: list[np.ndarray] = []
-    metrics_hist: list[dict[str, xr.DataArray]] = []
-    block_hist: list[float] = []
-    reduced = 0
-    current = scene
     try:
-        for u in range(updates + 1):
-            depth_hist.append(
-                np.stack([[p.bearing_depth, p.journal_depth] for p in profiles.values()])
-            )
-            traj = simulate(current, revolutions=settle + 1.0, **kwargs)
-            start = window_start(traj, settle)
-            metrics_hist.append(response_metrics(traj, start))
-            if bar is not None:
-                bar.update(1)
-            if u == updates:
-                block_hist.append(0.0)
-                break
-            wear = run_wear(current, traj, start=start)
-            cycles = block
-            increments = {}
-            for name in names:
-                p = profiles[name]
-                # smoothed like the profile itself (its own smoothing_regions)
-                step = p.with_depth(
-                    bearing_depth=wear[name].depth[0], journal_depth=wear[name].depth[1]
-                )
-                dh = np.stack(
-                    [step.smoothed_depth(surface="bearing"), step.smoothed_depth(surface="journal")]
-                )
-                if p.surfaces == "bearing":
-                    dh[1] = 0.0
-                if not np.all(np.isfinite(dh)):
-                    raise ValueError(f"joint {name!r}: non-finite wear in update {u}.")
-                increments[name] = dh
-                peak = float(dh.max())
-                if peak > 0.0:
-                    cycles = min(cycles, limit * p.clearance / peak)
-                jpeak = float(dh[1].max())
-                if jpeak > 0.0:
-                    room = 0.5 * (p.journal_radius - float(p.journal_depth.max()))
-                    cycles = min(cycles, room / jpeak)
-            if cycles < block:
-                reduced += 1
-            block_hist.append(cycles)
-            profiles = {
-                n: profiles[n].with_depth(
-                    bearing_depth=profiles[n].bearing_depth + cycles * increments[n][0],
-                    journal_depth=profiles[n].journal_depth + cycles * increments[n][1],
-                )
-                for n in names
-            }
-            current = _with_profiles(current, profiles)
+        loop.run(updates, bar)
     finally:
         if bar is not None:
             bar.close()
-    worn_scene = current
-    cum = np.concatenate([[0.0], np.cumsum(block_hist[:-1])])
-    ds = _prediction_dataset(
-        scene, worn_scene, names, profiles, depth_hist, metrics_hist, block_hist, cum,
-        settings={
-            "updates": updates,
-            "cycles_per_update": block,
-            "max_depth_increment": limit,
-            "settle_revolutions": settle,
-        },
-    )  # fmt: skip
-    return WearPrediction(
-        scene=scene, worn_scene=worn_scene, cycles=cum, reduced_updates=reduced, dataset=ds
-    )
+    settings = {
+        "updates": updates,
+        "cycles_per_update": block,
+        "max_depth_increment": limit,
+        "settle_revolutions": settle,
+        "penetration_limit": PENETRATION_LIMIT,
+        "max_sub_updates": MAX_SUB_UPDATES,
+    }
+    prediction = loop.prediction(settings)
+    if not prediction.success:
+        raise WearPredictionError(prediction.reason, prediction=prediction)
+    return prediction
+
+
+def _checked_settings(
+    updates: Any, cycles_per_update: Any, max_depth_increment: Any, settle_revolutions: Any
+) -> tuple[int, float, float, float]:
+    """The settings of :func:`predict_wear`, or a ValueError naming the one out of range."""
+    n = check_int(updates, name="updates", minimum=1)
+    block = check_positive(cycles_per_update, name="cycles_per_update")
+    try:
+        limit = float(max_depth_increment)
+    except (TypeError, ValueError):
+        limit = math.nan
+    if not 0.0 < limit <= 1.0:  # NaN fails too
+        raise ValueError(
+            "max_depth_increment must be in (0, 1] (a fraction of the radial clearance); "
+            f"got {max_depth_increment!r}."
+        )
+    settle = float(settle_revolutions)
+    if not (math.isfinite(settle) and settle >= 0.0):
+        raise ValueError(f"settle_revolutions must be >= 0; got {settle_revolutions!r}.")
+    return n, block, limit, settle
+
+
+class _UpdateLoop:
+    """The state of :func:`predict_wear`: profiles, the scene carrying them, the records."""
+
+    def __init__(
+        self,
+        scene: Scene,
+        names: list[str],
+        profiles: dict[str, WornProfile],
+        *,
+        block: float,
+        limit: float,
+        settle: float,
+        simulate_kwargs: dict[str, Any],
+    ) -> None:
+        self.scene, self.names, self.profiles = scene, names, profiles
+        self.block, self.limit, self.settle = block, limit, settle
+        self.kwargs = simulate_kwargs
+        self.current = scene  # carries self.profiles
+        self.kept = scene  # the scene of the last finished update state
+        self.updates = 0
+        self.states: list[dict[str, Any]] = []  # one per finished update state
+        self.subs: list[dict[str, float]] = []  # one per sub-update
+        self.reduced = 0
+        self.failure = ""
+        self.last_check: _Check | None = None  # of the last simulated state, passed or not
+        self.bar: Any = None
+
+    # -- one simulated state
+    def _simulate(self, label: str) -> tuple[xr.Dataset, int, _Check] | None:
+        self.last_check = None
+        try:
+            traj = simulate(self.current, revolutions=self.settle + 1.0, **self.kwargs)
+        except SimulationError as exc:
+            self.failure = f"the simulation of {label} failed: {exc}"
+            return None
+        check = self.last_check = _check_state(traj, self.current)
+        if not check.passed:
+            self.failure = self._check_message(check, label)
+            return None
+        return traj, window_start(traj, self.settle), check
+
+    def _check_message(self, check: _Check, label: str) -> str:
+        if not check.finite:
+            what = f"joint {check.joint}: a contact force or penetration is not finite"
+        else:
+            what = (
+                f"joint {check.joint}: the penetration reached {100.0 * check.fraction:.0f} % "
+                f"of the radial clearance ({check.depth * 1e3:.3g} mm of "
+                f"{check.clearance * 1e3:.3g} mm)"
+            )
+        if not self.states:
+            return f"{what} in {label}; check the speed, clearance and contact stiffness."
+        return (
+            f"{what} in {label}, so the wear prediction stopped there; lower "
+            f"max_depth_increment (--max-depth-increment, now {self.limit:g}) or predict "
+            "fewer cycles."
+        )
+
+    def _label(self, cycles: float, update: int, total: int, sub: int) -> str:
+        if update == 0 and sub == 0:
+            return "the unworn state"
+        where = f"update {update} of {total}" + (f", sub-update {sub}" if sub else "")
+        return f"the state after {cycles:.6g} cycles ({where})"
+
+    # -- the update loop
+    def run(self, updates: int, bar: Any) -> None:
+        self.updates, self.bar = updates, bar
+        state = self._simulate(self._label(0.0, 0, updates, 0))
+        cycles = 0.0
+        for u in range(updates + 1):
+            if state is None:
+                return
+            traj, start, check = state
+            self.states.append(
+                {"traj_metrics": response_metrics(traj, start), "check": check, "cycles": cycles,
+                 "depth": self._depth(), "sub_updates": 0}
+            )  # fmt: skip
+            self.kept = self.current
+            if bar is not None:
+                bar.update(1)
+            if u == updates:
+                return
+            state = self._wear_block(state, u, updates, cycles)
+            cycles = (u + 1) * self.block
+
+    def _wear_block(
+        self, state: tuple[xr.Dataset, int, _Check], u: int, updates: int, start_cycles: float
+    ) -> tuple[xr.Dataset, int, _Check] | None:
+        """Wear the block of update ``u`` in sub-updates; the state at its end, or None."""
+        done, sub = 0.0, 0
+        while True:
+            traj, start, _ = state
+            here = self._label(start_cycles + done, u + (sub > 0), updates, sub)
+            rates = self._rates(traj, start, label=here)
+            if rates is None:
+                return None
+            increments, rate, room = rates
+            remaining = self.block - done
+            if sub == MAX_SUB_UPDATES:
+                self.failure = (
+                    f"update {u + 1} of {updates} has used {MAX_SUB_UPDATES} sub-updates and "
+                    f"{remaining:.6g} of its {self.block:.6g} cycles are left (one cycle now "
+                    f"deepens the profile by {100.0 * rate:.3g} % of the radial clearance); "
+                    "predict fewer cycles per update or raise max_depth_increment "
+                    f"(--max-depth-increment, now {self.limit:g})."
+                )
+                return None
+            allowed = min(self.limit / rate if rate > 0.0 else math.inf, room)
+            # the fewest equal parts within the limit (1e-12: no split for rounding alone)
+            parts = max(1, math.ceil(remaining / allowed * (1.0 - 1e-12)))
+            cycles = remaining if parts == 1 else remaining / parts
+            self._apply(increments, cycles)
+            sub += 1
+            done = self.block if parts == 1 else done + cycles
+            self.states[-1]["sub_updates"] = sub
+            if self.bar is not None:
+                self.bar.set_postfix_str(f"sub-update {sub}", refresh=True)
+            label = self._label(start_cycles + done, u + 1, updates, 0 if parts == 1 else sub)
+            state = self._simulate(label)
+            last = self.last_check
+            self.subs.append(
+                {"update": u, "cycles": cycles, "depth_increment": cycles * rate,
+                 "penetration": last.fraction if last else math.nan,
+                 "force": last.force if last else math.nan}
+            )  # fmt: skip
+            if state is None or parts == 1:
+                if sub > 1:
+                    self.reduced += 1
+                return state
+
+    def _rates(
+        self, traj: xr.Dataset, start: int, *, label: str
+    ) -> tuple[dict[str, np.ndarray], float, float] | None:
+        """Smoothed depth increments per cycle by joint, the largest one as a fraction of
+        its clearance, and the cycles a journal may wear before losing half of what is left
+        of its radius."""
+        wear = run_wear(self.current, traj, start=start)
+        increments: dict[str, np.ndarray] = {}
+        rate, room = 0.0, math.inf
+        for name in self.names:
+            p = self.profiles[name]
+            # smoothed like the profile itself (its own smoothing_regions)
+            step = p.with_depth(
+                bearing_depth=wear[name].depth[0], journal_depth=wear[name].depth[1]
+            )
+            dh = np.stack(
+                [step.smoothed_depth(surface="bearing"), step.smoothed_depth(surface="journal")]
+            )
+            if p.surfaces == "bearing":
+                dh[1] = 0.0
+            if not np.all(np.isfinite(dh)):
+                self.failure = f"joint {name}: the wear of {label} is not finite."
+                return None
+            increments[name] = dh
+            rate = max(rate, float(dh.max()) / p.clearance)
+            jpeak = float(dh[1].max())
+            if jpeak > 0.0:
+                room = min(room, 0.5 * (p.journal_radius - float(p.journal_depth.max())) / jpeak)
+        return increments, rate, room
+
+    def _apply(self, increments: dict[str, np.ndarray], cycles: float) -> None:
+        self.profiles = {
+            n: p.with_depth(
+                bearing_depth=p.bearing_depth + cycles * increments[n][0],
+                journal_depth=p.journal_depth + cycles * increments[n][1],
+            )
+            for n, p in self.profiles.items()
+        }
+        self.current = _with_profiles(self.current, self.profiles)
+
+    def _depth(self) -> np.ndarray:
+        return np.stack([[p.bearing_depth, p.journal_depth] for p in self.profiles.values()])
+
+    # -- the result
+    def prediction(self, settings: dict[str, Any]) -> WearPrediction:
+        status = _FAILED if self.failure else _COMPLETE
+        if self.failure:
+            reason = self.failure
+        else:
+            worst = max(s["check"].fraction for s in self.states)
+            reason = (
+                f"all {self.updates} updates finished; the largest penetration of any state "
+                f"is {100.0 * worst:.0f} % of the radial clearance"
+            )
+        cum = np.array([s["cycles"] for s in self.states], dtype=np.float64)
+        settings = {**settings, "status": status, "status_reason": reason}
+        ds = _prediction_dataset(self, cum, settings=settings)
+        return WearPrediction(
+            scene=self.scene, worn_scene=self.kept, cycles=cum, reduced_updates=self.reduced,
+            dataset=ds, status=status, reason=reason,
+        )  # fmt: skip
 
 
 def _prediction_dataset(
-    scene: Scene,
-    worn_scene: Scene,
-    names: list[str],
-    profiles: dict[str, WornProfile],
-    depth_hist: list[np.ndarray],
-    metrics_hist: list[dict[str, xr.DataArray]],
-    block_hist: list[float],
-    cum: np.ndarray,
-    *,
-    settings: dict[str, Any],
+    loop: _UpdateLoop, cum: np.ndarray, *, settings: dict[str, Any]
 ) -> xr.Dataset:
-    depth = np.stack(depth_hist)  # (update, joint, surface, angle)
-    regions = depth.shape[-1]
+    names, states, subs = loop.names, loop.states, loop.subs
+    regions = loop.profiles[names[0]].regions
+    depth = (
+        np.stack([s["depth"] for s in states]) if states else np.zeros((0, len(names), 2, regions))
+    )
     volume = np.zeros(depth.shape[:3])
     for u in range(depth.shape[0]):
         for j, name in enumerate(names):
-            state = profiles[name].with_depth(
+            state = loop.profiles[name].with_depth(
                 bearing_depth=depth[u, j, 0], journal_depth=depth[u, j, 1]
             )
             volume[u, j] = (state.bearing_volume, state.journal_volume)
+    # the cycles actually worn after each state (0 after the last; short when it failed)
+    block = [sum(s["cycles"] for s in subs if s["update"] == u) for u in range(len(states))]
     data: dict[str, Any] = {
         "wear_depth": variable(("update", "joint", "surface", "angle"), depth, "m", "wear depth"),
         "worn_volume": variable(("update", "joint", "surface"), volume, "m3", "worn volume"),
         "cycles": variable(("update",), cum, "1", "crank cycles of wear at this update state"),
         "block_cycles": variable(
-            ("update",), block_hist, "1", "cycles extrapolated after this update state"
+            ("update",), block, "1", "cycles extrapolated after this update state"
         ),
-    }
+        "sub_updates": variable(
+            ("update",), [s["sub_updates"] for s in states], "1",
+            "sub-updates the block after this update state was worn in",
+        ),
+        "penetration_fraction": variable(
+            ("update",), [s["check"].fraction for s in states], "1",
+            "largest penetration over the whole run of this state / radial clearance",
+        ),
+        "sub_update_of": variable(
+            ("sub_update",), [s["update"] for s in subs], "1",
+            "update (0 = the first) this sub-update belongs to",
+        ),
+        "sub_update_cycles": variable(
+            ("sub_update",), [s["cycles"] for s in subs], "1",
+            "crank cycles extrapolated in this sub-update",
+        ),
+        "sub_update_depth_increment": variable(
+            ("sub_update",), [s["depth_increment"] for s in subs], "1",
+            "largest depth added by this sub-update / radial clearance",
+        ),
+        "sub_update_penetration": variable(
+            ("sub_update",), [s["penetration"] for s in subs], "1",
+            "largest penetration over the run of the state after this sub-update / radial "
+            "clearance (NaN: its simulation failed)",
+        ),
+        "sub_update_peak_contact_force": variable(
+            ("sub_update",), [s["force"] for s in subs], "N",
+            "peak contact force over the run of the state after this sub-update",
+        ),
+    }  # fmt: skip
+    metrics_hist = [s["traj_metrics"] for s in states]
     for name, (units, long_name) in METRICS.items():
         values = [float(m[name].values) for m in metrics_hist]
         data[name] = variable(("update",), values, units, long_name + " (last revolution)")
     coords: dict[str, Any] = {
         "update": ("update", np.arange(depth.shape[0]), {"long_name": "profile update"}),
+        "sub_update": ("sub_update", np.arange(len(subs)), {"long_name": "sub-update"}),
         "joint": ("joint", np.array(names, dtype=object)),
         "surface": ("surface", np.array(SURFACES, dtype=object)),
         "angle": surface_angle(regions),
     }
-    if all(ROD_STRAIN in m for m in metrics_hist):
+    if metrics_hist and all(ROD_STRAIN in m for m in metrics_hist):
         strain = xr.concat([m[ROD_STRAIN] for m in metrics_hist], dim="update")
         data[ROD_STRAIN] = variable(
             ("update", "rod"), strain.values, "1", strain.attrs.get("long_name", ROD_STRAIN)
         )
         coords["rod"] = ("rod", np.asarray(strain["rod"].values).astype(object))
     ds = xr.Dataset(data, coords=coords)
+    scene = loop.scene
     ds.attrs["scene"] = scene.to_json()
-    ds.attrs["worn_scene"] = worn_scene.to_json()
+    ds.attrs["worn_scene"] = loop.kept.to_json()
     ds.attrs["scene_name"] = scene.name
     for key, value in settings.items():
         ds.attrs[key] = value
+    failed = settings["status"] == _FAILED
+    title = f"wear prediction of scene {scene.name!r}"
+    if failed:
+        title += f" (FAILED after {max(len(states) - 1, 0)} of {settings['updates']} updates)"
     return stamp(
         ds,
-        title=f"wear prediction of scene {scene.name!r}",
+        title=title,
         source=f"mechanism (chaoskit {__version__})",
         history=(
             f"mechanism.predict_wear({scene.name!r}, updates={settings['updates']}, "
-            f"cycles_per_update={settings['cycles_per_update']})"
+            f"cycles_per_update={settings['cycles_per_update']}, "
+            f"max_depth_increment={settings['max_depth_increment']})"
         ),
     )
 

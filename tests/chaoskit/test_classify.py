@@ -5,6 +5,7 @@ from __future__ import annotations
 import dataclasses
 
 import numpy as np
+import pandas as pd
 import pytest
 import xarray as xr
 
@@ -164,7 +165,7 @@ def test_rule_chaos_needs_every_piece() -> None:
         **{**near, "structure": _structure("clusters", 3)}, rule=RULE
     )
     assert (label, period) == ("undetermined", None)
-    assert any("3 tight cluster(s) but the spectrum is not the harmonics" in n for n in needs)
+    assert any("3 tight clusters but the spectrum is not the harmonics" in n for n in needs)
     short = {**full, "lines": "broadband", "n_cycles": 8.0}
     assert combine(**{**short, "structure": _structure("clusters", 3)}, rule=RULE)[:2] == (
         "periodic",
@@ -292,3 +293,21 @@ def test_a_chaotic_flow_predictable_only_one_sample_ahead_is_not_called_noise() 
     assert v.surrogates_one_step is not None and v.surrogates_one_step.rejected
     assert v.surrogates_one_step.effect > 0.2
     assert any("one sample ahead" in n for n in v.needs)
+
+
+def test_a_pandas_time_index_sets_dt() -> None:
+    """A Series indexed by time stamps is a flow sampled at their interval, not a map."""
+    x = noisy_sine(3000, dt=0.01)
+    expected = classify(x, dt=0.01, rng=0)
+    stamps = pd.date_range("2020", periods=3000, freq="10ms")
+    for index in (stamps, pd.Index(np.arange(3000) * 0.01)):
+        v = classify(pd.Series(x, index=index), rng=0)
+        assert (v.kind, v.label, v.period) == ("flow", expected.label, expected.period)
+        assert v.dt == pytest.approx(0.01, rel=1e-12)
+        assert v.reason == expected.reason
+    with pytest.raises(ValueError, match=r"^dt=0\.02 contradicts the time index of the Series"):
+        classify(pd.Series(x, index=stamps), dt=0.02)
+    jitter = stamps.to_numpy().copy()
+    jitter[1000:] += np.timedelta64(3, "ms")
+    with pytest.raises(ValueError, match=r"^the time index of the Series is not uniform"):
+        classify(pd.Series(x, index=pd.DatetimeIndex(jitter)))

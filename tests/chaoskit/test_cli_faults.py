@@ -5,6 +5,7 @@ Exit codes: 0 success; 2 bad input (nothing analysed); 1 when every variable fai
 
 from __future__ import annotations
 
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -206,3 +207,109 @@ def test_report_refuses_a_bad_output_before_analysing(tmp_path: Path, monkeypatc
         out = runner.invoke(app, ["report", str(good), "--var", "x", "-o", str(output)])
         assert out.exit_code == 2, out.output
         assert out.stderr.count("\n") == 1 and message in out.stderr
+
+
+# ----------------------------------------------------------------- tables from real rigs
+
+
+def stub_analysis(monkeypatch: pytest.MonkeyPatch) -> list[tuple[xr.Dataset, list[str]]]:
+    """Replace the classification of ``chaoskit analyze`` by a stub that records the dataset
+    and the variables it is given (the library's verdict has tests of its own)."""
+    calls: list[tuple[xr.Dataset, list[str]]] = []
+
+    def classify_variables(ds: xr.Dataset, *, variables: list[str], **kwargs) -> dict:
+        calls.append((ds, list(variables)))
+        n = ds.sizes.get("time", ds.sizes.get("step", 0))
+        return {
+            name: chaoskit.Verdict(
+                label="periodic",
+                period=1,
+                confidence=1.0,
+                reason="stub",
+                votes={},
+                errors={},
+                variable=name,
+                kind="flow",
+                dt=1.0,
+                n_samples=n,
+            )
+            for name in variables
+        }
+
+    monkeypatch.setattr("chaoskit.cli.classify_variables", classify_variables)
+    monkeypatch.setattr("chaoskit.cli.classify_motion", lambda *args, **kwargs: None)
+    return calls
+
+
+def _one_line_exit_2(out) -> str:  # type: ignore[no-untyped-def]
+    assert out.exit_code == 2, out.output
+    assert out.stderr.count("\n") == 1 and out.stderr.startswith("error: "), out.stderr
+    assert "Traceback" not in out.output
+    return out.stderr.strip()
+
+
+X = HENON[:200, 0].tolist()
+
+
+def test_analyze_reads_headers_with_units(tmp_path: Path, monkeypatch) -> None:
+    calls = stub_analysis(monkeypatch)
+    path = tmp_path / "rig.csv"
+    rows = "".join(f"{0.001 * i!r},{v!r}\n" for i, v in enumerate(X))
+    path.write_text("time (s),acc y [m/s^2]\n" + rows)
+    out = runner.invoke(app, ["analyze", str(path)])
+    assert out.exit_code == 0, out.output
+    ((ds, names),) = calls
+    assert names == ["acc_y"] and ds["acc_y"].attrs["units"] == "m s-2"
+    assert chaoskit.sampling_interval(ds) == pytest.approx(0.001, rel=1e-9)
+
+
+def test_analyze_skip_rows_decimal_and_nan_options(tmp_path: Path, monkeypatch) -> None:
+    calls = stub_analysis(monkeypatch)
+    rows = "".join(f"{i};{v!r}\n" for i, v in enumerate(X))
+    titled = tmp_path / "titled.csv"
+    titled.write_text("Logger 12 export\ntime;x\n" + rows.replace(".", ","))
+    gappy = tmp_path / "gappy.csv"
+    gappy.write_text("time,x\n" + rows.replace(";", ",").replace(f",{X[5]!r}\n", ",\n"))
+    cases = [
+        (["analyze", str(titled)], "skip it with --skip-rows 1."),
+        (["analyze", str(titled), "--skip-rows", "1"], "(pass --decimal ,)."),
+        (
+            ["analyze", str(gappy)],
+            "line 7; fill the gaps, or pass --nan interpolate (linear in time) or --nan drop.",
+        ),
+        (
+            ["analyze", str(gappy), "--nan", "zero"],
+            "--nan must be one of 'refuse', 'drop', 'interpolate'; got 'zero'.",
+        ),
+        (
+            ["analyze", str(gappy), "--discard", "-1"],
+            "--discard must be finite and >= 0; got -1.0.",
+        ),
+    ]
+    for command, message in cases:
+        text = _one_line_exit_2(runner.invoke(app, command))
+        assert text.endswith(message), (command, text)
+        assert re.search(r"[a-z]=", text) is None, text  # options, not parameters
+    out = runner.invoke(app, ["analyze", str(titled), "--skip-rows", "1", "--decimal", ","])
+    assert out.exit_code == 0, out.output
+    np.testing.assert_array_equal(calls[-1][0]["x"].values, X)
+    out = runner.invoke(app, ["analyze", str(gappy), "--nan", "interpolate"])
+    assert out.exit_code == 0, out.output
+    ds = calls[-1][0]
+    assert ds["x"].attrs["interpolated_gaps"] == "line 7 (t = 5 s)"
+    assert float(ds["x"][5]) == pytest.approx(0.5 * (X[4] + X[6]), rel=1e-12)
+
+
+def test_analyze_names_options_when_a_netcdf_file_has_no_time(tmp_path: Path, monkeypatch) -> None:
+    calls = stub_analysis(monkeypatch)
+    path = tmp_path / "bare.nc"
+    xr.Dataset({"x": ("sample", np.asarray(X))}).to_netcdf(path, engine="h5netcdf")
+    text = _one_line_exit_2(runner.invoke(app, ["analyze", str(path)]))
+    assert text.endswith(
+        "pass --time (the variable holding the time, s), --dt (the sampling interval, s) or "
+        "--step (a map)."
+    )
+    assert "load_trajectory" not in text and "dt=" not in text
+    out = runner.invoke(app, ["analyze", str(path), "--dt", "0.01"])
+    assert out.exit_code == 0, out.output
+    assert chaoskit.sampling_interval(calls[-1][0]) == pytest.approx(0.01, rel=1e-12)

@@ -22,6 +22,7 @@ from chaoskit import (
     classify_variables,
     iaaft_surrogates,
     load_trajectory,
+    lyapunov_rosenstein,
     mutual_information,
     surrogate_test,
     systems,
@@ -167,3 +168,12 @@ def test_a_constant_series_with_isolated_spikes_is_analysed_alike_both_ways(spik
     stream = np.random.default_rng(0).spawn(1)[0]
     verdict = classify(x, dt=0.01, rng=stream, n_surrogates=3, rule=CHEAP)
     assert verdict.label == str(table["label"].item())
+
+
+def test_a_numpy_number_is_shown_plainly_in_the_message() -> None:
+    """A bad value that arrives as a numpy scalar reads as a number, not as
+    ``np.float64(...)``."""
+    x = np.sin(np.arange(2000) * 0.1)
+    with pytest.raises(ValueError) as info:
+        lyapunov_rosenstein(x, dt=np.float64(-29.990000000000002))
+    assert str(info.value) == "dt must be finite and > 0; got -29.990000000000002."

@@ -77,6 +77,23 @@ def test_periodic_two_variable_orbit_has_the_right_period() -> None:
     assert mv.confidence >= 0.75
 
 
+def test_a_pandas_time_index_sets_the_sampling_interval() -> None:
+    """A DataFrame indexed by time stamps 10 ms apart is a flow sampled at 0.01 s, decided
+    as the same array with ``dt=0.01``; a ``dt`` that contradicts the index is refused."""
+    pd = pytest.importorskip("pandas")
+    t, s = systems.duffing(4000, gamma=0.28, samples_per_period=40)
+    dt = float(t[1] - t[0])
+    index = pd.timedelta_range(0, periods=s.shape[0], freq=pd.Timedelta(seconds=dt))
+    frame = pd.DataFrame(s, columns=["x1", "x2"], index=index)
+    by_index = classify_motion(frame, drive_period=DRIVE, rng=0)
+    by_dt = classify_motion(s, dt=dt, drive_period=DRIVE, rng=0)
+    assert by_index.kind == by_dt.kind != "map"
+    assert by_index.dt == pytest.approx(dt, rel=1e-7)  # time stamps resolve 1 ns
+    assert (by_index.label, by_index.period) == (by_dt.label, by_dt.period)
+    with pytest.raises(ValueError, match="dt"):
+        classify_motion(frame, dt=2 * dt, drive_period=DRIVE, rng=0)
+
+
 def test_two_frequency_torus_is_quasi_periodic() -> None:
     t = np.arange(4000) * 0.05
     w2 = np.pi * (np.sqrt(5) - 1)

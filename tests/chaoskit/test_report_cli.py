@@ -60,6 +60,7 @@ def test_report_command_writes_html_and_markdown(files) -> None:
     row = next(line for line in lines if line.startswith("X "))
     assert row.split()[1:] == ["periodic", "(period", "2)", "chaotic"]
     assert f"report: {out}" in result.output
+    assert re.search(r"\(3 figure files\)$", lines[-1]) and "(s)" not in result.output
     html = out.read_text(encoding="utf-8")
     md = out.with_suffix(".md").read_text(encoding="utf-8")
     assert "<title>CLI study</title>" in html and md.startswith("# CLI study")
@@ -96,6 +97,61 @@ def test_report_command_selects_with_sel_and_embeds_figures(files) -> None:
     assert md.count("](data:image/png;base64,") == 3
     assert not (folder / "one_figures").exists()
     assert "journal centre minus bearing centre, x (joint A)" in md
+
+
+def test_report_command_prints_the_answer_before_the_files(files) -> None:
+    """The console ends with the verdict of each state (its confidence with two decimals
+    and λ₁ with its interval), then the paths of the written files."""
+    folder, before, after, _ = files
+    out = folder / "answer.html"
+    args = ["report", str(before), str(after), "--phase-variable", "crank_angle"]
+    args += ["--var", "X=eccentricity_x[joint=C]", "--var", "S=slider_position", "-o", str(out)]
+    result = runner.invoke(app, [*args, "--label", "before wear", "--label", "after wear"])
+    assert result.exit_code == 0, result.output
+    lines = result.output.splitlines()
+    head = lines.index("Motion verdict per state:")
+    assert lines[head + 1].split() == ["verdict", "confidence", "λ₁", "[95", "%]", "λ₁", "from"]
+    report_line = next(k for k, line in enumerate(lines) if line.startswith("report: "))
+    rows = lines[head + 3 : report_line - 1]
+    assert [r.split()[0:2] for r in rows] == [["before", "wear"], ["after", "wear"]]
+    for row in rows:
+        assert re.search(r"  (\d\.\d\d|—)  ", row), row
+        assert re.search(r"\[\S+, \S+\] 1/s", row), row
+    assert lines[report_line + 1].startswith("markdown: ")
+
+
+def test_report_command_writes_hostile_names_as_text_in_both_files(files) -> None:
+    """A variable name, state label and title that are markup print as text: escaped in
+    the HTML, escaped in the Markdown twin (no raw tag, no extra table column)."""
+    folder, before, _, _ = files
+    out = folder / "hostile.html"
+    name = "<script>alert(1)</script> | `x` *y*"
+    result = runner.invoke(
+        app,
+        [
+            "report",
+            str(before),
+            "--var",
+            f"{name}=eccentricity_x[joint=C]",
+            "--label",
+            f"{name} state",
+            "--title",
+            f"{name} title",
+            "--phase-variable",
+            "crank_angle",
+            "-o",
+            str(out),
+        ],
+    )
+    assert result.exit_code == 0, result.output
+    page = out.read_text(encoding="utf-8")
+    md = out.with_suffix(".md").read_text(encoding="utf-8")
+    assert "<script" not in page and "&lt;script&gt;" in page
+    assert "<script" not in md and "&lt;script&gt;alert(1)&lt;/script&gt; \\| \\`x\\` \\*y\\*" in md
+    assert md.startswith("# &lt;script&gt;")
+    verdicts = md.split("**Table 1.**")[1].split("\n\n")[1].splitlines()
+    # variable | state: two cells, the escaped "|" in the name is no column separator
+    assert len(verdicts) == 3 and len(re.split(r"(?<!\\)\|", verdicts[2])) == 4
 
 
 @pytest.mark.parametrize(

@@ -153,6 +153,11 @@ def test_slider_crank_at_10000_rpm() -> None:
 
 
 def test_friction_0_5_with_stick_slip_stays_bounded_by_coulomb() -> None:
+    """Stick–slip with μ = 0.5 over 2 revolutions. Its contact events are chaotic: over
+    121 starts whose crank angles differ by 1e-12 of a revolution, 10 – 17 at the step cap
+    and 10 – 14 at half of it, at most 7 apart (allowed: 12); sliding reversals 90 – 160
+    (bound 50), time in contact 0.90 – 0.93 (bound 0.8), at most 0.029 apart between the
+    caps (bound 0.05); peak forces 0.02 % apart (bound 1 %)."""
     mu = 0.5
     scene = s3(friction=mu)
     run = dict(revolutions=2, output_step=S3_PERIOD / 4000)
@@ -174,7 +179,7 @@ def test_friction_0_5_with_stick_slip_stays_bounded_by_coulomb() -> None:
     # sustained contact, the same under a halved step
     assert float(ds.in_contact.mean()) > 0.8
     assert float(ds.in_contact.mean()) == pytest.approx(float(half.in_contact.mean()), abs=0.05)
-    _assert_halving(ds, half, force_rtol=0.01, events=8)
+    _assert_halving(ds, half, force_rtol=0.01, events=12)
 
 
 # --------------------------------------------------------------------------- restitution
@@ -256,11 +261,16 @@ def _drift_over_revolutions(scene, revolutions: int) -> np.ndarray:
 
 
 def test_constraint_drift_over_100_revolutions_of_s3_does_not_grow() -> None:
+    """The drift of each revolution is set by its impacts, which are chaotic: over 101
+    starts whose crank angles differ by 1e-12 of a revolution the largest drift was
+    0.007 – 3.1 µm (bound 10 µm), and the last 10 revolutions' largest over the first
+    10's 0.0005 – 3.19 (median 0.62). The growth bound is 5 (a margin of 1.8); a drift
+    growing in proportion to time would give about 10."""
     scene = s3(friction=0.1, **{"solver.max_step": 1e-4})
     drift = _drift_over_revolutions(scene, 100)
     assert drift.max() < 1e-5  # tol × 1 m, with rtol = atol = 1e-5 (documented: ~10·tol)
     # Baumgarte stabilisation: no secular growth (last 10 revolutions vs the first 10)
-    assert drift[-10:].max() <= 3.0 * drift[:10].max()
+    assert drift[-10:].max() <= 5.0 * drift[:10].max()
 
 
 @pytest.mark.slow
@@ -362,22 +372,39 @@ def test_penetration_on_a_worn_flank_is_consistent_with_the_contact_law(grooved)
     assert float(ds.penetration.max()) <= 1.02 * (f_max / k_min) ** (1 / 1.5)
 
 
+def groove_over_unworn(scene: Scene, worn, *, halve: bool) -> tuple[float, float]:
+    """Contact events and peak contact force of the half-revolution run ``worn`` of the
+    grooved ``scene``, each over that of the same scene unworn (same step cap)."""
+    unworn = scene.replace({"joints.C.wear.bearing_profile": [], "effects.wear": False})
+    run = dict(revolutions=0.5, output_step=scene.drive.period / 10000)
+    ref = _simulate(unworn, halve=halve, **run)
+    events = worn.attrs["solver_contact_events"] / ref.attrs["solver_contact_events"]
+    return events, float(worn.contact_force.max()) / float(ref.contact_force.max())
+
+
 def test_a_smooth_groove_adds_no_spurious_impacts(grooved) -> None:
     """The groove is a smooth raised cosine; the contact must see a smooth surface.
 
     With the clearance tabulated per 1° region the journal sliding in the groove met a
     depth step at every region boundary: 133 / 66 contact events in the half revolution
-    (both step caps; 10 / 8 unworn) and peak forces 3.07 / 4.75 kN that depended on the
-    step. On the continuous surface: 14 / 13 events, 3.20 / 3.23 kN.
+    (both step caps; 10 / 8 unworn, 13 and 8 times as many) and peak forces 3.07 / 4.75 kN
+    that depended on the step. On the continuous surface: 14 / 13 events, 3.20 / 3.23 kN.
+
+    The impacts in the groove are chaotic, so counts and peaks move with rounding: over
+    141 starts whose crank angles differ by 1e-12 of a revolution (282 runs, both caps)
+    the worn run had 11 – 32 events, at most 3.6 times the unworn run's 8 – 11, and a
+    peak force of 3.1 – 9.3 kN, at most 2.6 times the unworn peak; the two caps' peaks
+    differed by −41 % to +191 %, so a single pair cannot show that the peak does not
+    depend on the step. Asserted: at most 5 times the unworn events (a margin of 1.4) and
+    4 times the unworn peak (a margin of 1.4). A surface with 0.01° stairs (the 1°
+    table's steps, each spread over 0.01°) gives 3.9 – 5.7 times the events and 5.6 to
+    17 000 times the peak.
     """
     scene, ds, half = grooved
-    unworn = scene.replace({"joints.C.wear.bearing_profile": [], "effects.wear": False})
-    run = dict(revolutions=0.5, output_step=scene.drive.period / 10000)
     for worn, halve in ((ds, False), (half, True)):
-        ref = _simulate(unworn, halve=halve, **run)
-        assert worn.attrs["solver_contact_events"] <= 2 * ref.attrs["solver_contact_events"]
-    peaks = [float(r.contact_force.max()) for r in (ds, half)]
-    assert abs(peaks[1] / peaks[0] - 1.0) < 0.05  # the peak no longer depends on the step
+        events, peak = groove_over_unworn(scene, worn, halve=halve)
+        assert events <= 5.0
+        assert peak <= 4.0
 
 
 # --------------------------------------------------------------------------- ANCF rods

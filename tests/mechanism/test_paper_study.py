@@ -1,4 +1,4 @@
-"""The paper study (issue 8 §4): published numbers as data, and the pipeline end to end.
+"""The paper study: published numbers as data, and the pipeline end to end.
 
 The default tests run a tiny variant of the whole study (1.5 revolutions, a coarse output
 step, one wear update) and check that the report holds every paper table with ours beside
@@ -23,10 +23,14 @@ import numpy as np
 import pandas as pd
 import pytest
 import xarray as xr
+from typer.testing import CliRunner
 
 import chaoskit
 import mechanism
+import mechanism.cli
+from chaoskit.reporting import plural
 from mechanism.studies._paper import COLUMNS, StudySettings, paper_wear_zones
+from mechanism.studies._paper_summary import strobe_figure
 
 # CI clones the repository with shared/ beside it; developers have it at ../shared too.
 SEED_CANDIDATES = [
@@ -120,6 +124,8 @@ def test_settings_reject_bad_values():
         StudySettings(samples_per_revolution=10)
     with pytest.raises(ValueError, match="elements"):
         StudySettings(elements=())
+    with pytest.raises(ValueError, match=r"wear_max_depth_increment must be in \(0, 1\]"):
+        StudySettings(wear_max_depth_increment=1.5)
     quick = StudySettings.quick()
     assert quick.revolutions < StudySettings.paper().revolutions
     assert StudySettings.paper().samples_per_revolution == 10_000
@@ -137,7 +143,7 @@ TINY = {
     "wear_settle_revolutions": 0.25,
     "elements": (4,),
     "convergence_revolutions": 0.02,
-    "n_surrogates": 0,
+    "n_surrogates": 19,
     "max_samples": 500,
     "chaos_revolutions": 2.0,
     "chaos_samples_per_revolution": 400,
@@ -454,3 +460,79 @@ def test_long_runs_queue_both_exponents_with_flexible_rods(monkeypatch, threads)
                 assert (rigid.result() if rigid is not None else None) == third
                 # a series that fell back to rigid rods gets its rigid-rod exponent anyway
                 assert long_runs.rigid_exponent(state).result() == ("λ", True)
+
+
+def _kept_trajectories(study) -> dict[str, xr.Dataset]:
+    folder = study.output / "trajectories"
+    return {
+        state: chaoskit.load_trajectory(folder / f"{state.replace(' ', '-')}.nc")
+        for state in study.motions
+    }
+
+
+def test_strobe_figure_shows_the_points_the_motion_table_counts(tiny_study):
+    """Figure 1 and the motion verdict's table count the same points: those of the joint
+    section, never the initial state (the crank angle is 0 at t = 0, a strobe instant)."""
+    md = tiny_study.report_markdown.read_text(encoding="utf-8")
+    assert "The points are those of the joint section the motion verdict counts" in md
+    trajectories = _kept_trajectories(tiny_study)
+    assert set(trajectories) == {"before wear", "after wear"}
+    discard = TINY["discard_revolutions"] * 0.4
+    fig = strobe_figure(trajectories, motions=tiny_study.motions, discard=discard)
+    motion_rows = md.split("The motion verdict:")[1].split("\n\n")[1].splitlines()
+    for ax, (state, traj) in zip(fig.axes, trajectories.items(), strict=True):
+        n = tiny_study.motions[state].structure.n_points
+        (line,) = ax.lines
+        assert line.get_xdata().size == n
+        row = next(r for r in motion_rows if r.startswith(f"| {state} |"))
+        assert f"({plural(n, 'point')})" in row
+        # the whole trajectory's strobe starts at the initial state, which is not shown
+        whole = chaoskit.stroboscopic_map(
+            traj.sel(joint="C"), phase_variable="crank_angle", coords=["eccentricity_x"]
+        )
+        assert whole["time"].values[0] == 0.0 and whole.sizes["crossing"] > n
+        assert not np.any(
+            np.isclose(line.get_xdata(), whole["eccentricity_x"].values[0] * 1e3, atol=0)
+        )
+
+
+def test_summary_opens_with_the_answer_and_ends_with_the_run_notes(tiny_study):
+    md = tiny_study.report_markdown.read_text(encoding="utf-8")
+    summary = md.split("\n## ", 2)[1]
+    first = summary.split("\n\n")[1]
+    assert first.startswith("Before wear: ") and "After wear: " in first
+    answer = summary.index("**Table 1.** The answer")
+    for note in ("Settings: ", "Run: wall time", "crank cycles in 1 update;"):
+        assert answer < summary.index(note), note
+
+
+def test_report_text_reads_plainly(tiny_study):
+    """No "update(s)", no "after 1 of transient", no "wear worn"."""
+    for path in (tiny_study.report_markdown, tiny_study.report_html):
+        text = "\n".join(
+            line
+            for line in path.read_text(encoding="utf-8").splitlines()
+            # the estimators' own reasons are quoted as they wrote them
+            if "| reason |" not in line and '<th scope="row">reason</th>' not in line
+        )
+        assert not re.search(r"\w\(s\)", text), re.findall(r".{30}\w\(s\).{10}", text)
+        assert not re.search(r"\d of transient", text)
+        assert not re.search(r"\b1 (revolutions|updates|points)\b", text)
+        assert "wear worn" not in text and "scene key" not in text
+    assert "in 1 update;" in tiny_study.report_markdown.read_text(encoding="utf-8")
+
+
+def test_paper_command_prints_the_answer_before_the_files(tiny_study, monkeypatch, tmp_path):
+    monkeypatch.setattr(mechanism.cli, "run_paper_study", lambda *args, **kwargs: tiny_study)
+    result = CliRunner().invoke(mechanism.cli.app, ["paper", "--quick", "-o", str(tmp_path)])
+    assert result.exit_code == 0, result.output
+    lines = result.output.splitlines()
+    head = lines.index("Motion verdict per state:")
+    assert lines[head + 1].split() == ["verdict", "confidence", "λ₁", "[95", "%]", "λ₁", "from"]
+    rows = lines[head + 3 : head + 5]
+    for row, (state, mv) in zip(rows, tiny_study.motions.items(), strict=True):
+        assert row.startswith(state) and mv.label in row
+        assert re.search(r"  (\d\.\d\d|—)  ", row), row
+        # λ₁ with its interval and where it comes from (the equations when they decide)
+        assert re.search(r"\[\S+, \S+\] 1/s +(equations of motion|data, joint)", row), row
+    assert lines[head + 5] == "" and lines[head + 6] == f"report: {tiny_study.report_html}"

@@ -12,19 +12,43 @@ import numpy as np
 import pandas as pd
 import pytest
 import xarray as xr
+from matplotlib.figure import Figure
 
 import chaoskit
 import mechanism
-from mechanism.studies._paper import COLUMNS, _compile_kernels, _wear_comparison
-from mechanism.studies._paper_summary import Stages, motion_verdict, summary_section
+from chaoskit.reporting import CONFIDENCE_NOTE
+from mechanism.studies._paper import COLUMNS, _compile_kernels, _orbit_display, _wear_comparison
+from mechanism.studies._paper_summary import (
+    Stages,
+    motion_verdict,
+    strobe_figure,
+    strobe_points,
+    summary_section,
+)
 
 
-def _motion(label: str, confidence: float) -> SimpleNamespace:
+def _motion(
+    label: str,
+    confidence: float,
+    *,
+    votes: dict | None = None,
+    equations_say: str | None = "regular",
+    variables: dict | None = None,
+) -> SimpleNamespace:
+    """A stand-in for a MotionVerdict: its label, votes and the evidence they stand for."""
+    names = variables or {"X": SimpleNamespace(label=label), "Y": SimpleNamespace(label=label)}
+    default = {"equations": "supports", **{f"variable {n}": "supports" for n in names}}
     return SimpleNamespace(
         label=label,
         confidence=confidence,
         reason=f"every variable says {label}",
         reasons=(f"every variable says {label}", "the equations say regular: λ₁ = -3"),
+        voting=tuple(names),
+        variables=names,
+        votes=votes if votes is not None else default,
+        equations_say=equations_say,
+        exponent_positive=False,
+        structure=SimpleNamespace(kind="clusters", n_clusters=1, n_points=198),
     )
 
 
@@ -160,10 +184,13 @@ def test_summary_section_puts_the_paper_beside_ours_with_agreement() -> None:
     missing = rows.loc[("after wear", "equations (rigid rods)")]
     assert math.isnan(float(missing["per_s"])) and missing["sign"] == "—"
     assert re.match(
-        r"ours: every variable says periodic; the equations say regular: λ₁ = -3; paper: chaotic",
+        r"ours: the exponent from the equations \(interval not above zero\) and the variables "
+        r"X, Y \(periodic\) agree; paper: chaotic",
         data.at["after wear", "why"],
     )
-    assert section.text == "Settings: test."
+    # the answer opens the section, the settings close it
+    assert section.text.startswith("Before wear: periodic (confidence 0.90); the paper:")
+    assert section.footer == "Settings: test."
 
 
 def test_summary_shows_the_flexible_exponent_with_its_rigid_rod_companion() -> None:
@@ -194,3 +221,131 @@ def test_summary_shows_the_flexible_exponent_with_its_rigid_rod_companion() -> N
     assert rows.at[("before wear", "equations (rigid rods)"), "per_s"] == 9.0
     # the paper calls the state before wear not chaotic
     assert rows.at[("before wear", "equations (rigid rods)"), "sign"] == "contradicts claim"
+
+
+def _summary(motions, chaos, **kwargs):
+    return summary_section(
+        states=list(motions),
+        motions=motions,
+        chaos=chaos,
+        paper_chaos=mechanism.paper_tables()["chaos"],
+        claims=mechanism.paper_claims(),
+        equations=kwargs.pop("equations", {}),
+        paper_step=0.4 / 10_000,
+        settings_text="Settings: test.",
+        **kwargs,
+    )
+
+
+def _chaos(wolf: tuple[float, float, float], state: str = "before wear") -> pd.DataFrame:
+    index = pd.MultiIndex.from_product([["X"], [state]], names=["variable", "state"])
+    return pd.DataFrame(
+        {
+            "mle_wolf": [wolf[0]],
+            "mle_wolf_low": [wolf[1]],
+            "mle_wolf_high": [wolf[2]],
+            "mle_rosenstein": [-1.0],
+            "mle_rosenstein_low": [-2.0],
+            "mle_rosenstein_high": [-0.5],
+        },
+        index=index,
+    )
+
+
+def test_why_says_which_evidence_decided_over_which() -> None:
+    """Equations and data disagree: the line names the winner and what it overruled."""
+    mv = _motion(
+        "chaotic",
+        2 / 3,
+        votes={"equations": "supports", "exponent": "opposes", "section": "supports"},
+        equations_say="chaotic",
+    )
+    mv.structure = SimpleNamespace(kind="scattered", n_points=198)
+    section = _summary({"after wear": mv}, _chaos((1.0, 0.5, 1.5), "after wear"))
+    why = section.items[0].data.at["after wear", "why"]
+    assert why.startswith(
+        "ours: the exponent from the equations (interval above zero) and the joint section "
+        "(scattered) decide over the joint exponent of the data estimators (not clearly "
+        "positive); paper: chaotic"
+    )
+    assert "\n" not in why
+
+
+def test_confidence_has_two_decimals_and_a_sentence_on_what_it_is() -> None:
+    section = _summary({"after wear": _motion("chaotic", 2 / 3)}, _chaos((1, 0.5, 1.5)))
+    answer = section.items[0]
+    assert answer.display().at["after wear", ("confidence", "")] == "0.67"
+    assert CONFIDENCE_NOTE in answer.notes
+    assert "(confidence 0.67)" in section.text
+
+
+def test_a_clearly_positive_wolf_exponent_of_a_periodic_state_is_marked_set_aside() -> None:
+    x = SimpleNamespace(label="periodic", wolf_positive=True, rosenstein_positive=False)
+    mv = _motion("periodic", 0.75, variables={"X": x})
+    section = _summary({"before wear": mv}, _chaos((2.0, 1.0, 3.0)))
+    table = section.items[1]
+    key = ("before wear", "Wolf, X")
+    assert table.marks == {(key, "per_s"): "†", (key, "bits"): "†"}
+    shown = table.display()
+    assert shown.loc[key, ("λ (1/s)", "")] == "2 [1, 3] †"
+    assert shown.loc[("before wear", "Rosenstein, X"), ("λ (1/s)", "")] == "-1 [-2, -0.5]"
+    assert table.notes.startswith("† set aside: the estimate points the other way")
+    # an undetermined state decided nothing: nothing is set aside
+    unsure = _motion("undetermined", math.nan, variables={"X": x})
+    assert _summary({"before wear": unsure}, _chaos((2.0, 1.0, 3.0))).items[1].marks == {}
+
+
+def test_strobe_points_are_the_verdicts_points_never_the_initial_state() -> None:
+    traj = chaoskit.load_trajectory(chaoskit.sample_path("paper-150rpm-before.nc"))
+    period = 0.4  # 150 rpm; the crank angle is 0 at t = 0, a strobe instant
+    whole = chaoskit.stroboscopic_map(traj, phase_variable="crank_angle")
+    assert whole["time"].values[0] == 0.0  # the initial state is a strobe instant
+    every = strobe_points(traj)
+    assert every.sizes["crossing"] == whole.sizes["crossing"] - 1  # all but the start
+    np.testing.assert_allclose(every["time"].values, whole["time"].values[1:], rtol=0)
+    # a discard of one period keeps the strobe at t = 0.4 s (found at 0.4 - 2e-14 s)
+    assert strobe_points(traj, discard=period).sizes["crossing"] == every.sizes["crossing"]
+    later = strobe_points(traj, discard=1.5 * period)
+    assert later.sizes["crossing"] == every.sizes["crossing"] - 1
+    # with a verdict: exactly the instants of its joint section, whatever was discarded
+    used = np.arange(2, 18) * period + 1e-12
+    motion = SimpleNamespace(section=xr.Dataset(coords={"time": ("crossing", used)}))
+    kept = strobe_points(traj, motion=motion)
+    np.testing.assert_allclose(kept["time"].values, used, atol=1e-9)
+    fig = strobe_figure({"before wear": traj}, motions={"before wear": motion})
+    (line,) = fig.axes[0].lines
+    assert line.get_xdata().size == used.size == 16
+    assert fig.axes[0].get_title() == "before wear: 16 points"
+    np.testing.assert_allclose(line.get_xdata(), kept["eccentricity_x"].values * 1e3, rtol=1e-12)
+
+
+def test_orbit_diagram_is_drawn_in_mm_against_the_crank_speed() -> None:
+    speeds = [30.0, 150.0]
+    ds = xr.Dataset(
+        {
+            "eccentricity_x": (
+                ("drive.speed_rpm", "point"),
+                np.array([[1e-4, 1.5e-4], [-1e-4, 2e-4]]),
+                {"units": "m", "long_name": "journal-centre e_x"},
+            )
+        },
+        coords={
+            "drive.speed_rpm": (
+                "drive.speed_rpm",
+                speeds,
+                {"units": "rpm", "long_name": "scene key drive.speed_rpm"},
+            )
+        },
+        attrs={
+            "bifurcation_parameter": "drive.speed_rpm",
+            "bifurcation_variables": "eccentricity_x",
+        },
+    )
+    fig = Figure()
+    ax = fig.subplots()
+    mechanism.plot_bifurcation(_orbit_display(ds), axes=[ax])
+    assert ax.get_xlabel() == "crank speed (rpm)"
+    assert ax.get_ylabel() == "journal-centre e_x (mm)"
+    y = ax.collections[0].get_offsets()[:, 1]
+    np.testing.assert_allclose(np.sort(y), [-0.1, 0.1, 0.15, 0.2], rtol=1e-12)
+    assert ds["eccentricity_x"].attrs["units"] == "m"  # the study's data stay in SI

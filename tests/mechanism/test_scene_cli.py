@@ -47,7 +47,7 @@ def test_show_reads_a_file(tmp_path) -> None:
     [
         (
             ["show", "paper", "--set", "joints.C.clearance=-1"],
-            "joints.C.clearance: must be > 0 (m)",
+            "joints.C.clearance: must be in [1e-08, 1] (m)",
         ),
         (["show", "paper", "--set", "joints.C.clearence=1e-4"], "valid keys there"),
         (["show", "no-such-scene"], "no built-in scene or file named"),

@@ -2,11 +2,13 @@
 
 from __future__ import annotations
 
+import dataclasses
 import doctest
 import json
 import math
 import pickle
 import re
+import tracemalloc
 
 import numpy as np
 import pytest
@@ -258,8 +260,8 @@ def test_cli_reports_bad_values(tmp_path) -> None:
     result = CliRunner().invoke(
         app, ["simulate", "slider-crank", "--rtol", "-1", "-o", str(tmp_path / "x.nc")]
     )
-    assert result.exit_code == 1
-    assert "rtol" in result.output
+    assert result.exit_code == 2  # a user error
+    assert result.stderr == "Error: rtol must be finite and > 0; got -1.0.\n"
 
 
 def test_docstring_examples_run() -> None:
@@ -308,3 +310,119 @@ def test_one_status_table_for_the_model_kernels_and_the_time_loops() -> None:
     k1, state = np.zeros_like(y), np.zeros(4)
     status = ik.dopri5_start(model.kernel, ws, 0.0, y, k1, vimp, state, counters, 1e-6, 1e-8, 1e-3)
     assert status == st.STATUS_NONFINITE
+
+
+# --- runs refused before they start ------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("changes", "kwargs", "message"),
+    [
+        # "Maximum allowed size exceeded" from numpy before
+        (
+            {"solver.output_step": 1e-300},
+            {},
+            "the output grid would hold 1.2e+298 samples (revolutions = 1 at "
+            "drive.speed_rpm = 5000, 0.012 s, at solver.output_step = 1e-300 s), more than "
+            "the 2e+08 steps an integrator may take (max_steps; each sample costs about a "
+            "step): raise solver.output_step (or pass output_step, --output-step), or "
+            "simulate less time.",
+        ),
+        # a MemoryError traceback (a 74.5 GiB output grid) before
+        (
+            {},
+            {"revolutions": 1e6},
+            "the output grid would hold 1e+10 samples (revolutions = 1e+06 at "
+            "drive.speed_rpm = 5000, 1.2e+04 s, at the default output step (drive period / "
+            "10000) = 1.2e-06 s), more than the 2e+08 steps",
+        ),
+        (
+            {},
+            {"t_end": 1e4, "output_step": 1e-5},
+            "the output grid would hold 1e+09 samples (t_end = 10000 s, 1e+04 s, at "
+            "output_step = 1e-05 s)",
+        ),
+        (
+            {"solver.max_step": 1e-12},
+            {"record": "metrics"},
+            "the run would take at least 1.2e+10 steps (revolutions = 1 at drive.speed_rpm = "
+            "5000, 0.012 s, at solver.max_step = 1e-12 s), more than the 2e+08 an integrator "
+            "may take (max_steps): it would fail after hours; raise solver.max_step, or "
+            "simulate less time.",
+        ),
+    ],
+)
+def test_absurd_step_counts_are_refused_before_the_run(changes, kwargs, message) -> None:
+    scene = mechanism.load_scene("slider-crank-clearance").replace(changes)
+    with pytest.raises(ValueError) as info:
+        mechanism.simulate(scene, **kwargs)
+    assert str(info.value).startswith(message), str(info.value)
+    assert "\n" not in str(info.value)
+
+
+class _Memory:
+    def __init__(self, available: float) -> None:
+        self.available = int(available)
+
+
+def test_a_run_larger_than_the_memory_is_refused_before_allocating(monkeypatch) -> None:
+    # the rigid paper scene over 3000 revolutions at the default grid: about 62.9 GB,
+    # which a 23 GB machine only warned about and then ran out of memory
+    monkeypatch.setattr(mechanism.core._simulate.psutil, "virtual_memory", lambda: _Memory(16e9))
+    rigid = mechanism.load_scene("paper").replace({"effects.flexibility": False})
+    tracemalloc.start()
+    try:
+        with pytest.raises(ValueError) as info:
+            mechanism.simulate(rigid, revolutions=3000)
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert peak < 50e6  # the estimate allocates nothing of the run's size
+    text = str(info.value)
+    assert "\n" not in text
+    assert text.startswith(
+        "this run would hold about 62.9 GB (3e+07 samples of the full record at the "
+        "default output step (drive period / 10000) = 4e-05 s, revolutions = 3000 at "
+        "drive.speed_rpm = 150), more than the 12.8 GB it may use (80% of the 16 GB of "
+        "memory available); what fits: output_step >= 0.0002 s (--output-step); "
+        "variables=['crank_angle', 'slider_position', 'slider_velocity', 'eccentricity_x', "
+        "'eccentricity_y'] (--var; light samples only); record='metrics' or 'sections' "
+        "(--record); force=True (--force) runs it anyway."
+    ), text
+
+
+def test_force_runs_a_run_larger_than_the_memory(monkeypatch) -> None:
+    monkeypatch.setattr(mechanism.core._simulate.psutil, "virtual_memory", lambda: _Memory(1e5))
+    scene = mechanism.load_scene("slider-crank-clearance")
+    with pytest.raises(ValueError, match=r"^this run would hold about 0\.689 MB \(501 samples"):
+        mechanism.simulate(scene, revolutions=0.05)
+    ds = mechanism.simulate(scene, revolutions=0.05, force=True)
+    assert ds.sizes["time"] == 501 and bool(np.isfinite(ds.slider_position).all())
+    # the light record of a few variables holds far less: it fits
+    light = mechanism.simulate(scene, revolutions=0.05, variables=["slider_position"])
+    assert light.sizes["time"] == 501
+
+
+def test_a_scene_built_in_python_is_validated_by_simulate() -> None:
+    # a mass of 1e300 kg was run and reported as a singular constraint Jacobian
+    scene = mechanism.load_scene("slider-crank")
+    heavy = dataclasses.replace(
+        scene,
+        bodies={**scene.bodies, "crank": dataclasses.replace(scene.bodies["crank"], mass=1e300)},
+    )
+    with pytest.raises(mechanism.SceneError, match=r"^bodies\.crank\.mass: must be in \[1e-06"):
+        mechanism.simulate(heavy, revolutions=0.01)
+
+
+def test_messages_show_numpy_numbers_as_plain_numbers() -> None:
+    scene = mechanism.load_scene("slider-crank")
+    with pytest.raises(ValueError) as info:
+        mechanism.simulate(scene, revolutions=np.float64(29.990000000000002), record="metrics",
+                           discard=np.float64(30.5))  # fmt: skip
+    assert str(info.value) == "discard must be below the simulated 29.99 revolutions; got 30.5."
+    with pytest.raises(ValueError) as info:
+        mechanism.simulate(scene, revolutions=np.float64(-1.0))
+    assert "np.float64" not in str(info.value)
+    with pytest.raises(ValueError) as info:
+        mechanism.simulate(scene, t_end=np.float64(0.01), output_step=np.float64(0.02))
+    assert str(info.value) == "output_step (0.02 s) must not exceed the simulated time (0.01 s)."

@@ -2,12 +2,14 @@
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 import typer
+import xarray as xr
 from typer.testing import CliRunner
 
 import mechanism
-from mechanism.cli import app, parse_grid_options
+from mechanism.cli import SWEEP_REVOLUTIONS, app, parse_grid_options, sweep_table
 
 SCENE = ["slider-crank-clearance", "--set", "solver.output_step=2.4e-5"]
 
@@ -57,6 +59,18 @@ def test_serial_sweep_from_the_command_line_and_resume(tmp_path):
     assert "4 points: 4 to run, 0 already done" in result.output
     # wear = "after" runs on the worn scene of predict_wear (issue 7)
     assert "4 points: 4 ok, 0 failed, 0 diverged" in result.output
+    # the result table: one row per point, before the tally
+    lines = result.output.splitlines()
+    head = next(i for i, line in enumerate(lines) if line.startswith("joints.B.clearance"))
+    assert lines[head].split() == ["joints.B.clearance", "wear", "status", "peak", "contact",
+                                   "force", "(N)"]  # fmt: skip
+    rows = [line.split() for line in lines[head + 2 : head + 6]]
+    assert [row[:3] for row in rows] == [
+        ["0.0002", "before", "ok"],
+        ["0.0002", "after", "ok"],
+        ["0.0005", "before", "ok"],
+        ["0.0005", "after", "ok"],
+    ]
     ds = mechanism.load_sweep(store)
     assert ds["status"].values.ravel().tolist() == ["ok"] * 4
     assert ds["peak_contact_force"].notnull().all()
@@ -99,3 +113,33 @@ def test_bad_sweeps_exit_with_status_2(tmp_path, extra, message):
     assert result.exit_code == 2
     assert message in result.output
     assert not (tmp_path / "s").exists()
+
+
+def test_sweep_table_shows_every_verdict_even_undetermined():
+    # with the former default of 3 revolutions every point was undetermined and the
+    # command printed only the tally
+    ds = xr.Dataset(
+        {
+            "status": (("drive.speed_rpm",), ["ok", "ok", "failed"]),
+            "motion_label": (("drive.speed_rpm",), ["chaotic", "undetermined", ""]),
+            "motion_confidence": (("drive.speed_rpm",), [0.6667, np.nan, np.nan]),
+            "peak_contact_force": (("drive.speed_rpm",), [4494.3, 6504.0, np.nan]),
+        },
+        coords={"drive.speed_rpm": [150.0, 5000.0, 9000.0]},
+    )
+    assert sweep_table(ds).splitlines() == [
+        "drive.speed_rpm  status  verdict       confidence  peak contact force (N)",
+        "---------------  ------  ------------  ----------  ----------------------",
+        "150              ok      chaotic       0.667       4494",
+        "5000             ok      undetermined  —           6504",
+        "9000             failed  —             —           —",
+    ]
+
+
+def test_the_default_revolutions_leave_a_verdict_enough_drive_periods():
+    # a verdict needs 20 drive periods and 20 section points after the discarded
+    # revolution: 3 (the former default) and 10 (the documented example) leave too few
+    assert SWEEP_REVOLUTIONS == 25.0
+    out = CliRunner().invoke(app, ["sweep", "--help"])
+    assert "[default: 25.0]" in out.output
+    assert "a motion verdict needs at least 20 after --discard" in " ".join(out.output.split())

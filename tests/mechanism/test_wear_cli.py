@@ -1,4 +1,4 @@
-"""``mechanism wear`` (issue 7): a thin layer over ``predict_wear``."""
+"""``mechanism wear``: a thin layer over ``predict_wear``."""
 
 from __future__ import annotations
 
@@ -34,5 +34,5 @@ def test_wear_command_reports_bad_input(tmp_path):
     args = ["wear", "paper", "--updates", "0", "--cycles-per-update", "1", "-o",
             str(tmp_path / "w.nc"), "--no-progress"]  # fmt: skip
     result = CliRunner().invoke(app, args)
-    assert result.exit_code == 1
-    assert "updates" in result.output
+    assert result.exit_code == 2
+    assert result.output.strip().splitlines()[-1] == "Error: updates must be in [1, ∞]; got 0."

@@ -2,7 +2,9 @@
 implicit generalized-α method for stiff contact. Pass a name or a strategy object as
 ``method=`` to :func:`mechanism.simulate`. :func:`integrate_tangent` advances a state and
 a renormalised deviation on one step sequence (the largest Lyapunov exponent), and
-:func:`integrate_tangent_flexible` does so on generalized-α steps (flexible models)."""
+:func:`integrate_tangent_flexible` does so on generalized-α steps (flexible models).
+The compiled loops return to Python every ``chunk_steps`` attempted steps, so Ctrl-C
+stops a run promptly; :func:`interrupt_integrations` stops the runs of other threads."""
 
 from ._methods import (
     METHODS,
@@ -14,6 +16,7 @@ from ._methods import (
     RecordPlan,
     ScipyIVP,
     SolverStats,
+    interrupt_integrations,
     resolve_method,
 )
 from ._tangent import (
@@ -40,6 +43,7 @@ __all__ = [
     "initial_deviation",
     "integrate_tangent",
     "integrate_tangent_flexible",
+    "interrupt_integrations",
     "length_scale",
     "resolve_method",
 ]

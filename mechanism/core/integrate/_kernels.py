@@ -1,9 +1,10 @@
 """Compiled time loops: Dormand–Prince 5(4) with dense output and generalized-α.
 
-Both loops run entirely inside numba; the Python layer (``_methods.py``) calls them in
-chunks only to drive an optional progress bar, and the trajectory does not depend on the
-chunking or on what is recorded. A loop takes four typed tuples besides the model and its
-workspace:
+Both loops run inside numba; the Python layer (``_methods.py``) calls them in chunks, up
+to the times of an optional progress bar and for at most ``StepControl.chunk_steps``
+attempted steps per call, so that control returns to Python (where a pending Ctrl-C is
+raised) however small the steps get. The trajectory does not depend on the chunking or on
+what is recorded. A loop takes four typed tuples besides the model and its workspace:
 
 * :class:`StepControl` — the settings of the run (end time, tolerances, step limits, the
   contact-entry test, the generalized-α parameters);
@@ -131,6 +132,7 @@ class StepControl(NamedTuple):
     fixed_step: float  # generalized-α only: > 0 for the fixed-step scheme
     approach_floor: float  # > 0: steps bounded by the clearance joints' approach, not below this
     approach_fraction: float  # share of a journal's gap it may travel in one step
+    chunk_steps: int  # attempted steps per call before returning to Python; ≤ 0: no limit
 
 
 class LoopState(NamedTuple):
@@ -139,7 +141,7 @@ class LoopState(NamedTuple):
     y: np.ndarray  # (2n,) [q; q̇], updated in place
     f: np.ndarray  # Dormand–Prince: f(t, y) (2n,); generalized-α: q̈ (n,)
     apse: np.ndarray  # generalized-α pseudo-accelerations (n,); empty for Dormand–Prince
-    step: np.ndarray  # float64[4], see each loop
+    step: np.ndarray  # float64[4] (Dormand–Prince) or [5] (generalized-α), see each loop
     vimp: np.ndarray  # impact-velocity latch of each clearance joint
     contact: np.ndarray  # int64 contact flag of each clearance joint
     counters: np.ndarray  # int64[CNT_COLUMNS]
@@ -556,7 +558,9 @@ def dopri5_advance(model, ws, loop, out, ctl, t_stop):
     clearance joint deeper than ``entry_depth`` × clearance is retried shorter, as in the
     generalized-α loop, so no impact is stepped over whatever the output grid.
     ``loop.step`` = [t, h, facold, last step rejected]. Returns ``STATUS_RUNNING`` when
-    ``t_stop`` is reached before ``t_end``, ``STATUS_OK`` at ``t_end``, or a failure status.
+    ``t_stop`` is reached before ``t_end`` or after ``ctl.chunk_steps`` attempted steps
+    (then ``loop.step[0]`` < ``t_stop``; the next call continues bit for bit),
+    ``STATUS_OK`` at ``t_end``, or a failure status.
     """
     y = loop.y
     k1 = loop.f
@@ -587,6 +591,7 @@ def dopri5_advance(model, ws, loop, out, ctl, t_stop):
     h = loop.step[1]
     facold = loop.step[2]
     last_rejected = loop.step[3] > 0.0
+    attempted = counters[CNT_STEPS] + counters[CNT_REJECTED]
     status = STATUS_RUNNING
     while True:
         if t >= t_end:
@@ -597,6 +602,8 @@ def dopri5_advance(model, ws, loop, out, ctl, t_stop):
         if counters[CNT_STEPS] + counters[CNT_REJECTED] >= ctl.max_steps:
             status = STATUS_MAX_STEPS
             break
+        if 0 < ctl.chunk_steps <= counters[CNT_STEPS] + counters[CNT_REJECTED] - attempted:
+            break  # back to Python, which checks for Ctrl-C and calls again
         h = min(h, max_step)
         if ctl.approach_floor > 0.0:
             near = approach_step(model, ws, y, k1[n2 // 2 :], ctl.approach_fraction)
@@ -1471,10 +1478,11 @@ def genalpha_advance(model, ws, loop, out, ctl, jac, t_stop, dev):
     Newton iteration at O(n·len(cc)) extra work per iterate.
 
     ``state`` = [t, h, Jacobian valid, Newton iterations beyond two per step since the
-    last refresh]; the contact linearisations and refresh flags live in ``jac``, so
-    calls that stop at successive ``t_stop`` follow the path of one call bit for bit.
-    Returns 1 (``t_stop`` reached), 0 (done) or
-    a negative failure status.
+    last refresh, last Newton iterate left the admissible configurations]; the contact
+    linearisations and refresh flags live in ``jac``, so calls that stop at successive
+    ``t_stop``, or after ``ctl.chunk_steps`` attempted steps, follow the path of one call
+    bit for bit. Returns 1 (``t_stop`` reached, or the step budget spent with
+    ``state[0]`` < ``t_stop``), 0 (done) or a negative failure status.
 
     ``dev`` is None, or a :class:`Deviation` that follows the run: after every accepted
     step the perturbed copy takes the same step (:func:`_deviation_step`), its latch
@@ -1550,7 +1558,8 @@ def genalpha_advance(model, ws, loop, out, ctl, jac, t_stop, dev):
     fresh = flags[JF_FRESH] != 0
     excess = int(state[3])
     stale = flags[JF_STALE] != 0
-    singular_iterate = False
+    singular_iterate = state[4] > 0.0
+    attempted = counters[CNT_STEPS] + counters[CNT_REJECTED]
     status = STATUS_RUNNING
     while True:
         if t >= t_end:
@@ -1561,6 +1570,8 @@ def genalpha_advance(model, ws, loop, out, ctl, jac, t_stop, dev):
         if counters[CNT_STEPS] + counters[CNT_REJECTED] >= ctl.max_steps:
             status = STATUS_MAX_STEPS
             break
+        if 0 < ctl.chunk_steps <= counters[CNT_STEPS] + counters[CNT_REJECTED] - attempted:
+            break  # back to Python, which checks for Ctrl-C and calls again
         h = min(h, max_step)
         if ctl.approach_floor > 0.0:
             near = approach_step(model, ws, y, acc, ctl.approach_fraction)
@@ -1820,6 +1831,7 @@ def genalpha_advance(model, ws, loop, out, ctl, jac, t_stop, dev):
     state[1] = h
     state[2] = 1.0 if jac_valid else 0.0
     state[3] = float(excess)
+    state[4] = 1.0 if singular_iterate else 0.0
     flags[JF_BASE_CONTACT] = 1 if base_contact else 0
     flags[JF_LIN_TOUCHING] = 1 if lin_touching else 0
     flags[JF_FRESH] = 1 if fresh else 0

@@ -44,12 +44,18 @@ __all__ = [
     "Recording",
     "ScipyIVP",
     "SolverStats",
+    "interrupt_integrations",
     "resolve_method",
 ]
 
 ScipyMethodName = Literal["RK45", "DOP853", "Radau", "BDF", "LSODA"]
 
 _MESSAGES = MESSAGES
+
+#: attempted steps of a compiled loop per call before control returns to Python, where a
+#: pending Ctrl-C is raised: well under a second of work on the scenes of the package
+#: (docs/simulator.md, *Interrupting a run*); the results do not depend on it
+CHUNK_STEPS = {"dopri5": 5_000, "generalized-alpha": 1_000, "tangent": 2_000}
 
 #: share of its gap to the bearing wall a separated journal may travel in one step (at
 #: its current speed and acceleration); the approach floor bounds the last steps before
@@ -330,6 +336,62 @@ def _chunks(t0: float, t_end: float, progress: bool) -> list[float]:
     return [t0 + (t_end - t0) * (i + 1) / 100.0 for i in range(100)]
 
 
+#: interruptions seen by the integrations of this process (one element, a count)
+_INTERRUPTS = [0]
+
+
+def interrupt_integrations() -> None:
+    """Stop the integrations running in this process at their next return to Python.
+
+    Each compiled loop returns to Python every ``chunk_steps`` attempted steps. The
+    thread that receives Ctrl-C raises ``KeyboardInterrupt`` there by itself; the
+    integrations running in other threads (the ideal companion of
+    :func:`mechanism.simulate`) cannot see the signal, and raise ``KeyboardInterrupt``
+    at their next return once this has been called. An interrupted integration calls it
+    too; a command line's SIGINT handler calls it before raising, so that runs in other
+    threads stop also while the main thread is waiting for them. Integrations started
+    afterwards are not affected.
+    """
+    _INTERRUPTS[0] += 1
+
+
+def interruptions() -> int:
+    """The count of :func:`interrupt_integrations` calls; an integration records it when
+    it starts and passes it to :func:`advance_to`."""
+    return _INTERRUPTS[0]
+
+
+def advance_to(
+    call: Callable[[float], int], clock: np.ndarray, t_stop: float, bar: _Progress, since: int
+) -> int:
+    """Call the compiled loop ``call(t_stop)`` until ``clock[0]`` reaches ``t_stop`` or the
+    loop ends; returns the status of the last call.
+
+    A loop returns ``STATUS_RUNNING`` also when its step budget (``chunk_steps``) is
+    spent before ``t_stop``; it is then called again and continues bit for bit. Between
+    calls Python runs, so a Ctrl-C raises ``KeyboardInterrupt`` within one budget of
+    steps however small the steps have become (compiled code never sees a signal), and
+    so does an :func:`interrupt_integrations` call made since ``since`` (the count of
+    :func:`interruptions` when the integration started).
+    """
+    try:
+        while True:
+            status = int(call(t_stop))
+            bar.update(float(clock[0]))
+            if _INTERRUPTS[0] != since:
+                raise KeyboardInterrupt
+            if status != ik.STATUS_RUNNING or clock[0] >= t_stop:
+                return status
+    except KeyboardInterrupt:
+        interrupt_integrations()
+        raise
+
+
+def _check_chunk_steps(value: Any) -> None:
+    if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < 1:
+        raise ValueError(f"chunk_steps must be an integer ≥ 1 (steps); got {value!r}.")
+
+
 def _initial_latch(model: Model, y0: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     n_cj = model.kernel.cj_i.shape[0]
     # a journal that starts in contact keeps the floor as its impact velocity
@@ -371,6 +433,7 @@ def _control(
         fixed_step=float(fixed_step),
         approach_floor=float(approach_floor),
         approach_fraction=APPROACH_FRACTION,
+        chunk_steps=int(method.chunk_steps),
     )
 
 
@@ -422,6 +485,10 @@ class Dopri5(Integrator):
         it, 0.02 % without).
     max_steps : int
         Upper bound on attempted steps (accepted + rejected).
+    chunk_steps : int, optional
+        Attempted steps per call of the compiled loop (≥ 1; default 5 000): between calls
+        Python runs, so Ctrl-C stops even a run held at tiny steps. The results do not
+        depend on it.
 
     Notes
     -----
@@ -433,11 +500,13 @@ class Dopri5(Integrator):
 
     contact_entry_depth: float = 0.0
     max_steps: int = 200_000_000
+    chunk_steps: int = CHUNK_STEPS["dopri5"]
     name: str = field(default="dopri5", init=False)
 
     def __post_init__(self) -> None:
         if not float(self.contact_entry_depth) >= 0.0:
             raise ValueError(f"contact_entry_depth must be ≥ 0; got {self.contact_entry_depth!r}.")
+        _check_chunk_steps(self.chunk_steps)
 
     def integrate(
         self,
@@ -468,6 +537,7 @@ class Dopri5(Integrator):
         ctl = _control(self, t0, t_end, rtol=rtol, atol=atol, max_step=max_step,
                        projection=projection, approach_floor=approach_floor)  # fmt: skip
         out = _output(model, ws, y, vimp, t_out, record)
+        since = interruptions()
         start = time.perf_counter()
         status = ik.dopri5_start(km, ws, t0, y, loop.f, vimp, loop.step, counters, rtol, atol,
                                  ctl.max_step)  # fmt: skip
@@ -475,8 +545,10 @@ class Dopri5(Integrator):
             bar = _Progress(progress, t0, t_end, label)
             try:
                 for t_stop in _chunks(t0, t_end, progress):
-                    status = ik.dopri5_advance(km, ws, loop, out, ctl, t_stop)
-                    bar.update(loop.step[0])
+                    status = advance_to(
+                        lambda stop: ik.dopri5_advance(km, ws, loop, out, ctl, stop),
+                        loop.step, t_stop, bar, since,
+                    )  # fmt: skip
                     if status != ik.STATUS_RUNNING:
                         break
             finally:
@@ -547,6 +619,10 @@ class GeneralizedAlpha(Integrator):
         profile can make the penetration jump). 0 disables the check.
     max_steps : int
         Upper bound on attempted steps.
+    chunk_steps : int, optional
+        Attempted steps per call of the compiled loop (≥ 1; default 1 000): between calls
+        Python runs, so Ctrl-C stops even a run held at tiny steps. The results do not
+        depend on it.
     step : float or "max_step", optional
         Fixed step (s), or ``"max_step"`` for the run's maximum step (``solver.max_step``,
         else the output step of a scene with clearance joints): no local error control
@@ -569,6 +645,7 @@ class GeneralizedAlpha(Integrator):
     max_newton: int = 8
     contact_entry_depth: float = 0.01
     max_steps: int = 200_000_000
+    chunk_steps: int = CHUNK_STEPS["generalized-alpha"]
     step: float | Literal["max_step"] | None = None
     name: str = field(default="generalized-alpha", init=False)
 
@@ -586,6 +663,7 @@ class GeneralizedAlpha(Integrator):
                 )
             if not self.step > 0.0:
                 raise ValueError(f"step must be > 0 (s); got {self.step!r}.")
+        _check_chunk_steps(self.chunk_steps)
 
     def integrate(
         self,
@@ -639,6 +717,7 @@ class GeneralizedAlpha(Integrator):
         t0 = float(t_out[0])
         t_end = float(t_out[-1])
         out = _output(model, ws, y, vimp, t_out, record)
+        since = interruptions()
         start = time.perf_counter()
         acc = np.zeros(n)
         t_now = t0
@@ -663,15 +742,19 @@ class GeneralizedAlpha(Integrator):
                            projection=projection, fixed_step=fixed,
                            approach_floor=approach_floor)  # fmt: skip
             loop = ik.LoopState(
-                y=y, f=acc, apse=acc.copy(), step=np.array([t0, h0, 0.0, 0.0]), vimp=vimp,
-                contact=contact, counters=counters,
+                y=y, f=acc, apse=acc.copy(), step=np.array([t0, h0, 0.0, 0.0, 0.0]),
+                vimp=vimp, contact=contact, counters=counters,
             )  # fmt: skip
             bar = _Progress(progress, t0, t_end, label)
             chunks = _chunks(t0, t_end, progress) if stops is None else [float(x) for x in stops]
             try:
                 for t_stop in chunks:
-                    status = ik.genalpha_advance(km, ws, loop, out, ctl, jac, t_stop, deviation)
-                    bar.update(loop.step[0])
+                    status = advance_to(
+                        lambda stop: ik.genalpha_advance(
+                            km, ws, loop, out, ctl, jac, stop, deviation
+                        ),
+                        loop.step, t_stop, bar, since,
+                    )  # fmt: skip
                     if on_stop is not None and status in (ik.STATUS_RUNNING, ik.STATUS_OK):
                         on_stop(float(loop.step[0]))
                     if status != ik.STATUS_RUNNING:

@@ -21,7 +21,17 @@ from mechanism.core.model import _kernels as k
 
 from . import _kernels as ik
 from . import _tangent_kernels as tk
-from ._methods import APPROACH_FRACTION, SolverStats, _initial_latch, _Progress, _stats
+from ._methods import (
+    APPROACH_FRACTION,
+    CHUNK_STEPS,
+    SolverStats,
+    _check_chunk_steps,
+    _initial_latch,
+    _Progress,
+    _stats,
+    advance_to,
+    interruptions,
+)
 
 if TYPE_CHECKING:
     from mechanism.core.model import Model
@@ -149,6 +159,7 @@ def integrate_tangent(
     projection: bool = False,
     deviation_rtol: float = 0.0,
     max_steps: int = 200_000_000,
+    chunk_steps: int = CHUNK_STEPS["tangent"],
     progress: bool = False,
     label: str = "lyapunov",
 ) -> TangentIntegration:
@@ -175,6 +186,11 @@ def integrate_tangent(
         and the steps are those of ``simulate`` at the same settings.
     time_scale
         τ (s) of the deviation norm.
+    max_steps
+        Upper bound on attempted steps.
+    chunk_steps
+        Attempted steps per call of the compiled loop (≥ 1): between calls Python runs, so
+        Ctrl-C stops even a run held at tiny steps. The results do not depend on it.
 
     Returns
     -------
@@ -182,6 +198,7 @@ def integrate_tangent(
         Fewer rows than ``t_stops`` when the run failed (``stats.status`` < 0).
     """
     _check_rigid(model)
+    _check_chunk_steps(chunk_steps)
     km = model.kernel
     ws, ws2 = model.workspace(), model.workspace()
     stops = np.ascontiguousarray(t_stops, dtype=np.float64)
@@ -201,6 +218,7 @@ def integrate_tangent(
     t0, t_end = float(stops[0]), float(stops[-1])
     times = [t0]
     logs = [0.0]
+    since = interruptions()
     start = time.perf_counter()
     status = k.rhs(km, ws, t0, y, vimp, k1, counters)
     if status == k.STATUS_OK:
@@ -218,16 +236,19 @@ def integrate_tangent(
         for t_stop in stops[1:]:
             if status != ik.STATUS_RUNNING:
                 break
-            status = tk.tangent_advance(
-                km, ws, ws2, y, d, k1, kd1, state, vimp, dvimp, contact, counters,
-                counters_p, growth, float(t_stop), t_end, rtol, atol, max_step, projection,
-                max_steps, int(renormalize_every), size, tau2, inv_mass,
-                float(approach_floor), APPROACH_FRACTION, float(deviation_rtol),
+            status = advance_to(
+                lambda stop: tk.tangent_advance(
+                    km, ws, ws2, y, d, k1, kd1, state, vimp, dvimp, contact, counters,
+                    counters_p, growth, stop, t_end, rtol, atol, max_step, projection,
+                    max_steps, int(renormalize_every), size, tau2, inv_mass,
+                    float(approach_floor), APPROACH_FRACTION, float(deviation_rtol),
+                    int(chunk_steps),
+                ),
+                state, float(t_stop), bar, since,
             )  # fmt: skip
             if status in (ik.STATUS_RUNNING, 0):
                 times.append(float(state[0]))
                 logs.append(float(growth[tk.GROWTH_LOG]))
-            bar.update(state[0])
     finally:
         bar.close()
     wall = time.perf_counter() - start

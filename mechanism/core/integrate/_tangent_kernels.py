@@ -427,6 +427,7 @@ def tangent_advance(
     approach_floor,
     approach_fraction,
     deviation_rtol,
+    chunk_steps,
 ):
     """Advance reference and deviation to ``t_stop`` (≤ ``t_end``), landing on it, and
     renormalise there.
@@ -440,7 +441,9 @@ def tangent_advance(
     size). Every ``every`` accepted steps, and at the end, the
     deviation is renormalised (:func:`renormalize`). ``state`` = [t, h, facold, last step
     rejected, accepted steps since the last renormalisation]. Returns ``STATUS_RUNNING``
-    when ``t_stop`` < ``t_end`` was reached, 0 at ``t_end``, or a negative failure status.
+    when ``t_stop`` < ``t_end`` was reached, or after ``chunk_steps`` (> 0) attempted steps
+    with ``state[0]`` < ``t_stop`` (the next call continues bit for bit), 0 at ``t_end``,
+    or a negative failure status.
     """
     n2 = y.shape[0]
     k2 = np.empty(n2)
@@ -473,6 +476,7 @@ def tangent_advance(
     facold = state[2]
     last_rejected = state[3] > 0.0
     since = int(state[4])
+    attempted = counters[CNT_STEPS] + counters[CNT_REJECTED]
     status = STATUS_RUNNING
     while True:
         if t >= t_end:
@@ -483,6 +487,8 @@ def tangent_advance(
         if counters[CNT_STEPS] + counters[CNT_REJECTED] >= max_steps:
             status = STATUS_MAX_STEPS
             break
+        if 0 < chunk_steps <= counters[CNT_STEPS] + counters[CNT_REJECTED] - attempted:
+            break  # back to Python, which checks for Ctrl-C and calls again
         h = min(h, max_step)
         if approach_floor > 0.0:
             near = approach_step(model, ws, y, k1[n2 // 2 :], approach_fraction)

@@ -323,6 +323,7 @@ def _finish(
     and the data contract's stamp."""
     ds.attrs["scene"] = model.scene.to_json()
     ds.attrs["scene_name"] = model.scene.name
+    _mark_roles(ds)
     ds.attrs.update(run.stats.as_attrs("solver_"))
     if ideal_run is not None:
         ds.attrs.update(ideal_run.stats.as_attrs("ideal_solver_"))
@@ -334,6 +335,32 @@ def _finish(
         source=f"mechanism (chaoskit {__version__})",
         history=f"mechanism.simulate({model.scene.name!r}, method={run.stats.method!r})",
     )
+
+
+#: The series that describe the motion, in order of preference: the journal centres of the
+#: clearance joints, else the slider.
+_MOTION_CHOICES = (("eccentricity_x", "eccentricity_y"), ("slider_position",))
+
+
+def _mark_roles(ds: xr.Dataset) -> None:
+    """Tell an analysis which series are the motion and which are auxiliary.
+
+    ``motion_variables`` (file attribute) lists the series an analysis takes by default,
+    ``phase_variable`` names the drive angle, and ``coverage_content_type`` (ACDD) marks
+    the ideal-mechanism copies, the errors against them and the solver's residual as
+    auxiliary, so that ``chaoskit analyze`` of a run analyses the motion, not every copy.
+    """
+    for names in _MOTION_CHOICES:
+        if all(n in ds.data_vars for n in names):
+            ds.attrs["motion_variables"] = " ".join(names)
+            break
+    if "crank_angle" in ds.data_vars:
+        ds.attrs["phase_variable"] = "crank_angle"
+    for name, var in ds.data_vars.items():
+        if str(name).endswith("_ideal") or name in ("displacement_error", "speed_error"):
+            var.attrs["coverage_content_type"] = "referenceInformation"
+        elif name in ("constraint_violation", "mechanical_energy"):
+            var.attrs["coverage_content_type"] = "qualityInformation"
 
 
 def _metric(name: str, value: float) -> xr.Variable:

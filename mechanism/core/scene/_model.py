@@ -37,7 +37,7 @@ import math
 from dataclasses import dataclass, field
 from typing import Annotated, Any, Literal
 
-from annotated_types import Ge, Gt, Le, Lt, MinLen
+from annotated_types import Ge, Gt, Le, Lt, MaxLen, MinLen
 from pydantic import (
     AfterValidator,
     ConfigDict,
@@ -77,37 +77,88 @@ class Unit:
     symbol: str
 
 
+def _no_control(value: str) -> str:
+    """A name is one line of printable text: control characters (NUL, line breaks, ...)
+    cannot be stored in the netCDF attributes of a run, nor shown on one line."""
+    bad = next((ch for ch in value if ord(ch) < 0x20 or 0x7F <= ord(ch) < 0xA0), None)
+    if bad is not None:
+        raise ValueError(
+            f"must not contain control characters (U+{ord(bad):04X} at position {value.index(bad)})"
+        )
+    return value
+
+
+def _text(value: str) -> str:
+    """Free text may hold line breaks and tabs, but no other control character."""
+    _no_control(value.replace("\n", " ").replace("\t", " ").replace("\r", " "))
+    return value
+
+
 # Strict scalars: a TOML string "0.5" or a boolean is not silently taken for a number.
 Real = Annotated[float, Strict()]
 Count = Annotated[int, Strict()]
 Flag = Annotated[bool, Strict()]
-Name = Annotated[str, Strict(), MinLen(1)]
+Name = Annotated[str, Strict(), MinLen(1), AfterValidator(_no_control)]
+Text = Annotated[str, Strict(), AfterValidator(_text)]
 Vec2 = tuple[Real, Real]
+
+# Accepted ranges of the physical keys (docs/scenes.md, "Accepted ranges", says why).
+# Masses and inertias span twelve decades each: the constraint matrix Φq M⁻¹ Φqᵀ that
+# every step factorises has entries 1/m and r²/J, and twelve decades between them leave
+# about four significant digits of the constraint forces in double precision (a
+# mass of 1e300 kg made those entries fall below the factorisation's pivot floor, and
+# the run was reported as a singular, locked configuration).
+MASS_RANGE = (1e-6, 1e6)  # kg
+INERTIA_RANGE = (1e-12, 1e6)  # kg m2
+COORDINATE_LIMIT = 1e3  # m, |x| and |y| of every point and position
+ANGLE_LIMIT = 1e3  # rad, |angle| of an initial pose
+# the largest integer keys: each sizes arrays that the simulator holds per joint or rod
+MAX_REGIONS = 36_000  # wear regions per part (0.01° each)
+MAX_ELEMENTS = 256  # ANCF elements per rod (1028 coordinates)
+MAX_SAMPLES = 100_000  # entries of a drive's angle profile and of a beam's sine modes
+SPEED_RPM_RANGE = (1e-3, 1e6)  # |drive.speed_rpm|, rpm
+
+Mass = Annotated[Real, Ge(MASS_RANGE[0]), Le(MASS_RANGE[1]), Unit("kg")]
+Inertia = Annotated[Real, Ge(INERTIA_RANGE[0]), Le(INERTIA_RANGE[1]), Unit("kg m2")]
+Coordinate = Annotated[Real, Ge(-COORDINATE_LIMIT), Le(COORDINATE_LIMIT)]
+Point = tuple[Coordinate, Coordinate]
+Angle = Annotated[Real, Ge(-ANGLE_LIMIT), Le(ANGLE_LIMIT), Unit("rad")]
+Modulus = Annotated[Real, Ge(1e3), Le(1e13), Unit("Pa")]
+GRAVITY_LIMIT = 1e3  # m s-2, |g_x| and |g_y| (about 100 g)
+Acceleration = Annotated[Real, Ge(-GRAVITY_LIMIT), Le(GRAVITY_LIMIT)]
 
 # Unknown keys are errors; TOML accepts inf/nan literals, a scene never does.
 _CONFIG = ConfigDict(extra="forbid", allow_inf_nan=False)
 
 
-def _nonzero(value: float) -> float:
-    if value == 0.0:
-        raise ValueError("must be nonzero (rpm; negative turns clockwise)")
+def _speed(value: float) -> float:
+    low, high = SPEED_RPM_RANGE
+    if not low <= abs(value) <= high:
+        raise ValueError(
+            f"must be nonzero, with |speed_rpm| in [{low:g}, {high:g}] "
+            "(rpm; negative turns clockwise)"
+        )
     return value
 
 
 STIFFNESS_FORMS = ("conformal", "sum-of-radii")
+STIFFNESS_RANGE = (1e3, 1e16)  # N m^-n: from rubber pads to the hardest steel contacts
 
 
 def _stiffness(value: Any) -> str | float:
     if isinstance(value, str) and value in STIFFNESS_FORMS:
         return value
+    low, high = STIFFNESS_RANGE
     if (
         isinstance(value, int | float)
         and not isinstance(value, bool)
         and math.isfinite(value)
-        and value > 0
+        and low <= value <= high
     ):
         return float(value)
-    raise ValueError("must be 'conformal', 'sum-of-radii' or a number > 0 (N m^-n)")
+    raise ValueError(
+        f"must be 'conformal', 'sum-of-radii' or a number in [{low:g}, {high:g}] (N m^-n)"
+    )
 
 
 @with_config(_CONFIG)
@@ -131,7 +182,7 @@ class Effects:
 class Material:
     """Elastic constants of one part of a clearance joint."""
 
-    youngs_modulus: Annotated[Real, Gt(0), Unit("Pa")]
+    youngs_modulus: Modulus
     poisson_ratio: Annotated[Real, Ge(0), Lt(0.5), Unit("1")]
 
 
@@ -142,14 +193,17 @@ class RigidBody:
 
     ``points`` are named points in body coordinates (m, relative to the centre of mass);
     ``position`` and ``angle`` are the initial guess of the pose, refined by assembly.
+    ``inertia`` (about the centre of mass) may be left out (None) for a body that cannot
+    rotate — one held to the ground by a prismatic or fixed joint, such as a slider —;
+    validation then sets it to ``mass`` × (1 m)², which has no effect on the motion.
     """
 
     type: Literal["rigid"] = "rigid"
-    mass: Annotated[Real, Gt(0), Unit("kg")]
-    inertia: Annotated[Real, Gt(0), Unit("kg m2")]  # about the centre of mass
-    position: Annotated[Vec2, Unit("m")] = (0.0, 0.0)
-    angle: Annotated[Real, Unit("rad")] = 0.0
-    points: Annotated[dict[str, Vec2], Unit("m")] = field(default_factory=dict)
+    mass: Mass
+    inertia: Inertia | None = None  # about the centre of mass
+    position: Annotated[Point, Unit("m")] = (0.0, 0.0)
+    angle: Angle = 0.0
+    points: Annotated[dict[str, Point], Unit("m")] = field(default_factory=dict)
 
     @property
     def point_names(self) -> tuple[str, ...]:
@@ -171,24 +225,26 @@ class AncfBeam:
     """
 
     type: Literal["ancf_beam"] = "ancf_beam"
-    length: Annotated[Real, Gt(0), Unit("m")]
-    elements: Annotated[Count, Ge(1), Unit("1")] = 16
-    area: Annotated[Real, Gt(0), Unit("m2")]
-    second_moment: Annotated[Real, Gt(0), Unit("m4")]
-    youngs_modulus: Annotated[Real, Gt(0), Unit("Pa")]
-    density: Annotated[Real, Gt(0), Unit("kg m-3")]
-    damping: Annotated[Real, Ge(0), Unit("s")] = 0.0  # stiffness-proportional
-    start: Annotated[Vec2, Unit("m")]  # initial global position of node 1
-    end: Annotated[Vec2, Unit("m")]  # initial global position of the last node
-    mass: Annotated[Real, Gt(0), Unit("kg")] | None = None  # default density*area*length
-    rigid_inertia: Annotated[Real, Gt(0), Unit("kg m2")] | None = None  # about the centroid
+    length: Annotated[Real, Ge(1e-4), Le(COORDINATE_LIMIT), Unit("m")]
+    elements: Annotated[Count, Ge(1), Le(MAX_ELEMENTS), Unit("1")] = 16
+    area: Annotated[Real, Ge(1e-12), Le(1.0), Unit("m2")]
+    second_moment: Annotated[Real, Ge(1e-24), Le(1.0), Unit("m4")]
+    youngs_modulus: Modulus
+    density: Annotated[Real, Ge(1.0), Le(1e5), Unit("kg m-3")]
+    damping: Annotated[Real, Ge(0), Le(1.0), Unit("s")] = 0.0  # stiffness-proportional
+    start: Annotated[Point, Unit("m")]  # initial global position of node 1
+    end: Annotated[Point, Unit("m")]  # initial global position of the last node
+    mass: Mass | None = None  # default density*area*length
+    rigid_inertia: Inertia | None = None  # about the centroid
     # formulation (docs/ancf.md §1): Biot strain + material curvature pass S4/S5; the
     # paper's literal form is axial_strain = "green", curvature = "linear"
     axial_strain: Literal["biot", "green"] = "biot"
     curvature: Literal["material", "geometric", "linear"] = "material"
     # elastic initial velocities (m/s) on sin(k pi s/L), k = 1, 2, ..., along the left
     # normal of the chord, added to the rigid motion (Simeon's slider-crank, S6)
-    initial_sine_velocities: Annotated[tuple[Real, ...], Unit("m s-1")] = ()
+    initial_sine_velocities: Annotated[
+        tuple[Annotated[Real, Ge(-1e3), Le(1e3)], ...], MaxLen(MAX_SAMPLES), Unit("m s-1")
+    ] = ()
 
     @property
     def point_names(self) -> tuple[str, ...]:
@@ -265,7 +321,7 @@ class ContactLaw:
         Literal["conformal", "sum-of-radii"] | float, PlainValidator(_stiffness), Unit("N m^-n")
     ] = "conformal"
     exponent: Annotated[Real, Ge(1), Le(3), Unit("1")] = 1.5
-    impact_velocity_floor: Annotated[Real, Gt(0), Unit("m s-1")] = 1e-3
+    impact_velocity_floor: Annotated[Real, Ge(1e-6), Le(1.0), Unit("m s-1")] = 1e-3
     approach_speed: Literal["latched", "bounded"] = "latched"
 
 
@@ -276,9 +332,12 @@ class FrictionLaw:
     ``"ambrosio"`` (c_d ramps 0 → 1 between ``v0`` and ``v1``; needs ``v1 > v0``)."""
 
     law: Literal["none", "coulomb", "ambrosio"] = "ambrosio"
-    coefficient: Annotated[Real, Ge(0), Unit("1")] = 0.1
-    v0: Annotated[Real, Gt(0), Unit("m s-1")] = 1e-4
-    v1: Annotated[Real, Gt(0), Unit("m s-1")] = 2e-4
+    coefficient: Annotated[Real, Ge(0), Le(5.0), Unit("1")] = 0.1
+    v0: Annotated[Real, Ge(1e-7), Le(10.0), Unit("m s-1")] = 1e-4
+    v1: Annotated[Real, Ge(1e-7), Le(10.0), Unit("m s-1")] = 2e-4
+
+
+Depth = Annotated[Real, Ge(0), Le(1.0)]
 
 
 @with_config(_CONFIG)
@@ -293,15 +352,15 @@ class WearSettings:
     angles [n, n + 1)·2π/``regions`` of that part's own frame.
     """
 
-    coefficient: Annotated[Real, Ge(0), Unit("m2 N-1")] = 1.827e-13  # Archard k, V = k F s
-    regions: Annotated[Count, Ge(3), Unit("1")] = 360
+    coefficient: Annotated[Real, Ge(0), Le(1e-8), Unit("m2 N-1")] = 1.827e-13  # V = k F s
+    regions: Annotated[Count, Ge(3), Le(MAX_REGIONS), Unit("1")] = 360
     surfaces: Literal["bearing", "both"] = "both"
     spread_over_contact_width: Flag = True
-    smoothing_regions: Annotated[Count, Ge(1), Unit("1")] = 5
-    bearing_profile: Annotated[tuple[Annotated[Real, Ge(0)], ...], Unit("m")] = ()
-    journal_profile: Annotated[tuple[Annotated[Real, Ge(0)], ...], Unit("m")] = ()
+    smoothing_regions: Annotated[Count, Ge(1), Le(MAX_REGIONS), Unit("1")] = 5
+    bearing_profile: Annotated[tuple[Depth, ...], MaxLen(MAX_REGIONS), Unit("m")] = ()
+    journal_profile: Annotated[tuple[Depth, ...], MaxLen(MAX_REGIONS), Unit("m")] = ()
     # bound of the worn local R* relative to the unworn one (flat or bulging worn patches)
-    radius_ratio_limit: Annotated[Real, Ge(1), Unit("1")] = 10.0
+    radius_ratio_limit: Annotated[Real, Ge(1), Le(1e6), Unit("1")] = 10.0
 
 
 @with_config(_CONFIG)
@@ -316,12 +375,12 @@ class ClearanceRevolute:
     type: Literal["clearance_revolute"] = "clearance_revolute"
     bearing: tuple[Name, Name]  # (body, point)
     journal: tuple[Name, Name]  # (body, point)
-    bearing_radius: Annotated[Real, Gt(0), Unit("m")]
-    clearance: Annotated[Real, Gt(0), Unit("m")]  # radial clearance, < bearing_radius
-    length: Annotated[Real, Gt(0), Unit("m")]  # axial contact length
+    bearing_radius: Annotated[Real, Ge(1e-6), Le(10.0), Unit("m")]
+    clearance: Annotated[Real, Ge(1e-8), Le(1.0), Unit("m")]  # radial, < bearing_radius
+    length: Annotated[Real, Ge(1e-6), Le(10.0), Unit("m")]  # axial contact length
     bearing_material: Material
     journal_material: Material
-    restitution: Annotated[Real, Gt(0), Le(1), Unit("1")] = 0.9
+    restitution: Annotated[Real, Ge(0.01), Le(1), Unit("1")] = 0.9
     contact: ContactLaw = field(default_factory=ContactLaw)
     friction: FrictionLaw = field(default_factory=FrictionLaw)
     wear: WearSettings = field(default_factory=WearSettings)
@@ -341,8 +400,8 @@ class ConstantSpeedDrive:
 
     type: Literal["constant_speed"] = "constant_speed"
     joint: Name
-    speed_rpm: Annotated[Real, AfterValidator(_nonzero), Unit("rpm")]
-    initial_angle: Annotated[Real, Unit("rad")] = 0.0
+    speed_rpm: Annotated[Real, AfterValidator(_speed), Unit("rpm")]
+    initial_angle: Angle = 0.0
 
     @property
     def speed(self) -> float:
@@ -363,9 +422,9 @@ class AngleProfileDrive:
 
     type: Literal["angle_profile"] = "angle_profile"
     joint: Name
-    time: Annotated[tuple[Real, ...], Unit("s")]  # strictly increasing, span <= period
-    angle: Annotated[tuple[Real, ...], Unit("rad")]  # one per time sample
-    period: Annotated[Real, Gt(0), Unit("s")]
+    time: Annotated[tuple[Real, ...], MaxLen(MAX_SAMPLES), Unit("s")]  # increasing, <= period
+    angle: Annotated[tuple[Angle, ...], MaxLen(MAX_SAMPLES), Unit("rad")]  # one per time
+    period: Annotated[Real, Ge(6e-5), Le(6e4), Unit("s")]  # the speed range's periods
 
 
 @with_config(_CONFIG)
@@ -384,12 +443,12 @@ class SolverSettings:
     """
 
     method: Name = "auto"
-    rtol: Annotated[Real, Gt(0), Lt(1), Unit("1")] = 1e-5
-    atol: Annotated[Real, Gt(0), Unit("")] = 1e-5
+    rtol: Annotated[Real, Ge(1e-13), Lt(1), Unit("1")] = 1e-5
+    atol: Annotated[Real, Ge(1e-15), Le(1.0), Unit("")] = 1e-5
     max_step: Annotated[Real, Gt(0), Unit("s")] | None = None  # unset: approach bound
     output_step: Annotated[Real, Gt(0), Unit("s")] | None = None  # default period / 10000
-    baumgarte_alpha: Annotated[Real, Ge(0), Unit("s-1")] = 50.0
-    baumgarte_beta: Annotated[Real, Ge(0), Unit("s-1")] = 50.0
+    baumgarte_alpha: Annotated[Real, Ge(0), Le(1e4), Unit("s-1")] = 50.0
+    baumgarte_beta: Annotated[Real, Ge(0), Le(1e4), Unit("s-1")] = 50.0
     projection: Flag = False
     rho_inf: Annotated[Real, Ge(0), Le(1), Unit("1")] = 0.8
 

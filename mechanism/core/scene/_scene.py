@@ -28,28 +28,33 @@ from typing import Annotated, Any
 
 import annotated_types as at
 import numpy as np
-from pydantic import Discriminator, Strict, Tag, TypeAdapter, ValidationError, with_config
+from pydantic import Discriminator, Tag, TypeAdapter, ValidationError, with_config
 
 from chaoskit.contract import atomic_write
 
 from ._model import (
     _CONFIG,
     GROUND,
+    INERTIA_RANGE,
+    MASS_RANGE,
+    Acceleration,
     AncfBeam,
     AngleProfileDrive,
     Body,
     ClearanceRevolute,
     Drive,
     Effects,
+    FixedJoint,
     Joint,
     Name,
     Outputs,
+    Point,
     PrismaticJoint,
     RevoluteJoint,
     RigidBody,
     SolverSettings,
+    Text,
     Unit,
-    Vec2,
 )
 
 __all__ = [
@@ -70,6 +75,10 @@ __all__ = [
 
 _NAME = re.compile(r"^[A-Za-z0-9_-]+$")
 _BEAM_LENGTH_RTOL = 1e-3  # |end − start| vs length: catches unit slips, allows rounded input
+#: the radius of gyration of a rigid body that can rotate lies within this factor of its
+#: farthest point: the constraint matrix then keeps its entries 1/m and r²/J within eight
+#: decades, half the digits of double precision (docs/scenes.md, "Accepted ranges")
+GYRATION_RATIO = 1e4
 _AXIS_TOL = 1e-6
 
 
@@ -91,10 +100,10 @@ class Scene:
     """
 
     name: Name
-    description: Annotated[str, Strict()] = ""
+    description: Text = ""
     effects: Effects = field(default_factory=Effects)
-    gravity: Annotated[Vec2, Unit("m s-2")] = (0.0, -9.81)
-    ground_points: Annotated[dict[str, Vec2], Unit("m")] = field(default_factory=dict)
+    gravity: Annotated[tuple[Acceleration, Acceleration], Unit("m s-2")] = (0.0, -9.81)
+    ground_points: Annotated[dict[str, Point], Unit("m")] = field(default_factory=dict)
     bodies: dict[str, Body] = field(default_factory=dict)
     joints: dict[str, Joint] = field(default_factory=dict)
     drive: Drive | None = None
@@ -277,7 +286,7 @@ def scene_from_dict(data: Mapping[str, Any], *, source: str | None = None) -> Sc
     problems = _cross_check(scene)
     if problems:
         raise SceneError(problems, source=source)
-    return scene
+    return _resolve_inertias(scene)
 
 
 def validate_scene(scene: Scene) -> Scene:
@@ -572,12 +581,28 @@ def _expected(where: _Location) -> str:
     return "a valid value"
 
 
+_ENTRY = re.compile(r"^(?P<array>.*)\[(?P<index>\d+)\]: (?P<problem>.*?); got ")
+
+
 def _describe_errors(exc: ValidationError) -> list[str]:
+    """One line per problem; the entries of one array that break the same rule are one
+    line (the first, and how many more), not one line per entry."""
     lines: list[str] = []
+    more: dict[tuple[str, str], int] = {}
+    first: dict[tuple[str, str], int] = {}
     for err in exc.errors():
         line = _describe(err)
+        entry = _ENTRY.match(line)
+        if entry is not None:
+            rule = (entry["array"], entry["problem"])
+            if rule in first:
+                more[rule] = more.get(rule, 0) + 1
+                continue
+            first[rule] = len(lines)
         if line not in lines:
             lines.append(line)
+    for rule, count in more.items():
+        lines[first[rule]] += f" (and {count} more entries)"
     return lines
 
 
@@ -645,10 +670,42 @@ def _cross_check(scene: Scene) -> list[str]:
     if GROUND in scene.bodies:
         add(f"bodies.{GROUND}: {GROUND!r} is the frame; use [ground_points] for its points")
 
+    def check_gyration(body_name: str, body: RigidBody) -> None:
+        # the constraint matrix Φq M⁻¹ Φqᵀ holds 1/m and r²/J side by side: their ratio,
+        # (r/k)² with k = sqrt(J/m), must leave double precision digits to spare
+        reach = max((math.hypot(*p) for p in body.points.values()), default=0.0)
+        if reach == 0.0 or body.inertia is None:
+            return
+        ratio = math.sqrt(body.inertia / body.mass) / reach
+        if not 1.0 / GYRATION_RATIO <= ratio <= GYRATION_RATIO:
+            add(
+                f"bodies.{body_name}.inertia: the radius of gyration sqrt(inertia / mass) = "
+                f"{_fmt(ratio * reach)} m must be within a factor {GYRATION_RATIO:g} of the "
+                f"farthest point from the centre of mass ({_fmt(reach)} m); got inertia "
+                f"{_fmt(body.inertia)} (kg m2) with mass {_fmt(body.mass)} (kg)"
+            )
+
+    held = _held_bodies(scene)
     for body_name, body in scene.bodies.items():
         if isinstance(body, RigidBody):
             names(f"bodies.{body_name}.points", body.points)
+            if body.inertia is None and body_name not in held:
+                low, high = INERTIA_RANGE
+                add(
+                    f"bodies.{body_name}.inertia: required key is missing (expected a number "
+                    f"in [{low:g}, {high:g}] (kg m2)); only a body held to the ground by a "
+                    "prismatic or fixed joint, which cannot rotate, may leave it out"
+                )
+            elif body.inertia is not None and body_name not in held:
+                check_gyration(body_name, body)
         elif isinstance(body, AncfBeam):
+            low, high = MASS_RANGE
+            if body.mass is None and not low <= body.total_mass <= high:
+                add(
+                    f"bodies.{body_name}.mass: density × area × length = "
+                    f"{_fmt(body.total_mass)} kg is outside [{low:g}, {high:g}] (kg); "
+                    "change them or give mass"
+                )
             chord = math.dist(body.start, body.end)
             if abs(chord - body.length) > _BEAM_LENGTH_RTOL * body.length:
                 add(
@@ -707,10 +764,19 @@ def _cross_check(scene: Scene) -> list[str]:
                         f"{base}.wear.{part}: must be empty or hold one depth per region "
                         f"({wear.regions}) (m); got {n} values"
                     )
-            if wear.smoothing_regions > wear.regions:
+            if wear.smoothing_regions > wear.regions // 2:
+                # the smoothing window spans at most half the circumference
                 add(
-                    f"{base}.wear.smoothing_regions: must be <= regions ({wear.regions}); "
-                    f"got {wear.smoothing_regions}"
+                    f"{base}.wear.smoothing_regions: must be <= regions // 2 "
+                    f"({wear.regions // 2}); got {wear.smoothing_regions}"
+                )
+            journal_radius = joint.bearing_radius - joint.clearance
+            deepest = max(wear.journal_profile, default=0.0)
+            if wear.journal_profile and 0.0 < journal_radius <= deepest:
+                add(
+                    f"{base}.wear.journal_profile: every depth must be < the journal radius "
+                    f"(bearing_radius - clearance = {_fmt(journal_radius)} m); got "
+                    f"{_fmt(deepest)}"
                 )
             continue
         for i in (0, 1):
@@ -756,6 +822,34 @@ def _cross_check(scene: Scene) -> list[str]:
         kinds = (RevoluteJoint, ClearanceRevolute)
         check_joint_ref("outputs.crank_joint", outputs.crank_joint, kinds)
     return problems
+
+
+def _held_bodies(scene: Scene) -> set[str]:
+    """Bodies that cannot rotate: held to the ground by a prismatic or fixed joint."""
+    held = set()
+    for joint in scene.joints.values():
+        if isinstance(joint, PrismaticJoint | FixedJoint) and GROUND in joint.bodies:
+            held.update(name for name in joint.bodies if name != GROUND)
+    return held
+
+
+def _resolve_inertias(scene: Scene) -> Scene:
+    """Give every rigid body that left out its inertia (it cannot rotate) mass × (1 m)².
+
+    The value does not change the motion: the joint that holds the body keeps its angle
+    constant whatever the inertia. It gives the rotation row of the constraint matrix
+    Φq M⁻¹ Φqᵀ (1/J) the scale of the translation rows (1/m), so that matrix stays as
+    well conditioned as the rest of the mechanism makes it.
+    """
+    bodies = {
+        name: dataclasses.replace(body, inertia=body.mass * 1.0)
+        if isinstance(body, RigidBody) and body.inertia is None
+        else body
+        for name, body in scene.bodies.items()
+    }
+    if bodies == scene.bodies:
+        return scene
+    return dataclasses.replace(scene, bodies=bodies)
 
 
 def _joint_type(cls: type) -> str:
