@@ -10,8 +10,10 @@ from __future__ import annotations
 
 import hashlib
 import re
+import tempfile
+from pathlib import Path
 
-__all__ = ["safe_filename", "unique_filename"]
+__all__ = ["folder_problem", "safe_filename", "unique_filename"]
 
 _UNSAFE = re.compile(r"(?:[^A-Za-z0-9._+-]|\.{2,})+")
 
@@ -52,3 +54,24 @@ def unique_filename(name: str, *, max_length: int = 80) -> str:
     if safe == name:
         return safe
     return f"{safe}-{hashlib.sha1(str(name).encode('utf-8')).hexdigest()[:8]}"
+
+
+def folder_problem(folder: str | Path, what: str) -> str | None:
+    """Why no file can be written in ``folder`` (or made under its nearest existing
+    parent), as one line starting with ``what``; None when one can.
+
+    A temporary file is created and removed there, since permission bits do not tell: root
+    passes every ``os.access`` test, yet can create nothing in ``/proc``. Nothing is left
+    behind.
+    """
+    existing = Path(folder)
+    while not existing.exists() and existing != existing.parent:
+        existing = existing.parent
+    if not existing.is_dir():
+        return f"{what}: {existing} is not a folder."
+    try:
+        with tempfile.TemporaryFile(dir=existing):
+            pass
+    except OSError as exc:
+        return f"{what}: {existing} is not writable ({exc.strerror or exc})."
+    return None

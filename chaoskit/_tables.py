@@ -28,6 +28,7 @@ __all__ = [
     "MISSING_WORDS",
     "TIME_NAMES",
     "Origin",
+    "check_index_interval",
     "from_array",
     "from_table",
     "has_time_index",
@@ -191,6 +192,26 @@ def has_time_index(data: Any) -> bool:
         return False
     index = data.index
     return isinstance(index, (pd.DatetimeIndex, pd.TimedeltaIndex)) or index.dtype.kind == "f"
+
+
+def check_index_interval(data: Any, dt: float, *, name: str = "x") -> None:
+    """Refuse a series whose time index (see :func:`has_time_index`) is not uniform or
+    whose sampling interval is not ``dt`` (s): an estimator that takes ``dt`` would
+    otherwise measure time in the wrong unit without a word."""
+    if not has_time_index(data):
+        return
+    found = _time_index(data.index)
+    assert found is not None
+    t = found[0]
+    _check_uniform_index(t, what=name)
+    if t.size < 2:
+        return
+    interval = float(np.median(np.diff(t)))
+    if abs(interval - dt) > _UNIFORM_RTOL * abs(interval):
+        raise ValueError(
+            f"dt={float(dt):g} contradicts the time index of {name} (sampling interval "
+            f"{interval:.6g} s); pass dt={interval:.6g}."
+        )
 
 
 def _check_dt(t: np.ndarray, dt: float | None, *, what: str) -> None:

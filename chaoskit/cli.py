@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import os
 import shlex
 import sys
 from collections.abc import Iterator
@@ -19,7 +18,7 @@ from ._contract import ParameterError
 from ._formats import SUFFIXES as _RIG_SUFFIXES
 from ._io import _CSV, _NPZ, NAN_POLICIES, RESAMPLE_METHODS, load_trajectory
 from ._measures import measure_figures, measures_for_verdicts, measures_text, parse_measures
-from ._paths import unique_filename
+from ._paths import folder_problem, unique_filename
 from ._portraits import phase_portrait
 from ._samples import sample_path
 from ._selection import expand_variables, parse_variable, select_series, variable_spec
@@ -327,6 +326,9 @@ def _run_analysis(
     with _user_errors():
         if drive_period is not None:  # else every variable's analysis fails on it (exit 1)
             check_positive(drive_period, name="--drive-period")
+        problem = None if figures is None else folder_problem(figures, f"--figures {figures}")
+        if problem is not None:  # refused before the analysis, not after it
+            raise ValueError(problem)
         names = parse_measures(measures)
         off = motion is not None and motion.strip().lower() == "none"
         chosen = (_split_specs(motion) if motion else None) if not off else None
@@ -580,13 +582,9 @@ def _check_output(path: Path) -> None:
         raise ValueError(
             f"{path} is a folder; give the report's file name, e.g. {path}/report.html"
         )
-    parent = path.parent
-    while not parent.exists() and parent != parent.parent:
-        parent = parent.parent
-    if not parent.is_dir():
-        raise ValueError(f"cannot create {path}: {parent} is not a folder.")
-    if not os.access(parent, os.W_OK | os.X_OK):
-        raise ValueError(f"cannot write {path}: {parent} is not writable.")
+    problem = folder_problem(path.parent, f"cannot create {path}")
+    if problem is not None:
+        raise ValueError(problem)
 
 
 def _parse_selections(items: list[str]) -> dict[str, str]:

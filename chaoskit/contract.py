@@ -48,7 +48,7 @@ from ._contract import (
 from ._io import _atomic_write as atomic_write
 from ._io import check_free_space, write_netcdf
 from ._jit_cache import refresh_jit_cache
-from ._paths import safe_filename, unique_filename
+from ._paths import folder_problem, safe_filename, unique_filename
 from ._validate import as_series, check_choice, check_int, check_positive, check_probability
 from ._version import __version__
 
@@ -65,6 +65,7 @@ __all__ = [
     "check_int",
     "check_positive",
     "check_probability",
+    "folder_problem",
     "refresh_jit_cache",
     "safe_filename",
     "sampling_interval",

@@ -15,7 +15,7 @@ import typer
 from typer.core import TyperGroup
 
 import chaoskit
-from chaoskit.contract import __version__
+from chaoskit.contract import __version__, folder_problem
 from mechanism import (
     Analysis,
     Scene,
@@ -102,7 +102,6 @@ def main(
 # --- scenes (scene loading): commands below this line only ---
 import contextlib  # noqa: E402
 import os  # noqa: E402
-import tempfile  # noqa: E402
 import warnings  # noqa: E402
 from collections.abc import Iterator  # noqa: E402
 from typing import TYPE_CHECKING  # noqa: E402
@@ -172,7 +171,7 @@ def check_output_option(
     elif path.is_dir():
         problem = f"{path} is a folder; give a file name ending in {path.suffix}."
     else:
-        problem = _folder_problem(path.parent, f"cannot create {path}")
+        problem = folder_problem(path.parent, f"cannot create {path}")
     if problem is not None:
         typer.echo(f"Error: {problem}", err=True)
         raise typer.Exit(code=2)
@@ -184,29 +183,11 @@ def check_output_folder(folder: str | os.PathLike[str], option: str = "-o") -> P
     folder, or one that can be made, that takes a file. Exits with status 2 and one line
     naming the problem otherwise."""
     path = Path(folder)
-    problem = _folder_problem(path, f"{option} {path}")
+    problem = folder_problem(path, f"{option} {path}")
     if problem is not None:
         typer.echo(f"Error: {problem}", err=True)
         raise typer.Exit(code=2)
     return path
-
-
-def _folder_problem(folder: Path, what: str) -> str | None:
-    """Why no file can be written in ``folder`` (or made under its nearest existing
-    parent), or None. A temporary file is created and removed there, since permission
-    bits do not tell: root passes every ``os.access`` test, yet can create nothing in
-    /proc. Nothing is left behind."""
-    existing = folder
-    while not existing.exists() and existing != existing.parent:
-        existing = existing.parent
-    if not existing.is_dir():
-        return f"{what}: {existing} is not a folder."
-    try:
-        with tempfile.TemporaryFile(dir=existing):
-            pass
-    except OSError as exc:
-        return f"{what}: {existing} is not writable ({exc.strerror or exc})."
-    return None
 
 
 @contextlib.contextmanager

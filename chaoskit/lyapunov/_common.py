@@ -8,6 +8,7 @@ from typing import Any
 import numpy as np
 
 from .._neighbors import default_theiler_window, mean_period
+from .._tables import check_index_interval
 from .._validate import as_series, check_int, check_positive
 from ..embedding._delay import lag_or_estimate
 from ..embedding._dimension import DEFAULT_FNN_THRESHOLD, fnn_curve
@@ -50,6 +51,7 @@ def prepare(
     horizon or evolution length) and enters the minimum-length check.
     """
     dt = check_positive(dt, name="dt")
+    check_index_interval(x, dt)
     arr = as_series(x, min_length=MIN_SAMPLES)
     # work in units of the standard deviation: exact scale invariance and no overflow of
     # squared distances for huge amplitudes

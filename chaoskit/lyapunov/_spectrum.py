@@ -11,6 +11,7 @@ import xarray as xr
 from scipy.spatial import cKDTree
 
 from .._neighbors import default_theiler_window
+from .._tables import check_index_interval
 from .._validate import as_series, check_choice, check_int, check_positive
 from ..embedding._delay import lag_or_estimate
 from ..embedding._embed import embed, standardize
@@ -242,6 +243,7 @@ def lyapunov_spectrum(
     """
     m = check_int(embedding_dim, name="embedding_dim", minimum=2, maximum=12)
     dt = check_positive(dt, name="dt")
+    check_index_interval(x, dt)
     k = 2 * m + 4 if n_neighbors is None else n_neighbors
     k = check_int(k, name="n_neighbors", minimum=m + 1, maximum=200)
     arr = standardize(as_series(x, min_length=100))

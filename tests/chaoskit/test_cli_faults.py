@@ -313,3 +313,21 @@ def test_analyze_names_options_when_a_netcdf_file_has_no_time(tmp_path: Path, mo
     out = runner.invoke(app, ["analyze", str(path), "--dt", "0.01"])
     assert out.exit_code == 0, out.output
     assert chaoskit.sampling_interval(calls[-1][0]) == pytest.approx(0.01, rel=1e-12)
+
+
+def test_analyze_refuses_a_figures_folder_it_cannot_write_before_the_analysis(
+    tmp_path: Path, monkeypatch
+) -> None:
+    """``--figures`` under a file (no folder can be made there) is refused with one line
+    and exit 2 before any series is classified."""
+    calls = stub_analysis(monkeypatch)
+    path = tmp_path / "rig.csv"
+    path.write_text("time,x\n" + "".join(f"{0.001 * i!r},{v!r}\n" for i, v in enumerate(X)))
+    blocker = tmp_path / "a-file"
+    blocker.write_text("")
+    out = runner.invoke(app, ["analyze", str(path), "--figures", str(blocker / "figs")])
+    assert out.exit_code == 2, out.output
+    assert calls == []
+    assert out.stderr.strip().splitlines() == [
+        f"error: --figures {blocker / 'figs'}: {blocker} is not a folder."
+    ]

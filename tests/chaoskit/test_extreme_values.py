@@ -177,3 +177,15 @@ def test_a_numpy_number_is_shown_plainly_in_the_message() -> None:
     with pytest.raises(ValueError) as info:
         lyapunov_rosenstein(x, dt=np.float64(-29.990000000000002))
     assert str(info.value) == "dt must be finite and > 0; got -29.990000000000002."
+
+
+def test_a_time_index_that_contradicts_dt_is_refused() -> None:
+    """A Series indexed by time stamps 10 ms apart, given to an estimator that takes
+    ``dt``: the default dt = 1 would measure the exponent per sample, not per second, so
+    the call is refused naming the interval; with dt = 0.01 it runs."""
+    pd = pytest.importorskip("pandas")
+    x = systems.lorenz(3000, dt=0.01)[:, 0]
+    series = pd.Series(x, index=pd.date_range("2020", periods=x.size, freq="10ms"))
+    with pytest.raises(ValueError, match=r"dt=1 contradicts the time index of x .*dt=0\.01"):
+        lyapunov_rosenstein(series)
+    assert lyapunov_rosenstein(series, dt=0.01).mle > 0.0
