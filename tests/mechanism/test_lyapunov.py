@@ -158,7 +158,7 @@ def benettin_closed_form(
     return np.asarray(logs)
 
 
-def _joint_angle_deviation(scene: Scene) -> np.ndarray:
+def joint_angle_deviation(scene: Scene) -> np.ndarray:
     """The scene's initial deviation (seed 0) as (δθ₁, δθ₂, δω₁, δω₂), unit length."""
     model = assemble(scene)
     q0, v0 = initial_state(model)
@@ -175,7 +175,7 @@ def test_double_pendulum_matches_closed_form_variational_equations() -> None:
     scene = double_pendulum(*THETA0)
     horizon = 8.0
     result = mechanism.lyapunov_exponent(scene, t_end=horizon, perturbation=1e-9)
-    reference = benettin_closed_form(THETA0, _joint_angle_deviation(scene), horizon).sum() / horizon
+    reference = benettin_closed_form(THETA0, joint_angle_deviation(scene), horizon).sum() / horizon
     assert reference > 1.0  # chaotic: ≥ 8 nats over the horizon
     np.testing.assert_allclose(result.exponent, reference, rtol=1e-3)
     assert result.drive_period is None
@@ -193,7 +193,7 @@ def test_double_pendulum_converged_exponent_agrees_within_its_uncertainty() -> N
     scene = double_pendulum(*THETA0, tol=1e-9)
     t_end, discard = 1200.0, 20.0
     result = mechanism.lyapunov_exponent(scene, t_end=t_end, discard=discard)
-    first = _joint_angle_deviation(scene)
+    first = joint_angle_deviation(scene)
     logs = benettin_closed_form(THETA0, first, t_end, interval=1.0, tol=1e-9)[int(discard) :]
     batches = logs[: logs.size // 10 * 10].reshape(10, -1).mean(axis=1)  # per second
     reference = float(logs.mean())
@@ -225,7 +225,13 @@ def test_paper_deviation_is_linear_across_impacts() -> None:
     is chaotic: from starts whose crank angles differ by up to 2e-12 of a revolution the
     exponent ranges over 18.8 – 26.7 s⁻¹ and the contact events over 11 – 15 (bound 5),
     but the two sizes stay within 0.3 % (bound 2 %)."""
-    scene = rigid_paper()
+    small = deviation_is_linear(rigid_paper())
+    assert small.settings["perturbation_size"] == pytest.approx(1e-9 * 2e-4)
+
+
+def deviation_is_linear(scene: mechanism.Scene) -> mechanism.SceneLyapunov:
+    """Assert that 1e-9 and 1e-7 of the clearance grow alike over the first revolution of
+    ``scene`` on the same steps, through more than 5 contact events; the 1e-9 run."""
     small, large = (
         mechanism.lyapunov_exponent(scene, revolutions=1, perturbation=eps, deviation_rtol=0.0)
         for eps in (1e-9, 1e-7)
@@ -233,7 +239,7 @@ def test_paper_deviation_is_linear_across_impacts() -> None:
     assert small.stats is not None and small.stats.contact_events > 5
     assert small.stats.steps == large.stats.steps
     np.testing.assert_allclose(large.exponent, small.exponent, rtol=0.02)
-    assert small.settings["perturbation_size"] == pytest.approx(1e-9 * 2e-4)
+    return small
 
 
 #: where the 250 rpm period-1 orbit of the rigid paper scene presses the journal of
