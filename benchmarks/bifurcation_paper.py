@@ -43,9 +43,8 @@ import numpy as np
 import xarray as xr
 
 import mechanism
-from chaoskit.contract import atomic_write
-from mechanism.studies._paper_summary import process_tree_cpu_time
-from mechanism.studies._sweep_store import write_netcdf
+from chaoskit.contract import atomic_write, write_netcdf
+from mechanism.studies.paper import process_tree_cpu_time
 
 OUT = Path(__file__).resolve().parents[1] / "docs" / "benchmarks"
 COST = OUT / "bifurcation-cost.csv"

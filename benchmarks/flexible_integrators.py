@@ -1,4 +1,4 @@
-"""Cost and accuracy of the integrators on flexible (ANCF) scenes (issue 6).
+"""Cost and accuracy of the integrators on flexible (ANCF) scenes.
 
 Writes ``docs/benchmarks/flexible-integrators.csv``: wall time, steps, right-hand sides
 and the errors of the slider position and mid-span deflection against the S6 reference

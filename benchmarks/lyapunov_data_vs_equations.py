@@ -23,7 +23,7 @@ import xarray as xr
 
 import chaoskit
 import mechanism
-from mechanism.studies._sweep_store import write_netcdf
+from chaoskit.contract import write_netcdf
 
 ROOT = Path(__file__).resolve().parents[1]
 OUT = ROOT / "docs" / "benchmarks" / "lyapunov-data-vs-equations.csv"

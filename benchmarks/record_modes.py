@@ -36,10 +36,9 @@ def _scene(flexible: bool):
 
 
 def _cost(scene, revolutions: float, record: str) -> dict:
-    kwargs = {} if record == "full" else {"discard": 0.0}
     mechanism.simulate(scene, revolutions=0.05, record="full")  # compile / load
     cpu, wall = time.process_time(), time.perf_counter()
-    ds = mechanism.simulate(scene, revolutions=revolutions, record=record, **kwargs)
+    ds = mechanism.simulate(scene, revolutions=revolutions, record=record)
     cpu, wall = time.process_time() - cpu, time.perf_counter() - wall
     assert ds.attrs["solver_status"] == 0
     return {

@@ -1,4 +1,4 @@
-"""ANCF beam kernels per right-hand-side evaluation (issue 6).
+"""ANCF beam kernels per right-hand-side evaluation.
 
 The multibody core calls ``beams_force_add`` once per RHS and ``beams_jacobian_add`` once per
 Newton matrix; these numbers bound the flexible-body share of the S6 (1 s simulated in ≤ 1 s)

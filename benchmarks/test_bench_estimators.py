@@ -1,4 +1,4 @@
-"""Estimator timings (issue 3): delay, dimension and largest Lyapunov exponent.
+"""Estimator timings: delay, dimension and largest Lyapunov exponent.
 
 Targets: Rosenstein on Lorenz x, N = 50,000, defaults (delay and dimension estimation
 included) ≤ 0.2 s warm; N = 10^6 ≤ 10 s and ≤ 1 GB; ≥ 100× faster than ``nolds.lyap_r`` at

@@ -1,4 +1,4 @@
-"""Flexible-rod wall time (issue 6, Performance): whole ``mechanism.simulate`` calls.
+"""Flexible-rod wall time: whole ``mechanism.simulate`` calls.
 
 * S6 — Simeon's flexible slider-crank, 16 elements, 1 s simulated with the scene's
   fixed-step generalized-α (1e-4 s), the settings at which the slider position at 0.1 s is

@@ -1,4 +1,4 @@
-"""Simulator wall time (issue 5, Performance): whole ``mechanism.simulate`` calls.
+"""Simulator wall time: whole ``mechanism.simulate`` calls.
 
 * S3 — the clearance slider-crank with friction (μ = 0.1) for 1 s at 5000 rpm at the
   settings that keep the first impact within 3 % (rtol = atol = 1e-5 and an output step of
@@ -33,7 +33,7 @@ def _s3(clearance: bool = True):
 
 def _paper(clearance: bool = True):
     # rigid rods: the published rows measure the rigid paper scene (the built-in default
-    # is flexible since issue 6; its flexible cost is in test_bench_flexible.py)
+    # is flexible by default; its flexible cost is in test_bench_flexible.py)
     scene = mechanism.load_scene("paper").replace({"effects.flexibility": False})
     return scene.replace({"effects.clearance": False}) if not clearance else scene
 

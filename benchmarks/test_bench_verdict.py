@@ -1,4 +1,4 @@
-"""Views and verdict (issue 4): sections, 0–1 test, surrogates, classify and analyze.
+"""Views and verdict: sections, 0–1 test, surrogates, classify and analyze.
 
 No speed target is set by the issue; these show what a call costs. Run with
 ``python -m pytest benchmarks/test_bench_verdict.py --benchmark-only`` (JIT warmed up first).

@@ -1,4 +1,4 @@
-"""Cost of wear in the dynamics (issue 7): the paper scene, one revolution at 150 rpm.
+"""Cost of wear in the dynamics: the paper scene, one revolution at 150 rpm.
 
 * ``unworn`` — no profile, ``effects.wear`` off: the unworn code path (the worn tables are
   empty and ``worn_contact`` is never called, see ``test_wear_dynamics.py``).

@@ -1,4 +1,4 @@
-"""Contact, friction and wear kernels per evaluation (issues 5 §3 and 7 §1–2).
+"""Contact, friction and wear kernels per evaluation.
 
 The integrator evaluates one normal force and one friction force per clearance joint and
 right-hand side; with wear on it also looks up the local clearance and stiffness, and after

@@ -1,4 +1,4 @@
-"""Contact-force spikes after wear (issue 7): diagnosis and the peak-force ratio protocol.
+"""Contact-force spikes after wear: diagnosis and the peak-force ratio protocol.
 
 Not a pytest-benchmark file: a script that reproduces the numbers of ``docs/wear.md`` §5
 and ``docs/contact-and-wear.md`` §2 ("sustained contact").

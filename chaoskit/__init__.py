@@ -11,26 +11,26 @@ from ._jit_cache import refresh_jit_cache
 # before any kernel is compiled or loaded: cached kernels compiled from other sources go
 refresh_jit_cache(__file__)
 
-from . import contract, systems
+# subpackages reachable as attributes (not names of __all__): the contract helpers a front end
+# shares, reference systems, and the figures
+from . import contract as contract
+from . import plot as plot
+from . import systems as systems
+from ._bifurcation import bifurcation_diagram
 from ._contract import sampling_interval, validate_trajectory
 from ._io import load_trajectory, save_trajectory
+from ._portraits import phase_portrait
 from ._samples import sample_path
 from ._selection import select_series
 from ._version import __version__
-
-_foundation = [
-    "__version__",
-    "contract",
-    "load_trajectory",
-    "sample_path",
-    "sampling_interval",
-    "save_trajectory",
-    "select_series",
-    "systems",
-    "validate_trajectory",
-]
-
-# --- estimators ---
+from .complexity import (
+    ComplexityResult,
+    detrended_fluctuation,
+    hurst_exponent,
+    sample_entropy,
+)
+from .denoise import DenoiseResult, local_projective_denoise
+from .dimension import CorrelationDimensionResult, correlation_dimension
 from .embedding import (
     DelayCurve,
     DelayResult,
@@ -46,36 +46,27 @@ from .embedding import (
 from .lyapunov import (
     KantzResult,
     LyapunovResult,
+    LyapunovSpectrumResult,
     lyapunov_kantz,
     lyapunov_rosenstein,
+    lyapunov_spectrum,
     lyapunov_wolf,
 )
-
-_estimators: list[str] = [
-    "DelayCurve",
-    "DelayResult",
-    "DimensionResult",
-    "KantzResult",
-    "LyapunovResult",
-    "autocorrelation",
-    "cao",
-    "delay_embed",
-    "estimate_delay",
-    "estimate_embedding_dim",
-    "false_nearest_neighbors",
-    "lyapunov_kantz",
-    "lyapunov_rosenstein",
-    "lyapunov_wolf",
-    "mutual_information",
-]
-
-# --- views and verdict ---
-from . import plot
-from ._bifurcation import bifurcation_diagram
-from ._portraits import phase_portrait
+from .recurrence import RecurrenceResult, recurrence_analysis
+from .reporting import (
+    Report,
+    ReportExtras,
+    ReportFigure,
+    ReportOptions,
+    ReportSection,
+    ReportTable,
+    SweepMap,
+    report,
+)
 from .sections import poincare_section, stroboscopic_map
 from .verdict import (
     MotionVerdict,
+    PeriodicOrbitEvidence,
     SectionStructure,
     SurrogateResult,
     Verdict,
@@ -85,77 +76,95 @@ from .verdict import (
     classify,
     classify_motion,
     classify_variables,
+    cycle_boundaries,
+    cycle_shuffled_surrogates,
+    cycle_spread,
+    cycle_surrogate_test,
     iaaft_surrogates,
     section_structure,
     surrogate_test,
+    twin_surrogates,
     verdict_table,
     zero_one_test,
 )
 
-_views: list[str] = [
-    "MotionVerdict",
+# The public names, grouped by what they are for (docs/reference/chaoskit.md has the same
+# groups), hence not sorted.
+__all__ = [  # noqa: RUF022
+    # trajectories
+    "__version__",
+    "load_trajectory",
+    "save_trajectory",
+    "validate_trajectory",
+    "sampling_interval",
+    "select_series",
+    "sample_path",
+    # delay embedding
+    "mutual_information",
+    "autocorrelation",
+    "estimate_delay",
+    "DelayCurve",
+    "DelayResult",
+    "false_nearest_neighbors",
+    "cao",
+    "estimate_embedding_dim",
+    "DimensionResult",
+    "delay_embed",
+    # lyapunov exponents
+    "lyapunov_rosenstein",
+    "lyapunov_kantz",
+    "lyapunov_wolf",
+    "LyapunovResult",
+    "KantzResult",
+    "lyapunov_spectrum",
+    "LyapunovSpectrumResult",
+    # sections and portraits
+    "poincare_section",
+    "stroboscopic_map",
+    "section_structure",
     "SectionStructure",
+    "phase_portrait",
+    "bifurcation_diagram",
+    # tests for chaos
+    "zero_one_test",
+    "ZeroOneResult",
+    "iaaft_surrogates",
+    "surrogate_test",
     "SurrogateResult",
+    "cycle_boundaries",
+    "cycle_shuffled_surrogates",
+    "twin_surrogates",
+    "cycle_surrogate_test",
+    "cycle_spread",
+    # the verdict
+    "classify",
     "Verdict",
     "VerdictRule",
-    "ZeroOneResult",
-    "analyze",
-    "bifurcation_diagram",
-    "classify",
     "classify_motion",
+    "MotionVerdict",
+    "PeriodicOrbitEvidence",
     "classify_variables",
-    "iaaft_surrogates",
-    "phase_portrait",
-    "plot",
-    "poincare_section",
-    "section_structure",
-    "stroboscopic_map",
-    "surrogate_test",
     "verdict_table",
-    "zero_one_test",
-]
-
-# --- report ---
-from .reporting import (
-    Report,
-    ReportFigure,
-    ReportSection,
-    ReportTable,
-    SweepMap,
-    report,
-)
-
-_report: list[str] = [
+    "analyze",
+    # noise reduction
+    "local_projective_denoise",
+    "DenoiseResult",
+    # reports
+    "report",
     "Report",
-    "ReportFigure",
+    "ReportExtras",
+    "ReportOptions",
     "ReportSection",
     "ReportTable",
+    "ReportFigure",
     "SweepMap",
-    "report",
-]
-
-# --- measures toolbox ---
-from .complexity import (
-    ComplexityResult,
-    detrended_fluctuation,
-    hurst_exponent,
-    sample_entropy,
-)
-from .dimension import CorrelationDimensionResult, correlation_dimension
-from .lyapunov import LyapunovSpectrumResult, lyapunov_spectrum
-from .recurrence import RecurrenceResult, recurrence_analysis
-
-_measures: list[str] = [
-    "ComplexityResult",
-    "CorrelationDimensionResult",
-    "LyapunovSpectrumResult",
-    "RecurrenceResult",
+    # measures
     "correlation_dimension",
+    "CorrelationDimensionResult",
+    "recurrence_analysis",
+    "RecurrenceResult",
+    "sample_entropy",
     "detrended_fluctuation",
     "hurst_exponent",
-    "lyapunov_spectrum",
-    "recurrence_analysis",
-    "sample_entropy",
+    "ComplexityResult",
 ]
-
-__all__ = _foundation + _estimators + _views + _report + _measures

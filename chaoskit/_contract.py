@@ -39,7 +39,7 @@ __all__ = [
 CONVENTIONS = "CF-1.10"
 REQUIRED_GLOBAL_ATTRS = ("Conventions", "title", "source", "history", "created")
 UNKNOWN_UNITS = "unknown"
-_UNIFORM_RTOL = 1e-6
+UNIFORM_RTOL = 1e-6
 
 
 _PLACEHOLDER = re.compile(r"\{\{|\}\}|\{([a-z_]+)(?:=([^{}]*))?\}")
@@ -290,7 +290,7 @@ def sampling_interval(ds: xr.Dataset) -> float:
     d = np.diff(idx)
     dt = float(np.median(d))
     spread = float(np.max(np.abs(d - dt))) / dt
-    if spread > _UNIFORM_RTOL:
+    if spread > UNIFORM_RTOL:
         raise ValueError(
             f"{index} is not uniformly sampled (interval varies by {spread:.2e} relative, "
             f"between {d.min():.6g} and {d.max():.6g}); resample it to a uniform grid "

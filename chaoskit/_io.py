@@ -66,9 +66,9 @@ __all__ = [
 ]
 
 
-_NETCDF = {".nc", ".nc4", ".netcdf", ".h5", ".hdf5"}
-_CSV = {".csv", ".txt", ".tsv"}
-_NPZ = {".npz"}
+NETCDF_SUFFIXES = {".nc", ".nc4", ".netcdf", ".h5", ".hdf5"}
+CSV_SUFFIXES = {".csv", ".txt", ".tsv"}
+NPZ_SUFFIXES = {".npz"}
 _NPZ_ATTRS = "__chaoskit_attrs__"
 _LOAD = "load_trajectory"
 _lit = ParameterError.literal
@@ -76,13 +76,13 @@ _lit = ParameterError.literal
 
 def _format_of(path: Path) -> str:
     suffix = path.suffix.lower()
-    if suffix in _NETCDF:
+    if suffix in NETCDF_SUFFIXES:
         return "netcdf"
-    if suffix in _CSV:
+    if suffix in CSV_SUFFIXES:
         return "csv"
-    if suffix in _NPZ:
+    if suffix in NPZ_SUFFIXES:
         return "npz"
-    accepted = sorted(_NETCDF | _CSV | _NPZ)
+    accepted = sorted(NETCDF_SUFFIXES | CSV_SUFFIXES | NPZ_SUFFIXES)
     raise ValueError(f"unknown file format {suffix!r} for {path}; accepted suffixes: {accepted}.")
 
 
@@ -93,9 +93,9 @@ def _read_format(path: Path) -> str:
     suffix = path.suffix.lower()
     if suffix in _formats.SUFFIXES:
         return _formats.SUFFIXES[suffix]
-    if suffix in _NETCDF | _CSV | _NPZ:
+    if suffix in NETCDF_SUFFIXES | CSV_SUFFIXES | NPZ_SUFFIXES:
         return _format_of(path)
-    accepted = sorted(_NETCDF | _CSV | _NPZ | set(_formats.SUFFIXES))
+    accepted = sorted(NETCDF_SUFFIXES | CSV_SUFFIXES | NPZ_SUFFIXES | set(_formats.SUFFIXES))
     raise ValueError(f"unknown file format {suffix!r} for {path}; accepted suffixes: {accepted}.")
 
 
@@ -166,7 +166,9 @@ def _read_source(
     """The source as a Dataset (not yet checked), where its rows come from, and a phrase
     saying what it was."""
     is_path = isinstance(source, (str, os.PathLike))
-    if (skip_rows or decimal != ".") and not (is_path and Path(source).suffix.lower() in _CSV):
+    if (skip_rows or decimal != ".") and not (
+        is_path and Path(source).suffix.lower() in CSV_SUFFIXES
+    ):
         raise ParameterError(
             "{skip_rows} and {decimal} apply to text tables (.csv, .txt, .tsv) only.",
             function=_LOAD,
@@ -441,7 +443,7 @@ def check_free_space(folder: Path, nbytes: int) -> None:
         )
 
 
-def _atomic_write(path: Path, writer: Any, *, nbytes: int | None = None) -> None:
+def atomic_write(path: Path, writer: Any, *, nbytes: int | None = None) -> None:
     """Write through ``writer(tmp)`` to a temporary file beside ``path``, then rename.
 
     With ``nbytes`` (the expected size), the free space is checked first. On any error the
@@ -473,16 +475,16 @@ def _local_scheduler() -> contextlib.AbstractContextManager[Any]:
 def write_netcdf(ds: xr.Dataset, path: str | os.PathLike[str]) -> Path:
     """Write any Dataset as netCDF-4 (h5netcdf) atomically, after checking the free space.
 
-    Up to :data:`IN_MEMORY_LIMIT` bytes the file is built in memory and written with plain
+    Up to ``IN_MEMORY_LIMIT`` bytes the file is built in memory and written with plain
     file I/O, so a full disk raises ``OSError(ENOSPC)`` instead of failing inside HDF5.
     """
     path = Path(path)
     if ds.nbytes <= IN_MEMORY_LIMIT:
         with _local_scheduler():
             data = bytes(ds.to_netcdf(engine="h5netcdf", invalid_netcdf=False))
-        _atomic_write(path, lambda p: p.write_bytes(data), nbytes=len(data))
+        atomic_write(path, lambda p: p.write_bytes(data), nbytes=len(data))
     else:
-        _atomic_write(
+        atomic_write(
             path,
             lambda p: ds.to_netcdf(p, engine="h5netcdf", invalid_netcdf=False),
             nbytes=int(ds.nbytes),
@@ -530,7 +532,7 @@ def save_trajectory(ds: xr.Dataset, path: str | os.PathLike[str]) -> Path:
                 fh.write(ATTRS_LINE + payload + "\n")
                 frame.to_csv(fh, index=False, float_format="%.17g")
 
-        _atomic_write(path, write_csv, nbytes=int(ds.nbytes) * 3)  # ~25 characters a value
+        atomic_write(path, write_csv, nbytes=int(ds.nbytes) * 3)  # ~25 characters a value
     else:
         arrays = {str(k): np.asarray(v.values) for k, v in ds.variables.items()}
         arrays[_NPZ_ATTRS] = np.asarray(payload)
@@ -539,7 +541,7 @@ def save_trajectory(ds: xr.Dataset, path: str | os.PathLike[str]) -> Path:
             with p.open("wb") as fh:
                 np.savez(fh, **arrays)  # type: ignore[arg-type]
 
-        _atomic_write(path, write_npz, nbytes=int(ds.nbytes))
+        atomic_write(path, write_npz, nbytes=int(ds.nbytes))
     return path
 
 

@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
-from ._contract import _UNIFORM_RTOL, ParameterError
+from ._contract import UNIFORM_RTOL, ParameterError
 from ._tables import Origin
 
 __all__ = ["NAN_POLICIES", "missing_values"]
@@ -42,7 +42,7 @@ def _regular(values: np.ndarray) -> bool:
         return True
     slope = np.diff(values[rows]) / np.diff(rows)
     ref = float(np.median(slope))
-    return ref != 0 and float(np.max(np.abs(slope - ref))) <= _UNIFORM_RTOL * abs(ref)
+    return ref != 0 and float(np.max(np.abs(slope - ref))) <= UNIFORM_RTOL * abs(ref)
 
 
 def _run_text(a: int, b: int, origin: Origin) -> str:

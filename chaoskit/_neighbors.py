@@ -23,6 +23,10 @@ __all__ = [
 ]
 
 _CHUNK_ENTRIES = 2_000_000  # candidates held at once (≈ 32 MB of index + distance)
+#: query points per tree query: one query is a fraction of a second, and Python runs
+#: between queries, so Ctrl-C stops a search over 10^6 points promptly (each point's
+#: neighbour is found on its own: the result does not depend on it)
+CHUNK_POINTS = 20_000
 _FIRST_K = 8
 
 
@@ -92,7 +96,7 @@ def nearest_neighbors(
     k = min(_FIRST_K, k_max)
     pending = np.arange(q.size)
     while pending.size:
-        chunk = max(1, _CHUNK_ENTRIES // k)
+        chunk = max(1, min(CHUNK_POINTS, _CHUNK_ENTRIES // k))
         unresolved = []
         for start in range(0, pending.size, chunk):
             sel = pending[start : start + chunk]

@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
-from ._contract import _UNIFORM_RTOL, ParameterError
+from ._contract import UNIFORM_RTOL, ParameterError
 from ._tables import Origin
 
 __all__ = ["RESAMPLE_METHODS", "regular_time", "resample", "time_axis"]
@@ -43,9 +43,9 @@ def regular_time(
         return None, None  # the contract check names duplicated or decreasing times
     mid = float(np.median(d))
     spread = float(np.max(np.abs(d - mid)))
-    if spread <= _UNIFORM_RTOL * mid:
+    if spread <= UNIFORM_RTOL * mid:
         return None, None
-    if quantum > 0 and spread <= 1.01 * quantum + _UNIFORM_RTOL * mid:
+    if quantum > 0 and spread <= 1.01 * quantum + UNIFORM_RTOL * mid:
         k = np.arange(t.size, dtype=np.float64)
         step = float(np.polyfit(k, t - t[0], 1)[0])  # least squares: rounding averages out
         grid = t[0] + step * k

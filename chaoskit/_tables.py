@@ -21,7 +21,7 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
-from ._contract import _UNIFORM_RTOL, ParameterError, variable_name
+from ._contract import UNIFORM_RTOL, ParameterError, variable_name
 from ._units import cf_units, seconds_per, split_header
 
 __all__ = [
@@ -207,7 +207,7 @@ def check_index_interval(data: Any, dt: float, *, name: str = "x") -> None:
     if t.size < 2:
         return
     interval = float(np.median(np.diff(t)))
-    if abs(interval - dt) > _UNIFORM_RTOL * abs(interval):
+    if abs(interval - dt) > UNIFORM_RTOL * abs(interval):
         raise ValueError(
             f"dt={float(dt):g} contradicts the time index of {name} (sampling interval "
             f"{interval:.6g} s); pass dt={interval:.6g}."
@@ -219,9 +219,9 @@ def _check_dt(t: np.ndarray, dt: float | None, *, what: str) -> None:
     if dt is None or t.size < 2:
         return
     d = np.diff(t)
-    if np.max(np.abs(d - dt)) > _UNIFORM_RTOL * dt:
+    if np.max(np.abs(d - dt)) > UNIFORM_RTOL * dt:
         mid = float(np.median(d))
-        uniform = np.max(np.abs(d - mid)) <= _UNIFORM_RTOL * abs(mid)
+        uniform = np.max(np.abs(d - mid)) <= UNIFORM_RTOL * abs(mid)
         interval = (
             f"{mid:.6g} s" if uniform else f"{float(d.min()):.6g} s to {float(d.max()):.6g} s"
         )
@@ -233,7 +233,7 @@ def _check_dt(t: np.ndarray, dt: float | None, *, what: str) -> None:
 
 def _check_uniform_index(t: np.ndarray, *, what: str) -> None:
     d = np.diff(t)
-    if d.size and np.max(np.abs(d - np.median(d))) > _UNIFORM_RTOL * abs(float(np.median(d))):
+    if d.size and np.max(np.abs(d - np.median(d))) > UNIFORM_RTOL * abs(float(np.median(d))):
         raise ValueError(
             f"the time index of {what} is not uniform (intervals from {float(d.min()):.6g} s "
             f"to {float(d.max()):.6g} s); resample it to a uniform grid first, e.g. "

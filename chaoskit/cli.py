@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import shlex
 import sys
 from collections.abc import Iterator
@@ -16,8 +17,8 @@ from typer.core import TyperGroup
 from . import plot
 from ._contract import ParameterError
 from ._formats import SUFFIXES as _RIG_SUFFIXES
-from ._io import _CSV, _NPZ, NAN_POLICIES, RESAMPLE_METHODS, load_trajectory
-from ._measures import measure_figures, measures_for_verdicts, measures_text, parse_measures
+from ._io import CSV_SUFFIXES, NAN_POLICIES, NPZ_SUFFIXES, RESAMPLE_METHODS, load_trajectory
+from ._measure_registry import measure_figures, measures_for_verdicts, measures_text, parse_measures
 from ._paths import folder_problem, unique_filename
 from ._portraits import phase_portrait
 from ._samples import sample_path
@@ -26,8 +27,13 @@ from ._validate import check_choice, check_positive
 from ._version import __version__
 from .reporting import plural
 from .reporting import report as build_report
-from .verdict import MotionVerdict, classify_motion, classify_variables, verdict_table
-from .verdict._analyze import series_dataset
+from .verdict import (
+    MotionVerdict,
+    classify_motion,
+    classify_variables,
+    series_dataset,
+    verdict_table,
+)
 
 #: exit status of a command stopped by Ctrl-C (128 + SIGINT, as a shell reports it)
 EXIT_INTERRUPTED = 130
@@ -41,6 +47,14 @@ class _Commands(TyperGroup):
             return super().invoke(ctx)
         except KeyboardInterrupt:
             typer.echo("interrupted", err=True)
+            if sys.stderr is sys.__stderr__:  # a process of its own, not an in-process runner
+                # The interpreter's teardown (numba's compiled modules, a full garbage
+                # collection) takes 1-9 s, so the process ends here. Nothing is lost: the
+                # with-blocks and finally clauses (temporary files of atomic writes) ran
+                # while the interruption unwound, and the streams are flushed.
+                sys.stdout.flush()
+                sys.stderr.flush()
+                os._exit(EXIT_INTERRUPTED)
             raise typer.Exit(code=EXIT_INTERRUPTED) from None
 
 
@@ -80,6 +94,18 @@ def _user_errors() -> Iterator[None]:
         text = text.strip() or type(exc).__name__
         typer.echo(f"error: {text.splitlines()[0]}", err=True)
         raise typer.Exit(code=2) from None
+
+
+@contextmanager
+def _bar_line_ended(progress: bool) -> Iterator[None]:
+    """On Ctrl-C, end the line of the progress bar, so that ``interrupted`` is a line of
+    its own (the bar redraws its line with carriage returns and no newline)."""
+    try:
+        yield
+    except KeyboardInterrupt:
+        if progress:
+            typer.echo("", err=True)
+        raise
 
 
 def _version_callback(value: bool) -> None:
@@ -298,7 +324,7 @@ def _load(path: Path, keep: list[str], *, discard: float = 0.0, **options: Any) 
     long it is. A table loads only the columns in ``keep`` (when given), so other columns
     may hold text."""
     names = None
-    if keep and path.suffix.lower() in _CSV | _NPZ | set(_RIG_SUFFIXES):
+    if keep and path.suffix.lower() in CSV_SUFFIXES | NPZ_SUFFIXES | set(_RIG_SUFFIXES):
         names = list(dict.fromkeys(parse_variable(v).name for v in keep))
     ds = _discard(load_trajectory(path, variables=names, **options), discard)
     index = "time" if "time" in ds.coords else "step"
@@ -359,28 +385,30 @@ def _run_analysis(
             _, motion_names = series_dataset(ds, variables=chosen, phase_variable=phase_variable)
         mv = None
         if not off and len(motion_names) >= 2:
-            mv = classify_motion(
-                ds,
-                variables=motion_names,
-                drive_period=drive_period,
-                phase_variable=phase_variable,
-                drive_variables=drive_variables or (),
-                rng=seed,
-                progress=progress,
-            )
+            with _bar_line_ended(progress):
+                mv = classify_motion(
+                    ds,
+                    variables=motion_names,
+                    drive_period=drive_period,
+                    phase_variable=phase_variable,
+                    drive_variables=drive_variables or (),
+                    rng=seed,
+                    progress=progress,
+                )
         elif drive_variables:
             raise ValueError("--drive-variable needs a motion of two or more variables.")
         if mv is not None and set(rows) <= set(mv.variables):
             verdicts = {name: mv.variables[name] for name in rows}
         else:
-            verdicts = classify_variables(
-                ds,
-                variables=rows,
-                drive_period=drive_period,
-                phase_variable=phase_variable,
-                rng=seed,
-                progress=progress,
-            )
+            with _bar_line_ended(progress):
+                verdicts = classify_variables(
+                    ds,
+                    variables=rows,
+                    drive_period=drive_period,
+                    phase_variable=phase_variable,
+                    rng=seed,
+                    progress=progress,
+                )
         table = verdict_table(verdicts)
     if progress:
         typer.echo("", err=True)  # end the line of the progress bar

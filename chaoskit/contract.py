@@ -45,8 +45,7 @@ from ._contract import (
     variable,
     variable_name,
 )
-from ._io import _atomic_write as atomic_write
-from ._io import check_free_space, write_netcdf
+from ._io import atomic_write, check_free_space, write_netcdf
 from ._jit_cache import refresh_jit_cache
 from ._paths import folder_problem, safe_filename, unique_filename
 from ._validate import as_series, check_choice, check_int, check_positive, check_probability

@@ -22,8 +22,12 @@ from .core import (
     AncfMesh,
     BeamModes,
     BeamStaticSolution,
+    FullRecord,
+    MetricsRecord,
+    RecordMode,
     Scene,
     SceneError,
+    SectionsRecord,
     SimulationError,
     SimulationWarning,
     WornProfile,
@@ -32,25 +36,30 @@ from .core import (
     contact_stiffness,
     euler_bernoulli_frequencies,
     hertz_stiffness,
-    integrate,
     list_scenes,
     load_scene,
     save_scene,
-    scene,
     scene_from_json,
     simulate,
     solve_beam_static,
 )
+
+# two subpackages reachable as attributes (not names of __all__): the scene's parts
+# (``mechanism.scene.RigidBody``, ...) and the integrator strategies (``mechanism.integrate``)
+from .core import integrate as integrate
+from .core import scene as scene
 from .studies import (
     Analysis,
     ElementConvergence,
     GridTransform,
     PaperStudy,
+    PeriodicOrbit,
     SceneLyapunov,
     StudySettings,
     SweepStoreBusy,
     SweepStoreMismatch,
     WearComparison,
+    WearLife,
     WearPrediction,
     WearPredictionError,
     bifurcation,
@@ -62,6 +71,7 @@ from .studies import (
     lyapunov_exponent,
     paper_claims,
     paper_tables,
+    periodic_orbit,
     plot_bifurcation,
     plot_wear_profile,
     predict_wear,
@@ -69,6 +79,7 @@ from .studies import (
     run_paper_study,
     stroboscopic_points,
     sweep,
+    wear_life,
     wear_profile_section,
 )
 
@@ -79,12 +90,20 @@ _scenes = [
     "list_scenes",
     "load_scene",
     "save_scene",
-    "scene",
     "scene_from_json",
 ]
-_simulation = ["SimulationError", "SimulationWarning", "integrate", "simulate"]
+_simulation = [
+    "FullRecord",
+    "MetricsRecord",
+    "RecordMode",
+    "SectionsRecord",
+    "SimulationError",
+    "SimulationWarning",
+    "simulate",
+]
 _contact_wear = [
     "WearComparison",
+    "WearLife",
     "WearPrediction",
     "WearPredictionError",
     "WornProfile",
@@ -94,6 +113,7 @@ _contact_wear = [
     "hertz_stiffness",
     "plot_wear_profile",
     "predict_wear",
+    "wear_life",
     "wear_profile_section",
 ]
 _flexibility = [
@@ -120,7 +140,7 @@ _sweeps = [
 ]
 _bifurcations = ["bifurcation", "plot_bifurcation"]
 _paper_study = ["PaperStudy", "StudySettings", "paper_claims", "paper_tables", "run_paper_study"]
-_chaos = ["SceneLyapunov", "lyapunov_exponent"]
+_chaos = ["PeriodicOrbit", "SceneLyapunov", "lyapunov_exponent", "periodic_orbit"]
 
 __all__ = (
     _foundation

@@ -15,7 +15,7 @@ import typer
 from typer.core import TyperGroup
 
 import chaoskit
-from chaoskit.contract import __version__, folder_problem
+from chaoskit.contract import __version__, folder_problem, write_netcdf
 from mechanism import (
     Analysis,
     Scene,
@@ -31,14 +31,18 @@ from mechanism import (
     plot_bifurcation,
     predict_wear,
     run_paper_study,
+    save_scene,
     simulate,
     sweep,
+    wear_life,
 )
 from mechanism.core.integrate import interrupt_integrations
-from mechanism.studies._bifurcation import parse_values
-from mechanism.studies._lyapunov import DEFAULT_DEVIATION_RTOL
-from mechanism.studies._sweep_store import write_netcdf
-from mechanism.studies._wear_prediction import DEFAULT_MAX_DEPTH_INCREMENT
+from mechanism.studies import (
+    DEFAULT_DEVIATION_RTOL,
+    DEFAULT_MAX_DEPTH_INCREMENT,
+    DEFAULT_WEAR_LIFE_AVERAGED_REVOLUTIONS,
+    parse_values,
+)
 
 #: exit status of a command stopped by Ctrl-C (128 + SIGINT, as a shell reports it)
 EXIT_INTERRUPTED = 130
@@ -435,6 +439,65 @@ def wear_update_lines(ds: Any) -> list[str]:
             )
         lines.append(line)
     return lines
+
+
+@app.command("wear-life")
+def wear_life_command(
+    scene: str = typer.Argument(..., help="Built-in scene name or path of a TOML scene."),
+    output: str = typer.Option(..., "-o", "--output", help="Output folder (created)."),
+    cycles: float = typer.Option(..., "--cycles", help="Crank cycles of wear (> 0)."),
+    checkpoints: list[float] = typer.Option(
+        ...,
+        "--checkpoint",
+        help="Cumulative cycles of a checkpoint (repeat; increasing, in (0, cycles]).",
+    ),
+    set_options: list[str] | None = typer.Option(None, "--set", metavar="KEY=VALUE", help=SET_HELP),
+    averaged_revolutions: int = typer.Option(
+        DEFAULT_WEAR_LIFE_AVERAGED_REVOLUTIONS,
+        "--averaged-revolutions",
+        help="Revolutions whose mean wear is the wear per cycle, in [1, 1000].",
+    ),
+    max_depth_increment: float = typer.Option(
+        DEFAULT_MAX_DEPTH_INCREMENT,
+        "--max-depth-increment",
+        help="Largest depth one increment adds, as a fraction of the radial clearance, in (0, 1].",
+    ),
+    exponent: bool = typer.Option(
+        True,
+        "--exponent/--no-exponent",
+        help="Compute the Lyapunov exponent from the equations at each checkpoint.",
+    ),
+    progress: bool = typer.Option(True, "--progress/--no-progress", help="Show a progress bar."),
+) -> None:
+    """Wear the scene's clearance joints and analyse the motion at checkpoints.
+
+    Writes ``wear-life.nc`` (dim checkpoint) and ``worn.toml`` (the scene at the last
+    finished checkpoint) into the output folder and prints the summary. A state the wear
+    model cannot represent ends the path: what finished is written, the reason is printed
+    and the exit status is 1; bad options exit with 2.
+    """
+    folder = check_output_folder(output)
+    resolved = load_scene_option(scene, set_options)
+    try:
+        with _warnings_as_lines():
+            life = wear_life(
+                resolved, cycles=cycles, checkpoints=checkpoints,
+                averaged_revolutions=averaged_revolutions,
+                max_depth_increment=max_depth_increment, exponent=exponent, progress=progress,
+            )  # fmt: skip
+    except ValueError as exc:  # a bad option or scene: a user error
+        typer.echo(f"Error: {exc}", err=True)
+        raise typer.Exit(code=2) from None
+    except SimulationError as exc:
+        typer.echo(f"Error: {exc}", err=True)
+        raise typer.Exit(code=1) from None
+    folder.mkdir(parents=True, exist_ok=True)
+    write_output(life.to_dataset(), folder / "wear-life.nc")
+    save_scene(life.worn_scene, folder / "worn.toml")
+    typer.echo(life.summary())
+    if not life.success:
+        typer.echo(f"Error: {life.reason}", err=True)
+        raise typer.Exit(code=1)
 
 
 # --- flexibility: commands below this line only ---

@@ -16,6 +16,8 @@ synthetic trees that break each rule, so a check that stopped finding anything f
 from __future__ import annotations
 
 import ast
+import importlib
+import re
 import subprocess
 import sys
 from dataclasses import dataclass
@@ -119,15 +121,17 @@ def _ancestors(module: str) -> set[str]:
 
 
 def import_graph(found: list[Import], known: set[str]) -> dict[str, set[str]]:
-    """Module → first-party modules its module-level runtime imports execute.
+    """Module → first-party modules its module-level imports name, type-only ones included.
 
     Importing ``a.b.c`` runs the ``__init__`` of ``a.b`` too, unless that package is one of
     the importer's own ancestors (already being initialised); the named module itself is
-    always an edge, so ``from chaoskit import analyze`` inside chaoskit is a cycle.
+    always an edge, so ``from chaoskit import analyze`` inside chaoskit is a cycle. An
+    import under ``if TYPE_CHECKING:`` is an edge as well: two modules that need each
+    other's types belong to one concern, or the type belongs below both.
     """
     graph: dict[str, set[str]] = {m: set() for m in known}
     for imp in found:
-        if imp.local or imp.type_only:
+        if imp.local:
             continue
         own = _ancestors(imp.module)
         for target in imp.targets:
@@ -216,13 +220,86 @@ def local_import_problems(root: Path) -> list[str]:
     ]
 
 
+def _private_owner(target: str) -> str | None:
+    """The folder (package) that owns the first private part of ``target``, if any."""
+    parts = target.split(".")
+    for i, part in enumerate(parts):
+        if part.startswith("_") and not part.startswith("__"):
+            return ".".join(parts[:i])
+    return None
+
+
 def private_import_problems(root: Path) -> list[str]:
-    return [
-        f"{where}: {imp.module} imports the private {target!r} of another package; use its "
-        "public API (e.g. chaoskit.contract)"
-        for imp, target, where in _pairs(root)
-        if _first_party(target) and _top(target) != _top(imp.module) and _private(target)
-    ]
+    """A ``_module`` is imported only from its own folder or below it."""
+    problems = []
+    for imp, target, where in _pairs(root):
+        owner = _private_owner(target) if _first_party(target) else None
+        if owner is None:
+            continue
+        package = imp.module if imp.path.name == "__init__.py" else imp.module.rpartition(".")[0]
+        if package != owner and not package.startswith(owner + "."):
+            problems.append(
+                f"{where}: {imp.module} imports {target!r}, private to {owner}; import "
+                f"what {owner} exports instead"
+            )
+    return problems
+
+
+def _module_aliases(tree: ast.Module, module: str, is_pkg: bool) -> dict[str, str]:
+    """Names bound to first-party modules by the imports of a file."""
+    aliases = {}
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            for a in node.names:
+                if _first_party(a.name):
+                    aliases[a.asname or a.name.split(".")[0]] = a.name
+        elif isinstance(node, ast.ImportFrom):
+            stem = _stem(node, module, is_pkg)
+            if _first_party(stem):
+                for a in node.names:
+                    aliases[a.asname or a.name] = f"{stem}.{a.name}"
+    return aliases
+
+
+def _stem(node: ast.ImportFrom, module: str, is_pkg: bool) -> str:
+    if not node.level:
+        return node.module or ""
+    base = module.split(".") if is_pkg else module.split(".")[:-1]
+    base = base[: len(base) - (node.level - 1)]
+    return ".".join(base + ([node.module] if node.module else []))
+
+
+def private_name_problems(root: Path, packages: tuple[str, ...] = PACKAGES) -> list[str]:
+    """An ``_name`` (function, class, constant) never crosses files: neither imported
+    (``from .m import _f``) nor reached through a module (``m._f``)."""
+    files = source_files(root, packages)
+    known = set(files)
+    problems = []
+    for module, path in files.items():
+        tree = ast.parse(path.read_text(encoding="utf-8"), filename=str(path))
+        is_pkg = path.name == "__init__.py"
+        where = path.relative_to(root)
+        for node in ast.walk(tree):
+            if isinstance(node, ast.ImportFrom):
+                stem = _stem(node, module, is_pkg)
+                for a in node.names:
+                    name = f"{stem}.{a.name}"
+                    if _first_party(stem) and _private(a.name) and name not in known:
+                        problems.append(f"{where}:{node.lineno}: imports the private {name!r}")
+        aliases = _module_aliases(tree, module, is_pkg)
+        for node in ast.walk(tree):
+            if (
+                isinstance(node, ast.Attribute)
+                and isinstance(node.value, ast.Name)
+                and node.value.id in aliases
+                and aliases[node.value.id] in known
+                and _private(node.attr)
+            ):
+                problems.append(
+                    f"{where}:{node.lineno}: reaches the private "
+                    f"{aliases[node.value.id] + '.' + node.attr!r}"
+                )
+    return problems
 
 
 def _layer_problem(module: str, target: str) -> str | None:
@@ -262,8 +339,12 @@ def test_no_imports_inside_functions() -> None:
     assert local_import_problems(REPO) == []
 
 
-def test_no_private_module_of_another_package() -> None:
+def test_private_modules_stay_in_their_folder() -> None:
     assert private_import_problems(REPO) == []
+
+
+def test_private_names_stay_in_their_file() -> None:
+    assert private_name_problems(REPO) == []
 
 
 def test_layers_point_down() -> None:
@@ -284,6 +365,8 @@ def test_importing_chaoskit_does_not_load_mechanism() -> None:
 
 
 def _tree(tmp_path: Path, files: dict[str, str]) -> Path:
+    # a synthetic tree written over the repository would clobber its packages
+    assert tmp_path.resolve() != REPO and REPO not in tmp_path.resolve().parents
     for name, text in files.items():
         path = tmp_path / name
         path.parent.mkdir(parents=True, exist_ok=True)
@@ -350,7 +433,8 @@ def test_checks_catch_private_and_upward_imports(tmp_path: Path) -> None:
         },
     )
     assert [p.split(": ", 1)[0] for p in private_import_problems(root)] == [
-        "mechanism/studies/s.py:1"
+        "mechanism/studies/__init__.py:1",
+        "mechanism/studies/s.py:1",
     ]
     layers = layer_problems(root)
     assert [p.split(": ", 1)[0] for p in layers] == [
@@ -358,6 +442,53 @@ def test_checks_catch_private_and_upward_imports(tmp_path: Path) -> None:
         "mechanism/core/_k.py:1",
         "mechanism/studies/__init__.py:1",
     ]
+
+
+def test_checks_catch_a_private_module_of_a_sibling_folder(tmp_path: Path) -> None:
+    root = _tree(
+        tmp_path,
+        {
+            "chaoskit/b/__init__.py": "from ._k import f\n",
+            "chaoskit/b/_k.py": "def f(): pass\n",
+            "chaoskit/b/c/__init__.py": "",
+            "chaoskit/b/c/y.py": "from chaoskit.b._k import f\n",
+            "chaoskit/a/__init__.py": "",
+            "chaoskit/a/x.py": "from chaoskit.b import _k\nfrom ..b._k import f\n",
+            "chaoskit/z.py": "from chaoskit.b import f\n",
+        },
+    )
+    assert [p.split(": ", 1)[0] for p in private_import_problems(root)] == [
+        "chaoskit/a/x.py:1",
+        "chaoskit/a/x.py:2",
+    ]
+
+
+def test_checks_catch_a_private_name_crossing_files(tmp_path: Path) -> None:
+    root = _tree(
+        tmp_path,
+        {
+            "chaoskit/m.py": "_F = 1\ndef _g(): pass\nG = 2\n",
+            "chaoskit/n.py": "from .m import _F, G\nfrom . import m\nx = m._g() + m.G\n",
+            "chaoskit/o.py": "from chaoskit import m as k\ny = k._F\n__all__ = []\n",
+        },
+    )
+    assert [p.split(": ", 1)[0] for p in private_name_problems(root)] == [
+        "chaoskit/n.py:1",
+        "chaoskit/n.py:3",
+        "chaoskit/o.py:2",
+    ]
+
+
+def test_checks_catch_a_type_only_cycle(tmp_path: Path) -> None:
+    root = _tree(
+        tmp_path,
+        {
+            "chaoskit/a.py": "from .b import f\n",
+            "chaoskit/b.py": "from typing import TYPE_CHECKING\nif TYPE_CHECKING:\n"
+            "    from .a import A\n",
+        },
+    )
+    assert cycle_problems(root) == ["import cycle: chaoskit.a <-> chaoskit.b"]
 
 
 # --------------------------------------------------------------------------- repository
@@ -404,3 +535,69 @@ def test_constraints_pin_exact_versions() -> None:
     names = {ln.split("==")[0].lower() for ln in lines}
     for required in ("numpy", "scipy", "numba", "xarray", "h5netcdf", "nolds", "pytest"):
         assert required in names
+
+
+def _public_prefixes(module: str) -> list[str]:
+    """The public packages above the first private part of ``module``, nearest first."""
+    parts = module.split(".")
+    public = []
+    for part in parts:
+        if part.startswith("_") and not part.startswith("__"):
+            break
+        public.append(part)
+    return [".".join(public[:k]) for k in range(len(public), 0, -1)]
+
+
+def private_test_imports(tests: Path) -> list[str]:
+    """Imports of a private module by a test for a name a public package exports."""
+    problems = []
+    for path in sorted(tests.rglob("*.py")):
+        tree = ast.parse(path.read_text(encoding="utf-8"), filename=str(path))
+        for node in ast.walk(tree):
+            if not (isinstance(node, ast.ImportFrom) and node.module and not node.level):
+                continue
+            if not (_first_party(node.module) and _private(node.module)):
+                continue
+            for alias in node.names:
+                for public in _public_prefixes(node.module):
+                    if alias.name in getattr(importlib.import_module(public), "__all__", ()):
+                        problems.append(
+                            f"{path.relative_to(tests.parent)}:{node.lineno}: "
+                            f"{alias.name} from {node.module}; {public} exports it"
+                        )
+                        break
+    return problems
+
+
+def test_tests_use_public_names() -> None:
+    assert private_test_imports(REPO / "tests") == []
+
+
+#: Words that date a text by the work that produced it, instead of naming its concept.
+WORK_ITEM = re.compile(r"\b(issue|ticket|work item)s?\s+#?\d+", re.IGNORECASE)
+
+
+def work_item_mentions(root: Path) -> list[str]:
+    found = []
+    for folder in ("chaoskit", "mechanism", "docs", "notebooks", "benchmarks", "tests"):
+        for path in sorted((root / folder).rglob("*")):
+            if path.suffix not in (".py", ".md", ".toml") or "_build" in path.parts:
+                continue
+            for n, line in enumerate(path.read_text(encoding="utf-8").splitlines(), 1):
+                if WORK_ITEM.search(line):
+                    found.append(f"{path.relative_to(root)}:{n}: {line.strip()[:80]}")
+    for name in ("README.md",):
+        text = (root / name).read_text(encoding="utf-8")
+        found += [f"{name}: {m.group(0)}" for m in WORK_ITEM.finditer(text)]
+    return found
+
+
+def test_no_work_item_words() -> None:
+    assert work_item_mentions(REPO) == []
+
+
+def test_work_item_check_finds_one(tmp_path: Path) -> None:
+    root = _tree(tmp_path, {"chaoskit/a.py": '"""Fixes issue' + ' 12."""\n', "README.md": "ok\n"})
+    for folder in ("mechanism", "docs", "notebooks", "benchmarks", "tests"):
+        (root / folder).mkdir(exist_ok=True)
+    assert work_item_mentions(root) == ['chaoskit/a.py:1: """Fixes issue' + ' 12."""']

@@ -1,22 +1,10 @@
 """Sample entropy, DFA and the Hurst exponent, computed by nolds behind chaoskit's checks.
 
 nolds (Schölzel 2019) implements these measures in plain numpy; chaoskit adds validation,
-result objects with the curve each value was fitted from, and the limits below, checked
-before the call so that a long series gives a clear error instead of a stall or a
-MemoryError. Measured on white noise, CPU time on one core (``benchmarks/nolds_limits.py``,
-``docs/benchmarks/nolds-limits.csv``):
-
-==============  ============================  ================================  ============
-measure         peak memory                   CPU time                          limit (N)
-==============  ============================  ================================  ============
-sample entropy  O(N), 80 bytes per sample     O(N²): 10 s at N = 16 000          20 000
-DFA             O(N), 205 bytes per sample    O(N): 12 s at N = 40 000           50 000
-Hurst (R/S)     O(N), 16 bytes per sample     O(N): 0.13 s at N = 10⁶            10 000 000
-==============  ============================  ================================  ============
-
-The limits keep a call under about 20 s of CPU and 2 GB of memory. Note that nolds'
-``debug_data`` option of ``sampen`` keeps every pair distance (O(N²) memory, 1.6 GB at
-N = 20 000), so chaoskit never asks for it.
+result objects with the curve each value was fitted from, and a length limit per measure
+(``MAX_SAMPLES``), checked before the call so that a long series gives a clear error
+instead of a stall or a MemoryError. The limits, and the time and memory they bound, are
+in ``docs/estimators.md`` ("Sample entropy, DFA and Hurst through nolds").
 """
 
 from __future__ import annotations
@@ -38,7 +26,7 @@ __all__ = [
     "sample_entropy",
 ]
 
-#: Longest series each measure accepts (see the module docstring for the measurements).
+#: Longest series each measure accepts (the time and memory they bound: docs/estimators.md).
 MAX_SAMPLES = {"sample_entropy": 20_000, "dfa": 50_000, "hurst_rs": 10_000_000}
 _MIN_SAMPLES = {"sample_entropy": 50, "dfa": 100, "hurst_rs": 100}
 _DESCRIPTION = {

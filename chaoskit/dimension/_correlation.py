@@ -10,8 +10,7 @@ import xarray as xr
 
 from .._neighbors import default_theiler_window
 from .._validate import as_series, check_choice, check_int, check_positive
-from ..embedding._delay import lag_or_estimate
-from ..embedding._embed import min_length
+from ..embedding import lag_or_estimate, min_length
 from ._pairs import count_pairs
 
 __all__ = ["CorrelationDimensionResult", "correlation_dimension"]

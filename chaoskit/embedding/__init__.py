@@ -12,11 +12,22 @@ from ._delay import (
     DelayResult,
     autocorrelation,
     estimate_delay,
+    lag_or_estimate,
     mutual_information,
 )
-from ._dimension import DimensionResult, cao, estimate_embedding_dim, false_nearest_neighbors
-from ._embed import delay_embed
+from ._dimension import (
+    DEFAULT_FNN_THRESHOLD,
+    DimensionResult,
+    cao,
+    estimate_embedding_dim,
+    false_nearest_neighbors,
+    fnn_curve,
+)
+from ._embed import delay_embed, embed, min_length, standardize
 
+# lag_or_estimate, fnn_curve, DEFAULT_FNN_THRESHOLD, embed, standardize and min_length are
+# imported above for the sibling estimator folders (dimension, lyapunov, recurrence); they
+# are not public API, so they stay out of __all__.
 __all__ = [
     "DelayCurve",
     "DelayResult",

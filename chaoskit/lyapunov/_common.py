@@ -10,9 +10,7 @@ import numpy as np
 from .._neighbors import default_theiler_window, mean_period
 from .._tables import check_index_interval
 from .._validate import as_series, check_int, check_positive
-from ..embedding._delay import lag_or_estimate
-from ..embedding._dimension import DEFAULT_FNN_THRESHOLD, fnn_curve
-from ..embedding._embed import embed, standardize
+from ..embedding import DEFAULT_FNN_THRESHOLD, embed, fnn_curve, lag_or_estimate, standardize
 
 MIN_SAMPLES = 100
 _DIM_POINTS = 5000  # FNN reference points for the automatic dimension (s.e. < 0.2 % at 1 %)

@@ -16,10 +16,10 @@ from ._result import LyapunovResult
 from ._rosenstein import (
     SPAN_PERIODS,
     WEAK_CHAOS,
-    _plateau,
-    _window_spread,
     horizon_for,
+    plateau_level,
     prepare_curve,
+    window_spread,
 )
 from ._scaling import TOLERANCES, saturation_index, scaling_region
 
@@ -35,6 +35,10 @@ _NOISE_FACTOR = 4.0  # smallest radius / noise standard deviation
 _NOISE_TRUSTED = 0.05  # noise estimates above this fraction of the std are not resolved
 _MAX_CURVE_POINTS = 200
 _PLATEAU_PAIRS = 4000
+#: reference points per call of the compiled kernel: each call is a fraction of a second
+#: on 10^6 samples, and between calls Python runs, so Ctrl-C stops the estimate promptly
+#: (the references are independent: the result does not depend on it)
+REF_CHUNK = 64
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -225,8 +229,8 @@ def lyapunov_kantz(
     * noise level σ: ``std(Δ⁴x)/√70`` for finely sampled flows (``lag > 1``; the fourth
       difference of white noise has variance 70 σ², that of the smooth signal is
       negligible); not resolved (NaN) for maps or when above 5 % of the standard deviation;
-    * fit range: for each radius the automatic scaling region of
-      :mod:`chaoskit.lyapunov._scaling` (the rule Rosenstein uses); the exponent is the
+    * fit range: for each radius the automatic scaling region, by the rule Rosenstein
+      uses (:func:`chaoskit.lyapunov_rosenstein`); the exponent is the
       slope of the smallest radius with a scaling region (``epsilon_index``): larger
       neighbourhoods bend the curve upwards (Lorenz x, N = 10⁵: +0 % at ε₀, +20 % at 4 ε₀);
     * ``distance="auto"``: Euclidean, except for flows (``lag > 1``) whose Euclidean
@@ -309,7 +313,7 @@ def lyapunov_kantz(
     pts, w = prep.pts, prep.theiler_window
     n_pts = pts.shape[0]
     rng = np.random.default_rng(12345)
-    plateau_log = _plateau(pts, w, rng, False) if max_horizon is None else np.nan
+    plateau_log = plateau_level(pts, w, rng, False) if max_horizon is None else np.nan
     horizon_max = horizon_for(prep, plateau_log, min_future, max_horizon, fixed)
     usable = n_pts - horizon_max
     ks = _grid(horizon_max)
@@ -338,9 +342,12 @@ def lyapunov_kantz(
 
     def run(transverse: bool) -> dict:
         logd = np.empty((ref.size, eps.size, ks.size))
-        used = _kk.kantz_log_distances(
-            pts, order, key, ref, w, eps, ks, max_neighbors, transverse, logd
-        )
+        used = np.empty((ref.size, eps.size), dtype=np.int64)
+        for r0 in range(0, ref.size, REF_CHUNK):
+            part = slice(r0, min(r0 + REF_CHUNK, ref.size))
+            used[part] = _kk.kantz_log_distances(
+                pts, order, key, ref[part], w, eps, ks, max_neighbors, transverse, logd[part]
+            )
         plateau = _log_mean_distance(pts, pairs, transverse)
         return {"logd": logd, "used": used, "plateau": plateau} | _fit_all(
             logd, used, ks, fixed, plateau, min_span
@@ -377,7 +384,7 @@ def lyapunov_kantz(
     fit_below = fit_above = 0.0
     if not fixed and fit["found"]:
         end = max(b, saturation_index(fit["curve"], plateau))
-        fit_below, fit_above = _window_spread(ks, fit["curve"], a, b, end, slope, min_span)
+        fit_below, fit_above = window_spread(ks, fit["curve"], a, b, end, slope, min_span)
     fit_half = max(fit_below, fit_above)
     eps_half = 0.5 * float(np.ptp(pick)) if pick.size > 1 else 0.0
     ci, sys_half, sys_note = with_systematic(

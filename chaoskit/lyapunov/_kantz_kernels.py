@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from ._kernels import _sq_distance
+from ._kernels import sq_distance
 
 
 @njit(cache=True)
@@ -31,7 +31,7 @@ def kantz_log_distances(
     ``out[r, e, q] = ln mean_j ‖y_{i+k_q} − y_{j+k_q}‖`` (Euclidean; NaN without
     neighbours or at a zero mean distance) and returns the neighbours used per (r, e).
     With ``transverse`` the distance is the part of the separation perpendicular to the
-    local flow direction at ``y_{i+k}`` (see ``_kernels._sq_distance``).
+    local flow direction at ``y_{i+k}`` (see ``_kernels.sq_distance``).
     """
     m = pts.shape[1]
     n_e = eps.size
@@ -81,7 +81,7 @@ def kantz_log_distances(
                 if seen % stride == 0:
                     j = cand[t]
                     for q in range(nk):
-                        acc[q] += np.sqrt(_sq_distance(pts, i + ks[q], j + ks[q], transverse))
+                        acc[q] += np.sqrt(sq_distance(pts, i + ks[q], j + ks[q], transverse))
                     taken += 1
                 seen += 1
             used[r, e] = taken

@@ -17,7 +17,7 @@ def _row_sq_distance(a: np.ndarray, i: int, b: np.ndarray, j: int) -> float:
 
 
 @njit(cache=True)
-def _sq_distance(pts: np.ndarray, i: int, j: int, transverse: bool) -> float:
+def sq_distance(pts: np.ndarray, i: int, j: int, transverse: bool) -> float:
     """‖y_j − y_i‖², or of its part perpendicular to the local flow direction at y_i.
 
     The flow direction is the central difference y_{i+1} − y_{i−1} (one-sided at the ends).
@@ -48,7 +48,7 @@ SAMPLE_ORBIT = 3  # geometric mean of EUCLIDEAN and ORBIT
 
 
 @njit(cache=True)
-def _orbit_sq_distance(pts: np.ndarray, i: int, j: int, s: float) -> float:
+def orbit_sq_distance(pts: np.ndarray, i: int, j: int, s: float) -> float:
     """‖y(j + s) − y_i‖² with y(j + s) quadratic through y_{j−1}, y_j, y_{j+1} (|s| ≤ 1)."""
     m = pts.shape[1]
     d2 = 0.0
@@ -68,19 +68,19 @@ def _pair_sq(pts: np.ndarray, i: int, j: int, s: float, mode: int) -> float:
     """Squared distance of the pair (i, j) in ``mode``; for SAMPLE_ORBIT the geometric mean
     of the two squared distances, so that ½ ln of it is the mean of the two log distances."""
     if mode == TRANSVERSE:
-        return _sq_distance(pts, i, j, True)
+        return sq_distance(pts, i, j, True)
     if mode == ORBIT:
-        return _orbit_sq_distance(pts, i, j, s)
-    d2 = _sq_distance(pts, i, j, False)
+        return orbit_sq_distance(pts, i, j, s)
+    d2 = sq_distance(pts, i, j, False)
     if mode == SAMPLE_ORBIT:
-        return np.sqrt(d2 * _orbit_sq_distance(pts, i, j, s))
+        return np.sqrt(d2 * orbit_sq_distance(pts, i, j, s))
     return d2
 
 
 @njit(cache=True)
 def _log_distance(pts: np.ndarray, i: int, j: int, transverse: bool) -> float:
-    """ln of the distance of :func:`_sq_distance`; −inf for a zero distance."""
-    d2 = _sq_distance(pts, i, j, transverse)
+    """ln of the distance of :func:`sq_distance`; −inf for a zero distance."""
+    d2 = sq_distance(pts, i, j, transverse)
     if d2 <= 0.0:
         return -np.inf
     return 0.5 * np.log(d2)

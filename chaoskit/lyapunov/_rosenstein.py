@@ -43,7 +43,7 @@ _MODE_NAMES = {
 }
 
 
-def _plateau(pts: np.ndarray, w: int, rng: np.random.Generator, transverse: bool) -> float:
+def plateau_level(pts: np.ndarray, w: int, rng: np.random.Generator, transverse: bool) -> float:
     """Mean ln distance between random, time-separated pairs: the saturation level."""
     n = pts.shape[0]
     i = rng.integers(0, n, _PLATEAU_PAIRS)
@@ -63,7 +63,7 @@ def _slope(ks: np.ndarray, curve: np.ndarray, a: int, b: int) -> float:
     return float(np.polyfit(ks[a : b + 1].astype(np.float64), curve[a : b + 1], 1)[0])
 
 
-def _window_spread(ks, curve, a, b, end, slope, min_span) -> tuple[float, float]:
+def window_spread(ks, curve, a, b, end, slope, min_span) -> tuple[float, float]:
     """Sensitivity of the estimate to the fit range, below and above the slope: the largest
     change of the slope when either end of the fit window moves by a fifth of its length
     (within 0 … ``end``), or how far the slopes of the other plausible windows reach
@@ -100,7 +100,7 @@ def _fit(pts, ref, nbr, ks, fixed, w, period, mode, shift) -> dict:
             "exactly, so the divergence (and the exponent) is undefined."
         )
     ks, curve = ks[ok], curve[ok]
-    plateau = _plateau(pts, w, np.random.default_rng(12345), mode == _k.TRANSVERSE)
+    plateau = plateau_level(pts, w, np.random.default_rng(12345), mode == _k.TRANSVERSE)
     if fixed:
         a = int(np.searchsorted(ks, fixed[0]))
         b = int(np.searchsorted(ks, fixed[1], side="right")) - 1
@@ -126,7 +126,7 @@ def _fit(pts, ref, nbr, ks, fixed, w, period, mode, shift) -> dict:
     fit_half = (0.0, 0.0)
     if not fixed and found:
         end = max(b, saturation_index(curve, plateau))
-        fit_half = _window_spread(
+        fit_half = window_spread(
             ks, curve, a, b, end, float(slope), max(3.0, SPAN_PERIODS * period)
         )
     nbr_half = 0.0
@@ -363,7 +363,7 @@ def lyapunov_rosenstein(
     )
     pts, w = prep.pts, prep.theiler_window
     n_pts = pts.shape[0]
-    plateau = _plateau(pts, w, np.random.default_rng(12345), False)
+    plateau = plateau_level(pts, w, np.random.default_rng(12345), False)
     horizon_max = horizon_for(prep, plateau, min_future, max_horizon, fixed)
     usable = n_pts - horizon_max
     ks = _grid(horizon_max)

@@ -13,8 +13,7 @@ from scipy.spatial import cKDTree
 from .._neighbors import default_theiler_window
 from .._tables import check_index_interval
 from .._validate import as_series, check_choice, check_int, check_positive
-from ..embedding._delay import lag_or_estimate
-from ..embedding._embed import embed, standardize
+from ..embedding import embed, lag_or_estimate, standardize
 from . import _spectrum_kernels as _k
 
 __all__ = ["LyapunovSpectrumResult", "lyapunov_spectrum"]
@@ -47,7 +46,7 @@ class LyapunovSpectrumResult:
     sum_exponents
         λ_1 + … + λ_m (the mean log contraction of phase-space volume per unit time).
     kaplan_yorke_dimension
-        D_KY = j + (λ_1 + … + λ_j) / |λ_{j+1}| with j the largest index with a
+        ``D_KY = j + (λ_1 + … + λ_j) / |λ_{j+1}|`` with j the largest index with a
         non-negative partial sum.
     running
         Running estimate of every exponent against the reference index (convergence).

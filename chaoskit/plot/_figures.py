@@ -11,6 +11,7 @@ import numpy as np
 import xarray as xr
 
 from .._portraits import phase_portrait as make_portrait
+from ._axes import axes_or_new, axis_label
 
 __all__ = [
     "bifurcation",
@@ -20,21 +21,6 @@ __all__ = [
     "phase_portrait",
     "poincare",
 ]
-
-
-def _axes(ax: Any) -> Any:
-    if ax is not None:
-        return ax
-    import matplotlib.pyplot as plt
-
-    _, ax = plt.subplots(figsize=(5.0, 4.0), layout="constrained")
-    return ax
-
-
-def _label(var: xr.DataArray, fallback: str) -> str:
-    name = str(var.attrs.get("long_name", var.name or fallback))
-    units = var.attrs.get("units")
-    return f"{name} [{units}]" if units not in (None, "", "1", "unknown") else name
 
 
 def phase_portrait(data: Any, *, variable: str | None = None, ax: Any = None, **kwargs: Any) -> Any:
@@ -50,12 +36,12 @@ def phase_portrait(data: Any, *, variable: str | None = None, ax: Any = None, **
         data = make_portrait(data, variable=variable)
     x = data[data.attrs["portrait_variable"]]
     v = data[data.attrs["portrait_derivative"]]
-    ax = _axes(ax)
+    ax = axes_or_new(ax)
     style = {"lw": 0.6, "color": "C0"}
     style.update(kwargs)
     ax.plot(x.values, v.values, **style)
-    ax.set_xlabel(_label(x, "x"))
-    ax.set_ylabel(_label(v, "dx/dt"))
+    ax.set_xlabel(axis_label(x, "x"))
+    ax.set_ylabel(axis_label(v, "dx/dt"))
     ax.set_title(f"phase portrait ({data.attrs.get('derivative_source', '')})", fontsize=9)
     return ax
 
@@ -89,7 +75,7 @@ def poincare(
     names = [str(k) for k, v in sec.data_vars.items() if v.dims == ("crossing",)]
     if not names:
         raise ValueError("the section has no 1-D variable along 'crossing' to draw.")
-    ax = _axes(ax)
+    ax = axes_or_new(ax)
     style = {"s": 6, "color": "C3", "linewidths": 0}
     style.update(kwargs)
     xname = x or names[0]
@@ -98,13 +84,13 @@ def poincare(
         vals = sec[xname].values
         drawn = max(vals.size - 1, 0)  # pairs of successive points
         ax.scatter(vals[:-1], vals[1:], **style)
-        ax.set_xlabel(_label(sec[xname], xname) + " (n)")
-        ax.set_ylabel(_label(sec[xname], xname) + " (n+1)")
+        ax.set_xlabel(axis_label(sec[xname], xname) + " (n)")
+        ax.set_ylabel(axis_label(sec[xname], xname) + " (n+1)")
     else:
         yname = y or next(n for n in names if n != xname)
         ax.scatter(sec[xname].values, sec[yname].values, **style)
-        ax.set_xlabel(_label(sec[xname], xname))
-        ax.set_ylabel(_label(sec[yname], yname))
+        ax.set_xlabel(axis_label(sec[xname], xname))
+        ax.set_ylabel(axis_label(sec[yname], yname))
     kind = sec.attrs.get("section_kind", "section")
     ax.set_title(f"{kind} ({drawn} point{'' if drawn == 1 else 's'} drawn)", fontsize=9)
     return ax
@@ -121,7 +107,7 @@ def divergence(result: Any, *, ax: Any = None, **kwargs: Any) -> Any:
     found = getattr(result, "rosenstein", None)  # a Verdict carries both results
     if found is not None:
         result = found
-    ax = _axes(ax)
+    ax = axes_or_new(ax)
     dt = float(result.dt)
     k = np.asarray(result.horizon, dtype=np.float64)
     curve = np.asarray(result.curve, dtype=np.float64)
@@ -159,7 +145,7 @@ def mutual_information(result: Any, *, ax: Any = None, **kwargs: Any) -> Any:
     found = getattr(result, "delay", None)
     if found is not None:
         result = found
-    ax = _axes(ax)
+    ax = axes_or_new(ax)
     style = {"lw": 1.0, "marker": ".", "ms": 3, "color": "C0"}
     style.update(kwargs)
     ax.plot(result.lags, result.curve, **style)
@@ -182,7 +168,7 @@ def false_nearest_neighbors(result: Any, *, ax: Any = None, **kwargs: Any) -> An
     found = getattr(result, "dimension", None)
     if found is not None:
         result = found
-    ax = _axes(ax)
+    ax = axes_or_new(ax)
     style = {"lw": 1.0, "marker": "o", "ms": 4, "color": "C0"}
     style.update(kwargs)
     curve = np.asarray(result.curve, dtype=np.float64)
@@ -201,11 +187,11 @@ def bifurcation(diagram: xr.Dataset, *, ax: Any = None, **kwargs: Any) -> Any:
         raise ValueError("bifurcation() needs the Dataset returned by bifurcation_diagram.")
     p = diagram[diagram.attrs["diagram_parameter"]]
     x = diagram[diagram.attrs["diagram_variable"]]
-    ax = _axes(ax)
+    ax = axes_or_new(ax)
     style = {"s": 1.0, "color": "k", "linewidths": 0, "alpha": 0.6}
     style.update(kwargs)
     ax.scatter(p.values, x.values, **style)
-    ax.set_xlabel(_label(p, "parameter"))
-    ax.set_ylabel(_label(x, "x"))
+    ax.set_xlabel(axis_label(p, "parameter"))
+    ax.set_ylabel(axis_label(x, "x"))
     ax.set_title(f"{diagram.attrs.get('section_kind', '')} points", fontsize=9)
     return ax

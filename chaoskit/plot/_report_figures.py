@@ -11,7 +11,7 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from ._figures import _label
+from ._axes import axis_label
 
 __all__ = ["chaos_map"]
 
@@ -112,7 +112,7 @@ def chaos_map(
     mesh = ax.pcolormesh(
         np.arange(nx + 1) - 0.5, np.arange(ny + 1) - 0.5, np.ma.masked_invalid(values), **style
     )
-    ax.figure.colorbar(mesh, ax=ax, label=_label(field, mle))
+    ax.figure.colorbar(mesh, ax=ax, label=axis_label(field, mle))
     if verdict is not None:
         labels = np.asarray(data[verdict].transpose(ydim, xdim).values, dtype=object)
         for j in range(ny):
@@ -134,8 +134,8 @@ def chaos_map(
     yc = data[ydim] if ydim in data.coords else xr.DataArray(np.arange(ny), dims=ydim)
     ax.set_xticks(np.arange(nx), _grid_labels(xc))
     ax.set_yticks(np.arange(ny), _grid_labels(yc))
-    ax.set_xlabel(_label(xc, xdim) if xdim in data.coords else xdim)
-    ax.set_ylabel(_label(yc, ydim) if ydim in data.coords else ydim)
+    ax.set_xlabel(axis_label(xc, xdim) if xdim in data.coords else xdim)
+    ax.set_ylabel(axis_label(yc, ydim) if ydim in data.coords else ydim)
     ax.set_title(f"{field.attrs.get('long_name', mle)}", fontsize=9)
     return ax
 

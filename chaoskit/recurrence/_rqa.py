@@ -12,7 +12,7 @@ from scipy import sparse
 from scipy.spatial import cKDTree
 
 from .._validate import as_series, check_choice, check_int, check_positive, check_probability
-from ..embedding._embed import embed, min_length
+from ..embedding import embed, min_length
 
 __all__ = ["RecurrenceResult", "recurrence_analysis"]
 

@@ -8,8 +8,9 @@ maps and bifurcation diagrams the caller adds. A :class:`Report` is a list of
 (:meth:`Report.with_sections`); :meth:`Report.write` writes a self-contained HTML page and
 its Markdown twin (every string in it escaped as text: :func:`markdown_text`).
 :func:`answer_table` and :meth:`Report.answer_table` give the answer, one row per state, and
-:func:`decided_by` says in one line which evidence decided a verdict. See
-``docs/reports.md``.
+:func:`decided_by` says in one line which evidence decided a verdict.
+:class:`ReportExtras` (what a caller adds) and :class:`ReportOptions` (finer settings) group
+the arguments of :func:`report`. See ``docs/reports.md``.
 
 The subpackage is ``chaoskit.reporting``; its main names are re-exported from ``chaoskit``
 (``chaoskit.report`` is the function).
@@ -17,6 +18,8 @@ The subpackage is ``chaoskit.reporting``; its main names are re-exported from ``
 
 from __future__ import annotations
 
+from .._selection import VariableSpec, parse_variable
+from ._analysis_tables import CHAOS_COLUMNS
 from ._answer import (
     CONFIDENCE_FORMAT,
     CONFIDENCE_NOTE,
@@ -25,9 +28,11 @@ from ._answer import (
     format_confidence,
     plural,
 )
-from ._build import CHAOS_COLUMNS, Report, SweepMap, VariableSpec, parse_variable, report
-from ._items import MISSING, ReportCode, ReportFigure, ReportSection, ReportTable, format_number
-from ._render import markdown_text
+from ._assembly import report
+from ._content import MISSING, ReportCode, ReportFigure, ReportSection, ReportTable, format_number
+from ._model import Report, SweepMap
+from ._options import ReportExtras, ReportOptions
+from ._writer import markdown_text
 
 __all__ = [
     "CHAOS_COLUMNS",
@@ -36,7 +41,9 @@ __all__ = [
     "MISSING",
     "Report",
     "ReportCode",
+    "ReportExtras",
     "ReportFigure",
+    "ReportOptions",
     "ReportSection",
     "ReportTable",
     "SweepMap",

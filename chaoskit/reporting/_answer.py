@@ -14,7 +14,7 @@ from typing import Any
 
 import pandas as pd
 
-from ._items import MISSING, format_number
+from ._content import MISSING, format_number
 
 __all__ = [
     "CONFIDENCE_FORMAT",

@@ -1,4 +1,4 @@
-"""The verdict and its evidence: 0–1 test, IAAFT surrogates, section structure, classify.
+"""The verdict and its evidence: 0–1 test, IAAFT and cycle surrogates, sections, classify.
 
 The subpackage is ``chaoskit.verdict``; every name is re-exported from ``chaoskit``
 (``chaoskit.classify`` is the function that returns a :class:`Verdict`).
@@ -6,9 +6,19 @@ The subpackage is ``chaoskit.verdict``; every name is re-exported from ``chaoski
 
 from __future__ import annotations
 
-from ._analyze import analyze, classify_variables, verdict_table
+# for the command line and the report, not part of the public API
+from ._analyze import analyze, classify_variables, series_dataset, verdict_table
 from ._clusters import SectionStructure, section_structure
+from ._cycles import (
+    cycle_boundaries,
+    cycle_shuffled_surrogates,
+    cycle_spread,
+    cycle_surrogate_test,
+    twin_surrogates,
+)
 from ._motion import MotionVerdict, classify_motion
+from ._orbit import PeriodicOrbitEvidence
+from ._rng import as_generator
 from ._surrogates import SurrogateResult, iaaft_surrogates, prediction_error, surrogate_test
 from ._verdict import LABELS, Verdict, VerdictRule, classify
 from ._zero_one import ZeroOneResult, zero_one_test
@@ -16,6 +26,7 @@ from ._zero_one import ZeroOneResult, zero_one_test
 __all__ = [
     "LABELS",
     "MotionVerdict",
+    "PeriodicOrbitEvidence",
     "SectionStructure",
     "SurrogateResult",
     "Verdict",
@@ -25,10 +36,15 @@ __all__ = [
     "classify",
     "classify_motion",
     "classify_variables",
+    "cycle_boundaries",
+    "cycle_shuffled_surrogates",
+    "cycle_spread",
+    "cycle_surrogate_test",
     "iaaft_surrogates",
     "prediction_error",
     "section_structure",
     "surrogate_test",
+    "twin_surrogates",
     "verdict_table",
     "zero_one_test",
 ]

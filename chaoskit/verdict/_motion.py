@@ -26,8 +26,17 @@ from ..lyapunov import lyapunov_rosenstein
 from ..sections import stroboscopic_map
 from ._analyze import classify_variables, series_dataset
 from ._clusters import SectionStructure, section_structure
+from ._orbit import PeriodicOrbitEvidence
 from ._table import stack_verdicts
-from ._verdict import LABELS, Label, Verdict, VerdictRule, Vote, _describe, _positive
+from ._verdict import (
+    LABELS,
+    Label,
+    Verdict,
+    VerdictRule,
+    Vote,
+    clearly_positive,
+    describe_error,
+)
 
 __all__ = ["MotionVerdict", "classify_motion"]
 
@@ -45,7 +54,7 @@ class MotionVerdict:
     Attributes
     ----------
     label
-        One of :data:`chaoskit.LABELS`; ``"undetermined"`` when the evidence, variables and
+        One of ``chaoskit.verdict.LABELS``; ``"undetermined"`` when the evidence, variables and
         joint evidence together, cannot decide.
     period
         :math:`k` of a period-:math:`k` motion (points of the joint section per period:
@@ -87,6 +96,9 @@ class MotionVerdict:
     equations, equations_say
         The exponent object given as ``exponent=`` (from the equations of motion) and
         what it says: ``"chaotic"`` (95 % interval above 0), ``"regular"`` or None.
+    orbit, orbit_says_periodic
+        The :class:`PeriodicOrbitEvidence` given as ``orbit=`` and whether it is evidence
+        (converged, stable and attracting); when it is not, ``reasons`` says why.
     errors
         Joint evidence that could not be computed, with the message.
     rule
@@ -115,6 +127,8 @@ class MotionVerdict:
     exponent_positive: bool | None = None
     equations: Any = field(default=None, repr=False)
     equations_say: Arbiter | None = None
+    orbit: PeriodicOrbitEvidence | None = field(default=None, repr=False)
+    orbit_says_periodic: bool = False
     errors: dict[str, str] = field(default_factory=dict, repr=False)
     rule: VerdictRule = field(default_factory=VerdictRule, repr=False)
 
@@ -124,6 +138,7 @@ class MotionVerdict:
         res = self.exponent
         eq = _arbiter_values(self.equations) if self.equations is not None else (nan,) * 3
         st = self.structure
+        orb = self.orbit
         return {
             "motion_label": self.label,
             "motion_period": nan if self.period is None else float(self.period),
@@ -137,6 +152,11 @@ class MotionVerdict:
             "motion_mle_equations_low": eq[1],
             "motion_mle_equations_high": eq[2],
             "motion_n_cycles": float(self.n_cycles),
+            "motion_orbit_period": nan if orb is None else float(orb.period),
+            "motion_orbit_multiplier": nan if orb is None else orb.largest_multiplier,
+            "motion_orbit_residual": nan if orb is None else orb.residual,
+            "motion_orbit_approach": nan if orb is None else orb.approach,
+            "motion_orbit_evidence": float(self.orbit_says_periodic),
             "motion_needs": "; ".join(self.needs),
         }
 
@@ -145,7 +165,7 @@ class MotionVerdict:
 
         ``motion_*`` fields are the motion verdict (exponents in s⁻¹ for flows, per
         iteration for maps); the other fields are :func:`chaoskit.analyze`'s rows;
-        the attribute ``motion_reasons`` holds :attr:`reasons`.
+        the attribute ``motion_reasons`` holds ``reasons``.
         """
         table = stack_verdicts(self.variables, LABELS)
         unit = "1" if self.kind == "map" else "s"
@@ -176,6 +196,11 @@ MOTION_FIELDS: dict[str, tuple[str, str]] = {
     "motion_mle_equations_low": ("lower end of the 95% interval, equations", "T-1"),
     "motion_mle_equations_high": ("upper end of the 95% interval, equations", "T-1"),
     "motion_n_cycles": ("characteristic times spanned by the series", "1"),
+    "motion_orbit_period": ("period k of the periodic orbit of the equations", "1"),
+    "motion_orbit_multiplier": ("largest modulus of the orbit's non-neutral multipliers", "1"),
+    "motion_orbit_residual": ("relative closing error of the orbit", "1"),
+    "motion_orbit_approach": ("relative distance of the motion from the orbit", "1"),
+    "motion_orbit_evidence": ("1 if the orbit is converged, stable and attracting", "1"),
     "motion_needs": ("what would decide an undetermined motion", ""),
 }
 _MOTION_STRINGS = ("motion_label", "motion_section_structure", "motion_needs")
@@ -394,7 +419,9 @@ def _decides(
             and positive is not True
             and say != "chaotic"
         )
-        return (kind == "clusters" and "periodic" in labels) or alone
+        # tight clusters with a clearly growing joint exponent are a narrow chaotic band as
+        # much as a noisy orbit: the clusters alone do not decide
+        return (kind == "clusters" and "periodic" in labels and positive is not True) or alone
     if label == "quasi-periodic":
         return (
             kind == "closed-curve"
@@ -430,10 +457,13 @@ def combine_motion(
     cycle_unit: str,
     rule: VerdictRule,
     section_need: str | None = None,
+    orbit: PeriodicOrbitEvidence | None = None,
 ) -> tuple[Label, int | None, float, str, dict[str, Vote], tuple[str, ...]]:
     """The motion rule of :func:`classify_motion` on the voters' verdicts and the joint
     evidence; returns label, period, confidence, reason, votes and needs. ``section_need``
-    says what the joint section lacks when it is not used (``structure`` None)."""
+    says what the joint section lacks when it is not used (``structure`` None); ``orbit``
+    is the equations' periodic orbit (used only when it is converged, stable and
+    attracting)."""
     labels = {n: v.label for n, v in voters.items()}
     decided = {n: lab for n, lab in labels.items() if lab != "undetermined"}
     said = ", ".join(f"{n}: {lab}" for n, lab in labels.items())
@@ -446,15 +476,48 @@ def combine_motion(
     label: Label = "undetermined"
     needs: list[str] = []
     agree = len(decided) == len(labels) and len(set(decided.values())) == 1
-    if agree:
+    orbit_ok = orbit is not None and orbit.problem() is None
+    if orbit_ok:
+        assert orbit is not None
+        k = orbit.period
+        said_orbit = (
+            f"the equations say regular: periodic with period {k} (a converged, stable "
+            f"orbit, largest multiplier |μ| = {orbit.largest_multiplier:.3g}, that the motion "
+            f"approaches to {orbit.approach:.2g})"
+        )
+        conflict = None
+        if section in ("scattered", "closed-curve"):
+            conflict = f"the joint section of the data is {section}"
+        elif section == "clusters" and structure is not None and structure.n_clusters != k:
+            conflict = f"the joint section is {structure.n_clusters} tight clusters, not {k}"
+        elif say == "chaotic":
+            conflict = "the equations' exponent says chaotic"
+        if conflict is None:
+            label = "periodic"
+            reason = said_orbit + (
+                f"; the joint section is {k} tight cluster{'s' * (k != 1)}"
+                if section == "clusters"
+                else ""
+            )
+        else:
+            reason = f"{said_orbit}, but {conflict}"
+            needs.append(
+                "a longer series after the transient or a tighter integration tolerance (the "
+                "motion may not have settled on the orbit, or another attractor coexists "
+                "with it)"
+            )
+    elif agree:
         candidate = next(iter(decided.values()))
         section_vote = _section_vote(candidate, structure, _bases(voters))
         against_section = section_vote == "opposes" and candidate != "noise-like"
         against_equations = _equations_vote(candidate, say) == "opposes"
+        # a periodic label with a clearly positive exponent of the joint embedding, and no
+        # word from the equations, may be a narrow chaotic band under the cluster allowance
+        against_exponent = candidate == "periodic" and positive is True and say is None
         decided_jointly = decides(candidate)
         if (
             candidate == "equilibrium"
-            or not (against_section or against_equations)
+            or not (against_section or against_equations or against_exponent)
             or decided_jointly
         ):
             label = candidate
@@ -471,7 +534,16 @@ def combine_motion(
                 if len(labels) > 1
                 else f"the one voting variable says {candidate}, but "
             )
-            if against_section:
+            if against_exponent and not (against_section or against_equations):
+                reason += "the exponent of the joint embedding is clearly positive"
+                if section_need:
+                    needs.append(section_need)
+                needs.append(
+                    "a tighter integration tolerance, the equations' exponent or a periodic "
+                    "orbit: every variable says periodic within the cluster allowance, but "
+                    "the exponent of the joint embedding is clearly positive"
+                )
+            elif against_section:
                 reason += f"the joint section is {section}"
                 needs.append(
                     f"a longer series or a tighter integration tolerance: every variable says "
@@ -540,7 +612,10 @@ def combine_motion(
             if not needs:
                 needs.append(f"a longer series (more {cycle_unit}) or another variable")
     period = None
-    if label == "periodic":
+    if label == "periodic" and orbit_ok:
+        assert orbit is not None
+        period = orbit.period
+    elif label == "periodic":
         if structure is not None and structure.kind == "clusters":
             period = structure.n_clusters
         else:
@@ -552,6 +627,10 @@ def combine_motion(
         votes["section"] = _section_vote(target, structure, _bases(voters))
         votes["exponent"] = _exponent_vote(target, positive)
         votes["equations"] = _equations_vote(target, say)
+        if orbit is not None:
+            votes["orbit"] = (
+                "neutral" if not orbit_ok else "supports" if target == "periodic" else "opposes"
+            )
         for n, lab in labels.items():
             votes[f"variable {n}"] = (
                 "neutral" if lab == "undetermined" else ("supports" if lab == target else "opposes")
@@ -597,6 +676,7 @@ def classify_motion(
     phase_variable: str | None = None,
     drive_variables: Sequence[str] = (),
     exponent: Any = None,
+    orbit: PeriodicOrbitEvidence | None = None,
     n_surrogates: int = 19,
     rule: VerdictRule | None = None,
     rng: Any = None,
@@ -626,7 +706,13 @@ def classify_motion(
        :func:`classify` (interval above 0, :math:`\lambda_1 T \ge` ``rule.min_growth``);
     4. ``exponent``: the largest exponent from the equations of motion (e.g.
        :func:`mechanism.lyapunov_exponent`): a 95 % interval above 0 says chaotic, one
-       containing 0 or below says regular.
+       containing 0 or below says regular;
+    5. ``orbit``: a periodic orbit of the equations (:class:`PeriodicOrbitEvidence`). One
+       that is converged (closing error within its tolerance), stable (every non-neutral
+       Floquet multiplier inside the unit circle) and attracting (the simulated motion
+       within the tolerance of it) says "the equations say regular: periodic with period
+       :math:`k`"; an unstable, unconverged or unapproached orbit is no evidence and the
+       reasons say why.
 
     **Who votes.** A variable that follows the drive alone — listed in ``drive_variables``,
     or found to be periodic with period 1 with a stroboscopic set that is one point to
@@ -640,11 +726,14 @@ def classify_motion(
 
     * the voting variables *agree* on a label: that label, unless the joint section
       opposes it (a periodic label with a scattered joint set, a chaotic one with tight
-      clusters or a closed curve) or the equations do, and the joint evidence does not
-      decide it — then *undetermined*;
+      clusters or a closed curve), the equations do, or — for a periodic label with
+      no word from the equations — the joint exponent is clearly positive (tight
+      clusters may be a narrow chaotic band), and the joint evidence does not decide
+      it — then *undetermined*;
     * they *disagree* (or some are undetermined): the one label the joint evidence
-      decides — *periodic* if the joint section is tight clusters and a variable says
-      periodic; *quasi-periodic* if it is a closed curve, a variable says so and neither
+      decides — *periodic* if the joint section is tight clusters, a variable says
+      periodic and the joint exponent is not clearly positive; *quasi-periodic* if it is a
+      closed curve, a variable says so and neither
       exponent is clearly positive; *chaotic* if it is scattered, a variable says chaotic
       (or, with no regular or noise label said, a surrogate test rejected linear noise),
       and the joint exponent or the equations' exponent is clearly positive — or no other
@@ -661,8 +750,15 @@ def classify_motion(
       repeats (its line analysis) with no clearly positive exponent, *chaotic* from a
       chaotic variable with a clearly positive joint or equations' exponent.
 
+    * a periodic orbit that is evidence (item 5) decides *periodic* with its period
+      :math:`k` before any of the above, unless the joint section is scattered or a closed
+      curve, is tight clusters of another number than :math:`k`, or the equations'
+      exponent says chaotic: then *undetermined* (the motion may not have settled on the
+      orbit, or another attractor coexists with it), and the reason says which.
+
     **Confidence** is the fraction of the pieces that could have decided — the joint
-    section, the joint exponent, the equations' exponent and each voting variable's label
+    section, the joint exponent, the equations' exponent, the orbit and each voting
+    variable's label
     (undetermined variables are neutral) — that agree with the label (``votes``). A
     disagreement the joint evidence leaves unresolved is undetermined (confidence NaN),
     never a confident label.
@@ -685,6 +781,9 @@ def classify_motion(
     exponent
         The largest exponent from the equations of motion: any object with ``exponent``
         (or ``mle``) in 1/s and a 95 % interval ``ci`` (or ``interval``); None if unknown.
+    orbit
+        A periodic orbit of the equations of motion (e.g. from
+        ``mechanism.periodic_orbit``), or None.
     n_surrogates, rule
         As in :func:`classify`.
     rng
@@ -715,6 +814,10 @@ def classify_motion(
     ('chaotic', ('x2',))
     """
     rule = VerdictRule() if rule is None else rule
+    if orbit is not None and not isinstance(orbit, PeriodicOrbitEvidence):
+        raise ValueError(
+            f"orbit must be a chaoskit.PeriodicOrbitEvidence or None; got {type(orbit).__name__}."
+        )
     ds, names = series_dataset(
         _as_dataset(data, dt), variables=variables, phase_variable=phase_variable
     )
@@ -762,6 +865,8 @@ def classify_motion(
         "n_samples": int(first.n_samples),
         "equations": exponent,
         "equations_say": say,
+        "orbit": orbit,
+        "orbit_says_periodic": orbit is not None and orbit.problem() is None,
         "rule": rule,
     }
     if not voters:
@@ -781,9 +886,17 @@ def classify_motion(
             if drive
             else "every variable is constant"
         )
+        votes: dict[str, Vote] = {}
+        if orbit is not None:
+            votes["orbit"] = "supports" if base["orbit_says_periodic"] else "neutral"
+            if orbit.problem() is not None:
+                reasons.append(
+                    f"the equations' periodic orbit (period {orbit.period}) is not evidence: "
+                    f"{orbit.problem()}"
+                )
         return MotionVerdict(
             label=label, period=1 if drive else None, confidence=1.0, reason=reason,
-            reasons=(reason, *reasons), needs=(), votes={}, **base,
+            reasons=(reason, *reasons), needs=(), votes=votes, **base,
         )  # fmt: skip
     ref = _reference(voters)
     ref_v = voters[ref]
@@ -822,8 +935,8 @@ def classify_motion(
             vectors, lag = mixed_embedding(ds, voters)
             res = lyapunov_rosenstein(vectors, dt=ref_v.dt, lag=lag)
         except Exception as exc:  # failure is data, as in classify
-            errors["exponent"] = _describe(exc)
-        positive = None if res is None else _positive(res, time_scale, rule)
+            errors["exponent"] = describe_error(exc)
+        positive = None if res is None else clearly_positive(res, time_scale, rule)
     unit = {"map": "samples", "forced": "drive periods"}.get(kind, "oscillations (maxima)")
     # the joint section is read only where the sampling resolves it: its cluster allowance
     # (noise_factor × the interpolation uncertainty) must stay below its cap
@@ -846,8 +959,14 @@ def classify_motion(
         n_cycles=ref_v.n_cycles,
         cycle_unit=unit,
         rule=rule,
+        orbit=orbit,
     )
     reasons.insert(0, reason)
+    if orbit is not None and orbit.problem() is not None:
+        reasons.append(
+            f"the equations' periodic orbit (period {orbit.period}) is not evidence: "
+            f"{orbit.problem()}"
+        )
     for n, v in verdicts.items():
         conf = "" if math.isnan(v.confidence) else f" ({v.confidence:.2f})"
         reasons.append(f"{n}: {v.label}{conf} — {v.reason}")

@@ -218,7 +218,7 @@ class SurrogateResult:
     Attributes
     ----------
     statistic
-        Normalised prediction error of the data (:func:`prediction_error`).
+        Normalised prediction error of the data (``prediction_error``).
     surrogate_statistics
         The same statistic for each IAAFT surrogate.
     p_value
@@ -231,6 +231,10 @@ class SurrogateResult:
         predictable than linear noise with the same spectrum and distribution.
     alpha, min_effect, n_surrogates, embedding_dim, lag, horizon, theiler_window
         The settings used.
+    null
+        The null hypothesis the surrogates realise: ``"linear noise"`` (IAAFT,
+        :func:`surrogate_test`) or ``"noisy periodic orbit"`` (cycle-shuffled,
+        :func:`~chaoskit.cycle_surrogate_test`).
     """
 
     statistic: float
@@ -245,6 +249,7 @@ class SurrogateResult:
     lag: int
     horizon: int
     theiler_window: int
+    null: str = "linear noise"
 
     def to_dataset(self) -> xr.Dataset:
         """The surrogate statistics over the dimension ``surrogate``; the rest as attributes."""
@@ -270,6 +275,7 @@ class SurrogateResult:
                 "lag": self.lag,
                 "horizon": self.horizon,
                 "theiler_window": self.theiler_window,
+                "null": self.null,
             }
         )
         return ds
@@ -292,7 +298,7 @@ def surrogate_test(
     r"""Test the null hypothesis "linear Gaussian noise" with IAAFT surrogates.
 
     The discriminating statistic is the normalised error of a locally constant predictor
-    (:func:`prediction_error`), which deterministic dynamics keep well below that of
+    (``prediction_error``), which deterministic dynamics keep well below that of
     surrogates sharing the data's spectrum and value distribution. The series is first
     trimmed so that its ends match (:func:`iaaft_surrogates`). The test is one-sided and
     rank-based: with ``n_surrogates = 19`` the smallest p-value is 0.05. Rejection also

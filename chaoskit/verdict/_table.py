@@ -7,13 +7,10 @@ the fields of a verdict's summary, not how a verdict is reached.
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from typing import TYPE_CHECKING
+from typing import Any, Protocol
 
 import numpy as np
 import xarray as xr
-
-if TYPE_CHECKING:
-    from ._verdict import Verdict
 
 __all__ = ["FIELDS", "stack_verdicts"]
 
@@ -47,7 +44,16 @@ FIELDS: dict[str, tuple[str, str]] = {
 _STRINGS = ("label", "section_structure")
 
 
-def stack_verdicts(verdicts: Mapping[str, Verdict], labels: Sequence[str]) -> xr.Dataset:
+class SummarisedVerdict(Protocol):
+    """What the table reads of a verdict: its summary row, its kind and its reason."""
+
+    kind: str
+    reason: str
+
+    def summary(self) -> dict[str, Any]: ...
+
+
+def stack_verdicts(verdicts: Mapping[str, SummarisedVerdict], labels: Sequence[str]) -> xr.Dataset:
     """Stack verdicts into a Dataset over the dimension ``variable``; ``labels`` are the
     verdict labels stored as the ``flag_meanings`` of ``label``.
 

@@ -28,6 +28,7 @@ from ..embedding import estimate_delay, estimate_embedding_dim
 from ..lyapunov import lyapunov_kantz, lyapunov_rosenstein, lyapunov_wolf
 from ..sections import poincare_section, stroboscopic_map
 from ._clusters import SectionStructure, section_structure
+from ._cycles import cycle_spread, cycle_surrogate_test
 from ._lines import LineSpectrum, line_spectrum
 from ._rng import as_generator
 from ._surrogates import SurrogateResult, check_surrogates, surrogate_test
@@ -52,6 +53,9 @@ Vote = Literal["supports", "opposes", "neutral", "missing"]
 MIN_SAMPLES = 200
 DIMENSION_POINTS = 2000  # FNN reference points: the fraction is known to about ±1 %
 LOW_DIM = 3  # delay coordinates of the second surrogate test (a chaotic flow unfolds in 3)
+# Smallest forecast gain of the cycle-shuffled test, in standard deviations: an exact orbit's
+# cycles differ at round-off (1e-10), which any rank test would read as determinism.
+CYCLE_MIN_GAIN = 1e-3
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -144,8 +148,8 @@ class Verdict:
         periods; the series has 5"``). Empty for a decided label.
     votes
         For each piece of evidence (``lines``, ``section``, ``rosenstein``, ``wolf``,
-        ``zero_one``, ``surrogates``): ``"supports"``, ``"opposes"``, ``"neutral"`` (present
-        but unable to decide) or ``"missing"``.
+        ``zero_one``, ``surrogates``, and ``cycles`` for a forced series): ``"supports"``,
+        ``"opposes"``, ``"neutral"`` (present but unable to decide) or ``"missing"``.
     errors
         Evidence that could not be computed, with the estimator's message.
     variable, kind, dt, n_samples
@@ -181,6 +185,16 @@ class Verdict:
         The surrogate test in three delay coordinates at a horizon of one sample of the
         (thinned) series when the first one, at a horizon of one delay, did not reject
         (None otherwise): a noise label needs it to fail as well.
+    surrogates_cycle
+        For a forced series: the test of the null hypothesis "a periodic orbit plus noise
+        that does not carry over from one cycle to the next"
+        (:func:`~chaoskit.cycle_surrogate_test`, cycles of :math:`k` drive periods for a
+        section of :math:`k` clusters, else one); None for maps and autonomous flows, or
+        when it could not run (``errors["cycles"]``).
+    cycle_spread
+        For a forced series: the cycle-to-cycle variation that is not white noise, relative
+        to the standard deviation (:func:`~chaoskit.cycle_spread`, same cycles); NaN
+        otherwise.
     rule
         The :class:`VerdictRule` applied.
     """
@@ -216,6 +230,8 @@ class Verdict:
     surrogates: SurrogateResult | None = field(default=None, repr=False)
     surrogates_low_dim: SurrogateResult | None = field(default=None, repr=False)
     surrogates_one_step: SurrogateResult | None = field(default=None, repr=False)
+    surrogates_cycle: SurrogateResult | None = field(default=None, repr=False)
+    cycle_spread: float = float("nan")
     lines: LineSpectrum | None = field(default=None, repr=False)
     rule: VerdictRule = field(default_factory=VerdictRule, repr=False)
 
@@ -465,11 +481,14 @@ def _section_points(
 # ---------------------------------------------------------------- the rule
 
 
-def _describe(exc: Exception) -> str:
+def describe_error(exc: Exception) -> str:
+    """An estimator's failure in words: its message, with the type unless a ValueError."""
     return str(exc) if isinstance(exc, ValueError) else f"{type(exc).__name__}: {exc}"
 
 
-def _positive(res: Any, time_scale: float, rule: VerdictRule) -> bool | None:
+def clearly_positive(res: Any, time_scale: float, rule: VerdictRule) -> bool | None:
+    """Whether an exponent estimate is clearly positive (interval above 0 and λ₁T at least
+    ``rule.min_growth``); None when it is missing."""
     if res is None:
         return None
     return bool(res.ci[0] > 0.0 and res.mle > 0.0 and res.mle * time_scale >= rule.min_growth)
@@ -486,6 +505,8 @@ def _votes(
     long_enough: bool,
     n_bases: int,
     rule: VerdictRule,
+    cycles: bool | None = None,
+    noisy_orbit: bool = False,
 ) -> dict[str, Vote]:
     regular = label in ("periodic", "quasi-periodic")
     votes: dict[str, Vote] = {}
@@ -526,6 +547,20 @@ def _votes(
         votes["surrogates"] = "neutral"
     else:
         votes["surrogates"] = "supports" if rejected == (label == "chaotic") else "opposes"
+    if cycles is not None:
+        # cycles: the noisy-periodic null is rejected (by the cycle test or the spread)
+        if noisy_orbit and cycles:
+            votes["cycles"] = "neutral"  # what carries over is within the cluster tolerance
+        elif label in ("periodic", "chaotic"):
+            votes["cycles"] = "supports" if cycles == (label == "chaotic") else "opposes"
+        else:
+            votes["cycles"] = "neutral"  # a torus or noise carries over, or not, either way
+    if noisy_orbit:
+        # the cycle test found nothing beyond noise: what the noise does to the exponents,
+        # the 0–1 test and the spectrum is no evidence (as for a noise label)
+        for name in ("rosenstein", "wolf", "kantz", "zero_one", "lines"):
+            if votes.get(name) in ("supports", "opposes"):
+                votes[name] = "neutral"
     return votes
 
 
@@ -544,6 +579,10 @@ def combine(
     cycle_unit: str = "characteristic times",
     low_dim_rejected: bool | None = None,
     kantz_positive: bool | None = None,
+    cycles_rejected: bool | None = None,
+    driven: bool = False,
+    noise: float = float("nan"),
+    cycle_spread: float = float("nan"),
 ) -> tuple[Label, int | None, float, str, dict[str, Vote], tuple[str, ...]]:
     """Apply the rule of :func:`classify` to the evidence.
 
@@ -552,7 +591,12 @@ def combine(
     ``n_cycles`` the characteristic times the series spans
     (``cycle_unit`` names them), ``low_dim_rejected`` whether a surrogate test repeated
     in a few delay coordinates, a delay or one sample ahead, rejected (None: none ran),
-    ``kantz_positive`` whether the referee exponent is clearly positive (None: not run).
+    ``kantz_positive`` whether the referee exponent is clearly positive (None: not run),
+    ``driven`` whether the series is forced (its chaos then needs ``cycles_rejected``:
+    the noisy-periodic-orbit test rejected; None: it did not run), ``cycle_spread`` its
+    cycle-to-cycle variation that is not white noise (relative to the standard deviation)
+    and ``noise`` the estimated measurement-noise level (both stated in the reason of a
+    noisy periodic orbit).
     Returns label, period, confidence, reason, votes and needs.
     """
     exponents = {"Rosenstein": rosenstein_positive, "Wolf": wolf_positive}
@@ -579,6 +623,19 @@ def combine(
     # spectrum of lines that are not one period's harmonics (unresolved, or a torus's)
     # contradicts k tight clusters (chaotic flows sampled coarsely show both)
     lines_contradict_clusters = lines in ("unresolved", "quasi-periodic")
+    # a driven series whose section is k tight clusters and whose departure from its mean
+    # cycle is white noise, up to the cluster tolerance, is a periodic orbit plus noise,
+    # whatever the noise does to the spectrum and the exponents
+    noisy_orbit = bool(
+        driven
+        and section == "clusters"
+        and lines != "quasi-periodic"
+        and cycle_spread <= rule.cluster_tol
+    )
+    # what a chaotic driven series must show beyond a noisy periodic orbit: its departure
+    # from the mean cycle carries over from one cycle to the next (the cycle-shuffled
+    # surrogates reject), or is not white noise and larger than the cluster tolerance
+    beyond_orbit = cycles_rejected is True or bool(cycle_spread > rule.cluster_tol)
     period: int | None = None
     label: Label
     needs: list[str] = []
@@ -591,6 +648,17 @@ def combine(
         reason = (
             f"the section is {period} tight cluster{'s' * (period != 1)} visited in a fixed "
             "cyclic order"
+        )
+    elif noisy_orbit:
+        assert structure is not None
+        label, period = "periodic", structure.n_clusters
+        reason = (
+            f"the section is {period} tight cluster{'s' * (period != 1)} and what varies from "
+            f"cycle to cycle beyond white noise is {cycle_spread:.2g} of the standard "
+            f"deviation (at most {rule.cluster_tol:g}): a periodic orbit plus noise "
+            f"(measurement noise about {noise:.2g} of the standard deviation; the "
+            "cycle-shuffled surrogate test "
+            + ("rejects, within that tolerance)" if cycles_rejected else "does not reject)")
         )
     elif lines == "quasi-periodic":
         label = "quasi-periodic"
@@ -612,6 +680,7 @@ def combine(
     elif (
         (both_positive or zero_one_witness)
         and surrogates_rejected is True
+        and (not driven or beyond_orbit)
         and lines in ("broadband", "unresolved")
         # a regular-looking section does not count against a broadband spectrum either
         and (section not in ("clusters", "closed-curve") or broadband_decides)
@@ -630,7 +699,16 @@ def combine(
             )
         reason = (
             f"{head}, the data are more predictable than their "
-            "IAAFT surrogates, and neither the spectrum nor the section is regular"
+            "IAAFT surrogates"
+            + (
+                ""
+                if not driven
+                else " and, across a cycle boundary, than their cycle-shuffled ones"
+                if cycles_rejected
+                else f", their departure from the mean cycle is not white noise "
+                f"({cycle_spread:.2g} of the standard deviation)"
+            )
+            + ", and neither the spectrum nor the section is regular"
         )
     else:
         label = "undetermined"
@@ -666,6 +744,17 @@ def combine(
                     f"than their surrogates in {LOW_DIM} delay coordinates or one sample "
                     "ahead, but not in the embedding dimension one delay ahead, so neither "
                     "noise nor determinism is shown"
+                )
+            elif driven and not beyond_orbit and surrogates_rejected is True:
+                needs.append(
+                    "evidence beyond a noisy periodic orbit: a cycle-shuffled surrogate test "
+                    + (
+                        "(it could not run; see errors)"
+                        if cycles_rejected is None
+                        else "that rejects, or a departure from the mean cycle that is not "
+                        f"white noise and exceeds {rule.cluster_tol:g} of the standard "
+                        f"deviation (it is {cycle_spread:.2g})"
+                    )
                 )
             elif surrogates_rejected is not False:
                 for name, pos in exponents.items():
@@ -703,6 +792,8 @@ def combine(
         long_enough=long_enough,
         n_bases=lines_bases,
         rule=rule,
+        cycles=None if not driven or cycles_rejected is None else beyond_orbit,
+        noisy_orbit=noisy_orbit and label == "periodic" and lines != "periodic",
     )
     if label == "undetermined":
         confidence = float("nan")
@@ -733,6 +824,35 @@ def _needs_referee(
     if section in ("clusters", "closed-curve") and not broadband_decides:
         return False
     return section == "scattered" or broadband_decides
+
+
+def _cycle_test(
+    x: np.ndarray,
+    dt: float,
+    lag: int,
+    period: float,
+    rule: VerdictRule,
+    n_surrogates: int,
+    gen: np.random.Generator,
+) -> SurrogateResult:
+    """The noisy-periodic-orbit test of a forced series over cycles of ``period``: the
+    series thinned as for the IAAFT test, to at least 16 samples per cycle; three delay
+    coordinates, a horizon of one delay."""
+    step = max(1, min(lag // 4, int(period / dt // 16)))
+    thin_lag = max(1, round(lag / step))
+    return cycle_surrogate_test(
+        x[::step],
+        period,
+        dt=dt * step,
+        embedding_dim=LOW_DIM,
+        lag=thin_lag,
+        horizon=min(thin_lag, int(period / (dt * step)) - 1),
+        n_surrogates=n_surrogates,
+        alpha=rule.alpha,
+        min_effect=rule.min_effect,
+        min_gain=CYCLE_MIN_GAIN,
+        rng=gen,
+    )
 
 
 def _any_rejected(*tests: SurrogateResult | None) -> bool | None:
@@ -819,7 +939,13 @@ def classify(
        The outcome is *periodic* (harmonics of one fundamental; for a forced series a
        subharmonic of the drive), *quasi-periodic* (integer combinations of two or three
        incommensurate base frequencies), *broadband* or *unresolved* (lines explain all
-       but 0.1 % of the variance, the rest is not white).
+       but 0.1 % of the variance, the rest is not white);
+    7. for a forced series, the null hypothesis "a periodic orbit plus noise that does not
+       carry over from one cycle to the next": the cycle-shuffled surrogate test
+       (:func:`cycle_surrogate_test`; cycles of :math:`k` drive periods when the section is
+       :math:`k` clusters, else one; three delay coordinates, a horizon of one delay, a
+       forecast gain of at least 0.001 of the standard deviation) and the departure from
+       the mean cycle that is not white noise (:func:`cycle_spread`).
 
     A series spans :math:`N\,\Delta t / T` characteristic times (``Verdict.n_cycles``:
     drive periods, oscillations, or samples of a map). Below ``rule.min_cycles`` (20) a
@@ -836,6 +962,11 @@ def classify(
       order and the spectrum is not lines of another kind (unresolved, or a torus's);
       :math:`k` counts samples for maps and for series that repeat after :math:`k`
       samples, drive periods for forced flows, maxima per period for autonomous flows;
+    * for a forced series (``drive_period`` or ``phase_variable``) also *periodic* (period
+      :math:`k`) if the section is :math:`k` tight clusters, the spectrum is not a torus's
+      and what varies from cycle to cycle beyond white noise (:func:`cycle_spread`) is at
+      most ``rule.cluster_tol`` of the standard deviation: a periodic orbit plus noise,
+      whatever the noise does to the spectrum and the exponents;
     * else *quasi-periodic* if the line spectrum is two or three incommensurate base
       frequencies and their combinations (white residual), or if the section fills a
       closed curve and not both exponents are clearly positive;
@@ -854,7 +985,10 @@ def classify(
       characteristic times; one clearly positive estimate suffices when the 0–1 test
       finds the motion irregular (:math:`K \ge` ``rule.zero_one_chaotic``), the surrogate
       test rejects, the section is scattered and the spectrum broadband over at least
-      ``rule.min_cycles`` characteristic times;
+      ``rule.min_cycles`` characteristic times; a forced series must in addition reject
+      the null hypothesis of a noisy periodic orbit: the cycle-shuffled surrogate test
+      (:func:`cycle_surrogate_test`) rejects, or the departure from the mean cycle is not
+      white noise and exceeds ``rule.cluster_tol`` of the standard deviation;
     * else *undetermined*, and ``Verdict.needs`` says what would decide: more drive
       periods or oscillations, more section points, a clearly positive exponent, an
       estimator that failed.
@@ -872,7 +1006,11 @@ def classify(
     agree, a clearly positive exponent
     disagrees; the surrogate test is neutral for regular labels, the exponents for
     *noise-like*, a section with fewer than 20 points always, and a three-frequency
-    torus's scattered section for *quasi-periodic*.
+    torus's scattered section for *quasi-periodic*. For a forced series the null of a
+    noisy periodic orbit votes too (``cycles``: rejected — by the cycle-shuffled test or
+    the correlated spread — for *chaotic*, not rejected for *periodic*); for a periodic
+    orbit plus noise the exponents, the 0–1 test and the spectrum are neutral (noise
+    fools them), and so is a rejection of the cycle test within the cluster tolerance.
 
     Parameters
     ----------
@@ -978,8 +1116,8 @@ def classify(
             lyap[name] = func(x, embedding_dim=embedding_dim, lag=lag, dt=inp.dt)
         except Exception as exc:  # failure is data: the verdict records it and goes on
             lyap[name] = None
-            errors[name] = _describe(exc)
-    positives = {name: _positive(res, time_scale, rule) for name, res in lyap.items()}
+            errors[name] = describe_error(exc)
+    positives = {name: clearly_positive(res, time_scale, rule) for name, res in lyap.items()}
 
     zero_one = None
     try:
@@ -1063,16 +1201,29 @@ def classify(
             fold=inp.kind != "forced",
         )
     except (ValueError, np.linalg.LinAlgError) as exc:
-        errors["lines"] = _describe(exc)
+        errors["lines"] = describe_error(exc)
     n_cycles, unit = _cycles(inp, x.size, time_scale)
+    cycles = None
+    spread = float("nan")
+    if inp.kind == "forced":
+        try:
+            # cycles of k drive periods for a section of k clusters or a series that repeats
+            # after k: a period-k orbit keeps its order
+            k = structure.n_clusters if structure and structure.kind == "clusters" else 1
+            if lines is not None and lines.kind == "periodic" and k == 1:
+                k = _line_period(lines, inp, time_scale) or 1
+            cycles = _cycle_test(x, inp.dt, lag, k * time_scale, rule, n_surrogates, gen)
+            spread = cycle_spread(x, k * time_scale, dt=inp.dt)
+        except ValueError as exc:
+            errors["cycles"] = str(exc)
     kantz = None
     kantz_positive = None
     if _needs_referee(positives, structure, lines, surrogates, n_cycles >= rule.min_cycles):
         try:
             kantz = lyapunov_kantz(x, embedding_dim=embedding_dim, lag=lag, dt=inp.dt)
-            kantz_positive = _positive(kantz, time_scale, rule)
+            kantz_positive = clearly_positive(kantz, time_scale, rule)
         except Exception as exc:  # failure is data, as for the other two
-            errors["kantz"] = _describe(exc)
+            errors["kantz"] = describe_error(exc)
     label, period, confidence, reason, votes, needs = combine(
         structure=structure,
         rosenstein_positive=positives["rosenstein"],
@@ -1087,6 +1238,10 @@ def classify(
         cycle_unit=unit,
         low_dim_rejected=_any_rejected(low_dim, one_step),
         kantz_positive=kantz_positive,
+        cycles_rejected=None if cycles is None else cycles.rejected,
+        driven=inp.kind == "forced",
+        noise=noise,
+        cycle_spread=spread,
     )
     return Verdict(
         label=label,
@@ -1117,5 +1272,7 @@ def classify(
         surrogates=surrogates,
         surrogates_low_dim=low_dim,
         surrogates_one_step=one_step,
+        surrogates_cycle=cycles,
+        cycle_spread=spread,
         **base,
     )

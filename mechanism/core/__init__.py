@@ -17,7 +17,7 @@ from ._simulate import (
     simulate,
     step_limits,
 )
-from .bodies._ancf import (
+from .bodies import (
     AncfMesh,
     BeamModes,
     BeamStaticSolution,
@@ -26,6 +26,7 @@ from .bodies._ancf import (
     solve_beam_static,
 )
 from .contact import contact_stiffness, hertz_stiffness
+from .record import FullRecord, MetricsRecord, RecordMode, SectionsRecord
 from .scene import Scene, SceneError, list_scenes, load_scene, save_scene, scene_from_json
 from .wear import WornProfile, archard_wear
 
@@ -33,8 +34,12 @@ __all__ = [
     "AncfMesh",
     "BeamModes",
     "BeamStaticSolution",
+    "FullRecord",
+    "MetricsRecord",
+    "RecordMode",
     "Scene",
     "SceneError",
+    "SectionsRecord",
     "SimulationError",
     "SimulationWarning",
     "WornProfile",

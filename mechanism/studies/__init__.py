@@ -1,18 +1,32 @@
 """Studies built on the simulator core: sweeps and their store, bifurcation diagrams, the
-largest Lyapunov exponent of a scene, wear prediction, element convergence, wear-profile
-figures and report sections, and the paper study.
+largest Lyapunov exponent of a scene, periodic orbits and their multipliers, wear prediction
+and the wear life, element convergence, wear-profile figures and report sections, and the
+paper study.
 
-Everything here uses :mod:`mechanism.core`'s public names.
+Everything here uses :mod:`mechanism.core`'s public names. The sweeps
+(:mod:`mechanism.studies.sweep`) and the paper study (:mod:`mechanism.studies.paper`) are
+packages of one concern per module.
 """
 
 from __future__ import annotations
 
-from ._bifurcation import bifurcation
+from ._bifurcation import bifurcation, parse_values
 from ._convergence import ElementConvergence, element_convergence
-from ._lyapunov import SceneLyapunov, lyapunov_exponent
-from ._paper import PaperStudy, StudySettings, paper_claims, paper_tables, run_paper_study
+from ._lyapunov import DEFAULT_DEVIATION_RTOL, SceneLyapunov, lyapunov_exponent
 from ._plot import plot_bifurcation
-from ._sweep import (
+from ._wear_life import DEFAULT_WEAR_LIFE_AVERAGED_REVOLUTIONS, WearLife, wear_life
+from ._wear_prediction import (
+    DEFAULT_MAX_DEPTH_INCREMENT,
+    WearComparison,
+    WearPrediction,
+    WearPredictionError,
+    compare_wear,
+    predict_wear,
+)
+from ._wear_report import plot_wear_profile, wear_profile_section
+from .orbits import ContactPhase, PeriodicOrbit, periodic_orbit
+from .paper import PaperStudy, StudySettings, paper_claims, paper_tables, run_paper_study
+from .sweep import (
     Analysis,
     GridTransform,
     SweepStoreBusy,
@@ -25,25 +39,23 @@ from ._sweep import (
     stroboscopic_points,
     sweep,
 )
-from ._wear_prediction import (
-    WearComparison,
-    WearPrediction,
-    WearPredictionError,
-    compare_wear,
-    predict_wear,
-)
-from ._wear_report import plot_wear_profile, wear_profile_section
 
 __all__ = [
+    "DEFAULT_DEVIATION_RTOL",
+    "DEFAULT_MAX_DEPTH_INCREMENT",
+    "DEFAULT_WEAR_LIFE_AVERAGED_REVOLUTIONS",
     "Analysis",
+    "ContactPhase",
     "ElementConvergence",
     "GridTransform",
     "PaperStudy",
+    "PeriodicOrbit",
     "SceneLyapunov",
     "StudySettings",
     "SweepStoreBusy",
     "SweepStoreMismatch",
     "WearComparison",
+    "WearLife",
     "WearPrediction",
     "WearPredictionError",
     "bifurcation",
@@ -56,6 +68,8 @@ __all__ = [
     "lyapunov_exponent",
     "paper_claims",
     "paper_tables",
+    "parse_values",
+    "periodic_orbit",
     "plot_bifurcation",
     "plot_wear_profile",
     "predict_wear",
@@ -63,5 +77,6 @@ __all__ = [
     "run_paper_study",
     "stroboscopic_points",
     "sweep",
+    "wear_life",
     "wear_profile_section",
 ]

@@ -26,7 +26,7 @@ from chaoskit.contract import __version__, stamp
 from mechanism.core import simulate
 
 from ._lyapunov import lyapunov_exponent
-from ._sweep import Analysis, _resolve_scene, sweep
+from .sweep import Analysis, resolve_scene, sweep
 
 __all__ = ["EXPONENT_VARIABLES", "bifurcation", "parse_values"]
 
@@ -222,7 +222,7 @@ def bifurcation(
     parameter
         A dotted scene key, e.g. ``"drive.speed_rpm"`` or ``"joints.C.clearance"``.
     values
-        Its values (see :func:`parse_values` for the ``START:STOP:COUNT`` form).
+        Its values (see ``parse_values`` for the ``START:STOP:COUNT`` form).
     revolutions
         Drive periods simulated per value (the transient included).
     discard
@@ -279,7 +279,7 @@ def bifurcation(
     >>> ds.crossing.values.tolist()
     [2, 3, 4]
     """
-    scene = _resolve_scene(scene)
+    scene = resolve_scene(scene)
     if isinstance(values, str):
         values = parse_values(values)
     values = [float(v) for v in values]

@@ -66,7 +66,7 @@ class ElementConvergence:
     method: str
 
     def relative_change(self) -> np.ndarray:
-        """(elements, rods) |ε(n_k) − ε(n_{k−1})| / |ε(n_k)|; NaN in the first row."""
+        """(elements, rods) ``|ε(n_k) − ε(n_{k−1})| / |ε(n_k)|``; NaN in the first row."""
         out = np.full(self.strain.shape, np.nan)
         out[1:] = np.abs(np.diff(self.strain, axis=0)) / np.abs(self.strain[1:])
         return out
@@ -141,7 +141,7 @@ def element_convergence(
 ) -> ElementConvergence:
     """Simulate ``scene`` with each element count and tabulate the extreme rod strains.
 
-    ε_ext = the value of largest |ε| over the run and over the nodes and element
+    ε_ext = the value of largest ``|ε|`` over the run and over the nodes and element
     mid-points of the rod (× 1e6, positive = tension), as the paper's convergence table
     (Jia et al. 2025, §4.1).
 

@@ -358,6 +358,7 @@ def lyapunov_exponent(
             renormalize_every=every, time_scale=tau, approach_floor=floor,
             projection=solver.projection, deviation_rtol=deviation_rtol,
             progress=progress, label=f"{scene.name} (lyapunov)",
+            neutral_latch_after=segment,
         )  # fmt: skip
     if not run.stats.success:
         raise SimulationError(

@@ -19,12 +19,14 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 import pandas as pd
 import xarray as xr
+from scipy.stats import t as student_t
 
 from chaoskit.contract import __version__, check_int, check_positive, stamp, variable
 from mechanism.core import Scene, SimulationError, simulate
@@ -33,7 +35,9 @@ from mechanism.core.scene import ClearanceRevolute
 from mechanism.core.wear import SURFACES, WornProfile, clearance_joint, run_wear, surface_angle
 
 __all__ = [
+    "DEFAULT_AVERAGED_REVOLUTIONS",
     "DEFAULT_MAX_DEPTH_INCREMENT",
+    "MAX_AVERAGED_REVOLUTIONS",
     "MAX_SUB_UPDATES",
     "PENETRATION_LIMIT",
     "WearComparison",
@@ -53,6 +57,18 @@ DEFAULT_MAX_DEPTH_INCREMENT = 0.025
 PENETRATION_LIMIT = 1.0
 #: Most sub-updates one update may be split into before the prediction stops.
 MAX_SUB_UPDATES = 100
+#: Default of ``averaged_revolutions`` in :func:`predict_wear`: one revolution, the
+#: published update scheme (Flores 2009), so its results are unchanged; where the motion is
+#: irregular use more (:func:`mechanism.wear_life` defaults to more; docs/wear.md).
+DEFAULT_AVERAGED_REVOLUTIONS = 1
+#: Largest accepted ``averaged_revolutions``.
+MAX_AVERAGED_REVOLUTIONS = 1000
+#: Most batches of consecutive revolutions behind the 95 % interval of the wear per cycle.
+MAX_BATCHES = 10
+#: Regions whose mean wear per cycle is at least this fraction of their surface's largest
+#: enter the largest *relative* half-width (elsewhere the relative width of a vanishing
+#: rate says nothing about the profile).
+RELATIVE_HALFWIDTH_FLOOR = 0.1
 
 _COMPLETE = "complete"
 _FAILED = "failed"
@@ -138,7 +154,10 @@ class WearPrediction:
         ``penetration_fraction(update)`` (the hard check over the whole run), the sub-update
         records ``sub_update_cycles(sub_update)``, ``sub_update_of``,
         ``sub_update_depth_increment``, ``sub_update_penetration``,
-        ``sub_update_peak_contact_force``, the worn scene as JSON in
+        ``sub_update_peak_contact_force``, ``sub_update_relative_halfwidth``, the wear per
+        cycle of each update state ``wear_rate(update, joint, surface, angle)`` (m) with
+        its 95 % half-width ``wear_rate_halfwidth`` and ``wear_rate_relative_halfwidth(update)``
+        (NaN with one averaged revolution), the worn scene as JSON in
         ``attrs["worn_scene"]``, ``attrs["status"]`` (``"complete"``/``"failed"``),
         ``attrs["status_reason"]`` and the settings in attrs.
         """
@@ -187,6 +206,7 @@ def predict_wear(
     cycles_per_update: float,
     max_depth_increment: float = DEFAULT_MAX_DEPTH_INCREMENT,
     settle_revolutions: float = 2.0,
+    averaged_revolutions: int = DEFAULT_AVERAGED_REVOLUTIONS,
     method: str | None = None,
     rtol: float | None = None,
     atol: float | None = None,
@@ -198,9 +218,11 @@ def predict_wear(
     For each update u = 0 … ``updates`` − 1 (docs/paper-model.md §6, Flores 2009, Mukras 2010)
     the block of ΔN = ``cycles_per_update`` cycles is worn in sub-updates:
 
-    1. simulate ``settle_revolutions`` + 1 crank revolutions with the current profiles
-       (the worn geometry shapes the contact) and take the response metrics and the
-       Archard wear h_cyc of the last revolution (:func:`run_wear`);
+    1. simulate ``settle_revolutions`` + n crank revolutions (n = ``averaged_revolutions``)
+       with the current profiles (the worn geometry shapes the contact) and take the
+       response metrics of the last n revolutions and the Archard wear per cycle h_cyc,
+       the mean of the n revolutions' wear (``run_wear`` on each), with its 95 %
+       interval per region from batch means over consecutive revolutions;
     2. the sub-update takes the cycles left of the block, split into the fewest equal
        parts for which no region deepens by more than ``max_depth_increment`` × clearance;
     3. h ← h + ΔN_sub · smooth(h_cyc) with the joint's ``smoothing_regions`` moving average;
@@ -210,7 +232,7 @@ def predict_wear(
     Every simulated state passes a hard check: its largest penetration over the whole run
     must not exceed the joint's radial clearance, and its contact forces must be finite.
     Otherwise — or when the simulation fails, or an update would need more than
-    :data:`MAX_SUB_UPDATES` sub-updates — the prediction stops and raises
+    ``MAX_SUB_UPDATES`` sub-updates — the prediction stops and raises
     :class:`WearPredictionError`, whose ``prediction`` holds the updates that finished
     (``status == "failed"``, the reason also in the dataset's attrs). A returned
     prediction therefore always has ``status == "complete"``.
@@ -227,7 +249,12 @@ def predict_wear(
         Largest depth one sub-update may add, as a fraction of the joint's radial
         clearance, in (0, 1]; larger blocks are split into sub-updates.
     settle_revolutions : float
-        Revolutions simulated before the cycle that is measured (≥ 0).
+        Revolutions simulated before the cycles that are measured (≥ 0).
+    averaged_revolutions : int
+        Revolutions n whose mean wear is the wear per cycle, in [1, 1000]. With n = 1 (the
+        default, the published scheme) one revolution's wear is extrapolated and has no
+        interval; where the motion is irregular one revolution is not the wear rate, and
+        n ≥ 4 gives the interval (docs/wear.md, "Averaged wear").
     method, rtol, atol, output_step
         Passed to :func:`mechanism.simulate`.
     progress : bool
@@ -237,7 +264,7 @@ def predict_wear(
     -------
     WearPrediction
         With ``status == "complete"``; ``to_dataset()`` records the cycles of every
-        sub-update.
+        sub-update and the wear per cycle with its interval.
 
     Raises
     ------
@@ -260,16 +287,12 @@ def predict_wear(
     updates, block, limit, settle = _checked_settings(
         updates, cycles_per_update, max_depth_increment, settle_revolutions
     )
-    scene = scene.replace({"effects.wear": True})
-    names = [n for n, j in scene.joints.items() if isinstance(j, ClearanceRevolute)]
-    if not names or not scene.effects.clearance:
-        raise ValueError("predict_wear needs a scene with an active clearance joint.")
-    profiles = {n: WornProfile.from_joint(clearance_joint(scene, n)) for n in names}
-    if len({p.regions for p in profiles.values()}) != 1:
-        raise ValueError("all clearance joints must have the same wear.regions.")
-    loop = _UpdateLoop(
-        scene, names, profiles, block=block, limit=limit, settle=settle,
+    averaged = check_averaged_revolutions(averaged_revolutions)
+    loop = update_loop(
+        scene, targets=[(u + 1) * block for u in range(updates)], limit=limit,
+        settle=settle, averaged=averaged,
         simulate_kwargs={"method": method, "rtol": rtol, "atol": atol, "output_step": output_step},
+        caller="predict_wear",
     )  # fmt: skip
     bar = None
     if progress:
@@ -286,6 +309,7 @@ def predict_wear(
         "cycles_per_update": block,
         "max_depth_increment": limit,
         "settle_revolutions": settle,
+        "averaged_revolutions": averaged,
         "penetration_limit": PENETRATION_LIMIT,
         "max_sub_updates": MAX_SUB_UPDATES,
     }
@@ -301,19 +325,116 @@ def _checked_settings(
     """The settings of :func:`predict_wear`, or a ValueError naming the one out of range."""
     n = check_int(updates, name="updates", minimum=1)
     block = check_positive(cycles_per_update, name="cycles_per_update")
+    limit = check_depth_increment(max_depth_increment)
+    settle = float(settle_revolutions)
+    if not (math.isfinite(settle) and settle >= 0.0):
+        raise ValueError(f"settle_revolutions must be >= 0; got {settle_revolutions!r}.")
+    return n, block, limit, settle
+
+
+def check_depth_increment(value: Any) -> float:
+    """``max_depth_increment`` as a float in (0, 1], or a ValueError naming its range."""
     try:
-        limit = float(max_depth_increment)
+        limit = float(value)
     except (TypeError, ValueError):
         limit = math.nan
     if not 0.0 < limit <= 1.0:  # NaN fails too
         raise ValueError(
             "max_depth_increment must be in (0, 1] (a fraction of the radial clearance); "
-            f"got {max_depth_increment!r}."
+            f"got {value!r}."
         )
-    settle = float(settle_revolutions)
-    if not (math.isfinite(settle) and settle >= 0.0):
-        raise ValueError(f"settle_revolutions must be >= 0; got {settle_revolutions!r}.")
-    return n, block, limit, settle
+    return limit
+
+
+def check_averaged_revolutions(value: Any) -> int:
+    """``averaged_revolutions`` as an int, or a ValueError naming its range."""
+    return check_int(
+        value, name="averaged_revolutions", minimum=1, maximum=MAX_AVERAGED_REVOLUTIONS
+    )
+
+
+def update_loop(
+    scene: Scene,
+    *,
+    targets: list[float],
+    limit: float,
+    settle: float,
+    averaged: int,
+    simulate_kwargs: dict[str, Any],
+    caller: str,
+) -> _UpdateLoop:
+    """The update loop of ``scene`` (wear switched on) before it runs; shared with
+    :func:`mechanism.wear_life`. ``targets`` are the cumulative cycles at the end of
+    each update (increasing). A ValueError when the scene has no clearance joint to
+    wear (``caller`` names the function in the message)."""
+    scene = scene.replace({"effects.wear": True})
+    names = [n for n, j in scene.joints.items() if isinstance(j, ClearanceRevolute)]
+    if not names or not scene.effects.clearance:
+        raise ValueError(
+            f"{caller} needs a scene with an active clearance joint (a clearance_revolute "
+            "joint and effects.clearance = true)."
+        )
+    profiles = {n: WornProfile.from_joint(clearance_joint(scene, n)) for n in names}
+    if len({p.regions for p in profiles.values()}) != 1:
+        raise ValueError("all clearance joints must have the same wear.regions.")
+    return _UpdateLoop(
+        scene, names, profiles, targets=targets, limit=limit, settle=settle,
+        averaged=averaged, simulate_kwargs=simulate_kwargs,
+    )  # fmt: skip
+
+
+@dataclass(frozen=True)
+class _Rates:
+    """The wear per cycle of one simulated state, from ``averaged`` revolutions."""
+
+    increments: dict[str, np.ndarray]  # (2, regions) smoothed mean depth per cycle (m)
+    halfwidth: dict[str, np.ndarray]  # (2, regions) its 95 % half-width (m; NaN for n = 1)
+    rate: float  # largest mean increment / clearance
+    room: float  # cycles a journal may wear before losing half of what is left
+    relative_halfwidth: float  # largest half-width / mean over the worn regions
+
+
+def batch_halfwidth(samples: np.ndarray, batches: int = MAX_BATCHES) -> np.ndarray:
+    """95 % half-width of the mean of ``samples`` along axis 0, from batch means.
+
+    The samples (one per revolution) are split into at most ``batches`` groups of
+    consecutive samples; t(0.975, B − 1) s_B / √B with s_B the standard deviation of the
+    B group means. NaN for fewer than two samples.
+    """
+    n = samples.shape[0]
+    b = min(n, batches)
+    if b < 2:
+        return np.full(samples.shape[1:], math.nan)
+    means = np.stack([g.mean(axis=0) for g in np.array_split(samples, b, axis=0)])
+    return float(student_t.ppf(0.975, b - 1)) * means.std(axis=0, ddof=1) / math.sqrt(b)
+
+
+def _relative_halfwidth(mean: np.ndarray, halfwidth: np.ndarray) -> float:
+    """Largest half-width / mean over the regions whose mean is at least
+    :data:`RELATIVE_HALFWIDTH_FLOOR` of their surface's largest (NaN when nothing wears)."""
+    worst = math.nan
+    for m, h in zip(mean, halfwidth, strict=True):
+        top = float(m.max())
+        if top <= 0.0 or not np.isfinite(h).all():
+            continue
+        worn = m >= RELATIVE_HALFWIDTH_FLOOR * top
+        value = float((h[worn] / m[worn]).max())
+        worst = value if math.isnan(worst) else max(worst, value)
+    return worst
+
+
+def _nanmax(a: float, b: float) -> float:
+    """The larger of two values, ignoring NaN (NaN only when both are)."""
+    if math.isnan(a):
+        return b
+    return a if math.isnan(b) else max(a, b)
+
+
+def revolution_bounds(traj: xr.Dataset, settle: float, revolutions: int) -> list[int]:
+    """Sample indices that start the ``revolutions`` revolutions after ``settle`` and end
+    the last one (its last sample)."""
+    bounds = [window_start(traj, settle + k) for k in range(revolutions)]
+    return [*bounds, int(traj.sizes["time"]) - 1]
 
 
 class _UpdateLoop:
@@ -325,13 +446,15 @@ class _UpdateLoop:
         names: list[str],
         profiles: dict[str, WornProfile],
         *,
-        block: float,
+        targets: list[float],
         limit: float,
         settle: float,
+        averaged: int,
         simulate_kwargs: dict[str, Any],
     ) -> None:
         self.scene, self.names, self.profiles = scene, names, profiles
-        self.block, self.limit, self.settle = block, limit, settle
+        self.targets, self.limit, self.settle, self.averaged = targets, limit, settle, averaged
+        self.block = targets[0] if targets else 0.0  # the block being worn
         self.kwargs = simulate_kwargs
         self.current = scene  # carries self.profiles
         self.kept = scene  # the scene of the last finished update state
@@ -341,13 +464,14 @@ class _UpdateLoop:
         self.reduced = 0
         self.failure = ""
         self.last_check: _Check | None = None  # of the last simulated state, passed or not
+        self.on_state: Callable[[Scene, int, float], bool] | None = None
         self.bar: Any = None
 
     # -- one simulated state
     def _simulate(self, label: str) -> tuple[xr.Dataset, int, _Check] | None:
         self.last_check = None
         try:
-            traj = simulate(self.current, revolutions=self.settle + 1.0, **self.kwargs)
+            traj = simulate(self.current, revolutions=self.settle + self.averaged, **self.kwargs)
         except SimulationError as exc:
             self.failure = f"the simulation of {label} failed: {exc}"
             return None
@@ -382,6 +506,8 @@ class _UpdateLoop:
 
     # -- the update loop
     def run(self, updates: int, bar: Any) -> None:
+        """Run ``updates`` blocks (up to ``self.targets[updates - 1]``); on return ``self.states``
+        holds every finished update state and ``self.failure`` why it stopped, if it did."""
         self.updates, self.bar = updates, bar
         state = self._simulate(self._label(0.0, 0, updates, 0))
         cycles = 0.0
@@ -389,30 +515,45 @@ class _UpdateLoop:
             if state is None:
                 return
             traj, start, check = state
+            rates = self._rates(traj, start, label=self._label(cycles, u, updates, 0))
+            if rates is None:
+                return
             self.states.append(
                 {"traj_metrics": response_metrics(traj, start), "check": check, "cycles": cycles,
-                 "depth": self._depth(), "sub_updates": 0}
+                 "depth": self._depth(), "sub_updates": 0, "rates": rates,
+                 "relative_halfwidth": rates.relative_halfwidth}
             )  # fmt: skip
+            # a hook (wear_life analyses the state here); False ends the loop
+            if self.on_state is not None and not self.on_state(self.current, u, cycles):
+                return
             self.kept = self.current
             if bar is not None:
                 bar.update(1)
             if u == updates:
                 return
-            state = self._wear_block(state, u, updates, cycles)
-            cycles = (u + 1) * self.block
+            self.block = self.targets[u] - cycles
+            state = self._wear_block(state, rates, u, updates, cycles)
+            cycles = self.targets[u]
 
     def _wear_block(
-        self, state: tuple[xr.Dataset, int, _Check], u: int, updates: int, start_cycles: float
+        self,
+        state: tuple[xr.Dataset, int, _Check],
+        rates: _Rates | None,
+        u: int,
+        updates: int,
+        start_cycles: float,
     ) -> tuple[xr.Dataset, int, _Check] | None:
-        """Wear the block of update ``u`` in sub-updates; the state at its end, or None."""
+        """Wear the block of update ``u`` in sub-updates; the state at its end, or None.
+        ``rates`` are those of ``state``."""
         done, sub = 0.0, 0
         while True:
             traj, start, _ = state
-            here = self._label(start_cycles + done, u + (sub > 0), updates, sub)
-            rates = self._rates(traj, start, label=here)
             if rates is None:
-                return None
-            increments, rate, room = rates
+                here = self._label(start_cycles + done, u + (sub > 0), updates, sub)
+                rates = self._rates(traj, start, label=here)
+                if rates is None:
+                    return None
+            rate, room = rates.rate, rates.room
             remaining = self.block - done
             if sub == MAX_SUB_UPDATES:
                 self.failure = (
@@ -427,7 +568,7 @@ class _UpdateLoop:
             # the fewest equal parts within the limit (1e-12: no split for rounding alone)
             parts = max(1, math.ceil(remaining / allowed * (1.0 - 1e-12)))
             cycles = remaining if parts == 1 else remaining / parts
-            self._apply(increments, cycles)
+            self._apply(rates.increments, cycles)
             sub += 1
             done = self.block if parts == 1 else done + cycles
             self.states[-1]["sub_updates"] = sub
@@ -439,42 +580,56 @@ class _UpdateLoop:
             self.subs.append(
                 {"update": u, "cycles": cycles, "depth_increment": cycles * rate,
                  "penetration": last.fraction if last else math.nan,
-                 "force": last.force if last else math.nan}
+                 "force": last.force if last else math.nan,
+                 "relative_halfwidth": rates.relative_halfwidth}
             )  # fmt: skip
+            self.states[-1]["relative_halfwidth"] = _nanmax(
+                self.states[-1]["relative_halfwidth"], rates.relative_halfwidth
+            )
+            rates = None
             if state is None or parts == 1:
                 if sub > 1:
                     self.reduced += 1
                 return state
 
-    def _rates(
-        self, traj: xr.Dataset, start: int, *, label: str
-    ) -> tuple[dict[str, np.ndarray], float, float] | None:
-        """Smoothed depth increments per cycle by joint, the largest one as a fraction of
-        its clearance, and the cycles a journal may wear before losing half of what is left
-        of its radius."""
-        wear = run_wear(self.current, traj, start=start)
-        increments: dict[str, np.ndarray] = {}
-        rate, room = 0.0, math.inf
+    def _rates(self, traj: xr.Dataset, start: int, *, label: str) -> _Rates | None:
+        """The wear per cycle of the state ``traj`` (mean of the revolutions after
+        ``start``) by joint, smoothed like the profile, with its interval; None (and
+        ``self.failure`` set) when it is not finite."""
+        bounds = revolution_bounds(traj, self.settle, self.averaged)
+        per_rev: dict[str, list[np.ndarray]] = {n: [] for n in self.names}
+        for k in range(self.averaged):
+            # each revolution's window ends on the sample that starts the next, so the
+            # trapezoid weights of the windows add up to those of the whole window
+            window = traj.isel(time=slice(0, bounds[k + 1] + 1))
+            wear = run_wear(self.current, window, start=bounds[k])
+            for name in self.names:
+                p = self.profiles[name]
+                step = p.with_depth(
+                    bearing_depth=wear[name].depth[0], journal_depth=wear[name].depth[1]
+                )
+                dh = np.stack(
+                    [step.smoothed_depth(surface="bearing"), step.smoothed_depth(surface="journal")]
+                )
+                if p.surfaces == "bearing":
+                    dh[1] = 0.0
+                if not np.all(np.isfinite(dh)):
+                    self.failure = f"joint {name}: the wear of {label} is not finite."
+                    return None
+                per_rev[name].append(dh)
+        increments, halfwidth = {}, {}
+        rate, room, relative = 0.0, math.inf, math.nan
         for name in self.names:
             p = self.profiles[name]
-            # smoothed like the profile itself (its own smoothing_regions)
-            step = p.with_depth(
-                bearing_depth=wear[name].depth[0], journal_depth=wear[name].depth[1]
-            )
-            dh = np.stack(
-                [step.smoothed_depth(surface="bearing"), step.smoothed_depth(surface="journal")]
-            )
-            if p.surfaces == "bearing":
-                dh[1] = 0.0
-            if not np.all(np.isfinite(dh)):
-                self.failure = f"joint {name}: the wear of {label} is not finite."
-                return None
-            increments[name] = dh
+            samples = np.stack(per_rev[name])
+            dh = increments[name] = samples[0] if self.averaged == 1 else samples.mean(axis=0)
+            halfwidth[name] = batch_halfwidth(samples)
+            relative = _nanmax(relative, _relative_halfwidth(dh, halfwidth[name]))
             rate = max(rate, float(dh.max()) / p.clearance)
             jpeak = float(dh[1].max())
             if jpeak > 0.0:
                 room = min(room, 0.5 * (p.journal_radius - float(p.journal_depth.max())) / jpeak)
-        return increments, rate, room
+        return _Rates(increments, halfwidth, rate, room, relative)
 
     def _apply(self, increments: dict[str, np.ndarray], cycles: float) -> None:
         self.profiles = {
@@ -518,6 +673,12 @@ def _prediction_dataset(
         np.stack([s["depth"] for s in states]) if states else np.zeros((0, len(names), 2, regions))
     )
     volume = np.zeros(depth.shape[:3])
+    rate = (
+        np.stack([[s["rates"].increments[n] for n in names] for s in states]) if states else depth
+    )
+    halfwidth = (
+        np.stack([[s["rates"].halfwidth[n] for n in names] for s in states]) if states else depth
+    )
     for u in range(depth.shape[0]):
         for j, name in enumerate(names):
             state = loop.profiles[name].with_depth(
@@ -561,6 +722,26 @@ def _prediction_dataset(
         "sub_update_peak_contact_force": variable(
             ("sub_update",), [s["force"] for s in subs], "N",
             "peak contact force over the run of the state after this sub-update",
+        ),
+        "sub_update_relative_halfwidth": variable(
+            ("sub_update",), [s["relative_halfwidth"] for s in subs], "1",
+            "largest 95 % half-width / mean of the wear per cycle this sub-update "
+            "extrapolated, over the worn regions (NaN: one revolution averaged)",
+        ),
+        "wear_rate": variable(
+            ("update", "joint", "surface", "angle"), rate, "m",
+            "smoothed wear depth per crank cycle at this update state (mean over the "
+            "averaged revolutions)",
+        ),
+        "wear_rate_halfwidth": variable(
+            ("update", "joint", "surface", "angle"), halfwidth, "m",
+            "95 % half-width of wear_rate from batch means over revolutions (NaN: one "
+            "revolution averaged)",
+        ),
+        "wear_rate_relative_halfwidth": variable(
+            ("update",), [s["relative_halfwidth"] for s in states], "1",
+            "largest 95 % half-width / mean of the wear per cycle over the worn regions, "
+            "of every increment worn from this update state on (NaN: one revolution averaged)",
         ),
     }  # fmt: skip
     metrics_hist = [s["traj_metrics"] for s in states]

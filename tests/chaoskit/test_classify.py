@@ -65,9 +65,11 @@ def test_verdict_on_known_systems(make, kwargs: dict, label: str, period: int | 
     assert verdict.lag >= 1 and verdict.embedding_dim >= 1
     assert verdict.structure is not None and verdict.section is not None
     assert verdict.zero_one is not None and verdict.surrogates is not None
+    # a forced series also votes with its noisy-periodic-orbit test
     assert set(verdict.votes) == {
         "lines", "section", "rosenstein", "wolf", "zero_one", "surrogates"
-    }  # fmt: skip
+    } | ({"cycles"} if "drive_period" in kwargs else set())  # fmt: skip
+    assert (verdict.surrogates_cycle is not None) == ("drive_period" in kwargs)
     assert verdict.needs == ()
     if label == "chaotic":
         assert verdict.rosenstein_positive and verdict.wolf_positive
@@ -311,3 +313,96 @@ def test_a_pandas_time_index_sets_dt() -> None:
     jitter[1000:] += np.timedelta64(3, "ms")
     with pytest.raises(ValueError, match=r"^the time index of the Series is not uniform"):
         classify(pd.Series(x, index=pd.DatetimeIndex(jitter)))
+
+
+# ----------------------------------------------------------------- the noisy-periodic null
+
+
+def _clusters(k: int, radius: float) -> SectionStructure:
+    return dataclasses.replace(_structure("clusters", k), cluster_radius=radius)
+
+
+# what a period-1 orbit plus noise shows the other estimators: a broadband spectrum over
+# many drive periods, two clearly positive exponents, K near 1, IAAFT rejected
+NOISY_ORBIT = {"rosenstein_positive": True, "wolf_positive": True, "zero_one_k": 0.95,
+               "surrogates_rejected": True, "lines": "broadband", "n_cycles": 120.0,
+               "driven": True, "noise": 0.1}  # fmt: skip
+
+
+def test_rule_a_driven_orbit_plus_white_noise_is_periodic_with_its_noise_stated() -> None:
+    label, period, confidence, reason, votes, needs = combine(
+        structure=_clusters(1, 0.24), cycles_rejected=False, cycle_spread=0.0, rule=RULE,
+        **NOISY_ORBIT,
+    )  # fmt: skip
+    assert (label, period, confidence, needs) == ("periodic", 1, 1.0, ())
+    assert "a periodic orbit plus noise (measurement noise about 0.1 of the standard" in reason
+    assert votes["cycles"] == "supports" and votes["section"] == "supports"
+    # the estimators that noise fools are no evidence here
+    assert {votes[k] for k in ("rosenstein", "wolf", "zero_one", "lines")} == {"neutral"}
+    # before this rule the same evidence was called chaotic: without a drive it still is
+    undriven = {**NOISY_ORBIT, "driven": False}
+    assert combine(structure=_clusters(1, 0.24), rule=RULE, **undriven)[0] == "chaotic"
+
+
+def test_rule_cycle_to_cycle_determinism_within_the_cluster_tolerance_is_periodic() -> None:
+    # the cycle test rejects, but what varies beyond white noise is within cluster_tol
+    label, period, _, reason, votes, _ = combine(
+        structure=_clusters(2, 0.02), cycles_rejected=True, cycle_spread=0.02, rule=RULE,
+        **NOISY_ORBIT,
+    )  # fmt: skip
+    assert (label, period) == ("periodic", 2)
+    assert "the cycle-shuffled surrogate test rejects, within that tolerance" in reason
+    assert votes["cycles"] == "neutral"
+
+
+def test_rule_a_driven_chaotic_label_needs_the_noisy_orbit_null_rejected() -> None:
+    chaos = {**NOISY_ORBIT, "structure": _structure("scattered")}
+    label, _, _, reason, votes, _ = combine(
+        cycles_rejected=True, cycle_spread=0.01, rule=RULE, **chaos
+    )
+    assert label == "chaotic" and votes["cycles"] == "supports"
+    assert "than their cycle-shuffled ones" in reason
+    # a departure from the mean cycle that is not white and exceeds cluster_tol also rejects
+    label, _, _, reason, votes, _ = combine(
+        cycles_rejected=False, cycle_spread=0.15, rule=RULE, **chaos
+    )
+    assert label == "chaotic" and votes["cycles"] == "supports"  # the spread rejects the null
+    assert "departure from the mean cycle is not white noise (0.15 of" in reason
+    for rejected in (False, None):
+        label, _, confidence, _, _, needs = combine(
+            cycles_rejected=rejected, cycle_spread=0.01, rule=RULE, **chaos
+        )
+        assert label == "undetermined" and np.isnan(confidence)
+        assert needs[0].startswith("evidence beyond a noisy periodic orbit")
+
+
+def test_rule_a_wandering_beyond_the_tolerance_is_not_a_noisy_orbit() -> None:
+    # tight clusters (noise allowance) but a correlated spread above cluster_tol: chaos if
+    # the rest says so, never a noisy periodic orbit
+    label, *_ = combine(
+        structure=_clusters(1, 0.17), cycles_rejected=False, cycle_spread=0.15, rule=RULE,
+        **NOISY_ORBIT,
+    )  # fmt: skip
+    assert label == "chaotic"
+    weak = {**NOISY_ORBIT, "wolf_positive": False, "zero_one_k": 0.5}
+    label, *_ = combine(
+        structure=_clusters(1, 0.17), cycles_rejected=False, cycle_spread=0.15, rule=RULE,
+        **weak,
+    )  # fmt: skip
+    assert label == "undetermined"
+
+
+@pytest.mark.parametrize("noise", [0.0, 0.05])
+def test_noisy_periodic_duffing_is_periodic_and_chaotic_duffing_stays_chaotic(noise) -> None:
+    rng = np.random.default_rng(11)
+    orbit = duffing_x(0.28, 150)  # period-2 window
+    orbit["x"] = orbit["x"] + noise * float(orbit["x"].std()) * rng.standard_normal(
+        orbit.sizes["time"]
+    )
+    v = classify(orbit, drive_period=DRIVE, rng=0)
+    assert (v.label, v.period) == ("periodic", 2)
+    assert v.surrogates_cycle is not None and not v.surrogates_cycle.rejected
+    chaos = duffing_x(0.5, 150)
+    v = classify(chaos, drive_period=DRIVE, rng=0)
+    assert v.label == "chaotic" and v.surrogates_cycle.rejected
+    assert v.cycle_spread > 0.5  # measured 0.96

@@ -5,9 +5,14 @@ Exit codes: 0 success; 2 bad input (nothing analysed); 1 when every variable fai
 
 from __future__ import annotations
 
+import dataclasses
+import os
 import re
+import signal
 import subprocess
 import sys
+import threading
+import time
 from pathlib import Path
 
 import numpy as np
@@ -16,6 +21,9 @@ import xarray as xr
 from typer.testing import CliRunner
 
 import chaoskit
+import chaoskit._neighbors as neighbors_module
+import chaoskit.dimension._pairs as pairs_module
+import chaoskit.lyapunov._kantz as kantz_module
 from chaoskit.cli import app
 from tests.conftest import REPO
 
@@ -331,3 +339,121 @@ def test_analyze_refuses_a_figures_folder_it_cannot_write_before_the_analysis(
     assert out.stderr.strip().splitlines() == [
         f"error: --figures {blocker / 'figs'}: {blocker} is not a folder."
     ]
+
+
+def _same_result(a, b) -> None:
+    """Two estimator results (dataclasses) hold exactly the same values."""
+    for field in dataclasses.fields(a):
+        x, y = getattr(a, field.name), getattr(b, field.name)
+        if isinstance(x, np.ndarray):
+            nan = x.dtype.kind in "fc"
+            assert np.array_equal(x, y, equal_nan=nan), field.name
+        elif isinstance(x, float) and np.isnan(x):
+            assert np.isnan(y), field.name
+        elif isinstance(x, tuple) and any(isinstance(v, np.ndarray) for v in x):
+            for u, v in zip(x, y, strict=True):
+                assert np.array_equal(u, v, equal_nan=True), field.name
+        else:
+            assert x == y, field.name
+
+
+LORENZ_X = chaoskit.systems.lorenz(20_000)[:, 0]
+
+
+@pytest.mark.parametrize(
+    ("module", "name", "tiny", "estimate"),
+    [
+        (kantz_module, "REF_CHUNK", 7, lambda: chaoskit.lyapunov_kantz(LORENZ_X, dt=0.01)),
+        (
+            neighbors_module,
+            "CHUNK_POINTS",
+            333,
+            lambda: chaoskit.lyapunov_rosenstein(LORENZ_X, dt=0.01),
+        ),
+        (
+            pairs_module,
+            "EXACT_BLOCK",
+            100,
+            lambda: chaoskit.correlation_dimension(
+                LORENZ_X[:4000], lag=10, pairs_per_radius=None, embedding_dims=(1, 2, 3, 4)
+            ),
+        ),
+    ],
+    ids=["kantz-references", "neighbour-queries", "exact-correlation-sum"],
+)
+def test_estimators_returning_to_python_in_chunks_are_bit_identical(
+    monkeypatch, module, name: str, tiny: int, estimate
+) -> None:
+    """The compiled kernels of the long estimators run in chunks, so that Ctrl-C is seen
+    between them; the result is the same to the last bit whatever the chunk."""
+    monkeypatch.setattr(module, name, 10**12)  # one call: the kernel unchunked
+    whole = estimate()
+    monkeypatch.setattr(module, name, tiny)
+    chunked = estimate()
+    _same_result(whole, chunked)
+
+
+def _chaoskit(*args: str) -> list[str]:
+    code = "import sys; from chaoskit.cli import app; sys.argv[0] = 'chaoskit'; app()"
+    return [sys.executable, "-c", code, *args]
+
+
+def _lorenz_csv(path: Path, n: int) -> Path:
+    data = chaoskit.systems.lorenz(n)
+    t = 0.01 * np.arange(n)
+    np.savetxt(path, np.column_stack([t, data[:, 0]]), delimiter=",", header="time,x",
+               comments="")  # fmt: skip
+    return path
+
+
+@pytest.mark.slow
+def test_ctrl_c_stops_analyze_of_a_long_series_within_5_s(tmp_path: Path) -> None:
+    """SIGINT inside the Lyapunov estimators of ``chaoskit analyze`` on 200 000 samples
+    (kernels compiled first): exit 130 within 5 s, one line, no traceback.
+
+    The signal is sent once the progress bar names the Rosenstein stage, whose neighbour
+    search and divergence kernels (and Wolf's, next) are the estimator work; the line
+    spectrum before the first stage runs least-squares fits of the whole series, each a
+    single call of about a second (longer on a loaded machine)."""
+    env = {**os.environ, "NUMBA_NUM_THREADS": "1"}
+    # the same command on a short series compiles (or loads) every kernel it runs
+    short = _lorenz_csv(tmp_path / "short.csv", 3000)
+    subprocess.run(_chaoskit("analyze", str(short)), env=env, check=True,
+                   capture_output=True, timeout=1200)  # fmt: skip
+    long = _lorenz_csv(tmp_path / "long.csv", 200_000)
+    proc = subprocess.Popen(
+        _chaoskit("analyze", str(long)), env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE
+    )
+    err: list[bytes] = []
+    started = threading.Event()
+
+    def read() -> None:
+        assert proc.stderr is not None
+        while chunk := proc.stderr.read1(4096):
+            err.append(chunk)
+            if b"rosenstein" in b"".join(err):  # the bar names the running stage
+                started.set()
+
+    reader = threading.Thread(target=read, daemon=True)
+    reader.start()
+    try:
+        assert started.wait(600), b"".join(err).decode(errors="replace")
+        time.sleep(0.5)
+        assert proc.poll() is None, "the analysis ended before the signal"
+        sent = time.perf_counter()
+        proc.send_signal(signal.SIGINT)
+        code = proc.wait(timeout=60)
+        took = time.perf_counter() - sent
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()
+    reader.join(timeout=5)
+    text = b"".join(err).decode(errors="replace")
+    assert code == 130, text
+    assert took <= 5.0, took
+    assert "Traceback" not in text
+    # the progress bar redraws its line with carriage returns; what follows it is one line
+    lines = [line for line in re.split(r"[\r\n]", text) if line.strip()]
+    assert lines[-1] == "interrupted", text
+    assert sum("stage" not in line for line in lines) == 1, text

@@ -163,7 +163,7 @@ def test_orbit_shift_finds_the_closest_point_of_a_sampled_orbit() -> None:
     shift = _k.orbit_shifts(pts, ref, nbr)
     assert_allclose(shift, -0.37, atol=0.01)  # −0.037 rad at 0.1 rad per sample
     pairs = zip(ref, nbr, shift, strict=True)
-    d_orbit = [np.sqrt(_k._orbit_sq_distance(pts, i, j, s)) for i, j, s in pairs]
+    d_orbit = [np.sqrt(_k.orbit_sq_distance(pts, i, j, s)) for i, j, s in pairs]
     d_sample = np.linalg.norm(pts[nbr] - pts[ref], axis=1)
     assert_allclose(d_orbit, 0.01, rtol=2e-3)
     assert np.all(d_sample > 0.037)

@@ -9,7 +9,7 @@ from typer.testing import CliRunner
 
 import chaoskit
 from chaoskit import systems
-from chaoskit._measures import MEASURES, parse_measures
+from chaoskit._measure_registry import MEASURES, parse_measures
 from chaoskit.cli import app
 
 runner = CliRunner()

@@ -10,8 +10,14 @@ import pytest
 import xarray as xr
 
 import chaoskit
-from chaoskit import MotionVerdict, VerdictRule, classify_motion, lyapunov_rosenstein, systems
-from chaoskit.verdict._clusters import SectionStructure
+from chaoskit import (
+    MotionVerdict,
+    SectionStructure,
+    VerdictRule,
+    classify_motion,
+    lyapunov_rosenstein,
+    systems,
+)
 from chaoskit.verdict._motion import combine_motion
 
 OMEGA = 1.2
@@ -313,3 +319,88 @@ def test_a_variable_that_is_all_zeros_or_fails_is_set_aside(duffing_with_phase) 
     mv = classify_motion(zeros, dt=dt, drive_period=DRIVE, rng=0)
     assert "x2" not in mv.voting and mv.label == "chaotic"
     assert any("x2" in r and "set aside" in r for r in mv.reasons)
+
+
+# ---------------------------------------------------------------- a periodic orbit of the equations
+
+
+def _orbit(period: int = 1, multiplier: complex = 0.4 + 0.3j, approach: float = 1e-6):
+    return chaoskit.PeriodicOrbitEvidence(
+        period, np.array([multiplier, 0.1]), np.array([1.0]), 1e-11, approach, 1e-4
+    )
+
+
+def _with_orbit(voters, structure, orbit, say=None, positive=True):
+    return combine_motion(
+        voters, structure=structure, positive=positive, say=say, n_cycles=100.0,
+        cycle_unit="drive periods", rule=VerdictRule(), orbit=orbit,
+    )  # fmt: skip
+
+
+def test_a_stable_attracting_orbit_says_periodic_like_the_equations_exponent() -> None:
+    voters = {"x": _verdict("chaotic"), "y": _verdict("undetermined")}
+    label, period, confidence, reason, votes, needs = _with_orbit(
+        voters, _structure("too-few-points", n_points=10), _orbit(2)
+    )
+    assert (label, period, needs) == ("periodic", 2, ())
+    assert reason.startswith("the equations say regular: periodic with period 2 (a converged")
+    assert votes["orbit"] == "supports" and votes["variable x"] == "opposes"
+    assert confidence == pytest.approx(1 / 3, abs=1e-12)  # orbit for; x and the exponent against
+    label, period, *_ = _with_orbit(voters, _structure("clusters", 2), _orbit(2))
+    assert (label, period) == ("periodic", 2)
+
+
+@pytest.mark.parametrize(
+    ("structure", "say", "why"),
+    [
+        (_structure("scattered"), None, "but the joint section of the data is scattered"),
+        (_structure("closed-curve"), None, "but the joint section of the data is closed-curve"),
+        (_structure("clusters", 3), None, "but the joint section is 3 tight clusters, not 1"),
+        (_structure("clusters", 1), "chaotic", "but the equations' exponent says chaotic"),
+    ],
+)
+def test_an_orbit_against_the_data_is_undetermined_and_says_why(structure, say, why) -> None:
+    voters = {"x": _verdict("periodic", 1), "y": _verdict("periodic", 1)}
+    label, period, confidence, reason, _, needs = _with_orbit(voters, structure, _orbit(), say)
+    assert label == "undetermined" and period is None and math.isnan(confidence)
+    assert why in reason
+    assert needs[0].startswith("a longer series after the transient or a tighter integration")
+
+
+@pytest.mark.parametrize(
+    ("orbit", "problem"),
+    [
+        (_orbit(multiplier=-1.2), "it is unstable (largest multiplier |μ| = 1.2 ≥ 1)"),
+        (_orbit(approach=0.01), "the motion does not approach it (distance 0.01 > tolerance"),
+    ],
+)
+def test_an_unstable_or_unapproached_orbit_is_no_evidence(orbit, problem) -> None:
+    t, s = systems.duffing(3000, gamma=0.2, samples_per_period=40)  # period-1 window
+    data = s + 0.01 * s.std(axis=0) * np.random.default_rng(5).standard_normal(s.shape)
+    mv = classify_motion(data, dt=float(t[1] - t[0]), drive_period=DRIVE, orbit=orbit, rng=0)
+    assert mv.label == "periodic" and mv.period == 1  # the data decide alone
+    assert mv.votes["orbit"] == "neutral" and not mv.orbit_says_periodic
+    assert any(r.startswith("the equations' periodic orbit (period 1) is not evidence: " + problem)
+               for r in mv.reasons)  # fmt: skip
+    summary = mv.summary()
+    assert summary["motion_orbit_period"] == 1.0 and summary["motion_orbit_evidence"] == 0.0
+    ds = mv.to_dataset()
+    assert ds["motion_orbit_multiplier"].attrs["units"] == "1"
+    assert float(ds["motion_orbit_multiplier"]) == pytest.approx(abs(orbit.multipliers).max())
+
+
+def test_a_stable_orbit_is_recorded_in_the_motion_verdict() -> None:
+    t, s = systems.duffing(3000, gamma=0.2, samples_per_period=40)
+    data = s + 0.01 * s.std(axis=0) * np.random.default_rng(5).standard_normal(s.shape)
+    mv = classify_motion(data, dt=float(t[1] - t[0]), drive_period=DRIVE, orbit=_orbit(), rng=0)
+    assert (mv.label, mv.period, mv.orbit_says_periodic) == ("periodic", 1, True)
+    assert mv.votes["orbit"] == "supports"
+    assert mv.reason.startswith("the equations say regular: periodic with period 1")
+    assert mv.summary()["motion_orbit_evidence"] == 1.0
+
+
+def test_orbit_must_be_periodic_orbit_evidence() -> None:
+    with pytest.raises(
+        ValueError, match=r"orbit must be a chaoskit\.PeriodicOrbitEvidence or None"
+    ):
+        classify_motion(np.zeros((300, 2)), dt=0.1, orbit={"period": 1})

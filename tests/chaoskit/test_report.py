@@ -23,7 +23,7 @@ import xarray as xr
 from PIL import Image
 
 import chaoskit
-from chaoskit import systems
+from chaoskit import select_series, systems
 from chaoskit.reporting import (
     ReportFigure,
     ReportTable,
@@ -32,7 +32,6 @@ from chaoskit.reporting import (
     markdown_text,
     parse_variable,
 )
-from chaoskit.reporting._build import select_series
 
 OMEGA = 1.2
 DRIVE = 2 * np.pi / OMEGA
@@ -578,7 +577,7 @@ def test_format_number() -> None:
 
 
 def test_difference_compares_magnitudes_so_negative_quantities_read_right() -> None:
-    from chaoskit.reporting._items import _difference
+    from chaoskit.reporting._content import _difference
 
     # a torque of -184.6 N m against the paper's -478.5: ours is 61.4 % smaller
     assert _difference(-184.6, -478.5) == "-61.4"

@@ -34,7 +34,7 @@ from chaoskit.reporting import (
     markdown_text,
     parse_variable,
 )
-from chaoskit.reporting._build import _set_aside_marks
+from chaoskit.reporting._analysis_tables import set_aside_marks
 
 OMEGA = 1.2
 PERIOD = 2 * np.pi / OMEGA
@@ -169,7 +169,7 @@ def test_a_periodic_row_with_a_clearly_positive_wolf_exponent_is_marked() -> Non
         SimpleNamespace(label="before wear", verdicts={"X": periodic}),
         SimpleNamespace(label="after wear", verdicts={"X": unsure}),
     ]
-    marks = _set_aside_marks(states, [parse_variable("X=x")])
+    marks = set_aside_marks(states, [parse_variable("X=x")])
     assert marks == {
         (("X", "before wear"), "mle_wolf"): "†",
         (("X", "before wear"), "mle_wolf_bits"): "†",

@@ -10,9 +10,12 @@ revolutions. ``simulate`` must then
 * refuse before running with a one-line ``ValueError`` (a ``SceneError`` for the scene)
   that names the key or argument at fault, or
 * stop with a one-line :class:`mechanism.SimulationError` stating why the integrator gave
-  up. Every example runs with an integrator capped at ``MAX_STEPS`` attempted steps,
-  so a valid but very stiff combination (a 100 t crank driving a 5 g rod through a 1 µm
-  clearance at rtol = 1e-12) ends there instead of running for hours;
+  up and naming the keys that change the outcome (``solver.rtol``, ``revolutions``,
+  ``joints.B.contact.stiffness`` of a contact in force, ...). Every example runs with an
+  integrator capped at ``MAX_STEPS`` attempted steps, so a valid but very stiff
+  combination (a 100 t crank driving a 5 g rod through a 1 µm clearance at rtol = 1e-12)
+  ends there, or as soon as its step count extrapolated from its progress exceeds the
+  cap, instead of running for hours;
 
 and never anything else: no other exception, no NaN or inf in the outputs, no run that
 outgrows the cap (an absurd size is refused up front). RuntimeWarnings raised in mechanism
@@ -31,7 +34,7 @@ from typing import Any
 import annotated_types as at
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, event, given, settings
 from hypothesis import strategies as st
 
 import mechanism
@@ -191,8 +194,10 @@ def _check(changes: dict[str, Any], arguments: dict[str, Any]) -> str:
         scene = BASE.replace(changes)
         ds = mechanism.simulate(scene, method=Dopri5(max_steps=MAX_STEPS), **arguments)
     except mechanism.SimulationError as exc:
+        # the integration gave up: one line naming the keys that change the outcome
         text = str(exc)
         assert "\n" not in text and " failed " in text, text
+        assert KEY.search(text.partition("the keys that change the outcome:")[2]), text
         return "stopped"
     except mechanism.SceneError as exc:  # one line per problem, each naming its key
         for problem in exc.problems:
@@ -220,7 +225,7 @@ _SETTINGS = dict(
 @settings(max_examples=EXAMPLES, **_SETTINGS)
 @given(drawn=scene_changes())
 def test_any_accepted_scene_runs_or_is_refused_with_a_key(drawn) -> None:
-    _check(*drawn)
+    event(_check(*drawn))  # the outcomes' shares: --hypothesis-show-statistics
 
 
 @pytest.mark.slow
@@ -228,7 +233,7 @@ def test_any_accepted_scene_runs_or_is_refused_with_a_key(drawn) -> None:
 @settings(max_examples=SLOW_EXAMPLES, **_SETTINGS)
 @given(drawn=scene_changes())
 def test_any_accepted_scene_runs_or_is_refused_with_a_key_long(drawn) -> None:
-    _check(*drawn)
+    event(_check(*drawn))
 
 
 def test_the_ranges_drawn_are_the_validators() -> None:

@@ -1,4 +1,4 @@
-"""Hard cases of the simulator (issue 9): each asserts that the run stays numerically sound.
+"""Hard cases of the simulator: each asserts that the run stays numerically sound.
 
 Every case checks more than "nothing raised": the solver status, finite outputs, bounded
 constraint drift, a penetration consistent with the contact law (at the deepest point of an
@@ -18,11 +18,12 @@ import pytest
 
 import mechanism
 from mechanism.core.contact import contact_stiffness
-from mechanism.core.record._metrics import friction_sign_flips
+from mechanism.core.record import friction_sign_flips
 from mechanism.core.scene import (
     Material,
     Scene,
 )
+from mechanism.studies.paper import _published, _runs
 from tests.mechanism.scenes import drop_scene, rigid_paper, s3
 
 S3_PERIOD = 60.0 / 5000.0
@@ -517,18 +518,16 @@ def test_worn_flexible_paper_journal_is_not_thrown_through_the_bearing() -> None
     at t = 16.59 s on this grid, 0.67 mm between its samples), while 10 µs and 4 µs
     steps from the same state stayed calm. The fixed-step latch now carries δ̇/2 of
     such a contact (docs/simulator.md, "Fixed-step generalized-α on worn profiles")."""
-    from mechanism.studies import _paper as paper
-
-    settings = paper.StudySettings.quick()
+    settings = mechanism.StudySettings.quick()
     base = mechanism.load_scene("paper").replace(
         {
             "effects.flexibility": True,
-            "joints.C.clearance": paper._DEFAULT_CLEARANCE,
-            "solver.max_step": paper._STEP,
+            "joints.C.clearance": _published.DEFAULT_CLEARANCE,
+            "solver.max_step": _published.STEP,
             "drive.speed_rpm": 150.0,
         }
     )
-    worn, _, _ = paper._predict_worn(base, settings)
+    worn, _, _ = _runs.predict_worn(base, settings)
     ds = mechanism.simulate(
         worn,
         revolutions=47.5,
@@ -538,7 +537,7 @@ def test_worn_flexible_paper_journal_is_not_thrown_through_the_bearing() -> None
     assert ds.attrs["solver_status"] == 0
     e = np.hypot(ds.eccentricity_x.values, ds.eccentricity_y.values)
     assert np.isfinite(e).all()
-    c0 = paper._DEFAULT_CLEARANCE
+    c0 = _published.DEFAULT_CLEARANCE
     wear = worn.joints["C"].wear
     deepest = c0 + max(wear.bearing_profile) + max(wear.journal_profile)
     assert e.max() <= deepest + 0.5 * c0  # simulate warns from half a clearance deep

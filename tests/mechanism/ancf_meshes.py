@@ -7,7 +7,7 @@ from typing import Any
 
 import numpy as np
 
-from mechanism.core.bodies._ancf import AncfMesh
+from mechanism.core import AncfMesh
 
 LAWS = [
     (axial, curvature)

@@ -1,4 +1,4 @@
-"""ANCF beam element: mass, loads, elastic forces and their analytic Jacobian (issue 6)."""
+"""ANCF beam element: mass, loads, elastic forces and their analytic Jacobian."""
 
 from __future__ import annotations
 
@@ -299,7 +299,7 @@ def _scene_beam(**kw):
 
 
 def test_beam_tables_add_elastic_and_damping_forces_of_several_beams() -> None:
-    from mechanism.core.bodies._ancf import AncfLayout
+    from mechanism.core.bodies import AncfLayout
 
     layouts = [
         AncfLayout(name="rod3", beam=_scene_beam(damping=1e-5)),
@@ -332,9 +332,8 @@ def test_beam_tables_add_elastic_and_damping_forces_of_several_beams() -> None:
 
 
 def test_layout_points_and_rigid_state_match_the_rigid_bar() -> None:
-    from mechanism.core.bodies import rigid_bar_from_beam
-    from mechanism.core.bodies._ancf import AncfLayout
-    from mechanism.core.joints._kernels import ANGLE_SLOPE, POINT_LINEAR
+    from mechanism.core.bodies import AncfLayout, rigid_bar_from_beam
+    from mechanism.core.joints import ANGLE_SLOPE, POINT_LINEAR
 
     def point_position(q, pt_i, pt_f, k):
         # the documented POINT_LINEAR rule: r = Σ w_j (q[d_j], q[d_j + 1]) over d_j ≥ 0

@@ -10,11 +10,11 @@ from numpy.testing import assert_allclose
 
 import mechanism
 import mechanism.core._simulate as simulate_module
+from mechanism.core import AncfMesh
 from mechanism.core.bodies import _ancf_kernels as kernels
-from mechanism.core.bodies._ancf import AncfMesh
 from mechanism.core.integrate import GeneralizedAlpha
 from mechanism.core.model import _kernels as k
-from mechanism.core.model._assemble import assemble, initial_state
+from mechanism.core.model import assemble, initial_state
 from mechanism.core.scene import AncfBeam, Effects, RevoluteJoint, Scene, SolverSettings
 from tests.mechanism.ancf_meshes import LAWS, central_difference
 from tests.mechanism.ancf_meshes import ancf_mesh as _mesh

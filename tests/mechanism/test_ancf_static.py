@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from mechanism.core.bodies._ancf import AncfMesh, solve_beam_static
+from mechanism.core import AncfMesh, solve_beam_static
 
 TABLE = {
     1: (-0.3622447, -0.9941448),

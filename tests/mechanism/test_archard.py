@@ -1,4 +1,4 @@
-"""Archard wear bookkeeping (issue 7 §2, validation target S7)."""
+"""Archard wear bookkeeping."""
 
 from __future__ import annotations
 

@@ -13,8 +13,7 @@ from numpy.testing import assert_allclose
 import mechanism
 from mechanism.core.bodies import rigid_bar_from_beam
 from mechanism.core.joints import _kernels as jk
-from mechanism.core.model import _assemble
-from mechanism.core.model._assemble import assemble, initial_state
+from mechanism.core.model import _assemble, assemble, initial_state
 from mechanism.core.scene import AncfBeam, RevoluteJoint
 from tests.mechanism.scenes import rigid_paper, rotating_guide
 

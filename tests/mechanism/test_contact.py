@@ -1,4 +1,4 @@
-"""Normal contact laws and stiffness (issue 5 §3, validation target S1).
+"""Normal contact laws and stiffness.
 
 Each law is checked against its closed form, and against the restitution it actually
 produces on a single impact of a point mass integrated with scipy.

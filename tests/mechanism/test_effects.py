@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 import mechanism
-from mechanism.core.model._assemble import assemble
+from mechanism.core.model import assemble
 from tests.mechanism.scenes import s3
 
 

@@ -8,7 +8,7 @@ import pytest
 
 from mechanism.core.integrate import Dopri5, GeneralizedAlpha
 from mechanism.core.model import _kernels as k
-from mechanism.core.model._assemble import assemble, initial_state
+from mechanism.core.model import assemble, initial_state
 from tests.mechanism.scenes import s3
 
 #: documented bound on max|Φ| (m) for rtol = atol = 1e-10 over 1 s (docs/simulator.md)

@@ -1,4 +1,4 @@
-"""ANCF beams in the multibody core (issue 6): assembly, initial state, S6, paper scene."""
+"""ANCF beams in the multibody core: assembly, initial state, S6, paper scene."""
 
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ import mechanism
 from mechanism.core.bodies._ancf_kernels import beams_force_add
 from mechanism.core.integrate import GeneralizedAlpha
 from mechanism.core.model import _kernels as k
-from mechanism.core.model._assemble import assemble, initial_state
+from mechanism.core.model import assemble, initial_state
 from mechanism.core.scene import (
     AncfBeam,
     FixedJoint,
@@ -212,7 +212,7 @@ def test_generalized_alpha_step_validation() -> None:
 def test_hybrid_jacobian_matches_finite_differences() -> None:
     # interior ANCF columns of ∂q̈/∂q from the analytic element Jacobian (−P M⁻¹ K) agree
     # with forward differences of the full right-hand side
-    from mechanism.core.integrate import _kernels as ik
+    from mechanism.core.integrate import _newton_kernels as nk
     from mechanism.core.integrate._methods import _jacobian_columns
 
     model = assemble(
@@ -225,11 +225,11 @@ def test_hybrid_jacobian_matches_finite_differences() -> None:
     counters = np.zeros(k.CNT_COLUMNS, dtype=np.int64)
     n = model.n_dof
     kq_fd, cv_fd = np.zeros((n, n)), np.zeros((n, n))
-    ik._fd_jacobian(model.kernel, model.workspace(), 0.0, q, v, vimp, kq_fd, cv_fd, counters)
+    nk._fd_jacobian(model.kernel, model.workspace(), 0.0, q, v, vimp, kq_fd, cv_fd, counters)
     fd_cols, an_cols = _jacobian_columns(model)
     assert an_cols.size == 2 * 3 * 4  # 3 interior nodes per 4-element rod
     kq, cv = np.zeros((n, n)), np.zeros((n, n))
-    ik._hybrid_jacobian(
+    nk.hybrid_jacobian(
         model.kernel, model.workspace(), 0.0, q, v, vimp, kq, cv, fd_cols, an_cols, counters
     )
     scale = np.max(np.abs(kq_fd[:, an_cols]))

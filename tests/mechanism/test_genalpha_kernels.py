@@ -10,11 +10,12 @@ import numpy as np
 import pytest
 
 import mechanism
-from mechanism.core.integrate import _kernels as ik
-from mechanism.core.integrate._methods import GeneralizedAlpha, _contact_columns, _initial_latch
+from mechanism.core.integrate import GeneralizedAlpha
+from mechanism.core.integrate import _newton_kernels as nk
+from mechanism.core.integrate._methods import _contact_columns, initial_latch
 from mechanism.core.joints._kernels import update_point_rows, update_points
 from mechanism.core.model import _kernels as k
-from mechanism.core.model._assemble import assemble, initial_state
+from mechanism.core.model import assemble, initial_state
 
 
 @pytest.fixture(scope="module")
@@ -40,9 +41,9 @@ def test_lu_solve_matches_numpy() -> None:
     b = rng.normal(size=145)
     lt = a.copy()
     piv = np.empty(145, dtype=np.int64)
-    assert ik._lu_factor(lt, piv)
+    assert nk.lu_factor(lt, piv)
     x = b.copy()
-    ik._lu_solve(lt, piv, x)
+    nk.lu_solve(lt, piv, x)
     np.testing.assert_allclose(x, np.linalg.solve(a, b), rtol=1e-12, atol=1e-14)
 
 
@@ -70,7 +71,7 @@ def _in_contact(model, q, v):
     ws = model.workspace()
     q = q.copy()
     q[_contact_columns(model)[0]] += km.cj_f[0, k.CF_C] + 2e-5
-    vimp, _ = _initial_latch(model, np.concatenate([q, v]))
+    vimp, _ = initial_latch(model, np.concatenate([q, v]))
     acc = np.empty_like(q)
     counters = np.zeros(k.CNT_COLUMNS, dtype=np.int64)
     assert k.accelerations(km, ws, 0.0, q, v, vimp, acc, counters) == 0
@@ -82,11 +83,11 @@ def test_contact_derivatives_are_reused_only_while_the_state_holds(flexible) -> 
     model, q, v = flexible
     km = model.kernel
     ws, vimp = _in_contact(model, q, v)
-    lin = np.full((km.cj_i.shape[0], ik.LIN_COLUMNS), np.nan)
-    assert not ik._linearisation_holds(km, ws.cj, vimp, lin)  # nothing recorded yet
-    ik._record_linearisation(ws.cj, vimp, lin)
-    assert ik._linearisation_holds(km, ws.cj, vimp, lin)
-    rel = ik.RELINEARISE
+    lin = np.full((km.cj_i.shape[0], nk.LIN_COLUMNS), np.nan)
+    assert not nk.linearisation_holds(km, ws.cj, vimp, lin)  # nothing recorded yet
+    nk.record_linearisation(ws.cj, vimp, lin)
+    assert nk.linearisation_holds(km, ws.cj, vimp, lin)
+    rel = nk.RELINEARISE
     for column, scale in (
         (k.CJ_DELTA, ws.cj[0, k.CJ_DELTA]),
         (k.CJ_PHI_B, 1.0),
@@ -94,25 +95,25 @@ def test_contact_derivatives_are_reused_only_while_the_state_holds(flexible) -> 
     ):
         cj = ws.cj.copy()
         cj[0, column] += 0.5 * rel * scale
-        assert ik._linearisation_holds(km, cj, vimp, lin), column
+        assert nk.linearisation_holds(km, cj, vimp, lin), column
         cj[0, column] += rel * scale
-        assert not ik._linearisation_holds(km, cj, vimp, lin), column
+        assert not nk.linearisation_holds(km, cj, vimp, lin), column
     cj = ws.cj.copy()
     cj[0, k.CJ_DELTA] = -1e-6  # separated: the contact forces' derivatives vanish
-    assert not ik._linearisation_holds(km, cj, vimp, lin)
+    assert not nk.linearisation_holds(km, cj, vimp, lin)
     other = vimp.copy()
     other[0] *= 2.0  # a new impact latches a new approach speed
-    assert not ik._linearisation_holds(km, ws.cj, other, lin)
+    assert not nk.linearisation_holds(km, ws.cj, other, lin)
     # friction: sliding on one side of the ramp keeps its (flat) linearisation, crossing
     # into the ramp does not
     v0, v1 = km.cj_f[0, k.CF_V0], km.cj_f[0, k.CF_V1]
     cj = ws.cj.copy()
     cj[0, k.CJ_VT] = 10.0 * v1
-    ik._record_linearisation(cj, vimp, lin)
+    nk.record_linearisation(cj, vimp, lin)
     cj[0, k.CJ_VT] = 3.0 * v1
-    assert ik._linearisation_holds(km, cj, vimp, lin)
+    assert nk.linearisation_holds(km, cj, vimp, lin)
     cj[0, k.CJ_VT] = 0.5 * (v0 + v1)
-    assert not ik._linearisation_holds(km, cj, vimp, lin)
+    assert not nk.linearisation_holds(km, cj, vimp, lin)
 
 
 def test_chunked_integration_follows_the_same_path(flexible) -> None:

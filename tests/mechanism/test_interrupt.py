@@ -136,7 +136,9 @@ def test_an_interruption_stops_runs_in_other_threads() -> None:
 
     def run() -> None:
         try:
-            mechanism.simulate(scene, revolutions=1e5, record="metrics", output_step=1.0)
+            # 1e4 revolutions: about 1.2e7 attempted steps, minutes of stepping and below
+            # the step budget (2e7) a run takes without force=True
+            mechanism.simulate(scene, revolutions=1e4, record="metrics", output_step=1.0)
             outcome.append(None)
         except BaseException as exc:  # the interruption is the outcome looked for
             outcome.append(exc)
@@ -165,10 +167,11 @@ def test_ctrl_c_ends_a_long_simulation_promptly_with_status_130(tmp_path: Path) 
     # the same command over a short time compiles (or loads) every kernel it runs
     warm = _mechanism("simulate", *RUN, "--revolutions", "0.01", "-o", str(tmp_path / "a.nc"))
     subprocess.run(warm, env=env, check=True, capture_output=True, timeout=900)
-    # a million revolutions: hours of compiled stepping, each progress chunk minutes
+    # 1e4 revolutions: about 1.2e7 attempted steps (minutes of compiled stepping, each
+    # progress chunk seconds), below the step budget (2e7), so it is not stopped early
     output = tmp_path / "long.nc"
     cmd = _mechanism(
-        "simulate", *RUN, "--revolutions", "1e6", "--output-step", "1", "-o", str(output)
+        "simulate", *RUN, "--revolutions", "1e4", "--output-step", "1", "-o", str(output)
     )
     proc = subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
     err: list[bytes] = []

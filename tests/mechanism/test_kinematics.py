@@ -12,7 +12,7 @@ from numpy.testing import assert_allclose
 import mechanism
 from mechanism.core.joints import _kernels as jk
 from mechanism.core.model import _kernels as k
-from mechanism.core.model._assemble import assemble, initial_state
+from mechanism.core.model import assemble, initial_state
 from tests.mechanism.scenes import rigid_paper, rotating_guide
 
 

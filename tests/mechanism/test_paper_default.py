@@ -1,4 +1,4 @@
-"""The built-in ``paper`` scene is flexible by default (issue 6); ``effects.flexibility =
+"""The built-in ``paper`` scene is flexible by default; ``effects.flexibility =
 false`` gives the rigid model at rigid-model cost; ``solver.method = "auto"`` picks the
 integrator from the assembled model."""
 
@@ -11,7 +11,7 @@ import pytest
 
 import mechanism
 from mechanism.core.integrate import METHODS, Dopri5, GeneralizedAlpha, resolve_method
-from mechanism.core.model._assemble import assemble
+from mechanism.core.model import assemble
 from mechanism.core.scene import AncfBeam, SolverSettings
 from tests.mechanism.scenes import rigid_paper
 

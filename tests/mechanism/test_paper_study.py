@@ -9,6 +9,7 @@ it, and that our numbers are the reductions of the stored trajectories. The real
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import importlib.util
 import math
 import os
@@ -29,8 +30,12 @@ import chaoskit
 import mechanism
 import mechanism.cli
 from chaoskit.reporting import plural
-from mechanism.studies._paper import COLUMNS, StudySettings, paper_wear_zones
-from mechanism.studies._paper_summary import strobe_figure
+from mechanism.studies import StudySettings
+from mechanism.studies.paper import COLUMNS, paper_wear_zones
+from mechanism.studies.paper import _report as paper_report
+from mechanism.studies.paper import _runs as paper_runs
+from mechanism.studies.paper import _schedule as paper_schedule
+from mechanism.studies.paper._summary import strobe_figure
 
 # CI clones the repository with shared/ beside it; developers have it at ../shared too.
 SEED_CANDIDATES = [
@@ -164,7 +169,7 @@ def tiny_study(tmp_path_factory):
     with warnings.catch_warnings():
         warnings.simplefilter("always", mechanism.SimulationWarning)
         return mechanism.run_paper_study(
-            out, client="serial", _settings=TINY, command="test", keep_trajectories=True
+            out, client="serial", settings=TINY, command="test", keep_trajectories=True
         )
 
 
@@ -297,15 +302,13 @@ def test_speed_table_uses_a_profile_worn_at_each_speed(tiny_study):
 
 
 def test_default_output_keeps_metrics_and_drops_trajectories(tiny_study, tmp_path):
-    from mechanism.studies._paper import _drop_trajectories
-
     store = Path(tiny_study.sweeps["before"].attrs["store"])
     copy = tmp_path / "store"
     shutil.copytree(store, copy)
     names = {p.name for p in (copy / "points").iterdir()}
     assert any(n.endswith(".summary.nc") for n in names)
     assert any(not n.endswith(".summary.nc") for n in names if n.endswith(".nc"))
-    _drop_trajectories(copy)
+    paper_schedule.drop_trajectories(copy)
     left = {p.name for p in (copy / "points").iterdir()}
     assert left == {n for n in names if not n.endswith(".nc") or n.endswith(".summary.nc")}
     assert (tiny_study.output / "trajectories" / "before-wear.nc").is_file()  # kept on request
@@ -338,20 +341,13 @@ def test_quick_settings_reach_the_verdict_of_the_paper_settings_before_wear():
     """One state (before wear, 150 rpm, flexible rods, 200 revolutions at T/10000): the
     analysis reductions of --quick give the verdict of the paper settings. Long: the run is
     the chaos run of the study (several minutes on 2 cores)."""
-    from mechanism.studies._paper import (
-        _chaos_run,
-        _equation_exponent,
-        chaos_analysis_options,
-        wear_scene_of,
-    )
-
     quick, full = StudySettings.quick(), StudySettings.paper()
     assert quick.flexible_rods and full.flexible_rods
     assert quick.chaos_revolutions == full.chaos_revolutions >= 200
-    scene = wear_scene_of(mechanism.load_scene("paper"))
+    scene = paper_runs.wear_scene_of(mechanism.load_scene("paper"))
     # the output grid does not set the integration steps, so the quick series is the
     # paper settings' series at every second sample
-    traj = _chaos_run(scene, full)
+    traj = paper_runs.chaos_run(scene, full)
     assert traj.sizes["time"] >= 200 * full.chaos_samples_per_revolution
     stride = full.chaos_samples_per_revolution // quick.chaos_samples_per_revolution
     verdicts = {}
@@ -361,8 +357,8 @@ def test_quick_settings_reach_the_verdict_of_the_paper_settings_before_wear():
     ):
         rep = chaoskit.report(
             {"before wear": data},
-            exponents={"before wear": _equation_exponent(scene, settings)},
-            **chaos_analysis_options(settings),
+            exponents={"before wear": paper_runs.equation_exponent(scene, settings)},
+            **paper_runs.chaos_analysis_options(settings),
         )
         verdicts[name] = rep.motions["before wear"]
     assert verdicts["quick"].label == verdicts["paper"].label, verdicts
@@ -371,21 +367,17 @@ def test_quick_settings_reach_the_verdict_of_the_paper_settings_before_wear():
 
 def _one_revolution_state():
     """Settings of a one-revolution long run and the before-wear state of the study."""
-    import mechanism.studies._paper as paper_study
-
     settings = StudySettings(
         revolutions=2.0, discard_revolutions=1.0, chaos_revolutions=1.0,
         chaos_samples_per_revolution=100,
     )  # fmt: skip
-    return settings, paper_study.wear_scene_of(mechanism.load_scene("paper"))
+    return settings, paper_runs.wear_scene_of(mechanism.load_scene("paper"))
 
 
 def test_a_diverged_flexible_long_run_falls_back_to_rigid_rods_and_says_so(monkeypatch):
     """A flexible-rod long run that stops is replaced by the rigid-rod run of the same
     state, and the series carry the reason (the report's summary repeats it)."""
-    import mechanism.studies._paper as paper_study
-
-    real = paper_study.simulate
+    real = paper_runs.simulate
     calls = []
 
     def flexible_fails(scene, **kwargs):
@@ -396,22 +388,20 @@ def test_a_diverged_flexible_long_run_falls_back_to_rigid_rods_and_says_so(monke
             )
         return real(scene, **kwargs)
 
-    monkeypatch.setattr(paper_study, "simulate", flexible_fails)
+    monkeypatch.setattr(paper_runs, "simulate", flexible_fails)
     settings, scene = _one_revolution_state()
-    ds = paper_study._chaos_run(scene, settings)
+    ds = paper_runs.chaos_run(scene, settings)
     assert calls == [True, False]
     assert ds.sizes["time"] == 2 * 100 + 1
     note = ds.attrs["rods_note"]
     assert note.startswith("the run with flexible rods stopped after 2 of 2 revolutions")
     assert note.endswith("its series are from rigid rods")
-    assert paper_study._rods_of({"after wear": ds}, settings) == "flexible (after wear: rigid)"
+    assert paper_report.rods_of({"after wear": ds}, settings) == "flexible (after wear: rigid)"
 
 
 def test_a_flexible_long_run_whose_journal_leaves_the_bearing_falls_back_too(monkeypatch):
     """A run that completes with the journal outside its worn bearing is not analysed."""
-    import mechanism.studies._paper as paper_study
-
-    real = paper_study.simulate
+    real = paper_runs.simulate
 
     def flexible_escapes(scene, **kwargs):
         ds = real(scene.replace({"effects.flexibility": False}), **kwargs)
@@ -419,10 +409,10 @@ def test_a_flexible_long_run_whose_journal_leaves_the_bearing_falls_back_too(mon
             ds["eccentricity_x"] = ds["eccentricity_x"] * 0.0 + 1.0e-3  # 1 mm: outside
         return ds
 
-    monkeypatch.setattr(paper_study, "simulate", flexible_escapes)
+    monkeypatch.setattr(paper_runs, "simulate", flexible_escapes)
     settings, scene = _one_revolution_state()
-    assert paper_study._bearing_room(scene) == pytest.approx(3.0e-4)  # unworn: 1.5 c
-    ds = paper_study._chaos_run(scene, settings)
+    assert paper_runs.bearing_room(scene) == pytest.approx(3.0e-4)  # unworn: 1.5 c
+    ds = paper_runs.chaos_run(scene, settings)
     assert float(abs(ds["eccentricity_x"]).max()) < 3.0e-4
     assert ds.attrs["rods_note"].startswith(
         "the journal of the run with flexible rods left the bearing (eccentricity up to 1."
@@ -436,12 +426,10 @@ def test_long_runs_queue_both_exponents_with_flexible_rods(monkeypatch, threads)
     ``threads`` the queue runs in its thread and submits to a pool, as the study does.)"""
     from concurrent.futures import ThreadPoolExecutor
 
-    import mechanism.studies._paper as paper_study
-
-    monkeypatch.setattr(paper_study, "_predict_worn", lambda scene, s: (scene, None, "worn"))
-    monkeypatch.setattr(paper_study, "_chaos_run", lambda scene, s: "series")
+    monkeypatch.setattr(paper_schedule, "predict_worn", lambda scene, s: (scene, None, "worn"))
+    monkeypatch.setattr(paper_schedule, "chaos_run", lambda scene, s: "series")
     monkeypatch.setattr(
-        paper_study, "_equation_exponent", lambda scene, s, *, rigid=False: ("λ", rigid)
+        paper_schedule, "equation_exponent", lambda scene, s, *, rigid=False: ("λ", rigid)
     )
     base = mechanism.load_scene("paper")
     for flexible, rigid_rods, third in (
@@ -451,7 +439,7 @@ def test_long_runs_queue_both_exponents_with_flexible_rods(monkeypatch, threads)
     ):
         settings = StudySettings(flexible_rods=flexible, rigid_rod_exponent=rigid_rods)
         with ThreadPoolExecutor(2) if threads else contextlib.nullcontext() as pool:
-            long_runs = paper_study._LongRuns(pool, base, settings)
+            long_runs = paper_schedule.LongRuns(pool, base, settings)
             states = long_runs.states()
             assert list(states) == ["before wear", "after wear"]
             for state, (chaos, exponent, rigid) in states.items():
@@ -536,3 +524,17 @@ def test_paper_command_prints_the_answer_before_the_files(tiny_study, monkeypatc
         # λ₁ with its interval and where it comes from (the equations when they decide)
         assert re.search(r"\[\S+, \S+\] 1/s +(equations of motion|data, joint)", row), row
     assert lines[head + 5] == "" and lines[head + 6] == f"report: {tiny_study.report_html}"
+
+
+def test_settings_mapping_replaces_fields_of_the_paper_settings(tiny_study):
+    assert tiny_study.settings == dataclasses.replace(StudySettings.paper(), **TINY)
+    assert not tiny_study.quick
+
+
+def test_settings_of_another_type_are_refused_before_anything_runs(tmp_path):
+    with pytest.raises(TypeError) as err:
+        mechanism.run_paper_study(tmp_path / "out", settings=3)  # type: ignore[arg-type]
+    assert str(err.value) == (
+        "settings must be a mechanism.StudySettings or a mapping of its fields; got int."
+    )
+    assert not (tmp_path / "out").exists()

@@ -17,8 +17,10 @@ from matplotlib.figure import Figure
 import chaoskit
 import mechanism
 from chaoskit.reporting import CONFIDENCE_NOTE
-from mechanism.studies._paper import COLUMNS, _compile_kernels, _orbit_display, _wear_comparison
-from mechanism.studies._paper_summary import (
+from mechanism.studies.paper import COLUMNS
+from mechanism.studies.paper._report import orbit_display, wear_comparison
+from mechanism.studies.paper._runs import compile_kernels
+from mechanism.studies.paper._summary import (
     Stages,
     motion_verdict,
     strobe_figure,
@@ -108,7 +110,7 @@ def test_the_kernels_compile_once_per_path_and_load_from_the_cache_after() -> No
     part runs its tiny problems and returns the CPU time (compiled already by the time
     the tests get here: a few seconds)."""
     for part in ("flexible", "rigid"):
-        assert _compile_kernels(part) > 0.0
+        assert compile_kernels(part) > 0.0
 
 
 def test_wear_table_ratios_compare_magnitudes_of_negative_quantities() -> None:
@@ -116,7 +118,7 @@ def test_wear_table_ratios_compare_magnitudes_of_negative_quantities() -> None:
     ours = paper.copy()
     ours.loc["before wear", "driving_torque"] = -184.6
     ours.loc["after wear", "driving_torque"] = -562.6
-    table = _wear_comparison(ours, paper)
+    table = wear_comparison(ours, paper)
     torque = table.loc["driving torque (N m)"]
     np.testing.assert_allclose(torque["ours_ratio"], 562.6 / 184.6, rtol=1e-12)
     np.testing.assert_allclose(torque["paper_ratio"], 799.7 / 478.5, rtol=1e-12)
@@ -343,7 +345,7 @@ def test_orbit_diagram_is_drawn_in_mm_against_the_crank_speed() -> None:
     )
     fig = Figure()
     ax = fig.subplots()
-    mechanism.plot_bifurcation(_orbit_display(ds), axes=[ax])
+    mechanism.plot_bifurcation(orbit_display(ds), axes=[ax])
     assert ax.get_xlabel() == "crank speed (rpm)"
     assert ax.get_ylabel() == "journal-centre e_x (mm)"
     y = ax.collections[0].get_offsets()[:, 1]

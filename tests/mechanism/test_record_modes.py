@@ -7,6 +7,7 @@ steps), and section points are located on the integrator's dense output.
 
 from __future__ import annotations
 
+import inspect
 import math
 
 import numpy as np
@@ -17,7 +18,7 @@ from typer.testing import CliRunner
 import chaoskit
 import mechanism
 from mechanism.cli import app
-from mechanism.core.record._metrics import METRICS, response_metrics
+from mechanism.core.record import METRICS, response_metrics
 from tests.mechanism.scenes import rigid_paper
 
 PERIOD = 0.4  # s, the paper scene at 150 rpm
@@ -231,3 +232,122 @@ def test_command_line_records_sections(tmp_path) -> None:
         assert ds.drive_cycle.values.tolist() == [1, 2, 3]
     bad = CliRunner().invoke(app, [*args[:3], str(tmp_path / "strobe.csv"), *args[4:]])
     assert bad.exit_code == 2 and "netCDF" in bad.output
+
+
+def test_options_of_other_modes_cannot_be_written() -> None:
+    """The exclusions between keywords are gone: an option exists only on its mode."""
+    for make, option in (
+        (lambda: mechanism.FullRecord(discard=1), "discard"),
+        (lambda: mechanism.FullRecord(companion=False), "companion"),
+        (lambda: mechanism.MetricsRecord(variables=("crank_angle",)), "variables"),
+        (lambda: mechanism.MetricsRecord(phase=0.5), "phase"),
+    ):
+        with pytest.raises(TypeError, match=f"unexpected keyword argument '{option}'"):
+            make()
+    mode = mechanism.SectionsRecord(phase=0.25, discard=1)
+    with pytest.raises(AttributeError):
+        mode.phase = 0.5  # type: ignore[misc]
+    assert mode == mechanism.SectionsRecord(discard=1.0, phase=0.25)
+    assert hash(mode) == hash(mechanism.SectionsRecord(discard=1.0, phase=0.25))
+
+
+@pytest.mark.parametrize(
+    ("make", "message"),
+    [
+        (lambda: mechanism.MetricsRecord(discard=-1), "discard must be finite and >= 0; got -1."),
+        (
+            lambda: mechanism.SectionsRecord(discard=np.float64(math.inf)),
+            "discard must be finite and >= 0; got inf.",
+        ),
+        (
+            lambda: mechanism.SectionsRecord(phase=math.nan),
+            "phase must be a finite angle in rad; got nan.",
+        ),
+        (
+            lambda: mechanism.SectionsRecord(phase="0"),
+            "phase must be a finite angle in rad; got '0'.",
+        ),
+        (
+            lambda: mechanism.MetricsRecord(companion="no"),
+            "companion must be True or False; got 'no'.",
+        ),
+        (
+            lambda: mechanism.FullRecord(variables=("position",)),
+            "variables must be a non-empty list of names from ['crank_angle', "
+            "'slider_position', 'slider_velocity', 'eccentricity_x', 'eccentricity_y']; "
+            "got ['position'].",
+        ),
+    ],
+)
+def test_a_record_object_checks_its_options(make, message) -> None:
+    with pytest.raises(ValueError) as info:
+        make()
+    assert str(info.value) == message
+
+
+def test_what_depends_on_the_scene_is_checked_before_the_run(scene) -> None:
+    undriven = mechanism.load_scene("slider-crank").replace({"drive": None})
+    for mode in (mechanism.MetricsRecord(), mechanism.SectionsRecord()):
+        with pytest.raises(ValueError) as info:
+            mechanism.simulate(undriven, t_end=0.05, record=mode)
+        assert str(info.value) == (
+            f"record={mode.name!r} needs a periodic drive (its revolutions and sections); "
+            "use record='full'."
+        )
+    with pytest.raises(ValueError) as info:
+        mechanism.simulate(scene, revolutions=2, record=mechanism.SectionsRecord(discard=2))
+    assert str(info.value) == "discard must be below the simulated 2 revolutions; got 2."
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "message"),
+    [
+        (
+            {"record": mechanism.SectionsRecord(), "discard": 1, "phase": 0.5},
+            "pass discard, phase inside the record object (SectionsRecord(...)), not next to it.",
+        ),
+        (
+            {"record": mechanism.SectionsRecord},
+            "record must be a record mode object (FullRecord(), MetricsRecord(), "
+            "SectionsRecord()) or one of 'full', 'metrics', 'sections'; got the class "
+            "SectionsRecord.",
+        ),
+        (
+            {"record": "metrics", "phase": 0.5},
+            "phase applies to record='sections' only; got record='metrics'.",
+        ),
+        (
+            {"record": "full", "discard": 1},
+            "discard applies to record='metrics' and 'sections'; slice the full trajectory.",
+        ),
+        (
+            {"record": "sections", "variables": ["crank_angle"]},
+            "variables applies to record='full' only; got record='sections' (the section and "
+            "metrics records choose their own variables).",
+        ),
+    ],
+)
+def test_keyword_options_go_into_the_object_of_the_named_mode(scene, kwargs, message) -> None:
+    with pytest.raises(ValueError) as info:
+        mechanism.simulate(scene, revolutions=2, **kwargs)
+    assert str(info.value) == message
+    with pytest.raises(TypeError, match="unexpected keyword argument 'phases'"):
+        mechanism.simulate(scene, revolutions=2, record="sections", phases=0.5)
+
+
+def test_keyword_options_at_their_neutral_values_fit_every_mode(scene) -> None:
+    """What the command line passes whatever the mode: no discard, no variables."""
+    ds = mechanism.simulate(
+        scene, revolutions=0.05, record="full", discard=0, phase=0.0, companion=True,
+        variables=None, output_step=PERIOD / 100,
+    )  # fmt: skip
+    assert ds.attrs["record"] == "full" and ds.sizes["time"] == 6
+    light = mechanism.simulate(
+        scene, revolutions=0.05, output_step=PERIOD / 100, variables=["crank_angle"],
+        companion=False,
+    )  # fmt: skip
+    assert set(light.data_vars) == {"crank_angle"}
+
+
+def test_simulate_takes_at_most_twelve_parameters() -> None:
+    assert len(inspect.signature(mechanism.simulate).parameters) <= 12

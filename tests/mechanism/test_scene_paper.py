@@ -143,7 +143,7 @@ def test_paper_parameters_follow_section_4() -> None:
     assert scene.gravity == (0.0, -9.81)
     e = scene.effects
     assert (e.clearance, e.friction, e.gravity) == (True, True, True)
-    # issue 6: rods 3 and 4 flexible by default, integrator chosen by the assembled model
+    # rods 3 and 4 flexible by default, integrator chosen by the assembled model
     assert (e.flexibility, e.wear) == (True, False)
     assert s.method == "auto"
 

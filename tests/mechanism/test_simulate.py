@@ -21,9 +21,9 @@ import mechanism.core._simulate
 from mechanism.cli import app
 from mechanism.core import _status as st
 from mechanism.core.integrate import Dopri5, GeneralizedAlpha, ScipyIVP, resolve_method
-from mechanism.core.integrate import _kernels as ik
+from mechanism.core.integrate import _dopri_kernels as dk
 from mechanism.core.model import _kernels as k
-from mechanism.core.model._assemble import assemble, initial_state
+from mechanism.core.model import assemble, initial_state
 from tests.mechanism.scenes import rigid_paper, rotating_guide, s3
 
 CLEARANCE_VARS = (
@@ -272,7 +272,7 @@ def test_docstring_examples_run() -> None:
 
 
 def test_paper_scene_runs_three_revolutions_with_kilonewton_contact_forces() -> None:
-    """Issue 5: rigid rods, clearance at C, 150 rpm, other scene defaults (seed-paper.txt reports
+    """Rigid rods, clearance at C, 150 rpm, other scene defaults (the published study reports
     9.18 kN before wear with flexible rods)."""
     ds = mechanism.simulate(rigid_paper(), revolutions=3)
     assert ds.attrs["solver_status"] == 0 and ds.attrs["revolutions"] == pytest.approx(3.0)
@@ -308,7 +308,7 @@ def test_one_status_table_for_the_model_kernels_and_the_time_loops() -> None:
         st.STATUS_NONFINITE
     )
     k1, state = np.zeros_like(y), np.zeros(4)
-    status = ik.dopri5_start(model.kernel, ws, 0.0, y, k1, vimp, state, counters, 1e-6, 1e-8, 1e-3)
+    status = dk.dopri5_start(model.kernel, ws, 0.0, y, k1, vimp, state, counters, 1e-6, 1e-8, 1e-3)
     assert status == st.STATUS_NONFINITE
 
 

@@ -1,4 +1,4 @@
-"""Sustained contact: the approach-speed rule of the damped contact laws (issue 7, spikes).
+"""Sustained contact: the approach-speed rule of the damped contact laws.
 
 The Hunt–Crossley-type laws divide their damping by the approach speed δ̇⁻ latched at
 contact entry. A contact entered at a grazing speed (latched at the floor) and then driven
@@ -271,7 +271,7 @@ def test_the_fixed_step_latch_carries_a_worn_contact_driven_past_twice_its_speed
         contact = np.array([1], dtype=np.int64)
         counters = np.zeros(mk.CNT_COLUMNS, dtype=np.int64)
         mk.update_latch(model.kernel, ws, y, vimp, contact, counters, carry)
-        delta, ddot, _ = mk._clearance_state(model.kernel, ws, y, 0)
+        delta, ddot, _ = mk.clearance_state(model.kernel, ws, y, 0)
         assert delta == pytest.approx(1e-5, rel=1e-6) and contact[0] == 1
         return float(vimp[0]), float(ddot)
 

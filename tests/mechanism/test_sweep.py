@@ -1,7 +1,8 @@
-"""Parameter sweeps (issue 8 §1–2): backends, failure as data, resume, gathering, views."""
+"""Parameter sweeps: backends, failure as data, resume, gathering, views."""
 
 from __future__ import annotations
 
+import ast
 import json
 import logging
 import math
@@ -16,8 +17,10 @@ import xarray as xr
 
 import chaoskit
 import mechanism
-from mechanism.studies import _sweep
-from mechanism.studies._sweep_store import point_id
+from mechanism.studies.sweep import _driver as sweep_driver
+from mechanism.studies.sweep import _point as sweep_point
+from mechanism.studies.sweep import _transforms as sweep_transforms
+from mechanism.studies.sweep._store import point_id
 from tests.mechanism import sweep_standins as standins
 
 RUN_ATTRS = ("created", "history", "store")  # differ between runs by design
@@ -54,8 +57,8 @@ def dask_client():
 @pytest.fixture
 def transforms(monkeypatch):
     """Register the test transforms for one test only."""
-    registry = dict(_sweep._GRID_TRANSFORMS)
-    monkeypatch.setattr(_sweep, "_GRID_TRANSFORMS", registry)
+    registry = dict(sweep_transforms._GRID_TRANSFORMS)
+    monkeypatch.setattr(sweep_transforms, "_GRID_TRANSFORMS", registry)
     mechanism.register_grid_transform("boom", standins.raise_when, values=["no", "raise"])
     mechanism.register_grid_transform("exit_once", standins.exit_once)
     mechanism.register_grid_transform("fail_once", standins.fail_once)
@@ -246,11 +249,13 @@ def test_simulator_failure_status_is_data(scene, tmp_path):
 )
 def test_simulation_status_mapping(attrs, expected):
     ds = xr.Dataset({"x": ("time", [0.0, 1.0])}, coords={"time": [0.0, 1.0]}, attrs=attrs)
-    status, message = _sweep._simulation_status(ds)
+    status, message = sweep_point._simulation_status(ds)
     assert status == expected[0]
     assert expected[1] in message
     ds["x"][1] = np.nan
-    assert _sweep._simulation_status(ds)[0] == (expected[0] if expected[0] != "ok" else "diverged")
+    assert sweep_point._simulation_status(ds)[0] == (
+        expected[0] if expected[0] != "ok" else "diverged"
+    )
 
 
 def test_killed_worker_point_is_retried_by_dask(scene, tmp_path, dask_client, transforms):
@@ -548,8 +553,60 @@ def test_default_backend_needs_no_dask_when_everything_is_done(scene, tmp_path, 
     def no_cluster(*args, **kwargs):
         raise AssertionError("a cluster was started although no point was left to run")
 
-    monkeypatch.setattr(_sweep, "_run_dask", no_cluster)
+    monkeypatch.setattr(sweep_driver, "run_dask", no_cluster)
     again = _stand_in_sweep(scene, store, client=None)
     assert "0 to run, 4 already done" in again.attrs["history"]
     assert os.path.exists(store / "summary.nc")
     assert Path(again.attrs["store"]) == store.resolve()
+
+
+def _module_level_calls(path: Path, name: str) -> list[int]:
+    """Lines of the module-level statements of ``path`` that call ``name``."""
+    tree = ast.parse(path.read_text(encoding="utf-8"))
+    found = []
+    for node in tree.body:
+        if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)):
+            continue
+        for sub in ast.walk(node):
+            func = getattr(sub, "func", None)
+            if isinstance(sub, ast.Call) and getattr(func, "id", getattr(func, "attr", "")) == name:
+                found.append(node.lineno)
+    return found
+
+
+def test_importing_a_module_registers_no_grid_key():
+    """The registry's built-in keys are defined in one place; no module registers one as a
+    side effect of being imported."""
+    root = Path(mechanism.__file__).parent
+    registering = {
+        str(p.relative_to(root)): lines
+        for p in sorted(root.rglob("*.py"))
+        if (lines := _module_level_calls(p, "register_grid_transform"))
+    }
+    assert registering == {}
+    assert list(mechanism.grid_transforms()) == ["wear", "samples_per_revolution"]
+
+
+def test_samples_per_revolution_sets_the_output_step_at_the_points_speed(scene):
+    transform = mechanism.grid_transforms()["samples_per_revolution"]
+    assert (transform.units, transform.long_name) == ("1", "output samples per crank revolution")
+    fast = transform.apply(scene.replace({"drive.speed_rpm": 3000.0}), 400)
+    assert fast.solver.output_step == pytest.approx(60.0 / 3000.0 / 400, rel=1e-15)
+
+
+def test_a_store_of_the_default_simulator_keeps_its_manifest_name(scene, tmp_path):
+    """Stores written before the sweep became a package name the default simulator
+    ``mechanism.studies._sweep._simulate_point``; the name stays so that they resume."""
+    store = tmp_path / "store"
+    kwargs = dict(
+        grid={"drive.speed_rpm": [5000.0]},
+        revolutions=0.2,
+        analysis=mechanism.Analysis(variables=(), discard_revolutions=0.1),
+        client="serial",
+        store=store,
+    )
+    mechanism.sweep(scene, **kwargs)
+    manifest = json.loads((store / "sweep.json").read_text(encoding="utf-8"))
+    assert manifest["simulator"] == "mechanism.studies._sweep._simulate_point"
+    again = mechanism.sweep(scene, **kwargs)
+    assert "1 points: 0 to run, 1 already done" in again.attrs["history"]

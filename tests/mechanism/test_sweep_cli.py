@@ -57,7 +57,7 @@ def test_serial_sweep_from_the_command_line_and_resume(tmp_path):
     result = CliRunner().invoke(app, args)
     assert result.exit_code == 0, result.output
     assert "4 points: 4 to run, 0 already done" in result.output
-    # wear = "after" runs on the worn scene of predict_wear (issue 7)
+    # wear = "after" runs on the worn scene of predict_wear
     assert "4 points: 4 ok, 0 failed, 0 diverged" in result.output
     # the result table: one row per point, before the tally
     lines = result.output.splitlines()

@@ -11,7 +11,7 @@ import pytest
 import xarray as xr
 
 import mechanism
-from mechanism.studies import _sweep_store as store_mod
+from mechanism.studies.sweep import _store as store_mod
 from tests.mechanism import sweep_standins as standins
 
 CLEARANCE = "joints.B.clearance"

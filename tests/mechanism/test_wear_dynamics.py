@@ -12,7 +12,7 @@ import xarray as xr
 
 import mechanism
 from mechanism.core.model import _kernels as k
-from mechanism.core.model._assemble import assemble, initial_state
+from mechanism.core.model import assemble, initial_state
 from mechanism.core.wear import WornProfile, run_wear
 from tests.mechanism.scenes import rigid_paper
 

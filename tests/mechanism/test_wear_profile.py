@@ -1,4 +1,4 @@
-"""Worn geometry of a clearance joint (issue 7 §1, validation target S7 geometry)."""
+"""Worn geometry of a clearance joint."""
 
 from __future__ import annotations
 

@@ -9,9 +9,9 @@ element r(x) = S(ξ) e with cubic Hermite shape functions (Berzeri & Shabana 200
     U = ∫₀ᴸ ½ EA ε² + ½ EI κ² dx,
 
 with the axial strain ε and the bending measure κ chosen by :class:`AncfMesh`
-(``axial_strain``, ``curvature``). The default (Biot strain |r,ₓ| − 1 and the material
-curvature (r,ₓ × r,ₓₓ)/|r,ₓ|² of Gerstmayr & Irschik 2008) reproduces the large-deflection
-cantilever benchmark to 1e-7 m; the constant-stiffness form ½EI|r,ₓₓ|² of the paper
+(``axial_strain``, ``curvature``). The default (Biot strain ``|r,ₓ| − 1`` and the material
+curvature ``(r,ₓ × r,ₓₓ)/|r,ₓ|²`` of Gerstmayr & Irschik 2008) reproduces the large-deflection
+cantilever benchmark to 1e-7 m; the constant-stiffness form ``½EI|r,ₓₓ|²`` of the paper
 (``curvature="linear"``) is kept as an option and is off by 7.5e-4 m there (see
 ``docs/ancf.md``).
 
@@ -42,7 +42,7 @@ import xarray as xr
 from numpy.typing import ArrayLike
 
 from chaoskit.contract import check_choice, check_int, check_positive
-from mechanism.core.joints._kernels import ANGLE_SLOPE, POINT_LINEAR
+from mechanism.core.joints import ANGLE_SLOPE, POINT_LINEAR
 
 from . import _ancf_kernels as _k
 
@@ -96,11 +96,11 @@ class AncfMesh:
         Stiffness-proportional structural damping coefficient β (s), ≥ 0:
         F_d = β ∫(EA ε̇ ∂ε/∂e + EI κ̇ ∂κ/∂e) dx, which vanishes under rigid motion.
     axial_strain : {"biot", "green"}
-        ε = |r,ₓ| − 1 (default) or the Green strain ½(r,ₓᵀr,ₓ − 1) of the paper; the two
+        ``ε = |r,ₓ| − 1`` (default) or the Green strain ½(r,ₓᵀr,ₓ − 1) of the paper; the two
         differ by ε²/2, i.e. by < 1e-6 relative at the strains of the paper's rods.
     curvature : {"material", "geometric", "linear"}
-        κ = (r,ₓ × r,ₓₓ)/|r,ₓ|² (default), (r,ₓ × r,ₓₓ)/|r,ₓ|³, or the paper's constant
-        bending stiffness K_t = EI∫S,ₓₓᵀS,ₓₓ dx (energy ½EI|r,ₓₓ|², κ ≈ |r,ₓₓ|).
+        ``κ = (r,ₓ × r,ₓₓ)/|r,ₓ|²`` (default), ``(r,ₓ × r,ₓₓ)/|r,ₓ|³``, or the paper's constant
+        bending stiffness K_t = EI∫S,ₓₓᵀS,ₓₓ dx (energy ``½EI|r,ₓₓ|²``, ``κ ≈ |r,ₓₓ|``).
     gauss_axial, gauss_bending : int
         Gauss–Legendre points per element for the axial and the bending energy, 1…5
         (defaults 5 and 3; 5 points integrate the Green-strain energy exactly).
@@ -168,7 +168,7 @@ class AncfMesh:
 
     @classmethod
     def from_scene(cls, beam: AncfBeam, **formulation: Any) -> AncfMesh:
-        """Build the mesh of a scene's :class:`~mechanism.core.scene.AncfBeam` body.
+        """Build the mesh of a scene's :class:`~mechanism.scene.AncfBeam` body.
 
         ``formulation`` passes ``axial_strain``, ``curvature``, ``gauss_axial`` or
         ``gauss_bending`` through; a ``mass`` override sets ρ = m / (A L).
@@ -347,7 +347,7 @@ class AncfMesh:
 
     def strain_energy(self, e: Any) -> float:
         """Strain energy U(e) = ∫ ½EA ε² + ½EI κ² dx (J) by the quadrature of the forces,
-        so that F_e = ∂U/∂e (``curvature="linear"``: κ² = |r,ₓₓ|²).
+        so that F_e = ∂U/∂e (``curvature="linear"``: ``κ² = |r,ₓₓ|²``).
         """
         return float(_k.beam_strain_energy(self._coordinates(e), *self.kernel_parameters))
 
@@ -527,9 +527,9 @@ def solve_beam_static(
     load_steps : int
         Number of equal load increments, ≥ 1.
     rtol : float
-        Convergence when |residual| ≤ rtol · |Q| on the free DOFs ...
+        Convergence when ``|residual| ≤ rtol · |Q|`` on the free DOFs ...
     xtol : float
-        ... or when the largest Newton correction is ≤ xtol · (1 + max |e|).
+        ... or when the largest Newton correction is ``≤ xtol · (1 + max |e|)``.
     max_iterations : int
         Newton iterations allowed per load step.
 
@@ -765,7 +765,7 @@ def euler_bernoulli_frequencies(
 # --- assembly layout for the multibody core ------------------------------------------------
 @dataclass(frozen=True, kw_only=True)
 class AncfLayout:
-    """Assembly layout of a flexible :class:`~mechanism.core.scene.AncfBeam` body .
+    """Assembly layout of a flexible :class:`~mechanism.scene.AncfBeam` body .
 
     Provides what :class:`~mechanism.core.bodies.RigidLayout` provides (``n_dof``,
     ``coordinate_names``, ``mass_block``, ``gravity_block``, ``initial_coordinates``,

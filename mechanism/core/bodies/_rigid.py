@@ -18,7 +18,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mechanism.core.joints._kernels import ANGLE_RIGID, POINT_RIGID
+from mechanism.core.joints import ANGLE_RIGID, POINT_RIGID
 from mechanism.core.scene import AncfBeam, RigidBody
 
 __all__ = ["RigidLayout", "rigid_bar_from_beam"]

@@ -2,10 +2,23 @@
 
 Normal force laws (Lankarani–Nikravesh, Hertz, Flores et al. 2011, Hu–Guo 2015), the Hertz
 stiffness in its conformal and sum-of-radii forms, and the Coulomb and Ambrósio friction
-laws. The compiled laws (``mechanism.core.contact._kernels``) are called by the integrator; the
-functions here resolve and validate a scene's settings once. See ``docs/contact-and-wear.md``.
+laws. The compiled laws (imported from here by the model and the integrators) are called in
+the time loop; the functions here resolve and validate a scene's settings once. See
+``docs/contact-and-wear.md``.
 """
 
+# compiled laws and their codes, for the model, wear and integrator kernels; not public API
+from ._kernels import (
+    APPROACH_BOUNDED,
+    APPROACH_RATIO,
+    FRICTION_AMBROSIO,
+    FRICTION_NONE,
+    contact_potential,
+    effective_curvature,
+    friction_force,
+    hertz_half_width,
+    normal_force,
+)
 from ._laws import (
     APPROACH_SPEEDS,
     CONTACT_LAWS,
@@ -13,6 +26,7 @@ from ._laws import (
     LOW_RESTITUTION_LIMIT,
     STIFFNESS_FORMS,
     ContactParameters,
+    StiffnessForm,
     approach_speed_code,
     check_contact_law,
     contact_parameters,

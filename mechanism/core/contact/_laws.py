@@ -216,7 +216,7 @@ def hertz_stiffness(
     bearing_material, journal_material : mechanism.core.scene.Material
         Young's modulus (Pa) and Poisson ratio of each part.
     form : {"conformal", "sum-of-radii"}
-        Which R* to use, see :func:`effective_radius`. ``"conformal"`` is the standard
+        Which R* to use, see ``effective_radius``. ``"conformal"`` is the standard
         internal-contact form [LN90]; ``"sum-of-radii"`` reproduces the paper's tables
         (K ≈ 1.31e10 N m^-1.5 for R_b = 15 mm, c = 0.2 mm).
 
@@ -286,7 +286,7 @@ def contact_stiffness(joint: ClearanceRevolute) -> float:
 
     ``joint.contact.stiffness`` is either a number (used as given) or a form name, in which
     case K = (4/3) E* √R* from the radii and materials (:func:`hertz_stiffness`). Validates
-    the joint's contact law and restitution (see :func:`check_contact_law`, which may warn).
+    the joint's contact law and restitution (see ``check_contact_law``, which may warn).
 
     Examples
     --------

@@ -6,6 +6,9 @@ a renormalised deviation on one step sequence (the largest Lyapunov exponent), a
 The compiled loops return to Python every ``chunk_steps`` attempted steps, so Ctrl-C
 stops a run promptly; :func:`interrupt_integrations` stops the runs of other threads."""
 
+# the layout of what the compiled loops record (``MET_*``, ``REC_*``), for the recorder; not
+# public API
+from . import _step_kernels as kernels
 from ._methods import (
     METHODS,
     Dopri5,
@@ -21,10 +24,15 @@ from ._methods import (
 )
 from ._tangent import (
     TangentIntegration,
+    clearance_kinematics,
     deviation_size,
     initial_deviation,
     integrate_tangent,
     length_scale,
+    project_state,
+    section_latch,
+    state_derivative,
+    tangent_basis,
 )
 from ._tangent_flexible import integrate_tangent_flexible
 
@@ -39,11 +47,16 @@ __all__ = [
     "ScipyIVP",
     "SolverStats",
     "TangentIntegration",
+    "clearance_kinematics",
     "deviation_size",
     "initial_deviation",
     "integrate_tangent",
     "integrate_tangent_flexible",
     "interrupt_integrations",
     "length_scale",
+    "project_state",
     "resolve_method",
+    "section_latch",
+    "state_derivative",
+    "tangent_basis",
 ]

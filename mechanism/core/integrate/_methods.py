@@ -25,14 +25,24 @@ from typing import TYPE_CHECKING, Any, Literal, NamedTuple
 
 import numpy as np
 
-from mechanism.core._status import MESSAGES
-from mechanism.core.joints._kernels import ANGLE_RIGID, ANGLE_SLOPE, POINT_LINEAR, POINT_RIGID
-from mechanism.core.model import _kernels as k
+from mechanism.core._status import (
+    MESSAGES,
+    STATUS_MAX_STEPS,
+    STATUS_OK,
+    STATUS_RUNNING,
+    STATUS_SINGULAR,
+    STATUS_STEP_TOO_SMALL,
+)
+from mechanism.core.joints import ANGLE_RIGID, ANGLE_SLOPE, POINT_LINEAR, POINT_RIGID
+from mechanism.core.model import kernels as k
 
-from . import _kernels as ik
+from . import _dopri_kernels as dk
+from . import _genalpha_kernels as gk
+from . import _step_kernels as sk
+from . import _tangent_kernels as tk
 
 if TYPE_CHECKING:
-    from mechanism.core.model._assemble import Model
+    from mechanism.core.model import Model
 
 __all__ = [
     "METHODS",
@@ -194,7 +204,11 @@ class Integration:
     ``recording`` holds the full grid samples (empty with a light plan), ``light`` the
     light grid samples (N, 3 + 2 × clearance joints: crank angle, slider s, ṡ, then e_x,
     e_y of each clearance joint), ``sections`` the section samples
-    and ``metrics`` the running extremes (``mechanism.integrate._kernels.MET_*``)."""
+    and ``metrics`` the running extremes (``mechanism.core.integrate.kernels.MET_*``).
+    ``final_step`` is the step size (s) the integrator would have tried next (NaN when
+    not known) and ``final_contact`` the clearance joints in contact at ``final_time``
+    (one flag per joint of ``Model.clearance_joints``), so that a failure can say what
+    held the step down."""
 
     recording: Recording
     stats: SolverStats
@@ -203,24 +217,26 @@ class Integration:
     light: np.ndarray | None = None
     sections: Recording | None = None
     metrics: np.ndarray | None = None
+    final_step: float = math.nan
+    final_contact: np.ndarray | None = None
 
 
 def _output(
     model: Model, ws: Any, y0: np.ndarray, vimp: np.ndarray, t_out: np.ndarray, plan: RecordPlan
-) -> ik.Output:
+) -> sk.Output:
     """The kernels' Output tuple for ``plan``, with the first grid sample (and a section
     at the start when the initial crank angle is a strobe angle) recorded."""
     full = plan.grid == "full"
-    mode = ik.REC_FULL if full else ik.REC_LIGHT
+    mode = sk.REC_FULL if full else sk.REC_LIGHT
     if plan.sections:
-        mode |= ik.REC_SECTIONS
+        mode |= sk.REC_SECTIONS
     if plan.metrics_from is not None:
-        mode |= ik.REC_METRICS
+        mode |= sk.REC_METRICS
     light = np.zeros((0 if full else t_out.size, k.LIGHT_COLUMNS + 2 * model.kernel.cj_i.shape[0]))
-    strobe = np.zeros(ik.STROBE_COLUMNS)
+    strobe = np.zeros(sk.STROBE_COLUMNS)
     metrics = np.array([-np.inf, -np.inf, -np.inf, np.inf])
     drive_row = -1 if model.drive_row is None else int(model.drive_row)
-    out = ik.Output(
+    out = sk.Output(
         mode=mode,
         t_out=t_out,
         cursor=np.zeros(2, dtype=np.int64),
@@ -237,7 +253,7 @@ def _output(
     scratch = np.empty_like(y)
     t0 = float(t_out[0])
     if full:
-        ik.record_sample(model.kernel, ws, out.rec, 0, t0, y, vimp, scratch,
+        sk.record_sample(model.kernel, ws, out.rec, 0, t0, y, vimp, scratch,
                          np.zeros(k.CNT_COLUMNS, dtype=np.int64))  # fmt: skip
     else:
         k.light_outputs(model.kernel, ws, y, light[0])
@@ -251,44 +267,50 @@ def _output(
         turns = math.ceil(first / two_pi - 1e-9) if sense > 0 else math.floor(first / two_pi + 1e-9)
         target = plan.phase + two_pi * turns
         if abs(target - start[0]) <= 1e-9:
-            ik.record_sample(model.kernel, ws, out.sections, 0, t0, y, vimp, scratch,
+            sk.record_sample(model.kernel, ws, out.sections, 0, t0, y, vimp, scratch,
                              np.zeros(k.CNT_COLUMNS, dtype=np.int64))  # fmt: skip
             out.cursor[1] = 1
             target += sense * two_pi
-        strobe[ik.STROBE_TARGET] = target
-        strobe[ik.STROBE_DIRECTION] = sense
-        strobe[ik.STROBE_ANGLE] = start[0]
+        strobe[sk.STROBE_TARGET] = target
+        strobe[sk.STROBE_DIRECTION] = sense
+        strobe[sk.STROBE_ANGLE] = start[0]
     return out
 
 
 def _integration(
     name: str,
-    out: ik.Output,
+    out: sk.Output,
     status: int,
     counters: np.ndarray,
     wall: float,
     y: np.ndarray,
     t: float,
+    loop: sk.LoopState | None = None,
+    message: str = "",
 ) -> Integration:
     """Package a compiled loop's outputs (truncated to what was recorded)."""
-    if status == ik.STATUS_RUNNING:
+    if status == STATUS_RUNNING:
         status = 0
     n_grid = int(out.cursor[0])
-    full = bool(out.mode & ik.REC_FULL)
+    full = bool(out.mode & sk.REC_FULL)
     return Integration(
         recording=out.rec.head(n_grid) if status != 0 else out.rec,
-        stats=_stats(name, status, counters, wall),
+        stats=solver_stats(name, status, counters, wall, message),
         final_state=y,
         final_time=float(t),
         light=None if full else (out.light[:n_grid] if status != 0 else out.light),
-        sections=out.sections.head(int(out.cursor[1])) if out.mode & ik.REC_SECTIONS else None,
-        metrics=out.metrics.copy() if out.mode & ik.REC_METRICS else None,
+        sections=out.sections.head(int(out.cursor[1])) if out.mode & sk.REC_SECTIONS else None,
+        metrics=out.metrics.copy() if out.mode & sk.REC_METRICS else None,
+        final_step=math.nan if loop is None else float(loop.step[1]),
+        final_contact=None if loop is None else loop.contact.copy(),
     )
 
 
-def _stats(
+def solver_stats(
     method: str, status: int, counters: np.ndarray, wall: float, msg: str = ""
 ) -> SolverStats:
+    """The :class:`SolverStats` of a finished run from its status code and kernel counters
+    (``msg`` overrides the status code's standard message)."""
     return SolverStats(
         method=method,
         status=int(status),
@@ -304,7 +326,7 @@ def _stats(
     )
 
 
-class _Progress:
+class ProgressBar:
     """Optional tqdm bar over the simulated time, in percent (library calls are silent)."""
 
     def __init__(self, enabled: bool, t0: float, t_end: float, label: str):
@@ -361,8 +383,63 @@ def interruptions() -> int:
     return _INTERRUPTS[0]
 
 
+#: attempted steps before a run's step count is extrapolated (fewer say little about it)
+FORECAST_AFTER = 1_000
+
+
+@dataclass
+class StepForecast:
+    """The attempted steps a run will need, extrapolated from its progress so far.
+
+    After every return of a compiled loop (from ``FORECAST_AFTER`` attempted steps on),
+    the attempted steps so far (accepted and rejected, from ``counters``) are scaled by the
+    share of ``[t0, t_end]`` covered. A run whose forecast exceeds ``max_steps`` would
+    reach the step cap long after it started, and one above ``budget`` would run for
+    hours: either is stopped at once with
+    :data:`~mechanism.core._status.STATUS_MAX_STEPS` and ``message`` saying why. The
+    forecast reads the counters only: a run that is not stopped takes the same steps as
+    without it.
+    """
+
+    t0: float
+    t_end: float
+    max_steps: int
+    counters: np.ndarray
+    budget: float = math.inf
+    message: str = ""
+
+    def exceeded(self, t: float) -> bool:
+        """True (and ``message`` set) when the forecast at time ``t`` exceeds the cap or
+        the budget."""
+        attempted = int(self.counters[k.CNT_STEPS] + self.counters[k.CNT_REJECTED])
+        done = t - self.t0
+        span = self.t_end - self.t0
+        if attempted < FORECAST_AFTER or not done < span:
+            return False
+        estimate = attempted * span / done if done > 0.0 else math.inf
+        needs = (
+            f"the run would need about {estimate:.3g} attempted steps to reach "
+            f"t = {self.t_end:.6g} s ({attempted} took it to t = {t:.6g} s)"
+        )
+        if estimate > self.max_steps:
+            self.message = f"{needs}, more than max_steps = {self.max_steps:.3g}; stopped early."
+        elif estimate > self.budget:
+            self.message = (
+                f"{needs}, more than the {self.budget:.3g} a run takes unless forced; "
+                "stopped early, force=True (--force) runs it anyway."
+            )
+        else:
+            return False
+        return True
+
+
 def advance_to(
-    call: Callable[[float], int], clock: np.ndarray, t_stop: float, bar: _Progress, since: int
+    call: Callable[[float], int],
+    clock: np.ndarray,
+    t_stop: float,
+    bar: ProgressBar,
+    since: int,
+    forecast: StepForecast | None = None,
 ) -> int:
     """Call the compiled loop ``call(t_stop)`` until ``clock[0]`` reaches ``t_stop`` or the
     loop ends; returns the status of the last call.
@@ -372,7 +449,8 @@ def advance_to(
     calls Python runs, so a Ctrl-C raises ``KeyboardInterrupt`` within one budget of
     steps however small the steps have become (compiled code never sees a signal), and
     so does an :func:`interrupt_integrations` call made since ``since`` (the count of
-    :func:`interruptions` when the integration started).
+    :func:`interruptions` when the integration started). With a ``forecast``, a run whose
+    extrapolated step count exceeds its cap ends there with ``STATUS_MAX_STEPS``.
     """
     try:
         while True:
@@ -380,19 +458,26 @@ def advance_to(
             bar.update(float(clock[0]))
             if _INTERRUPTS[0] != since:
                 raise KeyboardInterrupt
-            if status != ik.STATUS_RUNNING or clock[0] >= t_stop:
+            if status == STATUS_RUNNING and forecast is not None:
+                if forecast.exceeded(float(clock[0])):
+                    return STATUS_MAX_STEPS
+            if status != STATUS_RUNNING or clock[0] >= t_stop:
                 return status
     except KeyboardInterrupt:
         interrupt_integrations()
         raise
 
 
-def _check_chunk_steps(value: Any) -> None:
+def check_chunk_steps(value: Any) -> None:
+    """Raise ``ValueError`` unless ``value`` is an integer ≥ 1 (attempted steps per call of
+    a compiled loop)."""
     if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < 1:
         raise ValueError(f"chunk_steps must be an integer ≥ 1 (steps); got {value!r}.")
 
 
-def _initial_latch(model: Model, y0: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def initial_latch(model: Model, y0: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Impact-velocity latch and contact flags of each clearance joint at the state ``y0``
+    (a joint already in contact latches the velocity floor and counts as no event)."""
     n_cj = model.kernel.cj_i.shape[0]
     # a journal that starts in contact keeps the floor as its impact velocity
     vimp = model.kernel.cj_f[:, k.CF_FLOOR].copy()
@@ -414,12 +499,12 @@ def _control(
     projection: bool,
     fixed_step: float = 0.0,
     approach_floor: float = 0.0,
-) -> ik.StepControl:
+) -> sk.StepControl:
     """The kernels' StepControl of ``method`` (a Dopri5 or GeneralizedAlpha) for a run."""
     entry = float(getattr(method, "contact_entry_depth", 0.0))
     # below this step an entry is accepted (a worn profile can make the penetration jump)
     floor = 1e-6 * max_step if math.isfinite(max_step) else 1e-10 * (t_end - t0)
-    return ik.StepControl(
+    return sk.StepControl(
         t_end=t_end,
         rtol=float(rtol),
         atol=float(atol),
@@ -456,13 +541,19 @@ class Integrator:
         progress: bool = False,
         label: str = "simulate",
         record: RecordPlan = FULL,
+        step_budget: float = math.inf,
     ) -> Integration:
         """Integrate ``model`` from ``y0`` over the grid ``t_out``.
+
+        ``step_budget``: a run whose attempted steps, extrapolated from its progress
+        after each return of a compiled loop, exceed it is stopped early with the status
+        of the step cap (the compiled integrators; default none: a run whose forecast
+        exceeds ``max_steps`` is stopped early all the same).
 
         ``max_step`` (s) bounds every step. ``approach_floor`` (s) > 0 also bounds each
         step by the approach of the clearance joints — no separated journal travels more
         than ``APPROACH_FRACTION`` of its gap to the wall — but never below the floor
-        (:func:`mechanism.core.model._kernels.approach_step`); the scipy methods, whose
+        (the model kernels' ``approach_step``); the scipy methods, whose
         step control has no such hook, take the floor as their largest step.
         """
         raise NotImplementedError
@@ -506,7 +597,7 @@ class Dopri5(Integrator):
     def __post_init__(self) -> None:
         if not float(self.contact_entry_depth) >= 0.0:
             raise ValueError(f"contact_entry_depth must be ≥ 0; got {self.contact_entry_depth!r}.")
-        _check_chunk_steps(self.chunk_steps)
+        check_chunk_steps(self.chunk_steps)
 
     def integrate(
         self,
@@ -522,13 +613,14 @@ class Dopri5(Integrator):
         progress: bool = False,
         label: str = "simulate",
         record: RecordPlan = FULL,
+        step_budget: float = math.inf,
     ) -> Integration:
         km = model.kernel
         ws = model.workspace()
         y = np.ascontiguousarray(y0, dtype=np.float64).copy()
         counters = np.zeros(k.CNT_COLUMNS, dtype=np.int64)
-        vimp, contact = _initial_latch(model, y)
-        loop = ik.LoopState(
+        vimp, contact = initial_latch(model, y)
+        loop = sk.LoopState(
             y=y, f=np.zeros_like(y), apse=np.zeros(0), step=np.zeros(4), vimp=vimp,
             contact=contact, counters=counters,
         )  # fmt: skip
@@ -539,22 +631,27 @@ class Dopri5(Integrator):
         out = _output(model, ws, y, vimp, t_out, record)
         since = interruptions()
         start = time.perf_counter()
-        status = ik.dopri5_start(km, ws, t0, y, loop.f, vimp, loop.step, counters, rtol, atol,
+        status = dk.dopri5_start(km, ws, t0, y, loop.f, vimp, loop.step, counters, rtol, atol,
                                  ctl.max_step)  # fmt: skip
-        if status == ik.STATUS_RUNNING:
-            bar = _Progress(progress, t0, t_end, label)
+        forecast = StepForecast(
+            t0=t0, t_end=t_end, max_steps=self.max_steps, counters=counters, budget=step_budget
+        )
+        if status == STATUS_RUNNING:
+            bar = ProgressBar(progress, t0, t_end, label)
             try:
                 for t_stop in _chunks(t0, t_end, progress):
                     status = advance_to(
-                        lambda stop: ik.dopri5_advance(km, ws, loop, out, ctl, stop),
-                        loop.step, t_stop, bar, since,
+                        lambda stop: dk.dopri5_advance(km, ws, loop, out, ctl, stop),
+                        loop.step, t_stop, bar, since, forecast,
                     )  # fmt: skip
-                    if status != ik.STATUS_RUNNING:
+                    if status != STATUS_RUNNING:
                         break
             finally:
                 bar.close()
         wall = time.perf_counter() - start
-        return _integration(self.name, out, status, counters, wall, y, loop.step[0])
+        return _integration(
+            self.name, out, status, counters, wall, y, loop.step[0], loop, forecast.message
+        )
 
 
 def _jacobian_columns(model: Model) -> tuple[np.ndarray, np.ndarray]:
@@ -636,7 +733,7 @@ class GeneralizedAlpha(Integrator):
     Notes
     -----
     Second order; the local error estimate compares the acceleration change over the
-    step (e_q = h²|β − 1/6| Δq̈, e_v = h(|γ − ½| + 1/12) Δq̈). J. Chung, G. M. Hulbert,
+    step (``e_q = h²|β − 1/6| Δq̈``, ``e_v = h(|γ − ½| + 1/12) Δq̈``). J. Chung, G. M. Hulbert,
     J. Appl. Mech. 60 (1993) 371–375; M. Arnold, O. Brüls, Multibody Syst. Dyn. 18 (2007)
     185–202.
     """
@@ -663,7 +760,7 @@ class GeneralizedAlpha(Integrator):
                 )
             if not self.step > 0.0:
                 raise ValueError(f"step must be > 0 (s); got {self.step!r}.")
-        _check_chunk_steps(self.chunk_steps)
+        check_chunk_steps(self.chunk_steps)
 
     def integrate(
         self,
@@ -679,11 +776,12 @@ class GeneralizedAlpha(Integrator):
         progress: bool = False,
         label: str = "simulate",
         record: RecordPlan = FULL,
+        step_budget: float = math.inf,
     ) -> Integration:
         return self._advance(
             model, y0, t_out, rtol=rtol, atol=atol, max_step=max_step,
             approach_floor=approach_floor, projection=projection, progress=progress,
-            label=label, record=record,
+            label=label, record=record, step_budget=step_budget,
         )  # fmt: skip
 
     def _advance(
@@ -700,9 +798,10 @@ class GeneralizedAlpha(Integrator):
         progress: bool = False,
         label: str = "simulate",
         record: RecordPlan = FULL,
-        deviation: ik.Deviation | None = None,
+        deviation: tk.Deviation | None = None,
         stops: np.ndarray | None = None,
         on_stop: Callable[[float], None] | None = None,
+        step_budget: float = math.inf,
     ) -> Integration:
         """:meth:`integrate`, optionally carrying a :class:`~._kernels.Deviation` along
         (the largest Lyapunov exponent): the loop then stops at every time of ``stops``
@@ -713,7 +812,7 @@ class GeneralizedAlpha(Integrator):
         ws = model.workspace()
         y = np.ascontiguousarray(y0, dtype=np.float64).copy()
         counters = np.zeros(k.CNT_COLUMNS, dtype=np.int64)
-        vimp, contact = _initial_latch(model, y)
+        vimp, contact = initial_latch(model, y)
         t0 = float(t_out[0])
         t_end = float(t_out[-1])
         out = _output(model, ws, y, vimp, t_out, record)
@@ -721,11 +820,15 @@ class GeneralizedAlpha(Integrator):
         start = time.perf_counter()
         acc = np.zeros(n)
         t_now = t0
+        loop = None
+        forecast = StepForecast(
+            t0=t0, t_end=t_end, max_steps=self.max_steps, counters=counters, budget=step_budget
+        )
         status = k.accelerations(km, ws, t0, y[:n], y[n:], vimp, acc, counters)
-        if status == ik.STATUS_OK:
-            status = ik.STATUS_RUNNING
+        if status == STATUS_OK:
+            status = STATUS_RUNNING
             fd_cols, an_cols = _jacobian_columns(model)
-            jac = ik.jacobian_buffers(n, vimp.shape[0], fd_cols, an_cols, _contact_columns(model))
+            jac = gk.jacobian_buffers(n, vimp.shape[0], fd_cols, an_cols, _contact_columns(model))
             if self.step == "max_step":
                 # an unbounded run (e.g. the ideal companion) steps at the output spacing
                 fixed = float(max_step)
@@ -741,29 +844,31 @@ class GeneralizedAlpha(Integrator):
             ctl = _control(self, t0, t_end, rtol=rtol, atol=atol, max_step=max_step,
                            projection=projection, fixed_step=fixed,
                            approach_floor=approach_floor)  # fmt: skip
-            loop = ik.LoopState(
+            loop = sk.LoopState(
                 y=y, f=acc, apse=acc.copy(), step=np.array([t0, h0, 0.0, 0.0, 0.0]),
                 vimp=vimp, contact=contact, counters=counters,
             )  # fmt: skip
-            bar = _Progress(progress, t0, t_end, label)
+            bar = ProgressBar(progress, t0, t_end, label)
             chunks = _chunks(t0, t_end, progress) if stops is None else [float(x) for x in stops]
             try:
                 for t_stop in chunks:
                     status = advance_to(
-                        lambda stop: ik.genalpha_advance(
+                        lambda stop: gk.genalpha_advance(
                             km, ws, loop, out, ctl, jac, stop, deviation
                         ),
-                        loop.step, t_stop, bar, since,
+                        loop.step, t_stop, bar, since, forecast,
                     )  # fmt: skip
-                    if on_stop is not None and status in (ik.STATUS_RUNNING, ik.STATUS_OK):
+                    if on_stop is not None and status in (STATUS_RUNNING, STATUS_OK):
                         on_stop(float(loop.step[0]))
-                    if status != ik.STATUS_RUNNING:
+                    if status != STATUS_RUNNING:
                         break
             finally:
                 bar.close()
             t_now = float(loop.step[0])
         wall = time.perf_counter() - start
-        return _integration(self.name, out, status, counters, wall, y, t_now)
+        return _integration(
+            self.name, out, status, counters, wall, y, t_now, loop, forecast.message
+        )
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -803,6 +908,7 @@ class ScipyIVP(Integrator):
         progress: bool = False,
         label: str = "simulate",
         record: RecordPlan = FULL,
+        step_budget: float = math.inf,
     ) -> Integration:
         import scipy.integrate as si
 
@@ -816,7 +922,7 @@ class ScipyIVP(Integrator):
         rec = Recording.empty(model, t_out.size)
         counters = np.zeros(k.CNT_COLUMNS, dtype=np.int64)
         y = np.ascontiguousarray(y0, dtype=np.float64).copy()
-        vimp, contact = _initial_latch(model, y)
+        vimp, contact = initial_latch(model, y)
         status_box = [0]
 
         def fun(t: float, yy: np.ndarray) -> np.ndarray:
@@ -837,9 +943,9 @@ class ScipyIVP(Integrator):
             options["max_step"] = max_step
         start = time.perf_counter()
         solver = solver_cls(fun, t0, y, t_end, **options)
-        ik.record_sample(km, ws, rec, 0, t0, y, vimp, np.empty_like(y), counters.copy())
+        sk.record_sample(km, ws, rec, 0, t0, y, vimp, np.empty_like(y), counters.copy())
         cursor = 1
-        bar = _Progress(progress, t0, t_end, label)
+        bar = ProgressBar(progress, t0, t_end, label)
         status = 0
         message = ""
         out_counters = np.zeros_like(counters)
@@ -847,11 +953,11 @@ class ScipyIVP(Integrator):
             while solver.status == "running":
                 msg = solver.step()
                 if solver.status == "failed":
-                    status = ik.STATUS_STEP_TOO_SMALL
+                    status = STATUS_STEP_TOO_SMALL
                     message = str(msg)
                     break
                 if status_box[0] != 0:
-                    status = ik.STATUS_SINGULAR
+                    status = STATUS_SINGULAR
                     break
                 counters[k.CNT_STEPS] += 1
                 stop = int(np.searchsorted(t_out, solver.t, side="right"))
@@ -859,7 +965,7 @@ class ScipyIVP(Integrator):
                     dense = solver.dense_output()
                     times = np.ascontiguousarray(t_out[cursor:stop])
                     states = np.ascontiguousarray(np.atleast_2d(dense(times)).reshape(y.size, -1))
-                    ik.record_batch(km, ws, rec, cursor, times, states, vimp, out_counters)
+                    sk.record_batch(km, ws, rec, cursor, times, states, vimp, out_counters)
                     cursor = stop
                 yy = np.ascontiguousarray(solver.y, dtype=np.float64)
                 k.update_latch(km, ws, yy, vimp, contact, counters)
@@ -870,9 +976,11 @@ class ScipyIVP(Integrator):
         counters[k.CNT_JAC] += int(getattr(solver, "njev", 0))
         return Integration(
             recording=rec.head(cursor) if status != 0 else rec,
-            stats=_stats(self.name, status, counters, wall, message),
+            stats=solver_stats(self.name, status, counters, wall, message),
             final_state=np.asarray(solver.y, dtype=np.float64),
             final_time=float(solver.t),
+            final_step=float(solver.step_size) if solver.step_size is not None else math.nan,
+            final_contact=contact.copy(),
         )
 
 
@@ -890,7 +998,7 @@ METHODS: tuple[str, ...] = (
 
 
 def resolve_method(method: str | Integrator, model: Model | None = None) -> Integrator:
-    """Turn a method name (see :data:`METHODS`) or an :class:`Integrator` into a strategy.
+    """Turn a method name (see ``METHODS``) or an :class:`Integrator` into a strategy.
 
     ``"auto"`` picks by the assembled ``model``: the fixed-step generalized-α
     (``GeneralizedAlpha(step="max_step")``, as ``"generalized-alpha-fixed"``) when it has
@@ -901,7 +1009,7 @@ def resolve_method(method: str | Integrator, model: Model | None = None) -> Inte
     Parameters
     ----------
     method : str or Integrator
-        A name of :data:`METHODS` or an integrator object (returned unchanged).
+        A name of ``METHODS`` or an integrator object (returned unchanged).
     model : mechanism.core.model._assemble.Model, optional
         The assembled mechanism; required by ``"auto"``. Its ``solver.rho_inf`` sets the
         numerical damping of the generalized-α methods (0.8 without a model).

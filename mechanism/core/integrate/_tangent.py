@@ -11,26 +11,27 @@ requested stop times. The largest Lyapunov exponent of a scene
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 import numpy as np
 
-from mechanism.core.joints._kernels import PC_X, PC_Y, update_points
-from mechanism.core.model import _kernels as k
+from mechanism.core._status import STATUS_RUNNING
+from mechanism.core.joints import PC_X, PC_Y, update_points
+from mechanism.core.model import kernels as k
 
-from . import _kernels as ik
+from . import _dopri_kernels as dk
 from . import _tangent_kernels as tk
 from ._methods import (
     APPROACH_FRACTION,
     CHUNK_STEPS,
+    ProgressBar,
     SolverStats,
-    _check_chunk_steps,
-    _initial_latch,
-    _Progress,
-    _stats,
     advance_to,
+    check_chunk_steps,
+    initial_latch,
     interruptions,
+    solver_stats,
 )
 
 if TYPE_CHECKING:
@@ -38,10 +39,15 @@ if TYPE_CHECKING:
 
 __all__ = [
     "TangentIntegration",
+    "clearance_kinematics",
     "deviation_size",
     "initial_deviation",
     "integrate_tangent",
     "length_scale",
+    "project_state",
+    "section_latch",
+    "state_derivative",
+    "tangent_basis",
 ]
 
 
@@ -56,7 +62,7 @@ class TangentIntegration:
         step before each stop is shortened to land on it; the deviation is renormalised
         there).
     log_growth : numpy.ndarray
-        Σ ln(|d|/size) from the start up to each ``t`` (natural log, dimensionless).
+        ``Σ ln(|d|/size)`` from the start up to each ``t`` (natural log, dimensionless).
     renormalizations : int
         Renormalisations done.
     stats : SolverStats
@@ -66,6 +72,24 @@ class TangentIntegration:
         Generalized-α only: the perturbed copy's Newton iterations, and the steps whose
         copy ended its iterations with an update above 1e-3 of the deviation's size (0
         for Dormand–Prince).
+    final_latch, final_latch_deviation : numpy.ndarray
+        Latched impact velocity (m/s) of each clearance joint at the end, and its
+        deviation (rescaled with the deviation, like it).
+    final_contact : numpy.ndarray
+        1 for a clearance joint in contact at the end, else 0.
+    states : numpy.ndarray
+        With ``record_states``: the reference state [q; q̇] at each ``t`` (rows), else
+        empty.
+    contact : numpy.ndarray
+        With ``record_states``: the contact flags of the clearance joints at each ``t``.
+    contact_events : numpy.ndarray
+        With ``record_states``: contact entries counted from the start up to each ``t``.
+    latches : numpy.ndarray
+        With ``record_states``: the latched impact velocities (m/s) at each ``t``.
+    step_times : numpy.ndarray
+        With ``record_steps``: the start and the time of every accepted step.
+    latch_drops : int
+        Latch deviations removed as neutral (``drop_persistent_latch``).
     """
 
     t: np.ndarray
@@ -76,9 +100,18 @@ class TangentIntegration:
     final_deviation: np.ndarray
     newton_iterations: int = 0
     unconverged_steps: int = 0
+    final_latch: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    final_latch_deviation: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    final_contact: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
+    states: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
+    contact: np.ndarray = field(default_factory=lambda: np.zeros((0, 0), dtype=np.int64))
+    contact_events: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
+    latches: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
+    step_times: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    latch_drops: int = 0
 
 
-def _inv_mass(model: Model) -> float:
+def inverse_total_mass(model: Model) -> float:
     """1 / total mass: of the rigid bodies from their x-coordinates; with ANCF beams uᵀMu
     for the unit translation u along x (1 on every body's and node's x-coordinate)."""
     if not model.beams:
@@ -91,7 +124,7 @@ def _inv_mass(model: Model) -> float:
 def deviation_size(model: Model, d: np.ndarray, *, time_scale: float) -> float:
     """Mass-weighted size (m) √((δqᵀMδq + τ²δq̇ᵀMδq̇)/m_total) of a state deviation ``d``."""
     d = np.ascontiguousarray(d, dtype=np.float64)
-    return float(ik.deviation_size(model.kernel, d, time_scale**2, _inv_mass(model)))
+    return float(tk.deviation_size(model.kernel, d, time_scale**2, inverse_total_mass(model)))
 
 
 def length_scale(model: Model, y0: np.ndarray) -> float:
@@ -140,8 +173,26 @@ def initial_deviation(
     ws, ws2 = model.workspace(), model.workspace()
     if not tk.project_tangent(model.kernel, ws, ws2, float(t0), y, d, np.empty(y.size)):
         raise ValueError("the constraint Jacobian is singular at the initial state.")
-    r = ik.deviation_size(model.kernel, d, time_scale**2, _inv_mass(model))
+    r = tk.deviation_size(model.kernel, d, time_scale**2, inverse_total_mass(model))
     return np.ascontiguousarray(d * (size / r))
+
+
+def _start_latch(
+    model: Model, y: np.ndarray, latch: tuple[np.ndarray, np.ndarray] | None
+) -> tuple[np.ndarray, np.ndarray]:
+    """(latched impact velocities, contact flags) to start from: the given ones, else
+    those of ``y`` as :func:`mechanism.simulate` starts."""
+    if latch is None:
+        return initial_latch(model, y)
+    vimp = np.ascontiguousarray(latch[0], dtype=np.float64).copy()
+    contact = np.ascontiguousarray(latch[1], dtype=np.int64).copy()
+    n_cj = model.kernel.cj_i.shape[0]
+    if vimp.shape != (n_cj,) or contact.shape != (n_cj,):
+        raise ValueError(
+            f"latch must hold {n_cj} impact velocities and {n_cj} contact flags "
+            f"(one per clearance joint); got shapes {vimp.shape} and {contact.shape}."
+        )
+    return vimp, contact
 
 
 def integrate_tangent(
@@ -162,6 +213,12 @@ def integrate_tangent(
     chunk_steps: int = CHUNK_STEPS["tangent"],
     progress: bool = False,
     label: str = "lyapunov",
+    latch: tuple[np.ndarray, np.ndarray] | None = None,
+    latch_deviation: np.ndarray | None = None,
+    record_states: bool = False,
+    record_steps: bool = False,
+    step_schedule: np.ndarray | None = None,
+    neutral_latch_after: float | None = None,
 ) -> TangentIntegration:
     """Integrate ``y0`` from ``t_stops[0]`` and its deviation ``d0`` to ``t_stops[-1]``.
 
@@ -171,7 +228,8 @@ def integrate_tangent(
         Assembled rigid mechanism.
     y0, d0
         Initial state [q; q̇] and deviation (its size, :func:`deviation_size`, is kept at
-        every renormalisation).
+        every renormalisation). A zero ``d0`` integrates the reference alone, at a third
+        of the cost (its growth stays 0).
     t_stops
         Increasing times (s); the first is the start. The growth is read at each.
     rtol, atol, max_step, approach_floor
@@ -179,11 +237,14 @@ def integrate_tangent(
         (``approach_floor`` > 0: the clearance joints' approach bounds the step, never
         below it).
     renormalize_every
-        Accepted steps between renormalisations (also done at every stop).
+        Accepted steps between renormalisations (also done at every stop). The
+        dynamics are linear in the deviation, so ``final_deviation`` × exp of the last
+        ``log_growth`` is the deviation carried without renormalisation.
     deviation_rtol
         > 0: a step is also rejected when the deviation's error estimate exceeds this
         fraction of its size (mass-weighted norm); 0: the reference's error alone decides,
-        and the steps are those of ``simulate`` at the same settings.
+        and the steps are those of ``simulate`` at the same settings (and the same for
+        every deviation of one reference).
     time_scale
         τ (s) of the deviation norm.
     max_steps
@@ -191,6 +252,35 @@ def integrate_tangent(
     chunk_steps
         Attempted steps per call of the compiled loop (≥ 1): between calls Python runs, so
         Ctrl-C stops even a run held at tiny steps. The results do not depend on it.
+    latch
+        (impact velocities (m/s), contact flags) of the clearance joints at the start;
+        default: those :func:`mechanism.simulate` starts from (a journal in contact holds
+        the floor). A state taken from inside a run needs the run's latch.
+    latch_deviation
+        Initial deviation (m/s) of the latched impact velocities; default 0.
+    record_states
+        Keep the reference state, the contact flags and the count of contact entries at
+        every stop (``states``, ``contact``, ``contact_events``).
+    record_steps
+        Keep the time of every accepted step (``step_times``); the compiled loop then
+        returns after each attempted step (slower, the same integration). Passed back as
+        ``step_schedule`` they freeze the steps, so the end state is a smooth function
+        of the start (the adaptive choice of steps, otherwise a source of jumps at the
+        tolerance's level, is frozen).
+    step_schedule
+        Increasing times holding ``t_stops`` (e.g. ``step_times`` of a run from a nearby
+        state): step exactly from one to the next, accepting every step.
+    neutral_latch_after
+        Duration (s) of uninterrupted contact after which a clearance joint's latch
+        deviation is zeroed (None: never). A latch frozen by a lasting contact is a
+        neutral direction of the linearised flow (while the contact lasts its multiplier
+        is exactly 1, the latch feeding the motion but nothing feeding it): left in, it
+        holds the renormalised deviation at zero growth once every other direction
+        contracts. Zeroing it keeps the deviation in the invariant subspace without the
+        latch, whose growth is the exponent of the motion. Contact is checked whenever
+        the compiled loop returns (every ``chunk_steps`` attempted steps and at the
+        stops), which does not change the integration; impacts and contacts shorter than
+        the duration are untouched.
 
     Returns
     -------
@@ -198,64 +288,86 @@ def integrate_tangent(
         Fewer rows than ``t_stops`` when the run failed (``stats.status`` < 0).
     """
     _check_rigid(model)
-    _check_chunk_steps(chunk_steps)
+    check_chunk_steps(chunk_steps)
     km = model.kernel
     ws, ws2 = model.workspace(), model.workspace()
     stops = np.ascontiguousarray(t_stops, dtype=np.float64)
     y = np.ascontiguousarray(y0, dtype=np.float64).copy()
     d = np.ascontiguousarray(d0, dtype=np.float64).copy()
     tau2 = float(time_scale) ** 2
-    inv_mass = _inv_mass(model)
-    size = float(ik.deviation_size(km, d, tau2, inv_mass))
+    inv_mass = inverse_total_mass(model)
+    size = float(tk.deviation_size(km, d, tau2, inv_mass))
     k1 = np.zeros_like(y)
     kd1 = np.zeros_like(y)
     state = np.zeros(5)
     counters = np.zeros(k.CNT_COLUMNS, dtype=np.int64)
     counters_p = np.zeros(k.CNT_COLUMNS, dtype=np.int64)
     growth = np.zeros(tk.GROWTH_COLUMNS)
-    vimp, contact = _initial_latch(model, y)
+    vimp, contact = _start_latch(model, y, latch)
     dvimp = np.zeros_like(vimp)  # deviation of the latched impact velocities (m/s)
+    if latch_deviation is not None:
+        dvimp[:] = np.asarray(latch_deviation, dtype=np.float64)
     t0, t_end = float(stops[0]), float(stops[-1])
-    times = [t0]
-    logs = [0.0]
+    times, logs = [t0], [0.0]
+    record = _StopRecord(record_states, y, contact, vimp)
     since = interruptions()
     start = time.perf_counter()
     status = k.rhs(km, ws, t0, y, vimp, k1, counters)
     if status == k.STATUS_OK:
         state[0] = t0
-        state[1] = ik._initial_step(km, ws, t0, y, k1, vimp, counters, rtol, atol, max_step)
+        state[1] = dk.initial_step(km, ws, t0, y, k1, vimp, counters, rtol, atol, max_step)
         state[2] = 1e-4
-        status = ik.STATUS_RUNNING
-    if status == ik.STATUS_RUNNING:
-        status = tk.tangent_start(
-            km, ws, t0, y, d, k1, kd1, vimp, dvimp, counters, counters_p, size,
-            float(time_scale), inv_mass,
-        )  # fmt: skip
-    bar = _Progress(progress, t0, t_end, label)
+        status = STATUS_RUNNING
+
+    def rate() -> int:
+        return int(tk.tangent_start(
+            km, ws, float(state[0]), y, d, k1, kd1, vimp, dvimp, counters, counters_p,
+            size, float(time_scale), inv_mass,
+        ))  # fmt: skip
+
+    if status == STATUS_RUNNING:
+        status = rate()
+    hold = _ContactHold(neutral_latch_after, t0, contact, counters)
+    steps = [t0]
+    schedule = (
+        np.zeros(0)
+        if step_schedule is None
+        else np.ascontiguousarray(step_schedule, dtype=np.float64)
+    )
+    if record_steps:
+        chunk_steps = 1
+
+    def advance(stop: float) -> int:
+        st = int(tk.tangent_advance(
+            km, ws, ws2, y, d, k1, kd1, state, vimp, dvimp, contact, counters,
+            counters_p, growth, stop, t_end, rtol, atol, max_step, projection,
+            max_steps, int(renormalize_every), size, tau2, inv_mass,
+            float(approach_floor), APPROACH_FRACTION, float(deviation_rtol),
+            int(chunk_steps), schedule,
+        ))  # fmt: skip
+        if hold.drop(float(state[0]), contact, counters, dvimp) and st == STATUS_RUNNING:
+            st = rate()  # the deviation's rate without the dropped latch
+        if record_steps and state[0] > steps[-1]:
+            steps.append(float(state[0]))
+        return st
+
+    bar = ProgressBar(progress, t0, t_end, label)
     try:
         for t_stop in stops[1:]:
-            if status != ik.STATUS_RUNNING:
+            if status != STATUS_RUNNING:
                 break
-            status = advance_to(
-                lambda stop: tk.tangent_advance(
-                    km, ws, ws2, y, d, k1, kd1, state, vimp, dvimp, contact, counters,
-                    counters_p, growth, stop, t_end, rtol, atol, max_step, projection,
-                    max_steps, int(renormalize_every), size, tau2, inv_mass,
-                    float(approach_floor), APPROACH_FRACTION, float(deviation_rtol),
-                    int(chunk_steps),
-                ),
-                state, float(t_stop), bar, since,
-            )  # fmt: skip
-            if status in (ik.STATUS_RUNNING, 0):
+            status = advance_to(advance, state, float(t_stop), bar, since)
+            if status in (STATUS_RUNNING, 0):
                 times.append(float(state[0]))
                 logs.append(float(growth[tk.GROWTH_LOG]))
+                record.add(y, contact, vimp, counters)
     finally:
         bar.close()
     wall = time.perf_counter() - start
-    if status == ik.STATUS_RUNNING:
+    if status == STATUS_RUNNING:
         status = 0
     counters[k.CNT_FEV] += counters_p[k.CNT_FEV]
-    stats = _stats("dopri5", status, counters, wall)
+    stats = solver_stats("dopri5", status, counters, wall)
     return TangentIntegration(
         t=np.array(times),
         log_growth=np.array(logs),
@@ -263,4 +375,190 @@ def integrate_tangent(
         stats=stats,
         final_state=y,
         final_deviation=d,
+        final_latch=vimp,
+        final_latch_deviation=dvimp,
+        final_contact=contact,
+        latch_drops=hold.drops,
+        step_times=np.array(steps) if record_steps else np.zeros(0),
+        **record.arrays(),
     )
+
+
+class _ContactHold:
+    """Which clearance joints have stayed in contact for ``after`` seconds; zeroes their
+    latch deviation (the neutral direction of a lasting contact)."""
+
+    def __init__(
+        self, after: float | None, t0: float, contact: np.ndarray, counters: np.ndarray
+    ) -> None:
+        self.after = after
+        self.drops = 0
+        self.t = t0
+        self.contact = contact.copy()
+        self.events = int(counters[k.CNT_CONTACT_EVENTS])
+        self.since = np.where(contact != 0, t0, np.nan)
+
+    def drop(self, t: float, contact: np.ndarray, counters: np.ndarray, dvimp: np.ndarray) -> bool:
+        """Update at time ``t``; True when a latch deviation was zeroed."""
+        if self.after is None:
+            return False
+        events = int(counters[k.CNT_CONTACT_EVENTS])
+        # in contact at both checks with no entry between: in contact all along
+        held = (self.contact != 0) & (contact != 0) & (events == self.events)
+        self.since = np.where(held, np.fmin(self.since, self.t), np.nan)
+        self.t, self.contact, self.events = t, contact.copy(), events
+        lasting = held & (t - self.since >= self.after) & (dvimp != 0.0)
+        if not np.any(lasting):
+            return False
+        dvimp[lasting] = 0.0
+        self.drops += int(np.count_nonzero(lasting))
+        return True
+
+
+class _StopRecord:
+    """Reference states, contact flags and entry counts at the stops (when asked)."""
+
+    def __init__(self, on: bool, y: np.ndarray, contact: np.ndarray, vimp: np.ndarray) -> None:
+        self.on = on
+        self.rows: list[tuple[np.ndarray, np.ndarray, int, np.ndarray]] = []
+        if on:
+            self.rows.append((y.copy(), contact.copy(), 0, vimp.copy()))
+
+    def add(
+        self, y: np.ndarray, contact: np.ndarray, vimp: np.ndarray, counters: np.ndarray
+    ) -> None:
+        if self.on:
+            events = int(counters[k.CNT_CONTACT_EVENTS])
+            self.rows.append((y.copy(), contact.copy(), events, vimp.copy()))
+
+    def arrays(self) -> dict[str, np.ndarray]:
+        if not self.on:
+            return {}
+        return {
+            "states": np.array([r[0] for r in self.rows]),
+            "contact": np.array([r[1] for r in self.rows], dtype=np.int64),
+            "contact_events": np.array([r[2] for r in self.rows], dtype=np.int64),
+            "latches": np.array([r[3] for r in self.rows]),
+        }
+
+
+def section_latch(
+    model: Model, y: np.ndarray, held: np.ndarray | None = None
+) -> tuple[np.ndarray, np.ndarray]:
+    """The latch a run from state ``y`` continues with: (impact velocities (m/s), contact
+    flags) of the clearance joints.
+
+    A separated joint tracks its approach speed (floored, as the integrators do); a joint
+    in contact keeps its value from ``held`` (the impact velocity latched when the contact
+    began), or the floor without it, as :func:`mechanism.simulate` starts.
+    """
+    vimp, contact = initial_latch(model, np.ascontiguousarray(y, dtype=np.float64))
+    if held is not None:
+        inside = contact != 0
+        vimp[inside] = np.asarray(held, dtype=np.float64)[inside]
+    return vimp, contact
+
+
+def tangent_basis(model: Model, y: np.ndarray, *, t: float, time_scale: float) -> np.ndarray:
+    """Orthonormal basis of the tangent space of the constraint manifold at ``y``.
+
+    Returns
+    -------
+    numpy.ndarray
+        (2n, 2f) columns, f = n − m the scene's degrees of freedom, orthonormal in the
+        scaled norm ``|δq|² + τ²|δq̇|²`` (τ = ``time_scale``): the directions a state of the
+        scene can move in (:func:`initial_deviation` projects a random one onto it).
+
+    Raises
+    ------
+    ValueError
+        Without a degree of freedom, or with a singular constraint Jacobian at ``y``.
+    """
+    n = model.n_dof
+    free = n - model.n_rows
+    if free <= 0:
+        raise ValueError(
+            f"the scene has no degree of freedom ({n} coordinates, {model.n_rows} "
+            "constraint equations): its motion is prescribed by the drive."
+        )
+    y = np.ascontiguousarray(y, dtype=np.float64)
+    ws, ws2 = model.workspace(), model.workspace()
+    scale = np.concatenate([np.ones(n), np.full(n, float(time_scale))])
+    columns = np.empty((2 * n, 2 * n))
+    for i in range(2 * n):
+        e = np.zeros(2 * n)
+        e[i] = 1.0 / scale[i]
+        if not tk.project_tangent(model.kernel, ws, ws2, float(t), y, e, np.empty(2 * n)):
+            raise ValueError("the constraint Jacobian is singular at the state.")
+        columns[:, i] = e * scale
+    u, _, _ = np.linalg.svd(columns)
+    return u[:, : 2 * free] / scale[:, None]
+
+
+def project_state(model: Model, y: np.ndarray, *, t: float, tol: float = 1e-14) -> np.ndarray:
+    """``y`` moved onto the constraint manifold Φ(q, t) = 0, Φq q̇ + Φt = 0 at time ``t``
+    (minimum-mass-norm corrections, as the simulator's projection).
+
+    Raises
+    ------
+    ValueError
+        On a singular constraint Jacobian.
+    """
+    out = np.ascontiguousarray(y, dtype=np.float64).copy()
+    if not k.project(model.kernel, model.workspace(), float(t), out, float(tol), 20):
+        raise ValueError("the constraint Jacobian is singular at the state.")
+    return out
+
+
+def clearance_kinematics(
+    model: Model, states: np.ndarray, *, t: np.ndarray, latch: np.ndarray
+) -> np.ndarray:
+    """Relative journal position and penetration of every clearance joint at states.
+
+    Parameters
+    ----------
+    states : numpy.ndarray
+        (samples, 2n) states [q; q̇].
+    t : numpy.ndarray
+        (samples,) times (s).
+    latch : numpy.ndarray
+        (samples, joints) latched impact velocities (m/s).
+
+    Returns
+    -------
+    numpy.ndarray
+        (samples, joints, 4): eccentricity x and y (m, journal centre relative to the
+        bearing centre, as ``simulate`` records them), penetration δ (m, > 0 in contact)
+        and its rate δ̇ (m/s).
+    """
+    km = model.kernel
+    ws = model.workspace()
+    states = np.ascontiguousarray(np.atleast_2d(states), dtype=np.float64)
+    latch = np.ascontiguousarray(np.atleast_2d(latch), dtype=np.float64)
+    times = np.broadcast_to(np.asarray(t, dtype=np.float64), (states.shape[0],))
+    f = np.zeros(states.shape[1])
+    counters = np.zeros(k.CNT_COLUMNS, dtype=np.int64)
+    columns = [k.CJ_EX, k.CJ_EY, k.CJ_DELTA, k.CJ_DELTA_DOT]
+    out = np.empty((states.shape[0], km.cj_i.shape[0], 4))
+    for i in range(states.shape[0]):
+        k.rhs(km, ws, float(times[i]), states[i], latch[i], f, counters)
+        out[i] = ws.cj[:, columns]
+    return out
+
+
+def state_derivative(model: Model, y: np.ndarray, *, t: float, latch: np.ndarray) -> np.ndarray:
+    """The right-hand side f(t, y) = [q̇; q̈] of the rigid equations of motion, with the
+    clearance joints' latched impact velocities ``latch`` (m/s).
+
+    Raises
+    ------
+    ValueError
+        When the constraint matrix is singular at ``y``.
+    """
+    y = np.ascontiguousarray(y, dtype=np.float64)
+    out = np.zeros_like(y)
+    counters = np.zeros(k.CNT_COLUMNS, dtype=np.int64)
+    vimp = np.ascontiguousarray(latch, dtype=np.float64)
+    if k.rhs(model.kernel, model.workspace(), float(t), y, vimp, out, counters) != k.STATUS_OK:
+        raise ValueError("the constraint matrix is singular at the state.")
+    return out

@@ -6,7 +6,7 @@ method: the reference runs in the compiled loop of :func:`GeneralizedAlpha.integ
 <mechanism.core.integrate.GeneralizedAlpha>` — the same code, the same steps, rejections
 and Jacobian refreshes as :func:`mechanism.simulate` — and after each step it accepts, a
 perturbed copy takes the same step with its own implicit solve
-(:class:`~mechanism.core.integrate._kernels.Deviation`). docs/mechanism-lyapunov.md, §1.
+(:class:`~mechanism.core.integrate._tangent_kernels.Deviation`). docs/mechanism-lyapunov.md, §1.
 """
 
 from __future__ import annotations
@@ -17,12 +17,12 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from mechanism.core.bodies._ancf_kernels import beams_force_add
-from mechanism.core.model import _kernels as k
+from mechanism.core.bodies import beams_force_add
+from mechanism.core.model import kernels as k
 
-from . import _kernels as ik
-from ._methods import GeneralizedAlpha, RecordPlan, _initial_latch
-from ._tangent import TangentIntegration, _inv_mass
+from . import _tangent_kernels as tk
+from ._methods import GeneralizedAlpha, RecordPlan, initial_latch
+from ._tangent import TangentIntegration, inverse_total_mass
 
 if TYPE_CHECKING:
     from mechanism.core.model import Model
@@ -95,14 +95,14 @@ def integrate_tangent_flexible(
     y = np.ascontiguousarray(y0, dtype=np.float64).copy()
     d = np.ascontiguousarray(d0, dtype=np.float64).copy()
     tau2 = float(time_scale) ** 2
-    inv_mass = _inv_mass(model)
-    size = float(ik.deviation_size(km, d, tau2, inv_mass))
+    inv_mass = inverse_total_mass(model)
+    size = float(tk.deviation_size(km, d, tau2, inv_mass))
     counters_d = np.zeros(k.CNT_COLUMNS, dtype=np.int64)
-    vimp, _ = _initial_latch(model, y)
+    vimp, _ = initial_latch(model, y)
     t0 = float(stops[0])
-    dev = ik.Deviation(
+    dev = tk.Deviation(
         d=d, dacc=np.zeros(n), dapse=np.zeros(n), vimp=vimp.copy(),
-        growth=np.zeros(ik.DEV_COLUMNS), counters=counters_d, ws=model.workspace(),
+        growth=np.zeros(tk.DEV_COLUMNS), counters=counters_d, ws=model.workspace(),
         f0=np.zeros(n), f1=np.zeros(n), fel=np.zeros(n),
         dx=np.zeros(n), res=np.zeros(n), dqn=np.zeros(n), dvn=np.zeros(n),
         yp=np.zeros(2 * n), scratch=np.zeros(2 * n), size=size, tau2=tau2,
@@ -113,8 +113,8 @@ def integrate_tangent_flexible(
     # pseudo-accelerations (the integrator starts its own from the acceleration)
     beams_force_add(km.beam_i, km.beam_f, y[:n], y[n:], -1.0, dev.fel)
     zero = np.zeros(n)
-    ik._copy_accelerations(km, dev, t0, y[:n], y[n:], zero, zero, vimp, dev.f0)
-    ik._copy_accelerations(km, dev, t0, y[:n], y[n:], d[:n], d[n:], vimp, dev.f1)
+    tk.copy_accelerations(km, dev, t0, y[:n], y[n:], zero, zero, vimp, dev.f0)
+    tk.copy_accelerations(km, dev, t0, y[:n], y[n:], d[:n], d[n:], vimp, dev.f1)
     dev.dacc[:] = dev.f1 - dev.f0
     dev.dapse[:] = dev.dacc
     times = [t0]
@@ -122,7 +122,7 @@ def integrate_tangent_flexible(
 
     def read(t: float) -> None:
         times.append(t)
-        logs.append(float(dev.growth[ik.DEV_LOG]))
+        logs.append(float(dev.growth[tk.DEV_LOG]))
 
     start = time.perf_counter()
     run = method._advance(
@@ -139,10 +139,10 @@ def integrate_tangent_flexible(
     return TangentIntegration(
         t=np.array(times),
         log_growth=np.array(logs),
-        renormalizations=int(dev.growth[ik.DEV_COUNT]),
+        renormalizations=int(dev.growth[tk.DEV_COUNT]),
         stats=stats,
         final_state=run.final_state,
         final_deviation=d,
-        newton_iterations=int(dev.growth[ik.DEV_NEWTON]),
-        unconverged_steps=int(dev.growth[ik.DEV_UNCONVERGED]),
+        newton_iterations=int(dev.growth[tk.DEV_NEWTON]),
+        unconverged_steps=int(dev.growth[tk.DEV_UNCONVERGED]),
     )

@@ -31,19 +31,53 @@ deviation grows by the integrator's amplification, not the mechanism's (Benettin
 Every ``every`` accepted steps (and at each chunk end) the deviation is projected onto
 the tangent space of the constraint manifold and rescaled to its initial size; the log of
 the growth factor is accumulated.
+
+Flexible models (generalized-α): a perturbed copy (:class:`Deviation`) takes every
+accepted step of the reference again from y + d with its own implicit solve
+(:func:`deviation_step`, the LU and contact Newton solve of ``_newton_kernels.py``),
+its ANCF elastic and damping forces the reference's plus their central difference along
+d (:func:`copy_accelerations`); ``genalpha_advance`` calls it, and
+:func:`deviation_renormalize` rescales d every ``every`` accepted steps.
 """
 
 from __future__ import annotations
 
 import math
+from typing import (
+    Any,
+    NamedTuple,
+)
 
 import numpy as np
-from numba import njit
+from numba import (
+    njit,
+)
 
-from mechanism.core._jit import njit_noalloc
-from mechanism.core.contact._kernels import APPROACH_BOUNDED, APPROACH_RATIO, FRICTION_AMBROSIO
-from mechanism.core.joints._kernels import update_points
-from mechanism.core.model._kernels import (
+from mechanism.core._jit import (
+    njit_noalloc,
+)
+from mechanism.core._status import (
+    STATUS_MAX_STEPS,
+    STATUS_NONFINITE,
+    STATUS_OK,
+    STATUS_RUNNING,
+    STATUS_SINGULAR,
+    STATUS_STEP_TOO_SMALL,
+)
+from mechanism.core.bodies import (
+    beams_force_add,
+)
+from mechanism.core.contact import (
+    APPROACH_BOUNDED,
+    APPROACH_RATIO,
+    FRICTION_AMBROSIO,
+)
+from mechanism.core.joints import (
+    constraint_rows,
+    update_point_rows,
+    update_points,
+)
+from mechanism.core.model import (
     CF_FLOOR,
     CF_V0,
     CF_V1,
@@ -52,19 +86,22 @@ from mechanism.core.model._kernels import (
     CJ_FN,
     CJ_VT,
     CNT_CONTACT_EVENTS,
+    CNT_FEV,
     CNT_REJECTED,
     CNT_STEPS,
-    STATUS_OK,
-    _cholesky_solve,
-    _clearance_state,
-    _schur,
+    CW_WORN,
     approach_step,
+    cholesky_solve,
+    clearance_forces,
+    clearance_state,
     evaluate_constraints,
     project,
     rhs,
+    schur,
+    solve,
 )
 
-from ._kernels import (
+from ._dopri_kernels import (
     A21,
     A31,
     A32,
@@ -95,13 +132,13 @@ from ._kernels import (
     E5,
     E6,
     E7,
-    STATUS_MAX_STEPS,
-    STATUS_NONFINITE,
-    STATUS_RUNNING,
-    STATUS_SINGULAR,
-    STATUS_STEP_TOO_SMALL,
-    _wrms,
-    deviation_size,
+    wrms,
+)
+from ._newton_kernels import (
+    contact_derivatives,
+    contact_newton_solve,
+    lu_factor,
+    lu_solve,
 )
 
 _EPS = 2.220446049250313e-16
@@ -113,6 +150,20 @@ GROWTH_LOG = 0  # Σ ln(|d| / size) over the renormalisations
 GROWTH_COUNT = 1  # renormalisations done
 GROWTH_LAST_T = 2  # time of the last renormalisation
 GROWTH_COLUMNS = 3
+
+
+@njit_noalloc()
+def _next_time(schedule, t):
+    """The first time of the increasing ``schedule`` after ``t`` (+inf past its end)."""
+    lo = 0
+    hi = schedule.shape[0]
+    while lo < hi:
+        mid = (lo + hi) // 2
+        if schedule[mid] > t:
+            hi = mid
+        else:
+            lo = mid + 1
+    return schedule[lo] if lo < schedule.shape[0] else np.inf
 
 
 @njit_noalloc()
@@ -131,13 +182,13 @@ def project_tangent(model, ws, ws2, t, y, d, scratch):
     q = y[:n]
     v = y[n:]
     evaluate_constraints(model, ws, t, q, v)
-    _schur(model, ws)
+    schur(model, ws)
     for k in range(m):
         s = 0.0
         for j in range(n):
             s += ws.phiq[k, j] * d[j]
         ws.lam[k] = s
-    if not _cholesky_solve(ws.s, ws.lam, m):
+    if not cholesky_solve(ws.s, ws.lam, m):
         return False
     big = 0.0
     for i in range(n):
@@ -146,7 +197,7 @@ def project_tangent(model, ws, ws2, t, y, d, scratch):
             s += ws.w[i, k] * ws.lam[k]
         d[i] -= s
         big = max(big, abs(d[i]))
-    _schur(model, ws)
+    schur(model, ws)
     for k in range(m):
         s = 0.0
         for j in range(n):
@@ -162,7 +213,7 @@ def project_tangent(model, ws, ws2, t, y, d, scratch):
             for j in range(n):
                 g += (ws2.phiq[k, j] - ws.phiq[k, j]) * v[j]
             ws.lam[k] += g / step
-    if not _cholesky_solve(ws.s, ws.lam, m):
+    if not cholesky_solve(ws.s, ws.lam, m):
         return False
     for i in range(n):
         s = 0.0
@@ -220,7 +271,7 @@ def latch_pair(model, ws, ws2, y, d, vimp, dvimp, contact, counters, yp, size, t
     update_points(y[:n], y[n:], model.pt_i, model.pt_f, ws.pci, ws.pcf)
     tracking = False
     for j in range(ncj):
-        delta, ddot, _ = _clearance_state(model, ws, y, j)
+        delta, ddot, _ = clearance_state(model, ws, y, j)
         if delta > 0.0:
             if contact[j] == 0:
                 contact[j] = 1
@@ -252,8 +303,8 @@ def latch_pair(model, ws, ws2, y, d, vimp, dvimp, contact, counters, yp, size, t
         for j in range(ncj):
             if contact[j] != 0 or not vimp[j] > model.cj_f[j, CF_FLOOR]:
                 continue
-            _, ddot, _ = _clearance_state(model, ws, y, j)
-            _, ddot_p, _ = _clearance_state(model, ws2, yp, j)
+            _, ddot, _ = clearance_state(model, ws, y, j)
+            _, ddot_p, _ = clearance_state(model, ws2, yp, j)
             dvimp[j] += (ddot_p - ddot) / c
 
 
@@ -380,10 +431,13 @@ def renormalize(model, ws, ws2, t, y, d, dvimp, scratch, size, tau2, inv_mass, g
     """Project ``d`` onto the constraint tangent, add ln(|d|/size) to ``growth`` and
     rescale d and the latch deviation ``dvimp`` (part of the linearised state) to
     ``size``. Returns False on a singular constraint matrix or a zero or non-finite
-    deviation."""
+    deviation, except that a zero deviation of size 0 (a run of the reference alone) is
+    left as it is."""
     if not project_tangent(model, ws, ws2, t, y, d, scratch):
         return False
     r = deviation_size(model, d, tau2, inv_mass)
+    if size == 0.0 and r == 0.0:
+        return True  # a reference-only run: no deviation to measure
     if not (r > 0.0 and math.isfinite(r)):
         return False
     growth[GROWTH_LOG] += math.log(r / size)
@@ -428,12 +482,13 @@ def tangent_advance(
     approach_fraction,
     deviation_rtol,
     chunk_steps,
+    schedule,
 ):
     """Advance reference and deviation to ``t_stop`` (≤ ``t_end``), landing on it, and
     renormalise there.
 
     With ``deviation_rtol`` = 0 the reference is stepped exactly as
-    :func:`mechanism.core.integrate._kernels.dopri5_advance` steps it (same controller,
+    :func:`mechanism.core.integrate._dopri_kernels.dopri5_advance` steps it (same controller,
     error norm, maximum step, approach bound of the clearance joints, latch and optional
     projection) and the deviation rides along; with ``deviation_rtol`` > 0 the error
     passed to the controller is the larger of the reference's and the deviation's
@@ -444,6 +499,11 @@ def tangent_advance(
     when ``t_stop`` < ``t_end`` was reached, or after ``chunk_steps`` (> 0) attempted steps
     with ``state[0]`` < ``t_stop`` (the next call continues bit for bit), 0 at ``t_end``,
     or a negative failure status.
+
+    A non-empty ``schedule`` (increasing times holding the stops) fixes the steps: each
+    goes from ``t`` to the next schedule time and is accepted whatever its error
+    estimate, so the end state is a smooth function of the start, with no adaptive
+    choice to jump.
     """
     n2 = y.shape[0]
     k2 = np.empty(n2)
@@ -469,6 +529,7 @@ def tangent_advance(
     ref = np.empty(model.cj_i.shape[0])
     vimp_p = np.empty_like(vimp)
     tau = math.sqrt(tau2)
+    fixed_steps = schedule.shape[0] > 0
     beta = 0.04
     expo1 = 0.2 - beta * 0.75
     t = state[0]
@@ -496,6 +557,10 @@ def tangent_advance(
         # land on the stop time, so segments are exact (e.g. drive periods)
         if t + 1.01 * h >= t_stop:
             h = t_stop - t
+        target = t_stop
+        if fixed_steps:
+            target = min(_next_time(schedule, t), t_stop)
+            h = target - t
         if h < 10.0 * _EPS * max(abs(t), 1e-300) or h <= 0.0:
             status = STATUS_STEP_TOO_SMALL
             break
@@ -563,7 +628,7 @@ def tangent_advance(
             err[i] = h * (
                 E1 * k1[i] + E3 * k3[i] + E4 * k4[i] + E5 * k5[i] + E6 * k6[i] + E7 * k7[i]
             )
-        e = _wrms(err, y, ynew, rtol, atol)
+        e = wrms(err, y, ynew, rtol, atol)
         if deviation_rtol > 0.0:
             # the deviation's own error estimate, relative to its size
             for i in range(n2):
@@ -578,16 +643,21 @@ def tangent_advance(
             scale = max(deviation_size(model, d, tau2, inv_mass),
                         deviation_size(model, dnew, tau2, inv_mass))  # fmt: skip
             e = max(e, deviation_size(model, err, tau2, inv_mass) / (deviation_rtol * scale))
+        if fixed_steps and not math.isfinite(e):
+            status = STATUS_NONFINITE
+            break
         if not math.isfinite(e):
             counters[CNT_REJECTED] += 1
             h *= 0.1
             last_rejected = True
             continue
         fac11 = e**expo1
-        if e <= 1.0:
+        if e <= 1.0 or fixed_steps:
             t = t + h
             if abs(t_stop - t) < 4.0 * _EPS * max(abs(t_stop), 1.0):
                 t = t_stop
+            if fixed_steps:
+                t = target
             for i in range(n2):
                 y[i] = ynew[i]
                 d[i] = dnew[i]
@@ -635,3 +705,343 @@ def tangent_advance(
     state[3] = 1.0 if last_rejected else 0.0
     state[4] = float(since)
     return status
+
+
+class Deviation(NamedTuple):
+    """A perturbed copy of a generalized-α integration, kept as its deviation from the
+    reference (the largest Lyapunov exponent of a flexible model, docs/mechanism-lyapunov.md).
+
+    After each step the reference accepts, the copy takes the same step h from its own
+    state, solving its own implicit equation with the reference's Newton matrix
+    (:func:`deviation_step`); the contact state is the reference's, each copy keeps its
+    own impact-velocity latch (:func:`deviation_latch`); every ``every`` accepted steps
+    and at the end of every chunk the deviation is measured and rescaled
+    (:func:`deviation_renormalize`)."""
+
+    d: np.ndarray  # (2n,) [δq; δq̇]
+    dacc: np.ndarray  # (n,) δq̈, the deviation of the integrator's acceleration
+    dapse: np.ndarray  # (n,) deviation of the pseudo-accelerations
+    vimp: np.ndarray  # impact-velocity latch of the perturbed copy
+    growth: np.ndarray  # float64[DEV_COLUMNS]
+    counters: np.ndarray  # int64[CNT_COLUMNS]: the deviation's evaluations
+    ws: Any  # workspace of the deviation's evaluations (the reference's is left alone)
+    f0: np.ndarray  # (n,) q̈ at the reference's accepted state (scratch from here on)
+    f1: np.ndarray  # (n,)
+    fel: np.ndarray  # (n,) −(elastic + damping forces) of the beams at the reference state
+    dx: np.ndarray  # (n,)
+    res: np.ndarray  # (n,)
+    dqn: np.ndarray  # (n,)
+    dvn: np.ndarray  # (n,)
+    yp: np.ndarray  # (2n,)
+    scratch: np.ndarray  # (2n,)
+    size: float  # size (m) the deviation is rescaled to
+    tau2: float  # τ² (s²) of the deviation norm
+    inv_mass: float  # 1 / total mass (1/kg)
+    every: int  # accepted steps between renormalisations
+    tol: float  # Newton test of the copy, relative to the deviation's size
+    max_newton: int  # Newton iterations of the copy per step
+
+
+DEV_LOG = 0  # Σ ln(|d| / size) over the renormalisations
+DEV_COUNT = 1  # renormalisations done
+DEV_LAST_T = 2  # time of the last renormalisation
+DEV_SINCE = 3  # accepted steps since the last renormalisation
+DEV_NEWTON = 4  # Newton iterations of the copy
+DEV_UNCONVERGED = 5  # steps whose copy ended max_newton iterations above DEV_FLOOR
+DEV_COLUMNS = 6
+DEV_DEPTH = 5  # iterates the copy's Newton mixes (Anderson acceleration)
+#: the beams' forces of the perturbed copy are differenced along its deviation at this
+#: largest coordinate change (m): the axial stiffness turns an ulp of a slope into a force
+#: far above the deviation's own (docs/mechanism-lyapunov.md §1)
+DEV_REACH = 1e-7
+#: a copy's Newton iteration that stops converging (at the round-off of its
+#: coordinates) below this share of the deviation's size has converged; one that ends
+#: its iterations above it counts as unconverged
+DEV_FLOOR = 1e-3
+
+
+@njit_noalloc()
+def copy_accelerations(model, dev, t, q, v, dq, dv, vimp, acc):
+    """q̈ of the state (q + δq, q̇ + δq̇) into ``acc``, as :func:`accelerations` solves it,
+    except that the beams' elastic and damping forces are the reference's (``dev.fel``, at
+    (q, q̇)) plus their central difference along (δq, δq̇) at a change of ``DEV_REACH``.
+
+    Evaluated directly at a deviation of 1e-13 m, the rods' axial stiffness (1e9–1e10 N/m
+    per element) turns the round-off of the perturbed slopes (an ulp, 2e-16) into forces
+    larger than the deviation's own; the forces are smooth, so their increment is taken
+    at a larger scale instead. Everything else (constraints, contact, friction) is
+    evaluated at the perturbed state. With δq = δq̇ = 0 it is the reference's q̈ by the
+    same arithmetic. Returns a status."""
+    ws = dev.ws
+    n = q.shape[0]
+    yp = dev.yp
+    sc = dev.scratch
+    big = 0.0
+    for i in range(n):
+        yp[i] = q[i] + dq[i]
+        yp[n + i] = v[i] + dv[i]
+        big = max(big, abs(dq[i]), abs(dv[i]))
+    dev.counters[CNT_FEV] += 1
+    update_points(yp[:n], yp[n:], model.pt_i, model.pt_f, ws.pci, ws.pcf)
+    ws.phiq[:, :] = 0.0
+    constraint_rows(
+        t, model.con_i, model.con_f, model.drive_i, model.drive_f, model.spline_x,
+        model.spline_c, ws.pci, ws.pcf, ws.phi, ws.phiq, ws.phit, ws.gam,
+    )  # fmt: skip
+    gen = ws.gen
+    for i in range(n):
+        gen[i] = model.gravity_force[i] + dev.fel[i]
+    if model.beam_i.shape[0] > 0 and big > 0.0:
+        step = DEV_REACH / big
+        for i in range(n):
+            sc[i] = q[i] + step * dq[i]
+            sc[n + i] = v[i] + step * dv[i]
+        beams_force_add(model.beam_i, model.beam_f, sc[:n], sc[n:], -0.5 / step, gen)
+        for i in range(n):
+            sc[i] = q[i] - step * dq[i]
+            sc[n + i] = v[i] - step * dv[i]
+        beams_force_add(model.beam_i, model.beam_f, sc[:n], sc[n:], 0.5 / step, gen)
+    if model.cj_i.shape[0] > 0:
+        clearance_forces(model, ws.pci, ws.pcf, vimp, gen, ws.cj, dev.counters)
+    return solve(
+        model.minv, model.blk_lo, model.blk_hi, model.alpha, model.beta, ws.phi, ws.phiq,
+        ws.phit, ws.gam, gen, yp[n:], ws.a0, ws.w, ws.s, ws.lam, ws.nz_n, ws.nz_j, acc,
+    )  # fmt: skip
+
+
+@njit(cache=True, error_model="numpy")
+def deviation_step(model, dev, t, h, qn, vn, vimp, am, af, gm, bt, cq, cvv, jm, piv, cc, zb,
+                    dq0, dv0, base_contact, cs, sm, spiv, wv):  # fmt: skip
+    """Advance the deviation ``dev`` over the step of size ``h`` the reference just
+    accepted, ending at time ``t`` in the state (``qn``, ``vn``).
+
+    The perturbed copy takes the same generalized-α step from its own state: its
+    acceleration x + δx solves its implicit equation, written as one for δx,
+
+        δx = a(t, qn + δqn(δx), vn + δvn(δx); copy's latch) − a(t, qn, vn; reference's latch),
+
+    with δqn, δvn the predictor and corrector of the method applied to δq, δq̇, δq̈ and
+    the pseudo-accelerations' deviation. The difference form shares the reference's own
+    Newton residual (its iterate solves its equation only to the tolerance, far more than
+    the deviation's size) with the copy. Newton with the reference's iteration matrix
+    (the LU factors ``jm`` at h, frozen at the Jacobian's state) whose clearance-contact
+    columns are re-linearised at the accepted state (the Sherman–Morrison–Woodbury
+    correction of the reference's loop; the reference's own last linearisation may lie
+    before its last update, on the other side of a friction ramp whose slope is a
+    damper of 1e8 1/s), from the last step's δq̈, until the update is below ``dev.tol``
+    of the deviation's size. Returns a status.
+    """
+    n = qn.shape[0]
+    d = dev.d
+    dacc = dev.dacc
+    dapse = dev.dapse
+    f0 = dev.f0
+    f1 = dev.f1
+    dx = dev.dx
+    r = dev.res
+    dqn = dev.dqn
+    dvn = dev.dvn
+    growth = dev.growth
+    tau2 = dev.tau2
+    c0 = (1.0 - af) / (1.0 - am)
+    c1 = af / (1.0 - am)
+    c2 = -am / (1.0 - am)
+    fel = dev.fel
+    for i in range(n):
+        fel[i] = 0.0
+        dqn[i] = 0.0
+    if model.beam_i.shape[0] > 0:
+        beams_force_add(model.beam_i, model.beam_f, qn, vn, -1.0, fel)
+    st = copy_accelerations(model, dev, t, qn, vn, dqn, dqn, vimp, f0)
+    if st != STATUS_OK:
+        return st
+    nc = cc.shape[0]
+    smw = False
+    delta = np.zeros((nc, nc))
+    if nc > 0:
+        dqc = np.zeros((nc, nc))
+        dvc = np.zeros((nc, nc))
+        gtc = np.zeros((dev.vimp.shape[0], nc))
+        touching = contact_derivatives(model, dev.ws, qn, vn, vimp, cc, dqc, dvc, gtc, cs)
+        smw = touching or base_contact
+        if smw:
+            for a in range(nc):
+                for b in range(nc):
+                    delta[a, b] = -cq * (dqc[a, b] - dq0[a, b]) - cvv * (dvc[a, b] - dv0[a, b])
+    for i in range(n):
+        dx[i] = dacc[i]
+    converged = False
+    prev = np.inf
+    conv = np.inf
+    # Anderson mixing of the last DEV_DEPTH iterates: the frozen matrix contracts some
+    # directions slowly (the reference tolerates a contraction up to 0.9), which the
+    # copy, held to 1e-6 of its size, cannot; mixing removes a few such directions
+    hx = np.zeros((DEV_DEPTH, n))
+    hf = np.zeros((DEV_DEPTH, n))
+    xprev = np.zeros(n)
+    fprev = np.zeros(n)
+    stored = 0
+    for it in range(dev.max_newton):
+        for i in range(n):
+            da = c0 * dx[i] + c1 * dacc[i] + c2 * dapse[i]
+            dqn[i] = d[i] + h * d[n + i] + h * h * ((0.5 - bt) * dapse[i] + bt * da)
+            dvn[i] = d[n + i] + h * ((1.0 - gm) * dapse[i] + gm * da)
+        st = copy_accelerations(model, dev, t, qn, vn, dqn, dvn, dev.vimp, f1)
+        if st != STATUS_OK:
+            return st
+        for i in range(n):
+            r[i] = f1[i] - f0[i] - dx[i]
+        if smw:
+            if not contact_newton_solve(jm, piv, cc, zb, delta, sm, spiv, wv, r):
+                return STATUS_SINGULAR
+        else:
+            lu_solve(jm, piv, r)
+        num = 0.0
+        den = 0.0
+        for i in range(n):
+            num += (cq * r[i]) ** 2 + tau2 * (cvv * r[i]) ** 2
+            den += dqn[i] ** 2 + tau2 * dvn[i] ** 2
+        growth[DEV_NEWTON] += 1.0
+        if not math.isfinite(num):
+            return STATUS_NONFINITE
+        conv = math.sqrt(num / den) if den > 0.0 else 0.0
+        # the copy's coordinates carry the round-off of the reference's (an ulp of q
+        # against a deviation of 1e-13 m), so its equation holds only to about 1e-6 of
+        # the deviation: an update below DEV_FLOOR that no longer halves has reached it
+        if conv <= dev.tol or (conv <= DEV_FLOOR and conv >= 0.5 * prev):
+            for i in range(n):
+                dx[i] += r[i]
+            converged = True
+            break
+        prev = conv
+        if it > 0:
+            slot = (it - 1) % DEV_DEPTH
+            for i in range(n):
+                hx[slot, i] = dx[i] - xprev[i]
+                hf[slot, i] = r[i] - fprev[i]
+            stored = min(stored + 1, DEV_DEPTH)
+        for i in range(n):
+            xprev[i] = dx[i]
+            fprev[i] = r[i]
+        mixed = False
+        if stored > 0:
+            a = np.zeros((stored, stored))
+            g = np.zeros(stored)
+            apiv = np.zeros(stored, dtype=np.int64)
+            trace = 0.0
+            for u in range(stored):
+                for w in range(stored):
+                    acc = 0.0
+                    for i in range(n):
+                        acc += hf[u, i] * hf[w, i]
+                    a[u, w] = acc
+                acc = 0.0
+                for i in range(n):
+                    acc += hf[u, i] * r[i]
+                g[u] = acc
+                trace += a[u, u]
+            for u in range(stored):
+                a[u, u] += 1e-12 * trace
+            if trace > 0.0 and lu_factor(a, apiv):
+                lu_solve(a, apiv, g)
+                for i in range(n):
+                    acc = dx[i] + r[i]
+                    for u in range(stored):
+                        acc -= g[u] * (hx[u, i] + hf[u, i])
+                    dx[i] = acc
+                mixed = True
+        if not mixed:
+            for i in range(n):
+                dx[i] += r[i]
+    if not converged and conv > DEV_FLOOR:
+        growth[DEV_UNCONVERGED] += 1.0
+    for i in range(n):
+        da = c0 * dx[i] + c1 * dacc[i] + c2 * dapse[i]
+        dq_new = d[i] + h * d[n + i] + h * h * ((0.5 - bt) * dapse[i] + bt * da)
+        dv_new = d[n + i] + h * ((1.0 - gm) * dapse[i] + gm * da)
+        d[i] = dq_new
+        d[n + i] = dv_new
+        dapse[i] = da
+        dacc[i] = dx[i]
+    return STATUS_OK
+
+
+@njit_noalloc()
+def deviation_latch(model, dev, y, contact, carry_worn):
+    """The perturbed copy's impact-velocity latch after an accepted step: the reference
+    decides contact (``contact``, already updated); a joint it sees separated tracks the
+    copy's own approach speed at y + d, floored as :func:`update_latch` does; one in
+    contact keeps the copy's latched value, raised from the copy's own δ̇ as
+    :func:`update_latch` raises it with ``carry_worn`` on a worn joint."""
+    ncj = model.cj_i.shape[0]
+    if ncj == 0:
+        return
+    n = model.n_dof
+    yp = dev.yp
+    for i in range(2 * n):
+        yp[i] = y[i] + dev.d[i]
+    ws = dev.ws
+    for j in range(ncj):
+        carry = carry_worn and model.cw_i[j, CW_WORN] != 0
+        if contact[j] != 0 and not carry:
+            continue
+        update_point_rows(yp[:n], yp[n:], model.pt_i, model.pt_f, ws.pci, ws.pcf, model.cj_i[j, :2])
+        _, ddot, _ = clearance_state(model, ws, yp, j)
+        if contact[j] != 0:
+            if ddot > APPROACH_RATIO * dev.vimp[j]:
+                dev.vimp[j] = ddot / APPROACH_RATIO
+            continue
+        floor = model.cj_f[j, CF_FLOOR]
+        dev.vimp[j] = ddot if ddot > floor else floor
+
+
+@njit_noalloc()
+def deviation_size(model, d, tau2, inv_mass):
+    """√((δqᵀMδq + τ² δq̇ᵀMδq̇)/m): the mass-weighted size (m) of a deviation, in the
+    rigid and the generalized-α tangent integrations alike.
+
+    With m the total mass, a rigid translation of the whole mechanism by δ has size δ and
+    a velocity deviation counts as the displacement it makes in the time τ.
+    """
+    n = model.n_dof
+    s = 0.0
+    for i in range(n):
+        xq = 0.0
+        xv = 0.0
+        for j in range(model.blk_lo[i], model.blk_hi[i]):
+            xq += model.mass[i, j] * d[j]
+            xv += model.mass[i, j] * d[n + j]
+        s += d[i] * xq + tau2 * d[n + i] * xv
+    return math.sqrt(max(s, 0.0) * inv_mass)
+
+
+@njit_noalloc()
+def deviation_renormalize(model, dev, t, vimp):
+    """Add ln(|d|/size) to the growth and rescale the deviation — (δq, δq̇), and with them
+    δq̈, the pseudo-accelerations' deviation and the difference of the copy's latched
+    impact velocities from the reference's ``vimp``, so the copy stays a consistent
+    generalized-α state — to ``dev.size``. Unlike the rigid case the deviation is not
+    projected onto the constraints' tangent space: a mass-orthogonal correction moves
+    the rods' end nodes against their interior nodes and excites the stiff axial modes
+    (docs/mechanism-lyapunov.md §1). Returns a status."""
+    n = model.n_dof
+    d = dev.d
+    growth = dev.growth
+    size = deviation_size(model, d, dev.tau2, dev.inv_mass)
+    if not (size > 0.0 and math.isfinite(size)):
+        return STATUS_NONFINITE
+    growth[DEV_LOG] += math.log(size / dev.size)
+    growth[DEV_COUNT] += 1.0
+    growth[DEV_LAST_T] = t
+    growth[DEV_SINCE] = 0.0
+    f = dev.size / size
+    for i in range(2 * n):
+        d[i] *= f
+    for i in range(n):
+        dev.dacc[i] *= f
+        dev.dapse[i] *= f
+    # the copy's latched impact velocities are part of its state: their difference from
+    # the reference's is rescaled with the rest
+    for j in range(vimp.shape[0]):
+        dev.vimp[j] = vimp[j] + f * (dev.vimp[j] - vimp[j])
+    return STATUS_OK

@@ -2,4 +2,38 @@
 constraint rows, and the kinematics of revolute clearance joints (journal in a bearing).
 The compiled kernels live in ``_kernels.py``; scenes describe joints as data."""
 
+# compiled kernels and their table layouts, for the other folders of the core (assembly,
+# bodies, integrators); not part of the public API
+from ._kernels import (
+    ANGLE_NONE,
+    ANGLE_RIGID,
+    ANGLE_SLOPE,
+    CON_ANGLE,
+    CON_COINCIDE,
+    CON_DRIVE,
+    CON_NORMAL,
+    CON_ROWS,
+    DRIVE_CONSTANT_SPEED,
+    DRIVE_NONE,
+    DRIVE_PROFILE,
+    PC_ANG,
+    PC_RATE,
+    PC_VX,
+    PC_VY,
+    PC_X,
+    PC_Y,
+    PCF_COLUMNS,
+    PCI_COLUMNS,
+    POINT_GROUND,
+    POINT_LINEAR,
+    POINT_RIGID,
+    angle_acceleration,
+    clearance_force_add,
+    clearance_kinematics,
+    constraint_rows,
+    point_acceleration,
+    update_point_rows,
+    update_points,
+)
+
 __all__: list[str] = []

@@ -38,11 +38,15 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from mechanism.core.bodies._ancf import AncfLayout
-from mechanism.core.bodies._ancf_kernels import BEAM_F_COLUMNS, BEAM_I_COLUMNS
-from mechanism.core.bodies._rigid import RigidLayout, rigid_bar_from_beam
-from mechanism.core.contact._laws import contact_parameters
-from mechanism.core.joints._kernels import (
+from mechanism.core.bodies import (
+    BEAM_F_COLUMNS,
+    BEAM_I_COLUMNS,
+    AncfLayout,
+    RigidLayout,
+    rigid_bar_from_beam,
+)
+from mechanism.core.contact import contact_parameters
+from mechanism.core.joints import (
     ANGLE_NONE,
     CON_ANGLE,
     CON_COINCIDE,
@@ -69,7 +73,7 @@ from mechanism.core.scene import (
     Scene,
 )
 from mechanism.core.wear import WornProfile
-from mechanism.core.wear import _kernels as wk
+from mechanism.core.wear import kernels as wk
 
 from . import _kernels as k
 

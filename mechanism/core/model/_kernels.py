@@ -30,15 +30,15 @@ from numba import njit
 
 from mechanism.core._jit import njit_noalloc
 from mechanism.core._status import STATUS_NONFINITE, STATUS_OK, STATUS_SINGULAR
-from mechanism.core.bodies._ancf_kernels import beams_force_add, beams_strain_energy
-from mechanism.core.contact._kernels import (
+from mechanism.core.bodies import beams_force_add, beams_strain_energy
+from mechanism.core.contact import (
     APPROACH_RATIO,
     FRICTION_NONE,
     contact_potential,
     friction_force,
     normal_force,
 )
-from mechanism.core.joints._kernels import (
+from mechanism.core.joints import (
     PC_ANG,
     PC_RATE,
     PC_VX,
@@ -53,7 +53,7 @@ from mechanism.core.joints._kernels import (
     update_point_rows,
     update_points,
 )
-from mechanism.core.wear._kernels import local_clearance, local_stiffness_tabulated, surface_slope
+from mechanism.core.wear import local_clearance, local_stiffness_tabulated, surface_slope
 
 # light samples: crank angle, slider s, ṡ, then e_x, e_y of each clearance joint
 LIGHT_COLUMNS = 3
@@ -199,7 +199,7 @@ def worn_clearance_rate(cw_i, cw_h, j, pcf, bearing, journal, ex, ey, phi_b, phi
 
 
 @njit_noalloc()
-def _clearance_forces(model, pci, pcf, vimp, gen, cj, counters):
+def clearance_forces(model, pci, pcf, vimp, gen, cj, counters):
     cj_i = model.cj_i
     cj_f = model.cj_f
     cw_i = model.cw_i
@@ -241,7 +241,7 @@ def _clearance_forces(model, pci, pcf, vimp, gen, cj, counters):
 
 
 @njit_noalloc()
-def _cholesky_solve(s, b, m):
+def cholesky_solve(s, b, m):
     """Solve S x = b in place (S symmetric positive definite, overwritten by its factor).
 
     Returns False if S is not numerically positive definite (redundant or singular
@@ -304,7 +304,7 @@ def _schur_arrays(phiq, minv, blk_lo, blk_hi, nzn, nzj, w, s):
 
 
 @njit_noalloc()
-def _schur(model, ws):
+def schur(model, ws):
     """W = M⁻¹Φqᵀ and S = Φq W from the current Φq, using each row's nonzero columns."""
     _schur_arrays(ws.phiq, model.minv, model.blk_lo, model.blk_hi, ws.nz_n, ws.nz_j, ws.w, ws.s)
 
@@ -337,8 +337,8 @@ def accelerations(model, ws, t, q, v, vimp, acc, counters):
     if model.beam_i.shape[0] > 0:
         beams_force_add(model.beam_i, model.beam_f, q, v, -1.0, gen)
     if model.cj_i.shape[0] > 0:
-        _clearance_forces(model, pci, pcf, vimp, gen, ws.cj, counters)
-    return _solve(
+        clearance_forces(model, pci, pcf, vimp, gen, ws.cj, counters)
+    return solve(
         model.minv, model.blk_lo, model.blk_hi, model.alpha, model.beta, phi, phiq, phit, gam,
         gen, v, ws.a0, ws.w, ws.s, ws.lam, ws.nz_n, ws.nz_j, acc,
     )  # fmt: skip
@@ -365,8 +365,8 @@ def _block_solve(minv, blk_lo, blk_hi, x, out):
 
 
 @njit_noalloc()
-def _solve(minv, blk_lo, blk_hi, alpha, beta, phi, phiq, phit, gam, gen, v, a0, w, s, lam,
-           nzn, nzj, acc):  # fmt: skip
+def solve(minv, blk_lo, blk_hi, alpha, beta, phi, phiq, phit, gam, gen, v, a0, w, s, lam,
+          nzn, nzj, acc):  # fmt: skip
     n = a0.shape[0]
     m = phi.shape[0]
     _block_solve(minv, blk_lo, blk_hi, gen, a0)
@@ -386,7 +386,7 @@ def _solve(minv, blk_lo, blk_hi, alpha, beta, phi, phiq, phit, gam, gen, v, a0, 
             pv += pj * v[j]
             pa += pj * a0[j]
         lam[k] = pa - (gam[k] - two_alpha * pv - beta2 * phi[k])
-    if not _cholesky_solve(s, lam, m):
+    if not cholesky_solve(s, lam, m):
         return STATUS_SINGULAR
     # q̈ = a₀ − Wλ, each column of W only over the mass blocks of its row's nonzero
     # columns (W is zero elsewhere; per entry the same subtractions in the same order)
@@ -419,7 +419,7 @@ def rhs(model, ws, t, y, vimp, dydt, counters):
 
 
 @njit_noalloc()
-def _clearance_state(model, ws, y, j):
+def clearance_state(model, ws, y, j):
     """(δ, δ̇, K) of clearance joint ``j`` at state ``y`` (point cache must be current);
     δ and K from the local clearance and stiffness on a worn profile."""
     rb = model.cj_f[j, CF_RB]
@@ -461,7 +461,7 @@ def update_latch(model, ws, y, vimp, contact, counters, carry_worn=False):
     for j in range(model.cj_i.shape[0]):
         # the clearance state reads the joint's bearing and journal points only
         update_point_rows(y[:n], y[n:], model.pt_i, model.pt_f, ws.pci, ws.pcf, model.cj_i[j, :2])
-        delta, ddot, _ = _clearance_state(model, ws, y, j)
+        delta, ddot, _ = clearance_state(model, ws, y, j)
         if delta > 0.0:
             if contact[j] == 0:
                 contact[j] = 1
@@ -490,7 +490,7 @@ def entry_depth_ratio(model, ws, y, contact):
     for j in range(model.cj_i.shape[0]):
         if contact[j] != 0:
             continue
-        delta, _, _ = _clearance_state(model, ws, y, j)
+        delta, _, _ = clearance_state(model, ws, y, j)
         r = delta / model.cj_f[j, CF_C]
         if r > worst:
             worst = r
@@ -521,7 +521,7 @@ def approach_step(model, ws, y, acc, fraction):
     pcf = ws.pcf
     limit = np.inf
     for j in range(ncj):
-        delta, _, _ = _clearance_state(model, ws, y, j)
+        delta, _, _ = clearance_state(model, ws, y, j)
         if delta > 0.0:
             if model.cw_i[j, CW_WORN] != 0:
                 # sliding over a worn profile crosses the steps of its tabulated depths,
@@ -591,10 +591,10 @@ def project(model, ws, t, y, tol, max_iter):
             err = max(err, abs(ws.phi[k]))
         if err < tol:
             break
-        _schur(model, ws)
+        schur(model, ws)
         for k in range(m):
             ws.lam[k] = ws.phi[k]
-        if not _cholesky_solve(ws.s, ws.lam, m):
+        if not cholesky_solve(ws.s, ws.lam, m):
             return False
         for i in range(n):
             s = 0.0
@@ -602,13 +602,13 @@ def project(model, ws, t, y, tol, max_iter):
                 s += ws.w[i, k] * ws.lam[k]
             q[i] -= s
     evaluate_constraints(model, ws, t, q, v)
-    _schur(model, ws)
+    schur(model, ws)
     for k in range(m):
         s = ws.phit[k]
         for j in range(n):
             s += ws.phiq[k, j] * v[j]
         ws.lam[k] = s
-    if not _cholesky_solve(ws.s, ws.lam, m):
+    if not cholesky_solve(ws.s, ws.lam, m):
         return False
     for i in range(n):
         s = 0.0
@@ -641,7 +641,7 @@ def mechanical_energy(model, ws, y):
     if model.cj_i.shape[0] > 0:
         update_points(q, v, model.pt_i, model.pt_f, ws.pci, ws.pcf)
         for j in range(model.cj_i.shape[0]):
-            delta, _, kn = _clearance_state(model, ws, y, j)
+            delta, _, kn = clearance_state(model, ws, y, j)
             pot += contact_potential(kn, model.cj_f[j, CF_EXP], delta)
     if model.beam_i.shape[0] > 0:
         pot += beams_strain_energy(model.beam_i, model.beam_f, q)

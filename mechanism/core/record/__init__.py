@@ -1,4 +1,9 @@
-"""Recording: an integration as an xarray Dataset, and the response metrics read from one."""
+"""Recording: an integration as an xarray Dataset, and the response metrics read from one.
+
+The record modes (:class:`FullRecord`, :class:`MetricsRecord`, :class:`SectionsRecord`)
+say what :func:`mechanism.simulate` keeps of a run and build its Dataset; a new mode is a
+new :class:`RecordMode` subclass (``docs/simulator.md``, *Record modes*).
+"""
 
 from ._metrics import (
     METRICS,
@@ -7,12 +12,31 @@ from ._metrics import (
     response_metrics,
     window_start,
 )
-from ._record import to_dataset
+from ._modes import (
+    RECORD_MODES,
+    FullRecord,
+    MetricsRecord,
+    RecordMode,
+    RunTimes,
+    SectionsRecord,
+    available_variables,
+    record_mode,
+)
+from ._record import LIGHT_VARIABLES, to_dataset
 
 __all__ = [
+    "LIGHT_VARIABLES",
     "METRICS",
+    "RECORD_MODES",
     "ROD_STRAIN",
+    "FullRecord",
+    "MetricsRecord",
+    "RecordMode",
+    "RunTimes",
+    "SectionsRecord",
+    "available_variables",
     "friction_sign_flips",
+    "record_mode",
     "response_metrics",
     "to_dataset",
     "window_start",

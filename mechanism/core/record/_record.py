@@ -18,9 +18,9 @@ import xarray as xr
 
 from chaoskit.contract import __version__, stamp, variable
 from mechanism.core.integrate import Integration, Recording
-from mechanism.core.integrate import _kernels as ik
-from mechanism.core.model import _kernels as k
-from mechanism.core.model._assemble import Model
+from mechanism.core.integrate import kernels as ik
+from mechanism.core.model import Model
+from mechanism.core.model import kernels as k
 
 from ._metrics import METRICS
 

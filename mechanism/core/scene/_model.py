@@ -128,7 +128,7 @@ GRAVITY_LIMIT = 1e3  # m s-2, |g_x| and |g_y| (about 100 g)
 Acceleration = Annotated[Real, Ge(-GRAVITY_LIMIT), Le(GRAVITY_LIMIT)]
 
 # Unknown keys are errors; TOML accepts inf/nan literals, a scene never does.
-_CONFIG = ConfigDict(extra="forbid", allow_inf_nan=False)
+MODEL_CONFIG = ConfigDict(extra="forbid", allow_inf_nan=False)
 
 
 def _speed(value: float) -> float:
@@ -161,7 +161,7 @@ def _stiffness(value: Any) -> str | float:
     )
 
 
-@with_config(_CONFIG)
+@with_config(MODEL_CONFIG)
 @dataclass(frozen=True, kw_only=True)
 class Effects:
     """Which physical effects the simulation evaluates; an effect that is off costs nothing.
@@ -177,7 +177,7 @@ class Effects:
     wear: Flag = False
 
 
-@with_config(_CONFIG)
+@with_config(MODEL_CONFIG)
 @dataclass(frozen=True, kw_only=True)
 class Material:
     """Elastic constants of one part of a clearance joint."""
@@ -186,7 +186,7 @@ class Material:
     poisson_ratio: Annotated[Real, Ge(0), Lt(0.5), Unit("1")]
 
 
-@with_config(_CONFIG)
+@with_config(MODEL_CONFIG)
 @dataclass(frozen=True, kw_only=True)
 class RigidBody:
     """A rigid body with its reference point at the centre of mass.
@@ -211,7 +211,7 @@ class RigidBody:
         return tuple(self.points)
 
 
-@with_config(_CONFIG)
+@with_config(MODEL_CONFIG)
 @dataclass(frozen=True, kw_only=True)
 class AncfBeam:
     """A 2-D gradient-deficient ANCF beam  between two named end points.
@@ -264,7 +264,7 @@ class AncfBeam:
         return self.total_mass * self.length**2 / 12.0
 
 
-@with_config(_CONFIG)
+@with_config(MODEL_CONFIG)
 @dataclass(frozen=True, kw_only=True)
 class RevoluteJoint:
     """Ideal pin between ``points[0]`` of ``bodies[0]`` and ``points[1]`` of ``bodies[1]``."""
@@ -274,7 +274,7 @@ class RevoluteJoint:
     points: tuple[Name, Name]
 
 
-@with_config(_CONFIG)
+@with_config(MODEL_CONFIG)
 @dataclass(frozen=True, kw_only=True)
 class PrismaticJoint:
     """Ideal slide: ``bodies[1]``'s point moves along ``axis`` (unit, in ``bodies[0]``'s frame)
@@ -286,7 +286,7 @@ class PrismaticJoint:
     axis: Annotated[Vec2, Unit("1")] = (1.0, 0.0)
 
 
-@with_config(_CONFIG)
+@with_config(MODEL_CONFIG)
 @dataclass(frozen=True, kw_only=True)
 class FixedJoint:
     """Welds two bodies at their current relative pose (3 constraints)."""
@@ -296,7 +296,7 @@ class FixedJoint:
     points: tuple[Name, Name]
 
 
-@with_config(_CONFIG)
+@with_config(MODEL_CONFIG)
 @dataclass(frozen=True, kw_only=True)
 class ContactLaw:
     """Normal contact force law of a clearance joint.
@@ -305,7 +305,7 @@ class ContactLaw:
     damping), ``"flores"`` (Flores et al. 2011, D = 8(1−cₑ)/(5cₑ)·Kδⁿ/δ̇⁻), ``"hu-guo"``.
     ``stiffness``: ``"conformal"`` (R* = R_b R_j/(R_b − R_j)), ``"sum-of-radii"``
     (R* = R_b R_j/(R_b + R_j), the form the paper's tables imply) or a number in N m^-n.
-    ``impact_velocity_floor`` (m/s) bounds |δ̇⁻| from below for impacts at near-zero speed.
+    ``impact_velocity_floor`` (m/s) bounds ``|δ̇⁻|`` from below for impacts at near-zero speed.
     ``approach_speed``: the δ̇⁻ that divides the damping term. ``"latched"`` (default, until
     the sample data are regenerated) is the textbook form, the approach speed latched at
     contact entry. ``"bounded"`` (recommended after wear) uses
@@ -325,7 +325,7 @@ class ContactLaw:
     approach_speed: Literal["latched", "bounded"] = "latched"
 
 
-@with_config(_CONFIG)
+@with_config(MODEL_CONFIG)
 @dataclass(frozen=True, kw_only=True)
 class FrictionLaw:
     """Tangential force law: ``"none"``, ``"coulomb"`` (regularised, tanh over ``v0``) or
@@ -340,7 +340,7 @@ class FrictionLaw:
 Depth = Annotated[Real, Ge(0), Le(1.0)]
 
 
-@with_config(_CONFIG)
+@with_config(MODEL_CONFIG)
 @dataclass(frozen=True, kw_only=True)
 class WearSettings:
     """Archard wear of a clearance joint .
@@ -363,7 +363,7 @@ class WearSettings:
     radius_ratio_limit: Annotated[Real, Ge(1), Le(1e6), Unit("1")] = 10.0
 
 
-@with_config(_CONFIG)
+@with_config(MODEL_CONFIG)
 @dataclass(frozen=True, kw_only=True)
 class ClearanceRevolute:
     """Revolute joint with radial clearance: a journal (pin) inside a bearing (hole).
@@ -392,7 +392,7 @@ class ClearanceRevolute:
         return self.bearing_radius - self.clearance
 
 
-@with_config(_CONFIG)
+@with_config(MODEL_CONFIG)
 @dataclass(frozen=True, kw_only=True)
 class ConstantSpeedDrive:
     """Relative angle of a revolute ``joint`` (bodies[1] w.r.t. bodies[0]) driven at a
@@ -414,7 +414,7 @@ class ConstantSpeedDrive:
         return 2.0 * math.pi / abs(self.speed)
 
 
-@with_config(_CONFIG)
+@with_config(MODEL_CONFIG)
 @dataclass(frozen=True, kw_only=True)
 class AngleProfileDrive:
     """Relative angle of ``joint`` prescribed by a periodic cubic spline through
@@ -427,7 +427,7 @@ class AngleProfileDrive:
     period: Annotated[Real, Ge(6e-5), Le(6e4), Unit("s")]  # the speed range's periods
 
 
-@with_config(_CONFIG)
+@with_config(MODEL_CONFIG)
 @dataclass(frozen=True, kw_only=True)
 class SolverSettings:
     """Integrator settings; ``method`` names are those ``mechanism.simulate`` accepts
@@ -453,7 +453,7 @@ class SolverSettings:
     rho_inf: Annotated[Real, Ge(0), Le(1), Unit("1")] = 0.8
 
 
-@with_config(_CONFIG)
+@with_config(MODEL_CONFIG)
 @dataclass(frozen=True, kw_only=True)
 class Outputs:
     """Which joints define the slider and crank outputs (``slider_position``, ...)."""

@@ -1,4 +1,4 @@
-"""The :class:`Scene`, its loading and storage: TOML/JSON → validated :class:`Scene`,
+"""The :class:`~mechanism.Scene`, its loading and storage: TOML/JSON → validated :class:`~mechanism.Scene`,
 dotted-key replacement, and a small TOML emitter so that a saved scene loads back identical.
 
 Validation has two stages. Field validation (pydantic ``TypeAdapter`` over the frozen
@@ -33,10 +33,10 @@ from pydantic import Discriminator, Tag, TypeAdapter, ValidationError, with_conf
 from chaoskit.contract import atomic_write
 
 from ._model import (
-    _CONFIG,
     GROUND,
     INERTIA_RANGE,
     MASS_RANGE,
+    MODEL_CONFIG,
     Acceleration,
     AncfBeam,
     AngleProfileDrive,
@@ -82,7 +82,7 @@ GYRATION_RATIO = 1e4
 _AXIS_TOL = 1e-6
 
 
-@with_config(_CONFIG)
+@with_config(MODEL_CONFIG)
 @dataclass(frozen=True, kw_only=True)
 class Scene:
     """A planar mechanism as data: bodies, joints, drive, effects and solver settings.
@@ -114,7 +114,7 @@ class Scene:
         """A new validated scene with dotted keys replaced, e.g. ``{"joints.C.clearance": 2e-4}``.
 
         A table value (a dict) replaces the whole table. Unknown keys raise
-        :class:`~mechanism.core.scene.SceneError` listing the valid keys at that level.
+        :class:`~mechanism.SceneError` listing the valid keys at that level.
         """
         return replace_scene(self, changes)
 
@@ -163,7 +163,7 @@ def load_scene(name_or_path: str | Path | Scene) -> Scene:
         A built-in scene name (``"paper"``, ``"slider-crank"``, ...), or the path of a
         TOML scene file (``docs/scenes.md`` describes the keys). A built-in name wins over
         a file of the same name in the working directory; write ``./name`` for the file.
-        A :class:`Scene` is returned unchanged.
+        A :class:`~mechanism.Scene` is returned unchanged.
 
     Returns
     -------
@@ -247,7 +247,7 @@ def list_scenes() -> dict[str, str]:
 
 
 def scene_from_toml(text: str, *, source: str | None = None) -> Scene:
-    """Parse TOML text and validate it into a :class:`Scene`."""
+    """Parse TOML text and validate it into a :class:`~mechanism.Scene`."""
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
@@ -274,7 +274,7 @@ def scene_from_json(text: str) -> Scene:
 
 
 def scene_from_dict(data: Mapping[str, Any], *, source: str | None = None) -> Scene:
-    """Validate nested mappings (TOML/JSON layout, keys = field names) into a :class:`Scene`."""
+    """Validate nested mappings (TOML/JSON layout, keys = field names) into a :class:`~mechanism.Scene`."""
     if not isinstance(data, Mapping):
         raise SceneError(
             f"a scene must be a table of keys; got {type(data).__name__}", source=source

@@ -8,7 +8,10 @@ bookkeeping; :func:`run_wear` applies it to a simulated run. The compiled per-st
 integrator. See ``docs/contact-and-wear.md``.
 """
 
+# the compiled per-step kernels, for the model and its assembly; not public API
+from . import _kernels as kernels
 from ._archard import ArchardResult, archard_wear, hertz_half_width
+from ._kernels import local_clearance, local_stiffness_tabulated, surface_slope
 from ._profile import DEFAULT_RADIUS_RATIO_LIMIT, WornProfile
 from ._run import SURFACES, JointWear, add_run_wear, clearance_joint, run_wear, surface_angle
 

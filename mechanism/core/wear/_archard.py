@@ -1,6 +1,6 @@
 """Archard wear of a clearance joint's surfaces from a history of contact samples.
 
-Per contact sample with normal force Fₙ and slip Δs = |v_t| Δt (docs/paper-model.md §6):
+Per contact sample with normal force Fₙ and slip ``Δs = |v_t| Δt`` (docs/paper-model.md §6):
 
 * Hertz line-contact half-width a = √(4 Fₙ R*/(π L E*)), R* the local effective radius;
 * mean pressure p = Fₙ/(2 a L), Archard depth Δh = k p Δs, volume ΔV = k Fₙ Δs;
@@ -29,8 +29,8 @@ import numpy as np
 import xarray as xr
 
 from chaoskit.contract import check_positive
-from mechanism.core.contact._kernels import hertz_half_width as _half_width_kernel
-from mechanism.core.contact._laws import StiffnessForm, form_code
+from mechanism.core.contact import StiffnessForm, form_code
+from mechanism.core.contact import hertz_half_width as _half_width_kernel
 
 from . import _kernels as wk
 from ._profile import DEFAULT_RADIUS_RATIO_LIMIT, WornProfile
@@ -147,7 +147,7 @@ def archard_wear(
     normal_force : array_like
         Fₙ per sample (N, ≥ 0; zero-force samples are skipped).
     slip : array_like
-        Sliding distance per sample Δs = |v_t| Δt (m, ≥ 0).
+        Sliding distance per sample ``Δs = |v_t| Δt`` (m, ≥ 0).
     coefficient : float
         Archard coefficient k (m² N⁻¹, V = k Fₙ s; the paper uses 1.827e-13).
     effective_modulus : float

@@ -30,7 +30,7 @@ import numpy as np
 
 from mechanism.core._jit import njit_noalloc
 from mechanism.core._status import STATUS_OK, STATUS_REDUCED, STATUS_REJECTED
-from mechanism.core.contact._kernels import effective_curvature, hertz_half_width
+from mechanism.core.contact import effective_curvature, hertz_half_width
 
 TWO_PI = 2.0 * math.pi
 

@@ -24,7 +24,7 @@ import numpy as np
 import xarray as xr
 
 from chaoskit.contract import check_choice, check_int, check_positive
-from mechanism.core.contact._laws import StiffnessForm, form_code
+from mechanism.core.contact import StiffnessForm, form_code
 
 from . import _kernels as wk
 
@@ -97,7 +97,7 @@ class WornProfile:
         not be worn through (depth < R_j). Depths larger than the clearance are valid: the
         clearance only grows.
     surfaces : {"both", "bearing"}
-        Which surfaces wear during :func:`~mechanism.core.wear.archard_wear`.
+        Which surfaces wear during :func:`~mechanism.archard_wear`.
     smoothing_regions : int
         Width of the centred moving average applied before the curvature is computed
         (1 = none; [F09] and docs/paper-model.md §6 use 3–5).
@@ -386,7 +386,7 @@ class WornProfile:
     ) -> Any:
         """Local stiffness K_n = (4/3) E* √R*_n (N m^-1.5) at contact angles (rad).
 
-        Equals :func:`mechanism.core.contact.hertz_stiffness` on unworn arcs.
+        Equals :func:`mechanism.hertz_stiffness` on unworn arcs.
 
         Examples
         --------

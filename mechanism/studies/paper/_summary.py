@@ -264,15 +264,62 @@ def summary_section(
         tables and figures (the section opens with the answer in one sentence).
     figures
         Headline figures shown under the tables.
-    settings_text
-        What was simulated, printed at the end of the section, after the answer, its
-        tables and figures.
     series_rods
         What rods the analysed series come from (printed in the captions).
     rigid_equations
         ``{state: SceneLyapunov}`` of the rigid-rod model, shown beside a flexible one.
     """
     to_bits = paper_step / _LN2
+    answer, opening = _answer(states, motions, claims)
+
+    exponents = _exponent_rows(
+        states=states,
+        chaos=chaos,
+        paper_chaos=paper_chaos,
+        equations=equations,
+        rigid_equations=rigid_equations or {},
+        claims=claims,
+        to_bits=to_bits,
+    )
+    marks = _set_aside(exponents, motions)
+    tables = (
+        chaoskit.ReportTable(
+            caption="The answer: the motion of the journal centre before and after wear, our "
+            "verdict and its confidence beside the paper's claim.",
+            data=answer,
+            labels={
+                "verdict": "our verdict",
+                "confidence": "confidence",
+                "paper": "paper's claim",
+                "agreement": "agreement",
+                "why": "why",
+            },
+            formats={"confidence": CONFIDENCE_FORMAT},
+            notes='"why" names the evidence that decided our verdict over the evidence it '
+            "overruled (all of it: the motion verdict's table and the appendix). "
+            + CONFIDENCE_NOTE,
+            section="Summary",
+        ),
+        _exponent_table(
+            exponents,
+            marks,
+            rigid=bool(rigid_equations),
+            series_rods=series_rods,
+            paper_step=paper_step,
+        ),
+    )
+    return chaoskit.ReportSection(
+        title="Summary", items=(*tables, *figures), text=opening, footer=settings_text
+    )
+
+
+def _answer(
+    states: Sequence[str],
+    motions: Mapping[str, chaoskit.MotionVerdict],
+    claims: Mapping[str, Mapping[str, str]],
+) -> tuple[pd.DataFrame, str]:
+    """The answer table (verdict, confidence, the paper's claim, agreement, why) and the
+    section's opening sentence."""
     answer_rows = []
     for state in states:
         mv = motions.get(state)
@@ -304,72 +351,52 @@ def summary_section(
         + f"; the paper: {row['paper']} ({row['agreement']})."
         for state, row in zip(states, answer_rows, strict=True)
     )
+    return answer, opening
 
-    exponents = _exponent_rows(
-        states=states,
-        chaos=chaos,
-        paper_chaos=paper_chaos,
-        equations=equations,
-        rigid_equations=rigid_equations or {},
-        claims=claims,
-        to_bits=to_bits,
-    )
-    marks = _set_aside(exponents, motions)
-    tables = (
-        chaoskit.ReportTable(
-            caption="The answer: the motion of the journal centre before and after wear, our "
-            "verdict and its confidence beside the paper's claim.",
-            data=answer,
-            labels={
-                "verdict": "our verdict",
-                "confidence": "confidence",
-                "paper": "paper's claim",
-                "agreement": "agreement",
-                "why": "why",
-            },
-            formats={"confidence": CONFIDENCE_FORMAT},
-            notes='"why" names the evidence that decided our verdict over the evidence it '
-            "overruled (all of it: the motion verdict's table and the appendix). "
-            + CONFIDENCE_NOTE,
-            section="Summary",
-        ),
-        chaoskit.ReportTable(
-            caption="Largest Lyapunov exponent [95 % interval] of each state: from the "
-            "equations of motion (of the model of the series"
-            + (", and of the same state with rigid rods" if rigid_equations else "")
-            + ") and from the journal-centre series X and Y by Wolf's and "
-            "Rosenstein's methods "
-            f"({series_rods} rods), in 1/s and in bits per sample of the paper's step "
-            f"Δt = {paper_step:.3g} s, beside the paper's Wolf values.",
-            data=exponents,
-            labels={
-                "per_s": "λ (1/s)",
-                "bits": "λ (bit/sample)",
-                "paper_bits": "paper (bit/sample)",
-                "sign": "sign vs paper",
-            },
-            intervals={
-                "per_s": ("per_s_low", "per_s_high"),
-                "bits": ("bits_low", "bits_high"),
-            },
-            digits=3,
-            marks=marks,
-            notes=(SET_ASIDE_NOTE if marks else "")
-            + "Positive means nearby motions separate (chaos); an interval that contains 0 "
-            "does not decide; an unbounded interval means the estimator found no "
-            "straight scaling region. The exponent from the equations follows an "
-            "infinitesimal perturbation of the full state (docs/mechanism-lyapunov.md) and is "
-            "compared with the paper's claim; the data estimators run on the series "
-            f"({series_rods} rods) and are compared with the paper's value of the same "
-            "series. The data see separation only from the distance of the series' nearest "
-            "neighbours up, so an exponent set by the growth of perturbations far below that "
-            "scale (at impacts) shows in the equations only. Only signs are compared: our "
-            "step, series length and model differ (docs/paper-model.md).",
-            section="Summary",
-        ),
-    )
-    return chaoskit.ReportSection(
-        title="Summary", items=(*tables, *figures), text=opening, footer=settings_text
+
+def _exponent_table(
+    exponents: pd.DataFrame,
+    marks: Mapping[tuple[Any, str], str],
+    *,
+    rigid: bool,
+    series_rods: str,
+    paper_step: float,
+) -> chaoskit.ReportTable:
+    """The summary's table of the largest exponent per state, from the equations and the
+    data, beside the paper's."""
+    return chaoskit.ReportTable(
+        caption="Largest Lyapunov exponent [95 % interval] of each state: from the "
+        "equations of motion (of the model of the series"
+        + (", and of the same state with rigid rods" if rigid else "")
+        + ") and from the journal-centre series X and Y by Wolf's and "
+        "Rosenstein's methods "
+        f"({series_rods} rods), in 1/s and in bits per sample of the paper's step "
+        f"Δt = {paper_step:.3g} s, beside the paper's Wolf values.",
+        data=exponents,
+        labels={
+            "per_s": "λ (1/s)",
+            "bits": "λ (bit/sample)",
+            "paper_bits": "paper (bit/sample)",
+            "sign": "sign vs paper",
+        },
+        intervals={
+            "per_s": ("per_s_low", "per_s_high"),
+            "bits": ("bits_low", "bits_high"),
+        },
+        digits=3,
+        marks=marks,
+        notes=(SET_ASIDE_NOTE if marks else "")
+        + "Positive means nearby motions separate (chaos); an interval that contains 0 "
+        "does not decide; an unbounded interval means the estimator found no "
+        "straight scaling region. The exponent from the equations follows an "
+        "infinitesimal perturbation of the full state (docs/mechanism-lyapunov.md) and is "
+        "compared with the paper's claim; the data estimators run on the series "
+        f"({series_rods} rods) and are compared with the paper's value of the same "
+        "series. The data see separation only from the distance of the series' nearest "
+        "neighbours up, so an exponent set by the growth of perturbations far below that "
+        "scale (at impacts) shows in the equations only. Only signs are compared: our "
+        "step, series length and model differ (docs/paper-model.md).",
+        section="Summary",
     )
 
 

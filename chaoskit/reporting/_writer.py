@@ -1,4 +1,4 @@
-"""Render a :class:`~chaoskit.Report` to HTML and Markdown with Jinja2 templates.
+"""Write a report: its HTML page and Markdown twin (Jinja2 templates), and the files.
 
 Both renderers take their cell text from :meth:`ReportTable.display`, so the page and its
 Markdown twin print the same strings. The templates ship as package data in
@@ -6,23 +6,54 @@ Markdown twin print the same strings. The templates ship as package data in
 cells, notes) is text, never markup: the HTML template escapes it (Jinja2 autoescape) and
 the Markdown twin passes it through :func:`markdown_text`, so a variable name such as
 ``<script>`` or ``a|b`` prints as itself in any viewer.
+
+The writer needs only a report's title, time of assembly and sections (:class:`Page`), so
+it sits below the :class:`~chaoskit.Report` type, whose output methods call it.
 """
 
 from __future__ import annotations
 
 import base64
+import os
 import re
+from collections.abc import Sequence
 from functools import cache
-from typing import TYPE_CHECKING, Any, Literal
+from pathlib import Path
+from typing import TYPE_CHECKING, Any, Literal, Protocol
 
-from ._items import MISSING, ReportCode, ReportFigure, ReportTable
+from .._paths import safe_filename
+from ..contract import atomic_write
+from ._content import MISSING, ReportCode, ReportFigure, ReportSection, ReportTable
 
 if TYPE_CHECKING:
     from jinja2 import Environment
 
-    from ._build import Report
+__all__ = [
+    "Page",
+    "figure_filename",
+    "markdown_text",
+    "render_html",
+    "render_markdown",
+    "table_cells",
+    "write_report",
+]
 
-__all__ = ["markdown_text", "render_html", "render_markdown", "table_cells"]
+
+class Page(Protocol):
+    """What the writer reads of a report (a :class:`~chaoskit.Report` is one)."""
+
+    @property
+    def title(self) -> str: ...
+
+    @property
+    def created(self) -> str: ...
+
+    @property
+    def sections(self) -> Sequence[ReportSection]: ...
+
+    @property
+    def figures(self) -> Sequence[ReportFigure]: ...
+
 
 #: Characters that Markdown (CommonMark, GitHub) reads as inline or table syntax: each is
 #: backslash-escaped. ``<``, ``>`` and ``&`` become HTML entities, so no viewer can read
@@ -136,7 +167,7 @@ def _flat_header(table: ReportTable) -> list[str]:
     return names + [f"{a}: {b}" if b else str(a) for a, b in shown.columns]
 
 
-def _context(report: Report, *, figure_src: Any) -> dict[str, Any]:
+def _context(report: Page, *, figure_src: Any) -> dict[str, Any]:
     sections = []
     for section in report.sections:
         items = []
@@ -192,7 +223,7 @@ def _data_uri(figure: ReportFigure) -> str:
     return "data:image/png;base64," + base64.b64encode(figure.png).decode("ascii")
 
 
-def render_html(report: Report) -> str:
+def render_html(report: Page) -> str:
     """The self-contained page: inline CSS, figures as base64 PNG data URIs."""
     template = _environment().get_template("report.html.j2")
     return template.render(**_context(report, figure_src=_data_uri))
@@ -208,7 +239,7 @@ def _md_code_fence(text: str) -> str:
 
 
 def render_markdown(
-    report: Report,
+    report: Page,
     *,
     figures: Literal["files", "embed"] = "files",
     figure_dir: str = "figures",
@@ -220,7 +251,7 @@ def render_markdown(
     def src(fig: ReportFigure) -> str:
         if figures == "embed":
             return _data_uri(fig)
-        return f"{figure_dir.rstrip('/')}/{report.figure_filename(fig)}"
+        return f"{figure_dir.rstrip('/')}/{figure_filename(fig)}"
 
     context = _context(report, figure_src=src)
     for section in context["sections"]:
@@ -238,3 +269,37 @@ def _md_table(item: dict[str, Any]) -> list[str]:
     numeric = item["numeric"] or [False] * len(item["flat_header"])
     rule = "| " + " | ".join("--:" if num else ":--" for num in numeric) + " |"
     return [line(item["flat_header"]), rule, *(line(row) for row in item["body"])]
+
+
+def figure_filename(figure: ReportFigure) -> str:
+    """File name of a figure next to the Markdown twin."""
+    return safe_filename(f"figure-{figure.number:02d}-{figure.name}") + ".png"
+
+
+def write_report(
+    report: Page,
+    path: str | os.PathLike[str],
+    *,
+    markdown: bool = True,
+    markdown_figures: Literal["files", "embed"] = "files",
+) -> dict[str, Any]:
+    """Write ``path`` (HTML) and its Markdown twin; see :meth:`chaoskit.Report.write`."""
+    if markdown_figures not in ("files", "embed"):
+        raise ValueError(f"markdown_figures must be 'files' or 'embed'; got {markdown_figures!r}.")
+    path = Path(path)
+    html_path = path if path.suffix.lower() in (".html", ".htm") else path.with_suffix(".html")
+    written: dict[str, Any] = {"html": html_path, "markdown": None, "figures": []}
+    html = render_html(report)
+    atomic_write(html_path, lambda p: p.write_text(html, encoding="utf-8"))
+    if markdown:
+        md_path = html_path.with_suffix(".md")
+        folder = f"{html_path.stem}_figures"
+        text = render_markdown(report, figures=markdown_figures, figure_dir=folder)
+        if markdown_figures == "files":
+            for fig in report.figures:
+                target = html_path.parent / folder / figure_filename(fig)
+                atomic_write(target, lambda p, b=fig.png: p.write_bytes(b))
+                written["figures"].append(target)
+        atomic_write(md_path, lambda p: p.write_text(text, encoding="utf-8"))
+        written["markdown"] = md_path
+    return written

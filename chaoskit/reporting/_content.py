@@ -1,4 +1,5 @@
-"""The pieces of a report: tables (pandas DataFrames), figures (PNG bytes), code blocks.
+"""The content of a report: tables (pandas DataFrames), figures (PNG bytes), code blocks,
+sections, and the number format every table uses.
 
 Every table and figure carries a caption. A table keeps its numbers in ``data``; the text
 that both renderers print comes from :meth:`ReportTable.display`, so the HTML page and the

@@ -113,6 +113,7 @@ def point_id(params: Mapping[str, Any]) -> str:
 
 
 def trajectory_path(store: Path, pid: str) -> Path:
+    """``STORE/points/<id>.nc``."""
     return store / POINTS / f"{pid}.nc"
 
 
@@ -132,6 +133,7 @@ def point_file(store: Path, relative: str) -> Path:
 
 
 def summary_path(store: Path, pid: str) -> Path:
+    """``STORE/points/<id>.summary.nc``."""
     return store / POINTS / f"{pid}.summary.nc"
 
 
@@ -308,6 +310,7 @@ def read_summary(path: Path) -> xr.Dataset | None:
 
 
 def summary_status(ds: xr.Dataset | None) -> str | None:
+    """The ``status`` of a point summary, or None without one."""
     if ds is None or "status" not in ds:
         return None
     return str(np.asarray(ds["status"].values).item())

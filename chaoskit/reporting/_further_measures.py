@@ -8,14 +8,14 @@ from typing import Any
 
 import pandas as pd
 
-from .._measures import (
+from .._measure_registry import (
     LABELS,
     RQA_MAX_SAMPLES,
     measure_figures,
     measures_for_verdicts,
     measures_row,
 )
-from ._items import ReportTable
+from ._content import ReportTable
 
 SECTION = "Further measures"
 

@@ -1,4 +1,5 @@
-"""The measures toolbox as one step of an analysis: compute, tabulate and draw.
+"""The registry of further measures (D2, RQA, Lyapunov spectrum, SampEn, DFA, Hurst) as one
+step of an analysis: their names, how each runs, its table columns and its figure.
 
 Used by ``chaoskit analyze --measures`` and by :func:`chaoskit.report` (``measures=``).
 Each measure runs with the delay and embedding dimension the verdict chose; series longer

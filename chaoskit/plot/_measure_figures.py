@@ -7,7 +7,7 @@ from typing import Any
 
 import numpy as np
 
-from ._figures import _axes
+from ._axes import axes_or_new
 
 __all__ = ["local_slopes", "lyapunov_spectrum", "recurrence_plot"]
 
@@ -18,7 +18,7 @@ def local_slopes(result: Any, *, ax: Any = None) -> Any:
     ``result`` is a :class:`chaoskit.CorrelationDimensionResult`. The scaling region is
     shaded and D2 drawn as a dashed line, as in TISEAN's ``c2d`` plots.
     """
-    ax = _axes(ax)
+    ax = axes_or_new(ax)
     dims = result.embedding_dims
     cmap = __import__("matplotlib").colormaps["viridis"]
     for k, m in enumerate(dims):
@@ -43,7 +43,7 @@ def recurrence_plot(result: Any, *, ax: Any = None, max_pixels: int = 1000) -> A
     Matrices wider than ``max_pixels`` are shown as the share of recurrences in each
     pixel (so long series stay legible and cheap to draw).
     """
-    ax = _axes(ax)
+    ax = axes_or_new(ax)
     n = result.n_points
     bins = min(n, int(max_pixels))
     coo = result.matrix.tocoo()
@@ -72,7 +72,7 @@ def lyapunov_spectrum(result: Any, *, ax: Any = None) -> Any:
 
     Exponents the spurious-exponent check flags are drawn dashed.
     """
-    ax = _axes(ax)
+    ax = axes_or_new(ax)
     steps = np.arange(1, result.running.shape[0] + 1)
     for k in range(result.embedding_dim):
         style = "--" if result.spurious[k] else "-"

@@ -1,0 +1,567 @@
+"""``mechanism.wear_life``: the motion of a mechanism over its joints' wear life.
+
+One wear path (the update loop of :func:`mechanism.predict_wear`, with the wear per cycle
+averaged over several revolutions) is run up to a number of cycles; at every checkpoint the
+worn state is analysed as a motion: stroboscopic points of the journals, the largest
+Lyapunov exponent from the equations (:func:`mechanism.lyapunov_exponent`), the motion
+verdict (:func:`chaoskit.classify_motion`), contact forces and the time shares of free
+flight, impacts and continuous contact. See ``docs/wear.md`` §6.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import xarray as xr
+from tqdm.auto import tqdm
+
+import chaoskit
+from chaoskit.contract import __version__, check_int, check_positive, stamp, variable
+from mechanism.core import Scene, SimulationError, drive_period, simulate
+from mechanism.core.record import window_start
+from mechanism.core.scene import ClearanceRevolute
+from mechanism.core.wear import SURFACES, WornProfile, surface_angle
+
+from ._lyapunov import SceneLyapunov, lyapunov_exponent
+from ._wear_prediction import (
+    DEFAULT_MAX_DEPTH_INCREMENT,
+    check_averaged_revolutions,
+    check_depth_increment,
+    update_loop,
+)
+
+__all__ = ["DEFAULT_WEAR_LIFE_AVERAGED_REVOLUTIONS", "WearLife", "wear_life"]
+
+#: Default of ``averaged_revolutions`` in :func:`wear_life` (docs/wear.md §6: on the rigid
+#: paper scene at 90 rpm the median relative 95 % half-width of the increments over
+#: 20 000 cycles is 2.3 with 4 revolutions, 1.0 with 8 and 1.0 with 16, which costs twice
+#: the CPU time of 8).
+DEFAULT_WEAR_LIFE_AVERAGED_REVOLUTIONS = 8
+#: Samples per drive period handed to the motion verdict (the trajectory is thinned to
+#: about this many: the verdict's cost grows with the samples, its evidence with periods).
+VERDICT_SAMPLES_PER_PERIOD = 500
+#: The path ends when a state fails, with this status (as :class:`mechanism.WearPrediction`).
+_COMPLETE, _FAILED = "complete", "failed"
+
+
+@dataclass(frozen=True, kw_only=True, eq=False)
+class WearLife:
+    """Result of :func:`wear_life`: one wear path and its motion at every checkpoint.
+
+    Attributes
+    ----------
+    scene, worn_scene : Scene
+        The starting scene and the scene carrying the profiles of the last finished
+        checkpoint.
+    cycles : float
+        The requested cycles of wear.
+    checkpoints : numpy.ndarray
+        Cumulative crank cycles of every finished checkpoint; the first is 0 (unworn).
+    status : str
+        ``"complete"`` when the path reached ``cycles``, ``"failed"`` when a state left
+        what the wear model represents (then ``reason`` says where and why; every
+        checkpoint before it is kept).
+    reason : str
+        One line: why the path ended.
+    cycles_to_chaos : float or None
+        The first checkpoint whose exponent's 95 % interval lies above zero and whose
+        motion verdict is chaotic, else None (always None without ``exponent``).
+    verdicts : tuple of chaoskit.MotionVerdict
+        The motion verdict of every finished checkpoint.
+    exponents : tuple of SceneLyapunov or None
+        The exponent of every finished checkpoint (None: not computed or failed).
+    dataset : xarray.Dataset
+        See :meth:`to_dataset`.
+    """
+
+    scene: Scene
+    worn_scene: Scene
+    cycles: float
+    checkpoints: np.ndarray
+    status: str
+    reason: str
+    cycles_to_chaos: float | None
+    verdicts: tuple[Any, ...] = field(repr=False)
+    exponents: tuple[SceneLyapunov | None, ...] = field(repr=False)
+    dataset: xr.Dataset = field(repr=False)
+
+    @property
+    def success(self) -> bool:
+        """True when the path reached ``cycles``."""
+        return self.status == _COMPLETE
+
+    def to_dataset(self) -> xr.Dataset:
+        """The path as a Dataset over dim ``checkpoint`` (coordinate: its cycles).
+
+        ``max_wear_depth(checkpoint, joint, surface)`` (m), ``worn_volume(checkpoint,
+        joint, surface)`` (m³), ``wear_depth(checkpoint, joint, surface, angle)`` (m),
+        ``wear_rate_relative_halfwidth(checkpoint)``, ``strobe_x/strobe_y(checkpoint,
+        joint, crossing)`` (m, the journal's eccentricity once per revolution),
+        ``lyapunov_exponent``, ``lyapunov_ci_low``, ``lyapunov_ci_high`` (1/s),
+        ``motion`` (verdict label), ``motion_confidence``, ``peak_contact_force``,
+        ``mean_contact_force`` (N), ``free_flight_fraction``, ``impact_fraction``,
+        ``continuous_contact_fraction`` (checkpoint, joint); the settings, ``status``,
+        ``status_reason`` and ``cycles_to_chaos`` (−1: none) in attrs. Every variable has
+        ``units`` and ``long_name``.
+        """
+        return self.dataset.copy()
+
+    def summary(self) -> str:
+        """A few lines: the path, its end, and the cycles to chaos (or "not within N cycles")."""
+        ds = self.dataset
+        lines = [f"wear life of scene {self.scene.name!r}: {self.reason}"]
+        for i, n in enumerate(self.checkpoints):
+            lo = float(ds["lyapunov_ci_low"].values[i])
+            hi = float(ds["lyapunov_ci_high"].values[i])
+            lam = float(ds["lyapunov_exponent"].values[i])
+            depth = float(ds["max_wear_depth"].values[i].max()) * 1e6
+            exponent = "not computed" if math.isnan(lam) else f"{lam:.3g} [{lo:.3g}, {hi:.3g}] 1/s"
+            conf = float(ds["motion_confidence"].values[i])
+            lines.append(
+                f"  {n:>10.6g} cycles: depth {depth:.3g} µm, exponent {exponent}, motion "
+                f"{ds['motion'].values[i]} (confidence {conf:.2f})"
+            )
+        if self.cycles_to_chaos is not None:
+            lines.append(f"chaotic: after {self.cycles_to_chaos:.6g} cycles of wear")
+        else:
+            reached = float(self.checkpoints[-1]) if self.checkpoints.size else 0.0
+            note = "" if self.dataset.attrs["exponent"] else " (no exponent computed)"
+            lines.append(f"chaotic: not within {reached:.6g} cycles{note}")
+        return "\n".join(lines)
+
+
+# --------------------------------------------------------------------------- input
+
+
+def _checked_path(cycles: Any, checkpoints: Any) -> tuple[float, list[float]]:
+    """``cycles`` and the sorted checkpoints ending at ``cycles``, or a ValueError."""
+    total = check_positive(cycles, name="cycles")
+    try:
+        points = np.atleast_1d(np.asarray(checkpoints, dtype=np.float64))
+    except (TypeError, ValueError):
+        raise ValueError(
+            f"checkpoints must be increasing cycle counts in (0, cycles]; got {checkpoints!r}."
+        ) from None
+    if points.ndim != 1 or points.size == 0 or not np.isfinite(points).all():
+        raise ValueError(
+            "checkpoints must be a non-empty list of finite cycle counts in (0, cycles]; "
+            f"got {checkpoints!r}."
+        )
+    if points[0] <= 0.0 or points[-1] > total:
+        raise ValueError(
+            f"checkpoints must lie in (0, cycles] = (0, {total:g}]; got {points.tolist()}."
+        )
+    if (np.diff(points) <= 0.0).any():
+        raise ValueError(f"checkpoints must be strictly increasing; got {points.tolist()}.")
+    targets = points.tolist()
+    if targets[-1] < total:
+        targets.append(total)
+    return total, targets
+
+
+def _checked_scene(scene: Any) -> Scene:
+    if not isinstance(scene, Scene):
+        raise TypeError(f"scene must be a mechanism Scene; got {type(scene).__name__}.")
+    if drive_period(scene) is None:
+        raise ValueError("wear_life needs a scene with a periodic drive (cycles are crank turns).")
+    for name, joint in scene.joints.items():
+        if isinstance(joint, ClearanceRevolute) and not joint.wear.coefficient > 0.0:
+            raise ValueError(
+                f"joints.{name}.wear.coefficient must be > 0 (m² N⁻¹) for a wear path; "
+                f"got {joint.wear.coefficient!r}."
+            )
+    return scene
+
+
+def _fraction(value: Any, name: str) -> float:
+    try:
+        out = float(value)
+    except (TypeError, ValueError):
+        out = math.nan
+    if not 0.0 < out < 1.0:
+        raise ValueError(
+            f"{name} must be in (0, 1) (a fraction of the drive period); got {value!r}."
+        )
+    return out
+
+
+# --------------------------------------------------------------------------- one checkpoint
+
+
+def contact_modes(
+    traj: xr.Dataset, joint: str, *, start: int, continuous_time: float
+) -> tuple[float, float, float]:
+    """Time shares of free flight, impacts and continuous contact of one joint.
+
+    A sample is in contact when its contact force is positive. Consecutive samples in
+    contact form one contact episode; an episode lasting less than ``continuous_time`` (s)
+    is an impact, a longer one continuous contact. Each sample carries its trapezoidal
+    time weight over the window ``traj.time[start:]``, so the three shares add up to 1.
+    """
+    t = np.asarray(traj["time"].values, dtype=np.float64)[start:]
+    force = np.asarray(traj["contact_force"].sel(joint=joint).values, dtype=np.float64)[start:]
+    w = np.zeros(t.size)
+    if t.size > 1:
+        dt = np.diff(t)
+        w[:-1] += 0.5 * dt
+        w[1:] += 0.5 * dt
+    total = float(w.sum())
+    if total <= 0.0:
+        return (math.nan, math.nan, math.nan)
+    on = np.nan_to_num(force) > 0.0
+    edges = np.diff(np.concatenate([[0], on.astype(np.int8), [0]]))
+    starts, ends = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)
+    impact = continuous = 0.0
+    for a, b in zip(starts, ends, strict=True):
+        duration = float(w[a:b].sum())
+        if duration < continuous_time:
+            impact += duration
+        else:
+            continuous += duration
+    return (1.0 - (impact + continuous) / total, impact / total, continuous / total)
+
+
+@dataclass(frozen=True)
+class _Analysis:
+    """How each checkpoint's state is analysed (see :func:`wear_life`)."""
+
+    discard: float
+    revolutions: int
+    exponent: bool
+    lyapunov_revolutions: float
+    lyapunov_discard: float
+    continuous_fraction: float
+    simulate_kwargs: dict[str, Any]
+
+
+def _analyse(scene: Scene, names: list[str], how: _Analysis) -> dict[str, Any]:
+    """The motion of one worn state (a SimulationError propagates)."""
+    period = float(drive_period(scene))  # type: ignore[arg-type]
+    traj = simulate(scene, revolutions=how.discard + how.revolutions, **how.simulate_kwargs)
+    start = window_start(traj, how.discard)
+    window = traj.isel(time=slice(start, None))
+    strobe = chaoskit.stroboscopic_map(
+        window[["eccentricity_x", "eccentricity_y", "crank_angle"]],
+        phase_variable="crank_angle",
+    )
+    lam = None
+    if how.exponent:
+        try:
+            lam = lyapunov_exponent(
+                scene, revolutions=how.lyapunov_revolutions, discard=how.lyapunov_discard
+            )
+        except SimulationError:
+            lam = None
+    samples = int(window.sizes["time"])
+    stride = max(1, int(samples / (how.revolutions * VERDICT_SAMPLES_PER_PERIOD)))
+    verdict = chaoskit.classify_motion(
+        window[["eccentricity_x", "eccentricity_y", "crank_angle"]].isel(
+            time=slice(None, None, stride)
+        ),
+        phase_variable="crank_angle",
+        exponent=lam,
+        rng=0,
+    )
+    force = traj["contact_force"].isel(time=slice(start, None))
+    modes = [
+        contact_modes(traj, n, start=start, continuous_time=how.continuous_fraction * period)
+        for n in names
+    ]
+    return {
+        "strobe_x": np.asarray(strobe["eccentricity_x"].transpose("joint", ...).values),
+        "strobe_y": np.asarray(strobe["eccentricity_y"].transpose("joint", ...).values),
+        "lyapunov": lam,
+        "verdict": verdict,
+        "peak_force": [float(force.sel(joint=n).max()) for n in names],
+        "mean_force": [float(force.sel(joint=n).mean()) for n in names],
+        "modes": modes,
+    }
+
+
+# --------------------------------------------------------------------------- the path
+
+
+def wear_life(
+    scene: Scene,
+    *,
+    cycles: float,
+    checkpoints: Sequence[float],
+    averaged_revolutions: int = DEFAULT_WEAR_LIFE_AVERAGED_REVOLUTIONS,
+    exponent: bool = True,
+    max_depth_increment: float = DEFAULT_MAX_DEPTH_INCREMENT,
+    settle_revolutions: float = 2.0,
+    analysis_revolutions: int = 25,
+    lyapunov_revolutions: float = 10.0,
+    lyapunov_discard: float = 2.0,
+    continuous_contact: float = 0.01,
+    method: str | None = None,
+    rtol: float | None = None,
+    atol: float | None = None,
+    output_step: float | None = None,
+    progress: bool = False,
+) -> WearLife:
+    """Wear the scene's clearance joints up to ``cycles`` and analyse the motion at checkpoints.
+
+    The wear path is the update loop of :func:`mechanism.predict_wear` with one update per
+    checkpoint interval: each increment is the Archard wear per cycle averaged over
+    ``averaged_revolutions`` revolutions of the current worn state, with the increments
+    capped at ``max_depth_increment`` × clearance. At the unworn state, at every checkpoint
+    and at ``cycles`` the worn scene is simulated for ``settle_revolutions`` +
+    ``analysis_revolutions`` revolutions and the last ``analysis_revolutions`` give:
+
+    * the stroboscopic points of every journal (its eccentricity each time the crank
+      passes its starting angle);
+    * peak and time-mean contact force per joint;
+    * the time shares of free flight (no contact force), impacts (contact episodes
+      shorter than ``continuous_contact`` × the drive period) and continuous contact
+      (longer episodes), per joint (``contact_modes``);
+    * the largest Lyapunov exponent from the equations (:func:`mechanism.lyapunov_exponent`
+      over ``lyapunov_revolutions``, ``lyapunov_discard`` left out) with its 95 % interval;
+    * the motion verdict of the journals' eccentricities (:func:`chaoskit.classify_motion`,
+      the exponent as evidence) and its confidence.
+
+    ``cycles_to_chaos`` is the first checkpoint whose exponent interval lies above zero and
+    whose verdict is chaotic; with ``exponent=False`` there is no interval, so it is None
+    (the verdicts are still recorded).
+
+    A state the wear model cannot represent — a penetration beyond the radial clearance, a
+    non-finite force, a journal worn towards its centre, a failed simulation (the checks of
+    :func:`mechanism.predict_wear`) — ends the path: the result has ``status == "failed"``,
+    the reason, and every checkpoint before it. It is returned, not raised.
+
+    Parameters
+    ----------
+    scene : Scene
+        A driven mechanism with at least one active clearance joint with a positive wear
+        coefficient (``effects.wear`` is switched on).
+    cycles : float
+        Crank cycles of wear (> 0).
+    checkpoints : sequence of float
+        Strictly increasing cumulative cycle counts in (0, ``cycles``]; ``cycles`` is
+        added as the last one when missing, and the unworn state is always the first.
+    averaged_revolutions : int
+        Revolutions whose mean wear is the wear per cycle, in [1, 1000].
+    exponent : bool
+        Compute the exponent from the equations at each checkpoint (the costliest part).
+    max_depth_increment : float
+        Largest depth one increment may add, as a fraction of the radial clearance, in
+        (0, 1].
+    settle_revolutions : float
+        Revolutions left out before the wear is measured and before the analysis (≥ 0).
+    analysis_revolutions : int
+        Revolutions analysed at each checkpoint, in [4, 10000] (one stroboscopic point
+        each; the motion verdict needs at least 20 points to decide).
+    lyapunov_revolutions, lyapunov_discard : float
+        Revolutions of the exponent's run (> 0) and those left out of it (≥ 0, fewer).
+    continuous_contact : float
+        Shortest continuous-contact episode, as a fraction of the drive period, in (0, 1).
+    method, rtol, atol, output_step
+        Passed to :func:`mechanism.simulate`.
+    progress : bool
+        Show a progress bar over the checkpoints.
+
+    Returns
+    -------
+    WearLife
+
+    Raises
+    ------
+    ValueError
+        For bad settings (the parameter and its accepted range are named), a scene without
+        an active clearance joint, or a wear coefficient of 0.
+
+    Examples
+    --------
+    >>> import mechanism
+    >>> scene = mechanism.load_scene("paper").replace({"effects.flexibility": False})
+    >>> life = mechanism.wear_life(scene, cycles=20000, checkpoints=[5000, 10000])  # doctest: +SKIP
+    >>> print(life.summary())  # doctest: +SKIP
+    """
+    scene = _checked_scene(scene)
+    total, targets = _checked_path(cycles, checkpoints)
+    averaged = check_averaged_revolutions(averaged_revolutions)
+    limit = check_depth_increment(max_depth_increment)
+    settle = check_positive(settle_revolutions, name="settle_revolutions", allow_zero=True)
+    lyap_revs = check_positive(lyapunov_revolutions, name="lyapunov_revolutions")
+    lyap_discard = check_positive(lyapunov_discard, name="lyapunov_discard", allow_zero=True)
+    if lyap_discard >= lyap_revs:
+        raise ValueError(
+            f"lyapunov_discard must be in [0, lyapunov_revolutions) = [0, {lyap_revs:g}); "
+            f"got {lyapunov_discard!r}."
+        )
+    kwargs = {"method": method, "rtol": rtol, "atol": atol, "output_step": output_step}
+    how = _Analysis(
+        discard=settle,
+        revolutions=check_int(analysis_revolutions, name="analysis_revolutions", minimum=4,
+                              maximum=10000),
+        exponent=bool(exponent), lyapunov_revolutions=lyap_revs, lyapunov_discard=lyap_discard,
+        continuous_fraction=_fraction(continuous_contact, "continuous_contact"),
+        simulate_kwargs=kwargs,
+    )  # fmt: skip
+    loop = update_loop(
+        scene, targets=targets, limit=limit, settle=settle, averaged=averaged,
+        simulate_kwargs=kwargs, caller="wear_life",
+    )  # fmt: skip
+    records: list[dict[str, Any]] = []
+    analysis_failure: list[str] = []
+
+    def on_state(current: Scene, update: int, at: float) -> bool:
+        try:
+            records.append(_analyse(current, loop.names, how))
+        except SimulationError as exc:
+            analysis_failure.append(
+                f"the analysis of the state after {at:.6g} cycles failed: {exc}"
+            )
+            return False
+        return True
+
+    loop.on_state = on_state
+    bar = tqdm(total=len(targets) + 1, desc=f"wear_life {scene.name}", unit="checkpoint",
+               disable=not progress)  # fmt: skip
+    try:
+        loop.run(len(targets), bar)
+    finally:
+        bar.close()
+    failure = loop.failure or (analysis_failure[0] if analysis_failure else "")
+    states = loop.states[: len(records)]
+    settings = {
+        "cycles": total, "averaged_revolutions": averaged, "max_depth_increment": limit,
+        "settle_revolutions": settle, "analysis_revolutions": how.revolutions,
+        "exponent": int(how.exponent), "lyapunov_revolutions": lyap_revs,
+        "lyapunov_discard": lyap_discard, "continuous_contact": how.continuous_fraction,
+    }  # fmt: skip
+    return _result(scene, loop, states, records, total, failure, settings)
+
+
+def _first_chaotic(cum: np.ndarray, records: list[dict[str, Any]]) -> float | None:
+    """The first checkpoint with an exponent interval above 0 and a chaotic verdict."""
+    for n, r in zip(cum, records, strict=True):
+        lam = r["lyapunov"]
+        if lam is not None and float(lam.ci[0]) > 0.0 and r["verdict"].label == "chaotic":
+            return float(n)
+    return None
+
+
+def _result(
+    scene: Scene,
+    loop: Any,
+    states: list[dict[str, Any]],
+    records: list[dict[str, Any]],
+    total: float,
+    failure: str,
+    settings: dict[str, Any],
+) -> WearLife:
+    cum = np.array([s["cycles"] for s in states], dtype=np.float64)
+    chaos = _first_chaotic(cum, records)
+    reached = float(cum[-1]) if cum.size else 0.0
+    if failure:
+        status, reason = _FAILED, f"the path ended after {reached:.6g} cycles: {failure}"
+    else:
+        status = _COMPLETE
+        reason = f"{len(states) - 1} checkpoints up to {total:.6g} cycles"
+    if chaos is None and not failure:
+        reason += f"; the motion did not turn chaotic within {total:.6g} cycles"
+    settings = {**settings, "status": status, "status_reason": reason,
+                "cycles_to_chaos": -1.0 if chaos is None else chaos}  # fmt: skip
+    ds = _dataset(scene, loop, states, records, cum, settings)
+    return WearLife(
+        scene=scene, worn_scene=loop.kept, cycles=total, checkpoints=cum, status=status,
+        reason=reason, cycles_to_chaos=chaos, verdicts=tuple(r["verdict"] for r in records),
+        exponents=tuple(r["lyapunov"] for r in records), dataset=ds,
+    )  # fmt: skip
+
+
+def _strobe(records: list[dict[str, Any]], key: str, joints: int) -> np.ndarray:
+    width = max((r[key].shape[-1] for r in records), default=0)
+    out = np.full((len(records), joints, width), np.nan)
+    for i, r in enumerate(records):
+        out[i, :, : r[key].shape[-1]] = r[key]
+    return out
+
+
+def _dataset(
+    scene: Scene,
+    loop: Any,
+    states: list[dict[str, Any]],
+    records: list[dict[str, Any]],
+    cum: np.ndarray,
+    settings: dict[str, Any],
+) -> xr.Dataset:
+    names = loop.names
+    regions = loop.profiles[names[0]].regions
+    n = len(states)
+    depth = np.stack([s["depth"] for s in states]) if n else np.zeros((0, len(names), 2, regions))
+    volume = np.zeros(depth.shape[:3])
+    for i in range(n):
+        for j, name in enumerate(names):
+            worn = WornProfile.from_joint(scene.joints[name]).with_depth(
+                bearing_depth=depth[i, j, 0], journal_depth=depth[i, j, 1]
+            )
+            volume[i, j] = (worn.bearing_volume, worn.journal_volume)
+    lam = [r["lyapunov"] for r in records]
+    exp = [math.nan if x is None else float(x.exponent) for x in lam]
+    lo = [math.nan if x is None else float(x.ci[0]) for x in lam]
+    hi = [math.nan if x is None else float(x.ci[1]) for x in lam]
+    verdicts = [r["verdict"] for r in records]
+    modes = np.array([r["modes"] for r in records], dtype=np.float64).reshape(n, len(names), 3)
+    cj, cjs = ("checkpoint", "joint"), ("checkpoint", "joint", "surface")
+    data = {
+        "max_wear_depth": variable(cjs, depth.max(axis=3, initial=0.0), "m", "largest wear depth"),
+        "worn_volume": variable(cjs, volume, "m3", "worn volume"),
+        "wear_depth": variable((*cjs, "angle"), depth, "m", "wear depth"),
+        "wear_rate_relative_halfwidth": variable(
+            ("checkpoint",), [s["relative_halfwidth"] for s in states], "1",
+            "largest 95 % half-width / mean of the wear per cycle over the worn regions, of "
+            "the increments worn from this checkpoint to the next (NaN: one revolution averaged)",
+        ),
+        "strobe_x": variable((*cj, "crossing"), _strobe(records, "strobe_x", len(names)), "m",
+                             "journal eccentricity x once per crank revolution"),
+        "strobe_y": variable((*cj, "crossing"), _strobe(records, "strobe_y", len(names)), "m",
+                             "journal eccentricity y once per crank revolution"),
+        "lyapunov_exponent": variable(("checkpoint",), exp, "1/s",
+                                      "largest Lyapunov exponent from the equations"),
+        "lyapunov_ci_low": variable(("checkpoint",), lo, "1/s",
+                                    "lower end of the exponent's 95 % interval"),
+        "lyapunov_ci_high": variable(("checkpoint",), hi, "1/s",
+                                     "upper end of the exponent's 95 % interval"),
+        "motion": variable(("checkpoint",), np.array([v.label for v in verdicts], dtype=object),
+                           "1", "motion verdict (chaoskit.classify_motion)"),
+        "motion_confidence": variable(("checkpoint",), [float(v.confidence) for v in verdicts],
+                                      "1", "confidence of the motion verdict"),
+        "peak_contact_force": variable(cj, [r["peak_force"] for r in records], "N",
+                                       "peak contact force over the analysed revolutions"),
+        "mean_contact_force": variable(cj, [r["mean_force"] for r in records], "N",
+                                       "time-mean contact force over the analysed revolutions"),
+        "free_flight_fraction": variable(cj, modes[:, :, 0], "1",
+                                         "share of time without contact force"),
+        "impact_fraction": variable(cj, modes[:, :, 1], "1",
+                                    "share of time in contact episodes shorter than the "
+                                    "continuous-contact time"),
+        "continuous_contact_fraction": variable(cj, modes[:, :, 2], "1",
+                                                "share of time in longer contact episodes"),
+    }  # fmt: skip
+    coords = {
+        "checkpoint": ("checkpoint", cum, {"units": "1", "long_name": "crank cycles of wear"}),
+        "joint": ("joint", np.array(names, dtype=object)),
+        "surface": ("surface", np.array(SURFACES, dtype=object)),
+        "angle": surface_angle(regions),
+    }
+    ds = xr.Dataset(data, coords=coords)
+    ds.attrs["scene"] = scene.to_json()
+    ds.attrs["worn_scene"] = loop.kept.to_json()
+    ds.attrs["scene_name"] = scene.name
+    ds.attrs.update(settings)
+    return stamp(
+        ds,
+        title=f"wear life of scene {scene.name!r}",
+        source=f"mechanism (chaoskit {__version__})",
+        history=(
+            f"mechanism.wear_life({scene.name!r}, cycles={settings['cycles']}, "
+            f"averaged_revolutions={settings['averaged_revolutions']}, "
+            f"max_depth_increment={settings['max_depth_increment']})"
+        ),
+    )

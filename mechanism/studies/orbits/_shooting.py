@@ -1,0 +1,316 @@
+"""Shooting on the stroboscopic map of a rigid scene: the map, its monodromy matrix and
+the pure numerics of the Newton iteration.
+
+The map takes the section state (a state [q; q̇] on the constraint manifold at a time
+t ≡ 0 modulo the drive period T, with the latched impact velocities of the clearance
+joints in contact) to the state k periods later. It is evaluated by
+:func:`mechanism.core.integrate.integrate_tangent` with a zero deviation (the reference
+alone); its Jacobian, in coordinates of the manifold's tangent space, by the same
+function with one deviation per direction, on exactly the reference's steps
+(``deviation_rtol`` = 0), so the tangent rules at contact entry and exit, on the
+friction ramp and for the latch are those of :func:`mechanism.lyapunov_exponent`.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from mechanism.core import SimulationError
+from mechanism.core.integrate import (
+    TangentIntegration,
+    deviation_size,
+    integrate_tangent,
+    project_state,
+    section_latch,
+    tangent_basis,
+)
+from mechanism.core.model import Model
+
+#: no renormalisation inside a period: the deviation's growth is read at the stops
+_NO_RENORMALIZATION = 2**62
+#: a latch row of the monodromy matrix that differs from a unit row by less than this is
+#: frozen (the contact lasts the whole period): only round-off of the growth read back
+_FROZEN = 1e-9
+
+
+@dataclass(frozen=True)
+class Section:
+    """A section state: [q; q̇] at t = 0 and the latch of the clearance joints."""
+
+    y: np.ndarray
+    latch: np.ndarray
+    contact: np.ndarray
+
+
+def angle_rows(dof_names: tuple[str, ...]) -> np.ndarray:
+    """Boolean mask of the position rows of [q; q̇] that are angles (rad)."""
+    n = len(dof_names)
+    mask = np.zeros(2 * n, dtype=bool)
+    mask[:n] = [name.endswith(".theta") for name in dof_names]
+    return mask
+
+
+def wrapped_difference(a: np.ndarray, b: np.ndarray, angles: np.ndarray) -> np.ndarray:
+    """a − b with the angle rows brought to (−π, π] (a crank turns 2π per period)."""
+    diff = np.asarray(a, dtype=np.float64) - np.asarray(b, dtype=np.float64)
+    diff[angles] -= 2.0 * math.pi * np.round(diff[angles] / (2.0 * math.pi))
+    return diff
+
+
+def newton_step(jacobian: np.ndarray, residual: np.ndarray) -> np.ndarray:
+    """Solve (J − I) dz = −r for the correction of the section coordinates (least squares,
+    so a (near-)singular J − I still gives the smallest correction)."""
+    a = jacobian - np.eye(jacobian.shape[0])
+    dz, *_ = np.linalg.lstsq(a, -residual, rcond=1e-13)
+    return dz
+
+
+def sorted_by_modulus(values: np.ndarray) -> np.ndarray:
+    """Complex values, largest modulus first."""
+    values = np.asarray(values, dtype=np.complex128)
+    return values[np.argsort(-np.abs(values), kind="stable")]
+
+
+class StroboscopicMap:
+    """The k-fold stroboscopic map of a rigid model and its tangent-space Jacobian."""
+
+    def __init__(
+        self,
+        model: Model,
+        *,
+        drive_period: float,
+        period: int,
+        rtol: float,
+        atol: float,
+        max_step: float,
+        approach_floor: float,
+        perturbation: float,
+        clearance: float,
+        deviation_rtol: float = 1e-4,
+    ) -> None:
+        self.model = model
+        self.drive_period = drive_period
+        self.period = period
+        self.tau = drive_period / (2.0 * math.pi)
+        self.clearance = clearance
+        self.size = perturbation * clearance
+        self.deviation_rtol = deviation_rtol
+        self.angles = angle_rows(model.dof_names)
+        self.options = {
+            "rtol": rtol,
+            "atol": atol,
+            "max_step": max_step,
+            "approach_floor": approach_floor,
+            "time_scale": self.tau,
+            "deviation_rtol": 0.0,
+            "renormalize_every": _NO_RENORMALIZATION,
+        }
+        self.evaluations = 0
+        self.function_evaluations = 0
+        self.schedule: np.ndarray | None = None
+
+    @property
+    def sections(self) -> np.ndarray:
+        """Section times 0, T, …, kT (the map lands on each)."""
+        return self.drive_period * np.arange(self.period + 1, dtype=np.float64)
+
+    @property
+    def stops(self) -> np.ndarray:
+        """Stops of a map evaluation: the section times."""
+        return self.sections
+
+    def freeze_steps(self, section: Section, basis: np.ndarray) -> None:
+        """Take the accepted steps of a run from ``section`` as the fixed step schedule of
+        every later evaluation: the map is then a smooth function of the section state,
+        which Newton needs below the tolerance's level (adaptive steps chosen anew make it
+        jump by about rtol × the coordinates). The run carries a deviation along all the
+        tangent directions with its own error control, so the steps resolve the
+        linearised flow as well as the reference."""
+        self.schedule = None
+        d0 = basis.sum(axis=1)
+        d0 *= self.size / deviation_size(self.model, d0, time_scale=self.tau)
+        options = dict(self.options, deviation_rtol=self.deviation_rtol)
+        run = integrate_tangent(
+            self.model, section.y, d0, self.sections,
+            latch=(section.latch, section.contact), record_steps=True, label="orbit",
+            **options,
+        )  # fmt: skip
+        self.evaluations += 1
+        self.function_evaluations += run.stats.function_evaluations
+        if not run.stats.success:
+            raise SimulationError(f"the integration failed: {run.stats.message}")
+        self.schedule = run.step_times
+
+    def run(
+        self,
+        section: Section,
+        stops: np.ndarray,
+        *,
+        d0: np.ndarray | None = None,
+        latch_deviation: np.ndarray | None = None,
+        record: bool = False,
+        tangent: bool = False,
+    ) -> TangentIntegration:
+        """Integrate from ``section`` over ``stops`` (with a deviation ``d0``, else the
+        reference alone); ``tangent``: the deviation's error also controls the steps."""
+        d = np.zeros_like(section.y) if d0 is None else d0
+        options = dict(self.options, step_schedule=self.schedule)
+        if tangent and self.schedule is None:
+            options["deviation_rtol"] = self.deviation_rtol
+        run = integrate_tangent(
+            self.model, section.y, d, stops, latch=(section.latch, section.contact),
+            latch_deviation=latch_deviation, record_states=record, label="orbit",
+            **options,
+        )  # fmt: skip
+        self.evaluations += 1
+        self.function_evaluations += run.stats.function_evaluations
+        return run
+
+    def residual(self, section: Section, end: TangentIntegration, active: np.ndarray) -> float:
+        """Size of image − section, relative to the clearance: the mass-weighted norm of
+        the state difference (that of the exponent, τ = T/2π) and τ × the difference of
+        the latches that are unknowns (``active``)."""
+        diff = wrapped_difference(end.final_state, section.y, self.angles)
+        size = deviation_size(self.model, diff, time_scale=self.tau)
+        dl = self.tau * (end.final_latch - section.latch)[active]
+        return math.sqrt(size**2 + float(dl @ dl)) / self.clearance
+
+    def distance(self, a: np.ndarray, b: np.ndarray) -> float:
+        """Mass-weighted size of the state difference a − b over the clearance."""
+        diff = wrapped_difference(a, b, self.angles)
+        return deviation_size(self.model, diff, time_scale=self.tau) / self.clearance
+
+    def coordinates(self, basis: np.ndarray, v: np.ndarray) -> np.ndarray:
+        """Coordinates of a state difference ``v`` on an orthonormal tangent basis."""
+        n = v.size // 2
+        scale2 = np.concatenate([np.ones(n), np.full(n, self.tau**2)])
+        return basis.T @ (scale2 * v)
+
+    def basis(self, section: Section) -> np.ndarray:
+        """Orthonormal basis of the constraint manifold's tangent space at the section."""
+        return tangent_basis(self.model, section.y, t=0.0, time_scale=self.tau)
+
+    def reduced_residual(
+        self, section: Section, end: TangentIntegration, basis: np.ndarray, latches: np.ndarray
+    ) -> np.ndarray:
+        """Image − section in tangent coordinates, then τ × latch differences of the joints
+        ``latches``."""
+        diff = wrapped_difference(end.final_state, section.y, self.angles)
+        dl = self.tau * (end.final_latch - section.latch)[latches]
+        return np.concatenate([self.coordinates(basis, diff), dl])
+
+    def monodromy(self, section: Section, basis: np.ndarray, latches: np.ndarray) -> np.ndarray:
+        """Jacobian of the map in tangent coordinates (and τ × latch of the joints
+        ``latches``, indices of joints in contact at the section).
+
+        One deviation per tangent direction, carried over the k periods without
+        rescaling inside them (the growth read at the stops restores its size). A latch
+        that the reference never renews (in contact at both ends, no contact entry in
+        between) is frozen: its row and column are the unit ones, its multiplier exactly
+        1. Another latch's column is the difference of the run with the latch deviation
+        added to the first direction and that direction's run (a deviation of the latch
+        alone has no velocity part to carry the finite difference of its effect).
+        """
+        n_free = basis.shape[1]
+        jac = np.eye(n_free + latches.size)
+        first, run0 = self._image(section, basis, latches, basis[:, 0], None)
+        jac[:, 0] = first
+        for i in range(1, n_free):
+            jac[:, i] = self._image(section, basis, latches, basis[:, i], None)[0]
+        for pos, j in enumerate(latches):
+            if run0.stats.contact_events == 0 and run0.final_contact[j] != 0:
+                continue  # frozen: the unit row and column
+            image, _ = self._image(section, basis, latches, basis[:, 0], j)
+            jac[:, n_free + pos] = image - first
+        return jac
+
+    def segmented(self, section: Section, segments: int) -> np.ndarray:
+        """Monodromy matrix on the tangent space (no latch) as the product of the Jacobians
+        of ``segments`` consecutive pieces of the step schedule.
+
+        Over a whole period every tangent deviation of a strongly contracting orbit turns
+        into the dominant direction, and what the others carried is lost to round-off;
+        piece by piece each Jacobian is better conditioned. For sections whose latches
+        are all frozen (or absent).
+        """
+        assert self.schedule is not None
+        last = self.schedule.size - 1
+        cut = np.unique(np.round(np.linspace(0, last, segments + 1)).astype(int))
+        ref = self.run(section, self.schedule[cut], record=True)
+        if not ref.stats.success:
+            raise SimulationError(f"the integration failed: {ref.stats.message}")
+        # the end in the section's coordinates: the map's, so the product is its Jacobian
+        bases = [self.basis(section)] + [
+            tangent_basis(self.model, y, t=float(t), time_scale=self.tau)
+            for y, t in zip(ref.states[1:-1], ref.t[1:-1], strict=True)
+        ]
+        bases.append(bases[0])
+        product: np.ndarray | None = None
+        for j in range(cut.size - 1):
+            start = Section(y=ref.states[j], latch=ref.latches[j], contact=ref.contact[j])
+            stops = ref.t[j : j + 2]
+            piece = np.empty((bases[j].shape[1],) * 2)
+            for i in range(piece.shape[1]):
+                col = bases[j][:, i]
+                scale = self.size / deviation_size(self.model, col, time_scale=self.tau)
+                run = self.run(start, stops, d0=col * scale, tangent=True)
+                if not run.stats.success:
+                    raise SimulationError(f"the tangent run failed: {run.stats.message}")
+                grow = math.exp(float(run.log_growth[-1])) / scale
+                piece[:, i] = self.coordinates(bases[j + 1], run.final_deviation * grow)
+            product = piece if product is None else piece @ product
+        assert product is not None
+        return product
+
+    def _image(
+        self,
+        section: Section,
+        basis: np.ndarray,
+        latches: np.ndarray,
+        col: np.ndarray,
+        latch: int | None,
+    ) -> tuple[np.ndarray, TangentIntegration]:
+        """Image of the tangent vector ``col`` (plus a unit τ × latch deviation of joint
+        ``latch``) in the map's coordinates."""
+        scale = self.size / deviation_size(self.model, col, time_scale=self.tau)
+        dl = np.zeros(section.latch.size)
+        if latch is not None:
+            dl[latch] = scale / self.tau
+        run = self.run(section, self.stops, d0=col * scale, latch_deviation=dl, tangent=True)
+        if not run.stats.success:
+            raise SimulationError(f"the tangent run failed: {run.stats.message}")
+        grow = math.exp(float(run.log_growth[-1])) / scale
+        image = np.concatenate(
+            [
+                self.coordinates(basis, run.final_deviation * grow),
+                self.tau * run.final_latch_deviation[latches] * grow,
+            ]
+        )
+        return image, run
+
+    def corrected(
+        self, section: Section, basis: np.ndarray, latches: np.ndarray, dz: np.ndarray
+    ) -> Section:
+        """The section moved by tangent coordinates ``dz`` (then latch corrections), put
+        back on the manifold; a joint's contact and latch follow the new state."""
+        n_free = basis.shape[1]
+        y = project_state(self.model, section.y + basis @ dz[:n_free], t=0.0)
+        held = section.latch.copy()
+        held[latches] += dz[n_free:] / self.tau
+        latch, contact = section_latch(self.model, y, held)
+        return Section(y=y, latch=latch, contact=contact)
+
+
+def frozen_latches(jacobian: np.ndarray, n_free: int) -> np.ndarray:
+    """Positions (among the latch columns) whose row is a unit row: the latch is frozen
+    for the whole period, so its multiplier is exactly 1 with the latch as eigenvector."""
+    out = []
+    for j in range(n_free, jacobian.shape[0]):
+        unit = np.zeros(jacobian.shape[1])
+        unit[j] = 1.0
+        if np.max(np.abs(jacobian[j] - unit)) < _FROZEN:
+            out.append(j - n_free)
+    return np.array(out, dtype=np.int64)
