@@ -1,9 +1,9 @@
 """Scenes: mechanisms described as data (TOML), validated into frozen dataclasses.
 
 Load a built-in scene or a TOML file with :func:`~mechanism.load_scene`, change it with
-:meth:`~mechanism.Scene.replace` (dotted keys such as ``"joints.C.clearance"``), store it with
-:func:`~mechanism.save_scene` or :meth:`~mechanism.Scene.to_json`. ``docs/scenes.md`` lists every key with its
-unit and accepted range.
+:meth:`~mechanism.Scene.replace` (dotted keys such as ``"joints.C.clearance"``), store it
+with :func:`~mechanism.save_scene` or :meth:`~mechanism.Scene.to_json`. ``docs/scenes.md``
+lists every key with its unit and accepted range.
 """
 
 from ._model import *  # noqa: F403

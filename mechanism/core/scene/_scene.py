@@ -1,5 +1,6 @@
-"""The :class:`~mechanism.Scene`, its loading and storage: TOML/JSON → validated :class:`~mechanism.Scene`,
-dotted-key replacement, and a small TOML emitter so that a saved scene loads back identical.
+"""The :class:`~mechanism.Scene`, its loading and storage: TOML/JSON → a validated
+:class:`~mechanism.Scene`, dotted-key replacement, and a small TOML emitter so that a saved
+scene loads back identical.
 
 Validation has two stages. Field validation (pydantic ``TypeAdapter`` over the frozen
 dataclasses of ``_model.py``) checks types, ranges and unknown keys; every error is
@@ -274,7 +275,8 @@ def scene_from_json(text: str) -> Scene:
 
 
 def scene_from_dict(data: Mapping[str, Any], *, source: str | None = None) -> Scene:
-    """Validate nested mappings (TOML/JSON layout, keys = field names) into a :class:`~mechanism.Scene`."""
+    """Validate nested mappings (TOML/JSON layout, keys = field names) into a
+    :class:`~mechanism.Scene`."""
     if not isinstance(data, Mapping):
         raise SceneError(
             f"a scene must be a table of keys; got {type(data).__name__}", source=source
