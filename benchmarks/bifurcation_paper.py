@@ -151,8 +151,10 @@ def main() -> None:
             client=client,
             store=store,
             exponent=args.exponent,
-            exponent_revolutions=args.exponent_revolutions,
-            exponent_discard=args.exponent_discard,
+            settings=mechanism.BifurcationSettings(
+                exponent_revolutions=args.exponent_revolutions,
+                exponent_discard=args.exponent_discard,
+            ),
             progress=True,
         )
         wall = time.perf_counter() - start

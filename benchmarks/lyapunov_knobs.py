@@ -68,7 +68,10 @@ def main() -> None:
             continue
         start, cpu = time.perf_counter(), time.process_time()
         result = mechanism.lyapunov_exponent(
-            scene, revolutions=args.revolutions, discard=args.discard, **kw
+            scene,
+            revolutions=args.revolutions,
+            discard=args.discard,
+            settings=mechanism.LyapunovSettings(**kw),
         )
         wall, cpu = time.perf_counter() - start, time.process_time() - cpu
         stats = result.stats

@@ -34,7 +34,11 @@ def measure(rpm: float, tol: float | None, revolutions: float, discard: float) -
     )
     cpu = time.process_time()
     ds = mechanism.simulate(
-        scene, revolutions=revolutions, record="sections", discard=discard, rtol=tol, atol=tol
+        scene,
+        revolutions=revolutions,
+        record=mechanism.SectionsRecord(discard=discard),
+        rtol=tol,
+        atol=tol,
     )
     cpu = time.process_time() - cpu
     e = np.hypot(

@@ -65,6 +65,7 @@ from .reporting import (
 )
 from .sections import poincare_section, stroboscopic_map
 from .verdict import (
+    CycleForecast,
     MotionVerdict,
     PeriodicOrbitEvidence,
     SectionStructure,
@@ -135,6 +136,7 @@ __all__ = [  # noqa: RUF022
     "cycle_shuffled_surrogates",
     "twin_surrogates",
     "cycle_surrogate_test",
+    "CycleForecast",
     "cycle_spread",
     # the verdict
     "classify",

@@ -25,7 +25,7 @@ from ._samples import sample_path
 from ._selection import expand_variables, parse_variable, select_series, variable_spec
 from ._validate import check_choice, check_positive
 from ._version import __version__
-from .reporting import plural
+from .reporting import ReportExtras, ReportOptions, plural
 from .reporting import report as build_report
 from .verdict import (
     MotionVerdict,
@@ -695,16 +695,17 @@ def report(
             labels=list(label) if label else None,
             sel=_parse_selections(list(sel or [])),
             discard=discard,
-            max_samples=max_samples,
             drive_period=drive_period,
             phase_variable=phase_variable,
-            rng=seed,
-            chaos_reference=reference,
-            reference_name=reference_name,
             title=title,
-            command=shlex.join(["chaoskit", *sys.argv[1:]]),
-            measures=measures or (),
-            progress=True,
+            extras=ReportExtras(
+                chaos_reference=reference,
+                reference_name=reference_name,
+                command=shlex.join(["chaoskit", *sys.argv[1:]]),
+            ),
+            options=ReportOptions(
+                max_samples=max_samples, rng=seed, measures=measures or (), progress=True
+            ),
         )
         written = rep.write(output, markdown_figures="embed" if embed_figures else "files")
     overview = rep.table("verdict per variable").display()

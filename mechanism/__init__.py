@@ -50,8 +50,10 @@ from .core import integrate as integrate
 from .core import scene as scene
 from .studies import (
     Analysis,
+    BifurcationSettings,
     ElementConvergence,
     GridTransform,
+    LyapunovSettings,
     PaperStudy,
     PeriodicOrbit,
     SceneLyapunov,
@@ -60,6 +62,7 @@ from .studies import (
     SweepStoreMismatch,
     WearComparison,
     WearLife,
+    WearLifeSettings,
     WearPrediction,
     WearPredictionError,
     bifurcation,
@@ -104,6 +107,7 @@ _simulation = [
 _contact_wear = [
     "WearComparison",
     "WearLife",
+    "WearLifeSettings",
     "WearPrediction",
     "WearPredictionError",
     "WornProfile",
@@ -138,9 +142,15 @@ _sweeps = [
     "stroboscopic_points",
     "sweep",
 ]
-_bifurcations = ["bifurcation", "plot_bifurcation"]
+_bifurcations = ["BifurcationSettings", "bifurcation", "plot_bifurcation"]
 _paper_study = ["PaperStudy", "StudySettings", "paper_claims", "paper_tables", "run_paper_study"]
-_chaos = ["PeriodicOrbit", "SceneLyapunov", "lyapunov_exponent", "periodic_orbit"]
+_chaos = [
+    "LyapunovSettings",
+    "PeriodicOrbit",
+    "SceneLyapunov",
+    "lyapunov_exponent",
+    "periodic_orbit",
+]
 
 __all__ = (
     _foundation

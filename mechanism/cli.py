@@ -15,11 +15,17 @@ import typer
 from typer.core import TyperGroup
 
 import chaoskit
-from chaoskit.contract import __version__, folder_problem, write_netcdf
+from chaoskit.contract import __version__, check_choice, folder_problem, write_netcdf
 from mechanism import (
     Analysis,
+    BifurcationSettings,
+    FullRecord,
+    LyapunovSettings,
+    MetricsRecord,
+    RecordMode,
     Scene,
     SceneError,
+    SectionsRecord,
     SimulationError,
     SimulationWarning,
     WearPredictionError,
@@ -255,6 +261,21 @@ def show_command(
 # --- simulation (core): commands below this line only ---
 
 
+def _record_option(record: str, discard: float, variables: list[str] | None) -> RecordMode:
+    """The record mode that ``--record``, ``--discard`` and ``--var`` choose."""
+    name = check_choice(record, name="record", choices=("full", "metrics", "sections"))
+    if name == "full":
+        if discard != 0.0:
+            raise ValueError(
+                "--discard applies to --record metrics and sections; slice the full trajectory."
+            )
+        return FullRecord(variables=variables or None)
+    if variables:
+        raise ValueError(f"--var applies to --record full only; got --record {name}.")
+    mode = MetricsRecord if name == "metrics" else SectionsRecord
+    return mode(discard=discard)
+
+
 @app.command("simulate")
 def simulate_command(
     scene: str = typer.Argument(..., help="Built-in scene name or path of a TOML scene."),
@@ -316,9 +337,7 @@ def simulate_command(
                 rtol=rtol,
                 atol=atol,
                 output_step=output_step,
-                record=record,  # type: ignore[arg-type]
-                discard=discard,
-                variables=variables or None,
+                record=_record_option(record, discard, variables),
                 progress=progress,
                 force=force,
             )
@@ -803,16 +822,18 @@ def bifurcation_command(
     try:
         ds = bifurcation(
             resolved,
-            rtol=tol,
-            atol=tol,
             parameter=param,
             values=parse_values(values),
             revolutions=revolutions,
             discard=discard,
             variables=tuple(variables) if variables else ("eccentricity",),
             exponent=exponent,
-            exponent_revolutions=exponent_revolutions,
-            exponent_discard=exponent_discard,
+            settings=BifurcationSettings(
+                rtol=tol,
+                atol=tol,
+                exponent_revolutions=exponent_revolutions,
+                exponent_discard=exponent_discard,
+            ),
             client=scheduler,
             n_workers=workers,
             store=store,
@@ -941,11 +962,13 @@ def lyapunov_command(
             revolutions=revolutions,
             t_end=t_end,
             discard=discard,
-            perturbation=perturbation,
-            renormalize_every=renormalize_every,
-            rtol=rtol,
-            atol=atol,
-            deviation_rtol=deviation_rtol,
+            settings=LyapunovSettings(
+                perturbation=perturbation,
+                renormalize_every=renormalize_every,
+                rtol=rtol,
+                atol=atol,
+                deviation_rtol=deviation_rtol,
+            ),
             progress=progress,
         )
     except ValueError as exc:

@@ -158,11 +158,11 @@ rep = chaoskit.report(
     variables={"X": "eccentricity_x[joint=C]", "Y": "eccentricity_y[joint=C]"},
     phase_variable="crank_angle",
     discard=period,
-    chaos_reference=paper_chaos,
-    reference_name="paper",
-    tables=[metrics_table],
     title="Six-bar press with a worn clearance joint — quick reproduction",
     output=out,
+    extras=chaoskit.ReportExtras(
+        chaos_reference=paper_chaos, reference_name="paper", tables=[metrics_table]
+    ),
 )
 print("written:", sorted(p.name for p in out.parent.iterdir()))
 rep.table("Chaos table").data[["lag", "embedding_dim", "mle_wolf", "mle_wolf_bits", "verdict"]]

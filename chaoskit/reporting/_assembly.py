@@ -27,7 +27,7 @@ from ._analysis_tables import analysis_tables
 from ._content import ReportFigure, ReportSection, ReportTable
 from ._further_measures import measure_items
 from ._model import APPENDIX, PROVENANCE, SECTION_ORDER, Report, now
-from ._options import ReportExtras, ReportOptions, resolve_options
+from ._options import ReportExtras, ReportOptions, checked_options, fields_in_objects
 from ._provenance import provenance_items
 from ._states import (
     State,
@@ -41,6 +41,7 @@ from ._sweeps import bifurcation_items, sweep_items
 __all__ = ["report"]
 
 
+@fields_in_objects
 def report(
     trajectories: Any = None,
     *,
@@ -54,7 +55,6 @@ def report(
     output: str | os.PathLike[str] | None = None,
     extras: ReportExtras | None = None,
     options: ReportOptions | None = None,
-    **keywords: Any,
 ) -> Report:
     r"""Analyse trajectories and assemble a captioned report (HTML page and Markdown twin).
 
@@ -124,10 +124,9 @@ def report(
         Finer settings: subsampling, surrogates and their random stream, further measures,
         display units, how the Markdown twin holds its figures, a progress bar
         (:class:`~chaoskit.ReportOptions`).
-    **keywords
-        Any field of :class:`~chaoskit.ReportExtras` or
-        :class:`~chaoskit.ReportOptions` may be given here by name instead
-        (e.g. ``tables=[...]``, ``rng=0``), but not in both places.
+
+        The fields of these two objects are not keywords of ``report``: given as one,
+        a TypeError names the object that holds it.
 
     Returns
     -------
@@ -141,12 +140,13 @@ def report(
     >>> t, s = chaoskit.systems.duffing(3000, gamma=0.5, samples_per_period=50)
     >>> after = chaoskit.load_trajectory(s, dt=t[1] - t[0], variables=["x", "v"])
     >>> rep = chaoskit.report({"before": before, "after": after}, variables=["x"],
-    ...                       drive_period=2 * np.pi / 1.2, rng=0)
+    ...                       drive_period=2 * np.pi / 1.2,
+    ...                       options=chaoskit.ReportOptions(rng=0))
     >>> rep.table("chaos").data.loc[("x", "after"), "verdict"]
     'chaotic'
     """
     created = now()
-    extras, options = resolve_options(extras, options, keywords)
+    extras, options = checked_options(extras, options)
     pairs = normalise_trajectories(trajectories, labels)
     specs = normalise_variables(variables)
     discard, phase, measure_names, shown_units = _checked_inputs(

@@ -2,15 +2,14 @@
 
 :class:`ReportExtras` holds the material a caller adds beside the analysis (reference
 values, tables, maps, figures, the equations' exponents, provenance); :class:`ReportOptions`
-holds the finer settings of the analysis and of the files. Their fields are also accepted
-by :func:`chaoskit.report` as keywords of the same name.
+holds the finer settings of the analysis and of the files.
 """
 
 from __future__ import annotations
 
-import dataclasses
-from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+import functools
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, fields
 from typing import Any, Literal
 
 import pandas as pd
@@ -18,7 +17,7 @@ import pandas as pd
 from ._content import ReportFigure, ReportTable
 from ._model import SweepMap
 
-__all__ = ["ReportExtras", "ReportOptions", "resolve_options"]
+__all__ = ["ReportExtras", "ReportOptions", "checked_options", "fields_in_objects"]
 
 
 @dataclass(frozen=True, kw_only=True, eq=False)
@@ -114,35 +113,36 @@ class ReportOptions:
     progress: bool = False
 
 
-_EXTRAS = tuple(f.name for f in dataclasses.fields(ReportExtras))
-_OPTIONS = tuple(f.name for f in dataclasses.fields(ReportOptions))
+def fields_in_objects(func: Callable[..., Any]) -> Callable[..., Any]:
+    """``func`` (:func:`report`) refusing a field of :class:`ReportExtras` or
+    :class:`ReportOptions` given as a keyword, with a TypeError naming the object that
+    holds it (Python's own message names only the keyword)."""
+    owners = {f.name: ("extras", "ReportExtras") for f in fields(ReportExtras)}
+    owners |= {f.name: ("options", "ReportOptions") for f in fields(ReportOptions)}
+
+    @functools.wraps(func)
+    def wrapper(*args: Any, **kwargs: Any) -> Any:
+        for key in kwargs:
+            if key in owners:
+                arg, kind = owners[key]
+                raise TypeError(
+                    f"{func.__name__}() got an unexpected keyword argument {key!r}; pass it "
+                    f"in the {kind} object: {arg}={kind}({key}=...)."
+                )
+        return func(*args, **kwargs)
+
+    return wrapper
 
 
-def resolve_options(
-    extras: ReportExtras | None, options: ReportOptions | None, keywords: Mapping[str, Any]
+def checked_options(
+    extras: ReportExtras | None, options: ReportOptions | None
 ) -> tuple[ReportExtras, ReportOptions]:
-    """``extras`` and ``options`` with the fields given as keywords of :func:`report` set.
-
-    A field may come in its object or as a keyword, not both; any other keyword is refused
-    as Python refuses an unknown keyword argument.
-    """
-    unknown = [k for k in keywords if k not in _EXTRAS and k not in _OPTIONS]
-    if unknown:
-        raise TypeError(f"report() got an unexpected keyword argument {unknown[0]!r}")
+    """``extras`` and ``options`` of :func:`report` (None: the defaults), type-checked."""
     out = []
-    for given, kind, names in ((extras, ReportExtras, _EXTRAS), (options, ReportOptions, _OPTIONS)):
-        fields = {k: v for k, v in keywords.items() if k in names}
+    for given, kind, arg in ((extras, ReportExtras, "extras"), (options, ReportOptions, "options")):
         if given is None:
-            out.append(kind(**fields))
-            continue
-        if not isinstance(given, kind):
-            arg = "extras" if kind is ReportExtras else "options"
+            given = kind()
+        elif not isinstance(given, kind):
             raise ValueError(f"{arg} must be a {kind.__name__}; got {type(given).__name__}.")
-        if fields:
-            arg = "extras" if kind is ReportExtras else "options"
-            raise ValueError(
-                f"give {', '.join(fields)} either in {arg}= ({kind.__name__}) or as "
-                "keywords, not both."
-            )
         out.append(given)
     return out[0], out[1]

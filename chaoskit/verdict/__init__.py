@@ -8,23 +8,28 @@ from __future__ import annotations
 
 # for the command line and the report, not part of the public API
 from ._analyze import analyze, classify_variables, series_dataset, verdict_table
+from ._classify import classify
 from ._clusters import SectionStructure, section_structure
 from ._cycles import (
+    CycleForecast,
     cycle_boundaries,
     cycle_shuffled_surrogates,
     cycle_spread,
     cycle_surrogate_test,
     twin_surrogates,
 )
-from ._motion import MotionVerdict, classify_motion
+from ._motion_classify import classify_motion
+from ._motion_result import MotionVerdict
 from ._orbit import PeriodicOrbitEvidence
+from ._result import Verdict
 from ._rng import as_generator
+from ._rule import LABELS, VerdictRule
 from ._surrogates import SurrogateResult, iaaft_surrogates, prediction_error, surrogate_test
-from ._verdict import LABELS, Verdict, VerdictRule, classify
 from ._zero_one import ZeroOneResult, zero_one_test
 
 __all__ = [
     "LABELS",
+    "CycleForecast",
     "MotionVerdict",
     "PeriodicOrbitEvidence",
     "SectionStructure",

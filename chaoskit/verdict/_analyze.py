@@ -16,10 +16,12 @@ from .._contract import stamp
 from .._io import load_trajectory
 from .._progress import finish_item, stage_bar
 from .._selection import expand_variables, select_series, variable_spec
+from ._classify import classify
+from ._result import Verdict
 from ._rng import as_generator
+from ._rule import LABELS, VerdictRule
 from ._table import FIELDS as FIELDS
 from ._table import stack_verdicts
-from ._verdict import LABELS, Verdict, VerdictRule, classify
 
 __all__ = ["analyze", "classify_variables", "verdict_table"]
 

@@ -9,6 +9,7 @@ randomise only what links one cycle to the next.
 from __future__ import annotations
 
 import itertools
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -21,6 +22,7 @@ from ._rng import as_generator
 from ._surrogates import SurrogateResult, check_surrogates
 
 __all__ = [
+    "CycleForecast",
     "cycle_boundaries",
     "cycle_shuffled_surrogates",
     "cycle_spread",
@@ -405,21 +407,66 @@ def _mean_cycle_at_samples(x: np.ndarray, spc: float) -> np.ndarray:
     return np.interp(phase, centre, mean, period=1.0)
 
 
+@dataclass(frozen=True, kw_only=True)
+class CycleForecast:
+    """The locally constant forecast of :func:`cycle_surrogate_test`.
+
+    Attributes
+    ----------
+    embedding_dim, lag
+        Delay embedding of the forecast (``lag`` in samples), each at least 1.
+    horizon
+        Forecast horizon in samples (None: ``lag``), at least 1 and shorter than one cycle.
+    theiler_window
+        Temporal exclusion for neighbours, samples (None: ``embedding_dim * lag``), at
+        least 0; less than one cycle so that the same phase of other cycles is found.
+    n_neighbors
+        Neighbours averaged by the forecast, at least 1.
+    n_reference
+        Largest number of reference points (evenly spaced among those that cross a
+        boundary), at least 10.
+
+    Examples
+    --------
+    >>> from chaoskit.verdict import CycleForecast
+    >>> CycleForecast(lag=30).horizon is None
+    True
+    """
+
+    embedding_dim: int = 3
+    lag: int = 1
+    horizon: int | None = None
+    theiler_window: int | None = None
+    n_neighbors: int = 5
+    n_reference: int = 1000
+
+    def __post_init__(self) -> None:
+        checked = {
+            "embedding_dim": check_int(self.embedding_dim, name="embedding_dim", minimum=1),
+            "lag": check_int(self.lag, name="lag", minimum=1),
+            "n_neighbors": check_int(self.n_neighbors, name="n_neighbors", minimum=1),
+            "n_reference": check_int(self.n_reference, name="n_reference", minimum=10),
+        }
+        if self.horizon is not None:
+            checked["horizon"] = check_int(self.horizon, name="horizon", minimum=1)
+        if self.theiler_window is not None:
+            checked["theiler_window"] = check_int(
+                self.theiler_window, name="theiler_window", minimum=0
+            )
+        for key, value in checked.items():
+            object.__setattr__(self, key, value)  # frozen: store the validated integers
+
+
 def cycle_surrogate_test(
     x: Any,
     period: float,
     *,
     dt: float = 1.0,
-    embedding_dim: int = 3,
-    lag: int = 1,
-    horizon: int | None = None,
-    theiler_window: int | None = None,
+    forecast: CycleForecast | None = None,
     n_surrogates: int = 19,
     alpha: float = 0.05,
     min_effect: float = 0.1,
     min_gain: float = 0.05,
-    n_neighbors: int = 5,
-    n_reference: int = 1000,
     rng: Any = None,
 ) -> SurrogateResult:
     r"""Test the null hypothesis "a periodic orbit plus noise" with cycle-shuffled surrogates.
@@ -450,13 +497,9 @@ def cycle_surrogate_test(
         for a period-:math:`k` orbit.
     dt
         Sampling interval.
-    embedding_dim, lag
-        Delay embedding of the forecast (``lag`` in samples).
-    horizon
-        Forecast horizon in samples (default ``lag``), shorter than one cycle.
-    theiler_window
-        Temporal exclusion for neighbours, samples (default ``embedding_dim * lag``), less
-        than one cycle so that the same phase of other cycles is found.
+    forecast
+        The forecast's embedding, horizon, Theiler window and neighbours
+        (:class:`CycleForecast`; None: its defaults, three delay coordinates of lag 1).
     n_surrogates
         At least :math:`1/\alpha - 1`.
     alpha, min_effect
@@ -467,11 +510,6 @@ def cycle_surrogate_test(
         forecast by less is too small to matter (:func:`~chaoskit.classify` uses
         ``VerdictRule.cluster_tol``, the radius within which a section's points count as
         one point of a periodic orbit).
-    n_neighbors
-        Neighbours averaged by the forecast.
-    n_reference
-        Largest number of reference points (evenly spaced among those that cross a
-        boundary).
     rng
         Seed or :class:`numpy.random.Generator`.
 
@@ -491,9 +529,10 @@ def cycle_surrogate_test(
     --------
     >>> import numpy as np
     >>> from chaoskit import cycle_surrogate_test
+    >>> from chaoskit.verdict import CycleForecast
     >>> t = np.arange(4000) * 0.05
     >>> x = np.sin(t) + 0.05 * np.random.default_rng(0).standard_normal(t.size)
-    >>> cycle_surrogate_test(x, 2 * np.pi, dt=0.05, lag=30, rng=0).rejected
+    >>> cycle_surrogate_test(x, 2 * np.pi, dt=0.05, forecast=CycleForecast(lag=30), rng=0).rejected
     False
     """
     stage("cycle surrogates")
@@ -502,17 +541,20 @@ def cycle_surrogate_test(
     x, scale = _whole_samples_per_cycle(x, spc)
     spc = float(round(spc))
     cuts = cycle_boundaries(x, spc)
-    embedding_dim = check_int(embedding_dim, name="embedding_dim", minimum=1)
-    lag = max(1, round(check_int(lag, name="lag", minimum=1) * scale))
-    horizon = lag if horizon is None else check_int(horizon, name="horizon", minimum=1)
+    forecast = CycleForecast() if forecast is None else forecast
+    if not isinstance(forecast, CycleForecast):
+        raise TypeError(f"forecast must be a CycleForecast or None; got {type(forecast).__name__}.")
+    embedding_dim = forecast.embedding_dim
+    lag = max(1, round(forecast.lag * scale))
+    horizon = lag if forecast.horizon is None else forecast.horizon
     horizon = max(1, round(horizon * scale))
     if horizon >= spc:
         raise ValueError(
             f"horizon must be shorter than one cycle ({spc:.4g} samples); got {horizon}."
         )
+    theiler_window = forecast.theiler_window
     if theiler_window is None:
         theiler_window = embedding_dim * lag
-    theiler_window = check_int(theiler_window, name="theiler_window", minimum=0)
     theiler_window = round(theiler_window * scale)
     if theiler_window >= spc:
         theiler_window = int(spc) // 2  # the same phase of the next cycle must stay admissible
@@ -521,8 +563,6 @@ def cycle_surrogate_test(
     min_effect = float(min_effect)
     if not 0.0 <= min_effect < 1.0:
         raise ValueError(f"min_effect must be in [0, 1); got {min_effect!r}.")
-    n_neighbors = check_int(n_neighbors, name="n_neighbors", minimum=1)
-    n_reference = check_int(n_reference, name="n_reference", minimum=10)
     min_gain = float(min_gain)
     if not 0.0 <= min_gain < 1.0:
         raise ValueError(f"min_gain must be in [0, 1); got {min_gain!r}.")
@@ -534,8 +574,8 @@ def cycle_surrogate_test(
         "lag": lag,
         "horizon": horizon,
         "theiler_window": theiler_window,
-        "n_neighbors": n_neighbors,
-        "n_reference": n_reference,
+        "n_neighbors": forecast.n_neighbors,
+        "n_reference": forecast.n_reference,
     }
     inner = (cuts - cuts[0])[1:-1]
     stat = _crossing_error(x, inner, **options)

@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
+import functools
 import math
 import time
+from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, replace
 from typing import Any
@@ -25,7 +27,7 @@ from .integrate import (
     resolve_method,
 )
 from .model import Model, assemble, initial_state
-from .record import RecordMode, RunTimes, record_mode
+from .record import FullRecord, MetricsRecord, RecordMode, RunTimes, SectionsRecord, record_mode
 from .scene import AngleProfileDrive, ConstantSpeedDrive, Scene, validate_scene
 
 __all__ = [
@@ -502,6 +504,36 @@ def _attrs(
     return attrs
 
 
+#: The record options, each with the record mode objects that hold it: ``simulate`` takes
+#: them only inside ``record=``.
+_RECORD_OPTIONS: dict[str, tuple[type[RecordMode], ...]] = {
+    "variables": (FullRecord,),
+    "discard": (MetricsRecord, SectionsRecord),
+    "phase": (SectionsRecord,),
+    "companion": (MetricsRecord, SectionsRecord),
+}
+
+
+def _record_options_in_objects(func: Callable[..., xr.Dataset]) -> Callable[..., xr.Dataset]:
+    """``func`` refusing a record option given as a keyword with a TypeError naming the
+    record object that holds it (Python's own message names only the keyword)."""
+
+    @functools.wraps(func)
+    def wrapper(*args: Any, **kwargs: Any) -> xr.Dataset:
+        loose = [key for key in kwargs if key in _RECORD_OPTIONS]
+        if loose:
+            key = loose[0]
+            objects = " or ".join(f"record={m.__name__}({key}=...)" for m in _RECORD_OPTIONS[key])
+            raise TypeError(
+                f"simulate() got an unexpected keyword argument {key!r}; pass it in the "
+                f"record object: {objects}."
+            )
+        return func(*args, **kwargs)
+
+    return wrapper
+
+
+@_record_options_in_objects
 def simulate(
     scene: Scene,
     *,
@@ -515,7 +547,6 @@ def simulate(
     progress: bool = False,
     throw: bool = True,
     force: bool = False,
-    **options: Any,
 ) -> xr.Dataset:
     """Simulate a mechanism and return its trajectory, its response metrics or its
     stroboscopic section.
@@ -551,7 +582,8 @@ def simulate(
         trajectory; default), :class:`~mechanism.MetricsRecord` (the response
         metrics) or :class:`~mechanism.SectionsRecord` (stroboscopic points
         and metrics), which hold their options (``variables``; ``discard``, ``companion``;
-        ``phase``). A name stands for that mode with its default options.
+        ``phase``): these are not keywords of ``simulate`` (a TypeError names the object).
+        A name stands for that mode with its default options.
     progress : bool
         Show a progress bar (tqdm).
     throw : bool
@@ -561,10 +593,6 @@ def simulate(
         Run even when the run is estimated to hold more than ``MEMORY_FRACTION`` of
         the memory available, or to take more than ``STEP_BUDGET`` (2e7) attempted steps
         (default False: refused up front, or stopped after its first compiled chunk).
-    **options
-        ``variables``, ``discard``, ``phase``, ``companion`` next to a mode name: put into
-        that mode's object (an option it lacks only at its neutral value None, 0, 0,
-        True). Kept for compatibility; prefer the object.
 
     Returns
     -------
@@ -604,8 +632,7 @@ def simulate(
     if not isinstance(scene, Scene):
         raise TypeError(f"scene must be a mechanism Scene; got {type(scene).__name__}.")
     scene = validate_scene(scene)  # a scene built in Python is checked like a loaded one
-    # the one place where keyword options meet a mode name
-    mode = record_mode(record, **options)
+    mode = record_mode(record)
     revolutions, t_end, rtol, atol, output_step = (
         x.item() if isinstance(x, np.generic) else x
         for x in (revolutions, t_end, rtol, atol, output_step)

@@ -10,11 +10,21 @@ packages of one concern per module.
 
 from __future__ import annotations
 
-from ._bifurcation import bifurcation, parse_values
+from ._bifurcation import BifurcationSettings, bifurcation, parse_values
 from ._convergence import ElementConvergence, element_convergence
-from ._lyapunov import DEFAULT_DEVIATION_RTOL, SceneLyapunov, lyapunov_exponent
+from ._lyapunov import (
+    DEFAULT_DEVIATION_RTOL,
+    LyapunovSettings,
+    SceneLyapunov,
+    lyapunov_exponent,
+)
 from ._plot import plot_bifurcation
-from ._wear_life import DEFAULT_WEAR_LIFE_AVERAGED_REVOLUTIONS, WearLife, wear_life
+from ._wear_life import (
+    DEFAULT_WEAR_LIFE_AVERAGED_REVOLUTIONS,
+    WearLife,
+    WearLifeSettings,
+    wear_life,
+)
 from ._wear_prediction import (
     DEFAULT_MAX_DEPTH_INCREMENT,
     WearComparison,
@@ -45,9 +55,11 @@ __all__ = [
     "DEFAULT_MAX_DEPTH_INCREMENT",
     "DEFAULT_WEAR_LIFE_AVERAGED_REVOLUTIONS",
     "Analysis",
+    "BifurcationSettings",
     "ContactPhase",
     "ElementConvergence",
     "GridTransform",
+    "LyapunovSettings",
     "PaperStudy",
     "PeriodicOrbit",
     "SceneLyapunov",
@@ -56,6 +68,7 @@ __all__ = [
     "SweepStoreMismatch",
     "WearComparison",
     "WearLife",
+    "WearLifeSettings",
     "WearPrediction",
     "WearPredictionError",
     "bifurcation",

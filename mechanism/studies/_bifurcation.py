@@ -1,7 +1,7 @@
 """Bifurcation (orbit) diagrams of a scene over one parameter, on the sweep machinery.
 
 Each parameter value is one sweep point whose simulation records only stroboscopic
-sections and the response metrics (``simulate(..., record="sections", companion=False)``:
+sections and the response metrics (``simulate(..., record=SectionsRecord(companion=False))``:
 no ideal companion, so no errors against the ideal mechanism), so a value costs the
 integration alone; the store, resume, failures as data and the dask backends
 are those of :func:`mechanism.sweep`.
@@ -24,11 +24,12 @@ import xarray as xr
 
 from chaoskit.contract import __version__, stamp
 from mechanism.core import simulate
+from mechanism.core.record import SectionsRecord
 
 from ._lyapunov import lyapunov_exponent
 from .sweep import Analysis, resolve_scene, sweep
 
-__all__ = ["EXPONENT_VARIABLES", "bifurcation", "parse_values"]
+__all__ = ["EXPONENT_VARIABLES", "BifurcationSettings", "bifurcation", "parse_values"]
 
 ECCENTRICITY = "eccentricity"
 # the per-value exponent a bifurcation Dataset can carry: estimate and 95 % interval
@@ -77,18 +78,10 @@ class _SectionPoint:
             key: value for key, value in (("rtol", self.rtol), ("atol", self.atol))
             if value is not None
         }  # fmt: skip
-        ds = simulate(
-            scene,
-            revolutions=revolutions,
-            record="sections",
-            # the diagram needs no ideal mechanism: at 1e-8 it cost a third (150 rpm) to
-            # two thirds (30 rpm) more than the run itself
-            companion=False,
-            discard=self.discard,
-            phase=self.phase,
-            throw=False,
-            **tolerance,
-        )
+        # the diagram needs no ideal mechanism: at 1e-8 it cost a third (150 rpm) to
+        # two thirds (30 rpm) more than the run itself
+        record = SectionsRecord(phase=self.phase, discard=self.discard, companion=False)
+        ds = simulate(scene, revolutions=revolutions, record=record, throw=False, **tolerance)
         if self.exponent and ds.attrs.get("solver_status") == 0:
             cpu = time.process_time()
             discard = self.discard if self.exponent_discard is None else self.exponent_discard
@@ -117,6 +110,85 @@ class _SectionPoint:
                     },
                 )
         return ds
+
+
+def _revolutions(value: Any, name: str, *, positive: bool) -> float | None:
+    """An optional revolution count: None, or a finite number > 0 (``positive``) / >= 0."""
+    if value is None:
+        return None
+    number = not isinstance(value, bool) and isinstance(value, int | float)
+    if not (number and math.isfinite(value) and (value > 0 if positive else value >= 0)):
+        bound = "> 0" if positive else ">= 0"
+        raise ValueError(f"{name} must be a number {bound} (revolutions); got {value!r}.")
+    return float(value)
+
+
+@dataclass(frozen=True, kw_only=True)
+class BifurcationSettings:
+    r"""How :func:`bifurcation` samples and integrates each value: the strobe phase, the
+    tolerances of the points and the length of the per-value exponent.
+
+    Every field is checked on construction (a ValueError names the field and its
+    accepted range).
+
+    Parameters
+    ----------
+    phase : float
+        Crank phase :math:`\varphi` of the strobe, rad (finite).
+    rtol, atol : float or None
+        Tolerances of the error-controlled integration of a rigid model's points, in
+        (0, 1) (default 1e-7; None: the scene's). At a scene's usual 1e-5 the error
+        accepted on positions is 10 µm and a regular orbit's strobes scatter by up to a
+        micrometre, which reads as a thin band; at 1e-7 and tighter they coincide
+        (``docs/sweeps.md``). The exponent runs at :func:`lyapunov_exponent`'s own
+        default, 1e-8 (at 1e-7 it is not converged). Flexible models (fixed-step
+        generalized-α) keep the scene's settings.
+    exponent_revolutions, exponent_discard : float or None
+        Revolutions the exponent keeps (> 0) and the transient it discards before them
+        (>= 0); default (None) those of the points. They apply with
+        ``bifurcation(..., exponent=True)`` only. The exponent costs about three times
+        the points per revolution, so a diagram over many values can keep fewer for it:
+        its interval widens about as the inverse square root of the kept revolutions,
+        which ``docs/sweeps.md`` measures against the cost.
+
+    Examples
+    --------
+    >>> import mechanism
+    >>> mechanism.BifurcationSettings(rtol=1e-8, atol=1e-8).phase
+    0.0
+    """
+
+    phase: float = 0.0
+    rtol: float | None = ORBIT_TOLERANCE
+    atol: float | None = ORBIT_TOLERANCE
+    exponent_revolutions: float | None = None
+    exponent_discard: float | None = None
+
+    def __post_init__(self) -> None:
+        phase = self.phase
+        if (
+            isinstance(phase, bool)
+            or not isinstance(phase, int | float)
+            or not math.isfinite(phase)
+        ):
+            raise ValueError(f"phase must be a finite angle in rad; got {phase!r}.")
+        object.__setattr__(self, "phase", float(phase))
+        for name in ("rtol", "atol"):
+            value = getattr(self, name)
+            number = not isinstance(value, bool) and isinstance(value, int | float)
+            if value is not None and not (number and 0.0 < value < 1.0):
+                raise ValueError(f"{name} must be in (0, 1) or None (the scene's); got {value!r}.")
+            object.__setattr__(self, name, None if value is None else float(value))
+        object.__setattr__(
+            self,
+            "exponent_revolutions",
+            _revolutions(self.exponent_revolutions, "exponent_revolutions", positive=True),
+        )
+        object.__setattr__(
+            self,
+            "exponent_discard",
+            _revolutions(self.exponent_discard, "exponent_discard", positive=False),
+        )
 
 
 def _flexible(scene: Any) -> bool:
@@ -192,12 +264,8 @@ def bifurcation(
     revolutions: float,
     discard: float,
     variables: Sequence[str] = (ECCENTRICITY,),
-    phase: float = 0.0,
     exponent: bool = False,
-    exponent_revolutions: float | None = None,
-    exponent_discard: float | None = None,
-    rtol: float | None = ORBIT_TOLERANCE,
-    atol: float | None = ORBIT_TOLERANCE,
+    settings: BifurcationSettings | None = None,
     client: Any = None,
     n_workers: int | None = None,
     store: str | os.PathLike[str] | None = None,
@@ -231,26 +299,15 @@ def bifurcation(
         Section variables to keep (default: the journal eccentricity :math:`|e|` of each
         clearance joint); any variable of ``simulate(record="sections")`` along
         ``crossing`` (and ``joint``).
-    phase
-        Crank phase :math:`\varphi` of the strobe, rad.
     exponent
         Also estimate the largest Lyapunov exponent of every value from the equations of
         motion (variables ``lyapunov_exponent`` and its 95 % interval
         ``lyapunov_exponent_low`` / ``_high``, 1/s), by default over the same
-        revolutions as the points.
-    exponent_revolutions, exponent_discard
-        Revolutions the exponent keeps and the transient it discards before them (default:
-        those of the points). The exponent costs about three times the points per
-        revolution, so a diagram over many values can keep fewer for it: its interval
-        widens about as the inverse square root of the kept revolutions, which
-        ``docs/sweeps.md`` measures against the cost.
-    rtol, atol
-        Tolerances of the error-controlled integration of a rigid model's points (default
-        1e-7; None: the scene's). At a scene's usual 1e-5 the error accepted on positions
-        is 10 µm and a regular orbit's strobes scatter by up to a micrometre, which reads
-        as a thin band; at 1e-7 and tighter they coincide (``docs/sweeps.md``). The
-        exponent runs at :func:`lyapunov_exponent`'s own default, 1e-8 (at 1e-7 it is not
-        converged). Flexible models (fixed-step generalized-α) keep the scene's settings.
+        revolutions as the points (see ``settings``).
+    settings
+        The strobe phase (rad), the tolerances of the points (default 1e-7) and the
+        revolutions of the exponent: a :class:`BifurcationSettings` (default
+        ``BifurcationSettings()``).
     client, n_workers, progress
         As for :func:`mechanism.sweep` (default: a ``LocalCluster``; ``"serial"``: this
         process).
@@ -292,25 +349,22 @@ def bifurcation(
         raise ValueError("variables must name at least one section variable.")
     if isinstance(discard, bool) or not isinstance(discard, int | float) or discard < 0:
         raise ValueError(f"discard must be a number >= 0 (revolutions); got {discard!r}.")
-    for name, value in (("rtol", rtol), ("atol", atol)):
-        if value is not None and not (isinstance(value, int | float) and 0.0 < value < 1.0):
-            raise ValueError(f"{name} must be in (0, 1) or None (the scene's); got {value!r}.")
-    for name, value, bound in (
-        ("exponent_revolutions", exponent_revolutions, "> 0"),
-        ("exponent_discard", exponent_discard, ">= 0"),
-    ):
-        if value is None:
-            continue
-        if not exponent:
-            raise ValueError(f"{name} applies to the exponent; pass exponent=True with it.")
-        number = not isinstance(value, bool) and isinstance(value, int | float)
-        if not (number and math.isfinite(value) and (value > 0 if bound == "> 0" else value >= 0)):
-            raise ValueError(f"{name} must be a number {bound} (revolutions); got {value!r}.")
+    if settings is None:
+        settings = BifurcationSettings()
+    elif not isinstance(settings, BifurcationSettings):
+        raise TypeError(
+            f"settings must be a mechanism.BifurcationSettings; got {type(settings).__name__}."
+        )
+    for name in ("exponent_revolutions", "exponent_discard"):
+        if getattr(settings, name) is not None and not exponent:
+            raise ValueError(
+                f"settings.{name} applies to the exponent; pass exponent=True with it."
+            )
     simulator = _SectionPoint(
-        discard=float(discard), phase=float(phase), exponent=bool(exponent),
-        rtol=None if rtol is None else float(rtol), atol=None if atol is None else float(atol),
-        exponent_revolutions=None if exponent_revolutions is None else float(exponent_revolutions),
-        exponent_discard=None if exponent_discard is None else float(exponent_discard),
+        discard=float(discard), phase=settings.phase, exponent=bool(exponent),
+        rtol=settings.rtol, atol=settings.atol,
+        exponent_revolutions=settings.exponent_revolutions,
+        exponent_discard=settings.exponent_discard,
     )  # fmt: skip
     with _store_folder(store) as folder:
         summary = sweep(

@@ -31,7 +31,7 @@ from mechanism.core.integrate import (
 from mechanism.core.model import assemble, initial_state
 from mechanism.core.scene import Scene
 
-__all__ = ["SceneLyapunov", "lyapunov_exponent"]
+__all__ = ["LyapunovSettings", "SceneLyapunov", "lyapunov_exponent"]
 
 #: segments of the running estimate of a scene without a periodic drive
 UNDRIVEN_SEGMENTS = 100
@@ -47,6 +47,93 @@ DEFAULT_PERTURBATION = 1e-7
 #: friction ramp at the explicit method's stability limit the deviation measures the
 #: integrator's amplification (docs/mechanism-lyapunov.md §2, *Step control*)
 DEFAULT_DEVIATION_RTOL = 1e-4
+
+
+def _optional_positive(value: Any, name: str) -> float | None:
+    return None if value is None else check_positive(value, name=name)
+
+
+@dataclass(frozen=True, kw_only=True)
+class LyapunovSettings:
+    """How :func:`lyapunov_exponent` estimates the exponent: the deviation, its
+    renormalisation, the interval and the integration of both trajectories.
+
+    Every field is checked on construction (a ValueError names the field and its
+    accepted range); the defaults are those measured in ``docs/mechanism-lyapunov.md``.
+
+    Parameters
+    ----------
+    perturbation : float
+        ε / L, in (0, 1e-4]: the size of the finite differences and of the renormalised
+        deviation. The estimate is the same from 1e-9 to 1e-4 (round-off shows below,
+        the kinks of the contact law above: at 5e-4 the deviation's step control fails
+        on the rigid paper scene; docs/mechanism-lyapunov.md §3).
+    renormalize_every : int
+        Accepted steps between renormalisations (≥ 1); it also happens at every
+        segment end.
+    deviation_rtol : float
+        Relative tolerance of the deviation's error estimate per step (mass-weighted
+        norm, relative to the deviation's size), in [0, 0.1]; 0 leaves the step control
+        to the reference alone (then the steps are those of :func:`mechanism.simulate`,
+        and where the reference rides a stiff friction ramp at the explicit method's
+        stability limit the estimate measures the integrator, not the mechanism).
+        Rigid scenes only.
+    batches : int
+        Batches of consecutive segments for the 95 % interval (≥ 2; fewer when there are
+        fewer segments).
+    seed : int
+        Seed of the random initial direction of the deviation (≥ 0).
+    rtol, atol : float, optional
+        Tolerances of the reference (> 0); default 1e-8 for a rigid scene (not
+        ``scene.solver``'s: on the paper scene the estimate is the same from 1e-5 to 1e-9
+        within its interval and costs the same, since the journals' approach and the
+        deviation's error set the steps, so the tighter one is free;
+        docs/mechanism-lyapunov.md §3), ``scene.solver``'s for a flexible one (the
+        fixed-step generalized-α reads them only in its Newton test, and its reference
+        then takes the steps of :func:`mechanism.simulate`).
+    max_step : float, optional
+        Largest step (s, > 0), and then the only bound. Default: the step limits of
+        :func:`mechanism.simulate` (``scene.solver.max_step`` if set; else, with active
+        clearance joints, the bound by the journals' approach to their walls, never below
+        the scene's default output step; unlimited without).
+
+    Examples
+    --------
+    >>> import mechanism
+    >>> mechanism.LyapunovSettings(perturbation=1e-9, seed=3).perturbation
+    1e-09
+    """
+
+    perturbation: float = DEFAULT_PERTURBATION
+    renormalize_every: int = 1
+    deviation_rtol: float = DEFAULT_DEVIATION_RTOL
+    batches: int = 10
+    seed: int = 0
+    rtol: float | None = None
+    atol: float | None = None
+    max_step: float | None = None
+
+    def __post_init__(self) -> None:
+        perturbation = check_positive(self.perturbation, name="perturbation")
+        if perturbation > 1e-4:
+            raise ValueError(f"perturbation must be in (0, 1e-4]; got {perturbation!r}.")
+        deviation_rtol = check_positive(self.deviation_rtol, name="deviation_rtol", allow_zero=True)
+        if deviation_rtol > 0.1:
+            raise ValueError(f"deviation_rtol must be in [0, 0.1]; got {deviation_rtol!r}.")
+        checked = {
+            "perturbation": perturbation,
+            "renormalize_every": check_int(
+                self.renormalize_every, name="renormalize_every", minimum=1
+            ),
+            "deviation_rtol": deviation_rtol,
+            "batches": check_int(self.batches, name="batches", minimum=2),
+            "seed": check_int(self.seed, name="seed", minimum=0),
+            "rtol": _optional_positive(self.rtol, "rtol"),
+            "atol": _optional_positive(self.atol, "atol"),
+            "max_step": _optional_positive(self.max_step, "max_step"),
+        }
+        for name, value in checked.items():
+            object.__setattr__(self, name, value)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -168,15 +255,8 @@ def lyapunov_exponent(
     revolutions: float | None = None,
     t_end: float | None = None,
     discard: float = 0.0,
-    perturbation: float = DEFAULT_PERTURBATION,
-    renormalize_every: int = 1,
-    rtol: float | None = None,
-    atol: float | None = None,
-    max_step: float | None = None,
-    batches: int = 10,
-    seed: int = 0,
+    settings: LyapunovSettings | None = None,
     progress: bool = False,
-    deviation_rtol: float = DEFAULT_DEVIATION_RTOL,
 ) -> SceneLyapunov:
     r"""Largest Lyapunov exponent of a scene from its equations of motion.
 
@@ -218,40 +298,12 @@ def lyapunov_exponent(
     discard : float
         Transient left out of the estimate (the deviation still evolves through it):
         drive periods with ``revolutions``, seconds with ``t_end``.
-    perturbation : float
-        ε / L, in (0, 1e-4]: the size of the finite differences and of the renormalised
-        deviation. The estimate is the same from 1e-9 to 1e-4 (round-off shows below,
-        the kinks of the contact law above: at 5e-4 the deviation's step control fails
-        on the rigid paper scene; docs/mechanism-lyapunov.md §3).
-    renormalize_every : int
-        Accepted steps between renormalisations (≥ 1); it also happens at every
-        segment end.
-    rtol, atol : float, optional
-        Tolerances of the reference; default 1e-8 for a rigid scene (not
-        ``scene.solver``'s: on the paper scene the estimate is the same from 1e-5 to 1e-9
-        within its interval and costs the same, since the journals' approach and the
-        deviation's error set the steps, so the tighter one is free;
-        docs/mechanism-lyapunov.md §3), ``scene.solver``'s for a flexible one (the
-        fixed-step generalized-α reads them only in its Newton test, and its reference
-        then takes the steps of :func:`mechanism.simulate`).
-    max_step : float, optional
-        Largest step (s), and then the only bound. Default: the step limits of
-        :func:`mechanism.simulate` (``scene.solver.max_step`` if set; else, with active
-        clearance joints, the bound by the journals' approach to their walls, never below
-        the scene's default output step; unlimited without).
-    batches : int
-        Batches of consecutive segments for the 95 % interval (≥ 2; fewer when there are
-        fewer segments).
-    seed : int
-        Seed of the random initial direction of the deviation.
+    settings : LyapunovSettings, optional
+        The deviation (``perturbation`` ε / L, ``renormalize_every``, ``deviation_rtol``,
+        ``seed``), the interval (``batches``) and the integration (``rtol``, ``atol``,
+        ``max_step``); default ``LyapunovSettings()``.
     progress : bool
         Show a progress bar.
-    deviation_rtol : float
-        Relative tolerance of the deviation's error estimate per step (mass-weighted
-        norm, relative to the deviation's size), in [0, 0.1]; 0 leaves the step control
-        to the reference alone (then the steps are those of :func:`mechanism.simulate`,
-        and where the reference rides a stiff friction ramp at the explicit method's
-        stability limit the estimate measures the integrator, not the mechanism).
 
     Returns
     -------
@@ -304,15 +356,14 @@ def lyapunov_exponent(
                 f"discard must be smaller than t_end ({duration!r} s); got {discard!r}."
             )
         t_discard = discard
-    perturbation = check_positive(perturbation, name="perturbation")
-    if perturbation > 1e-4:
-        raise ValueError(f"perturbation must be in (0, 1e-4]; got {perturbation!r}.")
-    every = check_int(renormalize_every, name="renormalize_every", minimum=1)
-    batches = check_int(batches, name="batches", minimum=2)
-    seed = check_int(seed, name="seed", minimum=0)
-    deviation_rtol = check_positive(deviation_rtol, name="deviation_rtol", allow_zero=True)
-    if deviation_rtol > 0.1:
-        raise ValueError(f"deviation_rtol must be in [0, 0.1]; got {deviation_rtol!r}.")
+    if settings is None:
+        settings = LyapunovSettings()
+    elif not isinstance(settings, LyapunovSettings):
+        raise TypeError(
+            f"settings must be a mechanism.LyapunovSettings; got {type(settings).__name__}."
+        )
+    perturbation, every = settings.perturbation, settings.renormalize_every
+    batches, seed, deviation_rtol = settings.batches, settings.seed, settings.deviation_rtol
     solver = scene.solver
     model = assemble(scene)
     flexible = bool(model.beams)
@@ -328,13 +379,13 @@ def lyapunov_exponent(
             raise ValueError("the exponent of a flexible scene needs solver.projection = false.")
         method = resolved
     default_tol = (solver.rtol, solver.atol) if flexible else (DEFAULT_TOLERANCE,) * 2
-    rtol = check_positive(default_tol[0] if rtol is None else rtol, name="rtol")
-    atol = check_positive(default_tol[1] if atol is None else atol, name="atol")
-    if max_step is None:
+    rtol = default_tol[0] if settings.rtol is None else settings.rtol
+    atol = default_tol[1] if settings.atol is None else settings.atol
+    if settings.max_step is None:
         # the step limits of mechanism.simulate with its integrator: the same step rule
         max_step, floor = step_limits(model, method, default_step(scene, duration))
     else:
-        max_step, floor = check_positive(max_step, name="max_step"), 0.0
+        max_step, floor = settings.max_step, 0.0
 
     q0, v0 = initial_state(model)
     y0 = np.concatenate([q0, v0])

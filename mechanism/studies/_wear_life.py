@@ -34,7 +34,12 @@ from ._wear_prediction import (
     update_loop,
 )
 
-__all__ = ["DEFAULT_WEAR_LIFE_AVERAGED_REVOLUTIONS", "WearLife", "wear_life"]
+__all__ = [
+    "DEFAULT_WEAR_LIFE_AVERAGED_REVOLUTIONS",
+    "WearLife",
+    "WearLifeSettings",
+    "wear_life",
+]
 
 #: Default of ``averaged_revolutions`` in :func:`wear_life` (docs/wear.md §6: on the rigid
 #: paper scene at 90 rpm the median relative 95 % half-width of the increments over
@@ -135,6 +140,63 @@ class WearLife:
 
 
 # --------------------------------------------------------------------------- input
+
+
+@dataclass(frozen=True, kw_only=True)
+class WearLifeSettings:
+    """How :func:`wear_life` analyses the motion of each checkpoint's worn state.
+
+    Every field is checked on construction (a ValueError names the field and its
+    accepted range).
+
+    Parameters
+    ----------
+    settle_revolutions : float
+        Revolutions left out before the wear is measured and before the analysis (≥ 0).
+    analysis_revolutions : int
+        Revolutions analysed at each checkpoint, in [4, 10000] (one stroboscopic point
+        each; the motion verdict needs at least 20 points to decide).
+    lyapunov_revolutions, lyapunov_discard : float
+        Revolutions of the exponent's run (> 0) and those left out of it (≥ 0, fewer).
+    continuous_contact : float
+        Shortest continuous-contact episode, as a fraction of the drive period, in (0, 1).
+
+    Examples
+    --------
+    >>> import mechanism
+    >>> mechanism.WearLifeSettings(analysis_revolutions=40).lyapunov_revolutions
+    10.0
+    """
+
+    settle_revolutions: float = 2.0
+    analysis_revolutions: int = 25
+    lyapunov_revolutions: float = 10.0
+    lyapunov_discard: float = 2.0
+    continuous_contact: float = 0.01
+
+    def __post_init__(self) -> None:
+        settle = check_positive(self.settle_revolutions, name="settle_revolutions", allow_zero=True)
+        analysis = check_int(
+            self.analysis_revolutions, name="analysis_revolutions", minimum=4, maximum=10000
+        )
+        lyap_revs = check_positive(self.lyapunov_revolutions, name="lyapunov_revolutions")
+        lyap_discard = check_positive(
+            self.lyapunov_discard, name="lyapunov_discard", allow_zero=True
+        )
+        if lyap_discard >= lyap_revs:
+            raise ValueError(
+                f"lyapunov_discard must be in [0, lyapunov_revolutions) = [0, {lyap_revs:g}); "
+                f"got {self.lyapunov_discard!r}."
+            )
+        checked = {
+            "settle_revolutions": settle,
+            "analysis_revolutions": analysis,
+            "lyapunov_revolutions": lyap_revs,
+            "lyapunov_discard": lyap_discard,
+            "continuous_contact": _fraction(self.continuous_contact, "continuous_contact"),
+        }
+        for name, value in checked.items():
+            object.__setattr__(self, name, value)
 
 
 def _checked_path(cycles: Any, checkpoints: Any) -> tuple[float, list[float]]:
@@ -293,11 +355,7 @@ def wear_life(
     averaged_revolutions: int = DEFAULT_WEAR_LIFE_AVERAGED_REVOLUTIONS,
     exponent: bool = True,
     max_depth_increment: float = DEFAULT_MAX_DEPTH_INCREMENT,
-    settle_revolutions: float = 2.0,
-    analysis_revolutions: int = 25,
-    lyapunov_revolutions: float = 10.0,
-    lyapunov_discard: float = 2.0,
-    continuous_contact: float = 0.01,
+    settings: WearLifeSettings | None = None,
     method: str | None = None,
     rtol: float | None = None,
     atol: float | None = None,
@@ -311,7 +369,8 @@ def wear_life(
     ``averaged_revolutions`` revolutions of the current worn state, with the increments
     capped at ``max_depth_increment`` × clearance. At the unworn state, at every checkpoint
     and at ``cycles`` the worn scene is simulated for ``settle_revolutions`` +
-    ``analysis_revolutions`` revolutions and the last ``analysis_revolutions`` give:
+    ``analysis_revolutions`` revolutions (fields of ``settings``) and the last
+    ``analysis_revolutions`` give:
 
     * the stroboscopic points of every journal (its eccentricity each time the crank
       passes its starting angle);
@@ -350,15 +409,9 @@ def wear_life(
     max_depth_increment : float
         Largest depth one increment may add, as a fraction of the radial clearance, in
         (0, 1].
-    settle_revolutions : float
-        Revolutions left out before the wear is measured and before the analysis (≥ 0).
-    analysis_revolutions : int
-        Revolutions analysed at each checkpoint, in [4, 10000] (one stroboscopic point
-        each; the motion verdict needs at least 20 points to decide).
-    lyapunov_revolutions, lyapunov_discard : float
-        Revolutions of the exponent's run (> 0) and those left out of it (≥ 0, fewer).
-    continuous_contact : float
-        Shortest continuous-contact episode, as a fraction of the drive period, in (0, 1).
+    settings : WearLifeSettings, optional
+        The settle, analysed and exponent revolutions and the continuous-contact time of
+        each checkpoint's analysis; default ``WearLifeSettings()``.
     method, rtol, atol, output_step
         Passed to :func:`mechanism.simulate`.
     progress : bool
@@ -385,22 +438,19 @@ def wear_life(
     total, targets = _checked_path(cycles, checkpoints)
     averaged = check_averaged_revolutions(averaged_revolutions)
     limit = check_depth_increment(max_depth_increment)
-    settle = check_positive(settle_revolutions, name="settle_revolutions", allow_zero=True)
-    lyap_revs = check_positive(lyapunov_revolutions, name="lyapunov_revolutions")
-    lyap_discard = check_positive(lyapunov_discard, name="lyapunov_discard", allow_zero=True)
-    if lyap_discard >= lyap_revs:
-        raise ValueError(
-            f"lyapunov_discard must be in [0, lyapunov_revolutions) = [0, {lyap_revs:g}); "
-            f"got {lyapunov_discard!r}."
+    if settings is None:
+        settings = WearLifeSettings()
+    elif not isinstance(settings, WearLifeSettings):
+        raise TypeError(
+            f"settings must be a mechanism.WearLifeSettings; got {type(settings).__name__}."
         )
+    settle = settings.settle_revolutions
+    lyap_revs, lyap_discard = settings.lyapunov_revolutions, settings.lyapunov_discard
     kwargs = {"method": method, "rtol": rtol, "atol": atol, "output_step": output_step}
     how = _Analysis(
-        discard=settle,
-        revolutions=check_int(analysis_revolutions, name="analysis_revolutions", minimum=4,
-                              maximum=10000),
-        exponent=bool(exponent), lyapunov_revolutions=lyap_revs, lyapunov_discard=lyap_discard,
-        continuous_fraction=_fraction(continuous_contact, "continuous_contact"),
-        simulate_kwargs=kwargs,
+        discard=settle, revolutions=settings.analysis_revolutions, exponent=bool(exponent),
+        lyapunov_revolutions=lyap_revs, lyapunov_discard=lyap_discard,
+        continuous_fraction=settings.continuous_contact, simulate_kwargs=kwargs,
     )  # fmt: skip
     loop = update_loop(
         scene, targets=targets, limit=limit, settle=settle, averaged=averaged,

@@ -11,7 +11,7 @@ import xarray as xr
 
 import chaoskit
 from chaoskit import SectionStructure, Verdict, VerdictRule, classify, systems
-from chaoskit.verdict._verdict import combine
+from chaoskit.verdict._combine import combine
 from tests.chaoskit.test_sections import duffing_dataset
 from tests.chaoskit.test_surrogates import ar1
 

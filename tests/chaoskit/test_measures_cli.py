@@ -70,7 +70,9 @@ def test_parse_measures() -> None:
 
 
 def test_report_has_a_further_measures_section(henon_file, tmp_path) -> None:
-    rep = chaoskit.report([henon_file], variables=["x"], measures=["d2", "rqa", "dfa"])
+    rep = chaoskit.report(
+        [henon_file], variables=["x"], options=chaoskit.ReportOptions(measures=["d2", "rqa", "dfa"])
+    )
     section = next(s for s in rep.sections if s.title == "Further measures")
     tables = [i for i in section.items if isinstance(i, chaoskit.ReportTable)]
     figures = [i for i in section.items if isinstance(i, chaoskit.ReportFigure)]

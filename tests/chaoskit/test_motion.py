@@ -18,7 +18,7 @@ from chaoskit import (
     lyapunov_rosenstein,
     systems,
 )
-from chaoskit.verdict._motion import combine_motion
+from chaoskit.verdict._motion_combine import combine_motion
 
 OMEGA = 1.2
 DRIVE = 2 * np.pi / OMEGA

@@ -23,7 +23,7 @@ import xarray as xr
 from PIL import Image
 
 import chaoskit
-from chaoskit import select_series, systems
+from chaoskit import ReportExtras, ReportOptions, select_series, systems
 from chaoskit.reporting import (
     ReportFigure,
     ReportTable,
@@ -148,34 +148,39 @@ def built(trajectories, tmp_path_factory):
         trajectories,
         variables={"X": "eccentricity_x[joint=C]"},
         phase_variable="crank_angle",
-        rng=0,
-        chaos_reference=CHAOS_PAPER,
-        reference_name="paper",
-        chaos_notes="The stand-in is not the paper's mechanism.",
-        tables=[
-            ReportTable(
-                caption="Response metrics before and after wear.",
-                data=METRICS,
-                reference=PAPER,
-                reference_name="paper",
-                ratio=("after wear", "before wear"),
-                labels={
-                    "peak_contact_force": "peak contact force (N)",
-                    "max_penetration": "max penetration (m)",
-                },
-            )
-        ],
-        sweep_maps=[
-            SweepMap(
-                data=_sweep(), x="drive.speed_rpm", y="joints.C.clearance", select={"wear": "after"}
-            )
-        ],
-        bifurcations=[_bifurcation()],
-        figures=[_extra_figure()],
-        parameters={"revolutions": 10, "integrator": {"rtol": 1e-5}},
         title="Stand-in study",
-        command="chaoskit report before.nc after.nc",
         output=out,
+        options=ReportOptions(rng=0),
+        extras=ReportExtras(
+            chaos_reference=CHAOS_PAPER,
+            reference_name="paper",
+            chaos_notes="The stand-in is not the paper's mechanism.",
+            tables=[
+                ReportTable(
+                    caption="Response metrics before and after wear.",
+                    data=METRICS,
+                    reference=PAPER,
+                    reference_name="paper",
+                    ratio=("after wear", "before wear"),
+                    labels={
+                        "peak_contact_force": "peak contact force (N)",
+                        "max_penetration": "max penetration (m)",
+                    },
+                )
+            ],
+            sweep_maps=[
+                SweepMap(
+                    data=_sweep(),
+                    x="drive.speed_rpm",
+                    y="joints.C.clearance",
+                    select={"wear": "after"},
+                )
+            ],
+            bifurcations=[_bifurcation()],
+            figures=[_extra_figure()],
+            parameters={"revolutions": 10, "integrator": {"rtol": 1e-5}},
+            command="chaoskit report before.nc after.nc",
+        ),
     )
     return rep, out
 
@@ -522,7 +527,7 @@ def test_bad_inputs_raise_clear_errors(trajectories) -> None:
     with pytest.raises(ValueError, match="discard"):
         chaoskit.report(trajectories, variables=["crank_angle"], discard=-1.0)
     with pytest.raises(ValueError, match="ReportTable"):
-        chaoskit.report(tables=[METRICS])
+        chaoskit.report(extras=ReportExtras(tables=[METRICS]))
     with pytest.raises(ValueError, match="ratio must name two rows"):
         ReportTable(caption="x", data=METRICS, ratio=("after", "before wear"))
     with pytest.raises(ValueError, match="caption"):
@@ -538,8 +543,8 @@ def test_chaos_reference_with_unknown_columns_is_refused(trajectories) -> None:
             {"before wear": trajectories["before wear"]},
             variables={"X": "eccentricity_x[joint=C]"},
             drive_period=DRIVE,
-            chaos_reference=ref,
-            max_samples=1000,
+            extras=ReportExtras(chaos_reference=ref),
+            options=ReportOptions(max_samples=1000),
         )
 
 
@@ -551,7 +556,7 @@ def test_tables_only_report_and_long_layout(tmp_path) -> None:
         reference_name="paper",
         layout="long",
     )
-    rep = chaoskit.report(tables=[table], title="Tables only", command="test")
+    rep = chaoskit.report(title="Tables only", extras=ReportExtras(tables=[table], command="test"))
     shown = rep.tables[0].display()
     assert list(shown.columns.get_level_values(0)) == ["ours", "paper", "difference (%)"]
     assert shown.loc[("after wear", "peak_contact_force")].tolist() == ["21000", "23330", "-10.0"]
@@ -594,8 +599,8 @@ def test_motion_verdict_comes_first_one_per_state(trajectories) -> None:
         trajectories,
         variables={"X": "eccentricity_x[joint=C]", "A": "eccentricity_x[joint=A]"},
         phase_variable="crank_angle",
-        exponents=eq,
-        rng=0,
+        extras=ReportExtras(exponents=eq),
+        options=ReportOptions(rng=0),
     )
     assert rep.sections[0].title == "Motion verdict"
     assert set(rep.motions) == set(STATES)
@@ -610,4 +615,8 @@ def test_motion_verdict_comes_first_one_per_state(trajectories) -> None:
     assert table.loc["before wear", "set_aside"] == "A"
     assert table.loc["after wear", "equations"] == pytest.approx(0.1)
     with pytest.raises(ValueError, match="exponents names states"):
-        chaoskit.report(trajectories, variables=["crank_angle"], exponents={"nope": eq})
+        chaoskit.report(
+            trajectories,
+            variables=["crank_angle"],
+            extras=ReportExtras(exponents={"nope": eq}),
+        )

@@ -71,8 +71,7 @@ def drawn():
             {"before wear": _duffing(0.28, 60), "after wear": _duffing(0.5, 60)},
             variables={"X": "x", "Y": "y"},
             phase_variable="crank_angle",
-            display_units={"X": "mm"},
-            rng=0,
+            options=chaoskit.ReportOptions(display_units={"X": "mm"}, rng=0),
         )
     return rep, sections
 
@@ -121,9 +120,17 @@ def test_display_units_convert_the_figures_only(drawn) -> None:
     settings = rep.table("Analysis settings").data["value"]
     assert settings["display_units"] == '{"X": "mm"}'
     with pytest.raises(ValueError, match=r"display_units\['X'\] = 'kg': the accepted units"):
-        chaoskit.report({"a": _duffing(0.28, 5)}, variables={"X": "x"}, display_units={"X": "kg"})
+        chaoskit.report(
+            {"a": _duffing(0.28, 5)},
+            variables={"X": "x"},
+            options=chaoskit.ReportOptions(display_units={"X": "kg"}),
+        )
     with pytest.raises(ValueError, match="display_units names 'Z'"):
-        chaoskit.report({"a": _duffing(0.28, 5)}, variables={"X": "x"}, display_units={"Z": "mm"})
+        chaoskit.report(
+            {"a": _duffing(0.28, 5)},
+            variables={"X": "x"},
+            options=chaoskit.ReportOptions(display_units={"Z": "mm"}),
+        )
 
 
 # ------------------------------------------------------------------ the why, the marks

@@ -20,7 +20,7 @@ from chaoskit import (
     systems,
     twin_surrogates,
 )
-from chaoskit.verdict import prediction_error
+from chaoskit.verdict import CycleForecast, prediction_error
 from chaoskit.verdict._surrogates import match_ends
 
 
@@ -195,7 +195,7 @@ def test_twin_surrogates_of_an_exact_orbit_jump_between_its_cycles() -> None:
 @pytest.mark.parametrize("seed", [0, 1, 2])
 def test_a_noisy_periodic_orbit_does_not_reject_the_cycle_null(noise: float, seed: int) -> None:
     x = two_harmonics(noise, seed)
-    res = cycle_surrogate_test(x, 2 * np.pi, dt=0.05, lag=30, rng=seed)
+    res = cycle_surrogate_test(x, 2 * np.pi, dt=0.05, forecast=CycleForecast(lag=30), rng=seed)
     # measured over seeds 0–19: never rejected; the largest effect 0.05 at 1 %, 0.04 at 10 %
     assert not res.rejected
     assert res.effect < 0.1
@@ -207,7 +207,9 @@ def test_a_noisy_periodic_orbit_does_not_reject_the_cycle_null(noise: float, see
 @pytest.mark.parametrize("nudge", [0.0, 1e-12])
 def test_forced_duffing_chaos_rejects_the_cycle_null(nudge: float) -> None:
     t, s = systems.duffing(4000, gamma=0.5, samples_per_period=50, initial=(1.0 + nudge, 0.0))
-    res = cycle_surrogate_test(s[:, 0], DRIVE, dt=float(t[1] - t[0]), lag=12, rng=0)
+    res = cycle_surrogate_test(
+        s[:, 0], DRIVE, dt=float(t[1] - t[0]), forecast=CycleForecast(lag=12), rng=0
+    )
     # measured: effect 0.84 and every surrogate worse than the data
     assert res.rejected and res.p_value == pytest.approx(0.05, abs=1e-12)
     assert res.effect > 0.5
@@ -219,15 +221,54 @@ def test_forced_duffing_chaos_rejects_the_cycle_null(nudge: float) -> None:
     [
         ({"period": 0.1}, "period must span at least 4 samples"),
         ({"period": 1000.0}, "at least 8"),
-        ({"horizon": 200}, "horizon must be shorter than one cycle"),
+        (
+            {"forecast": CycleForecast(lag=10, horizon=200)},
+            "horizon must be shorter than one cycle",
+        ),
         ({"min_gain": 1.0}, r"min_gain must be in \[0, 1\)"),
         ({"n_surrogates": 5}, "n_surrogates = 5 cannot reach alpha"),
     ],
 )
 def test_cycle_surrogate_test_refuses_bad_input(kwargs: dict, match: str) -> None:
-    options = {"period": 2 * np.pi, "dt": 0.05, "lag": 10, **kwargs}
+    options = {"period": 2 * np.pi, "dt": 0.05, "forecast": CycleForecast(lag=10), **kwargs}
     with pytest.raises(ValueError, match=match):
         cycle_surrogate_test(two_harmonics(0.1, 0, n=2000), **options)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "message"),
+    [
+        ({"embedding_dim": 0}, "embedding_dim"),
+        ({"lag": 0}, "lag"),
+        ({"horizon": 0}, "horizon"),
+        ({"theiler_window": -1}, "theiler_window"),
+        ({"n_neighbors": 0}, "n_neighbors"),
+        ({"n_reference": 9}, "n_reference"),
+    ],
+)
+def test_cycle_forecast_refuses_bad_settings(kwargs: dict, message: str) -> None:
+    with pytest.raises(ValueError, match=message):
+        CycleForecast(**kwargs)
+
+
+def test_cycle_forecast_defaults_match_the_test_defaults() -> None:
+    """The default forecast is three delay coordinates of lag 1, five neighbours."""
+    x = two_harmonics(0.1, 0, n=2000)
+    default = cycle_surrogate_test(x, 2 * np.pi, dt=0.05, rng=0)
+    explicit = cycle_surrogate_test(
+        x,
+        2 * np.pi,
+        dt=0.05,
+        forecast=CycleForecast(embedding_dim=3, lag=1, n_neighbors=5, n_reference=1000),
+        rng=0,
+    )
+    assert (default.embedding_dim, default.lag, default.horizon) == (3, 1, 1)
+    assert default.statistic == explicit.statistic
+    np.testing.assert_array_equal(default.surrogate_statistics, explicit.surrogate_statistics)
+    with pytest.raises(TypeError, match="forecast must be a CycleForecast or None; got dict"):
+        cycle_surrogate_test(x, 2 * np.pi, dt=0.05, forecast={"lag": 2})
+    with pytest.raises(TypeError, match="unexpected keyword argument 'lag'"):
+        cycle_surrogate_test(x, 2 * np.pi, dt=0.05, lag=2)  # type: ignore[call-arg]
 
 
 def test_periodic_orbit_evidence_properties_and_refusals() -> None:

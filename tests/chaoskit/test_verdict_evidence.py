@@ -7,9 +7,9 @@ import numpy as np
 import pytest
 
 from chaoskit import VerdictRule, analyze, classify, load_trajectory, surrogate_test, systems
+from chaoskit.verdict._combine import combine
 from chaoskit.verdict._lines import line_spectrum, ljung_box_p
 from chaoskit.verdict._surrogates import min_surrogates
-from chaoskit.verdict._verdict import combine
 from tests.chaoskit.test_classify import DRIVE, _structure, duffing_x
 
 RULE = VerdictRule()

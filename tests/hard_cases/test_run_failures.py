@@ -61,7 +61,7 @@ def test_a_run_forecast_beyond_max_steps_is_stopped_after_its_first_chunk() -> N
     scene = mechanism.load_scene(SCENE).replace(CRAWL)
     start = time.perf_counter()
     with pytest.raises(mechanism.SimulationError) as info:
-        mechanism.simulate(scene, revolutions=1.0, record="metrics", companion=False)
+        mechanism.simulate(scene, revolutions=1.0, record=mechanism.MetricsRecord(companion=False))
     took = time.perf_counter() - start
     text = str(info.value)
     assert "\n" not in text
@@ -83,7 +83,7 @@ def _mechanism(*args: str) -> list[str]:
 
 def test_a_run_forecast_beyond_the_step_budget_is_stopped_unless_forced() -> None:
     scene = mechanism.load_scene(SCENE).replace(CRAWL)
-    run = {"revolutions": SHORT_CRAWL, "record": "metrics", "companion": False}
+    run = {"revolutions": SHORT_CRAWL, "record": mechanism.MetricsRecord(companion=False)}
     with pytest.raises(mechanism.SimulationError) as info:
         mechanism.simulate(scene, **run)
     text = str(info.value)

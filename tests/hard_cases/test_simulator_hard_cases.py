@@ -532,7 +532,7 @@ def test_worn_flexible_paper_journal_is_not_thrown_through_the_bearing() -> None
         worn,
         revolutions=47.5,
         output_step=0.4 / 1000,
-        variables=("crank_angle", "eccentricity_x", "eccentricity_y"),
+        record=mechanism.FullRecord(variables=("crank_angle", "eccentricity_x", "eccentricity_y")),
     )
     assert ds.attrs["solver_status"] == 0
     e = np.hypot(ds.eccentricity_x.values, ds.eccentricity_y.values)

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import inspect
+
 import matplotlib
 import numpy as np
 import pytest
@@ -41,7 +43,7 @@ def test_points_are_those_of_a_sections_run(diagram) -> None:
     assert (ds.status.values == "ok").all()
     scene = mechanism.load_scene(SCENE).replace({"drive.speed_rpm": SPEEDS[1]})
     alone = mechanism.simulate(
-        scene, revolutions=5, record="sections", discard=2, rtol=1e-7, atol=1e-7
+        scene, revolutions=5, record=mechanism.SectionsRecord(discard=2), rtol=1e-7, atol=1e-7
     )  # the orbit diagram's tolerance, not the scene's
     expected = np.hypot(alone.eccentricity_x.values, alone.eccentricity_y.values)
     np.testing.assert_array_equal(ds.eccentricity.isel({"drive.speed_rpm": 1}).values, expected)
@@ -79,6 +81,42 @@ def test_a_failing_value_is_data(tmp_path, monkeypatch) -> None:
     assert ds.contact_force.dims == ("drive.speed_rpm", "crossing", "joint")
     axes = mechanism.plot_bifurcation(ds)
     assert len(axes) == 1 and "1 failed" in axes[0].get_title()
+
+
+def test_the_settings_reach_each_value_as_a_sections_record(tmp_path, monkeypatch) -> None:
+    """Phase, transient and tolerances reach ``simulate`` as one ``SectionsRecord``
+    without the ideal companion, and the points keep the phase."""
+    seen = []
+
+    def spy(scene, **kwargs):
+        seen.append(kwargs)
+        return mechanism.simulate(scene, **kwargs)
+
+    monkeypatch.setattr(bif, "simulate", spy)
+    settings = mechanism.BifurcationSettings(phase=0.5, rtol=1e-6, atol=1e-6)
+    ds = _speeds(tmp_path, values=[3000.0], revolutions=3, discard=1, settings=settings)
+    (kwargs,) = seen
+    assert set(kwargs) == {"revolutions", "record", "throw", "rtol", "atol"}
+    assert kwargs["record"] == mechanism.SectionsRecord(phase=0.5, discard=1.0, companion=False)
+    assert (kwargs["rtol"], kwargs["atol"]) == (1e-6, 1e-6)
+    assert ds.status.values.tolist() == ["ok"], ds.message.values
+    assert ds.crossing.values.tolist() == [1, 2]
+
+
+def test_the_settings_object_is_checked() -> None:
+    with pytest.raises(ValueError, match=r"^phase must be a finite angle in rad; got nan\.$"):
+        mechanism.BifurcationSettings(phase=float("nan"))
+    wrong = r"^settings must be a mechanism\.BifurcationSettings; got dict\.$"
+    with pytest.raises(TypeError, match=wrong):
+        mechanism.bifurcation(
+            SCENE, parameter="drive.speed_rpm", values=[3000.0], revolutions=3, discard=1,
+            settings={"phase": 0.5},
+        )  # fmt: skip
+
+
+def test_the_studies_take_at_most_twelve_parameters() -> None:
+    for study in (mechanism.bifurcation, mechanism.lyapunov_exponent, mechanism.wear_life):
+        assert len(inspect.signature(study).parameters) <= 12, study.__name__
 
 
 def test_the_exponent_is_the_one_from_the_equations(tmp_path) -> None:
@@ -119,10 +157,10 @@ def test_the_exponent_can_keep_fewer_revolutions_than_the_points(tmp_path, monke
         return 1.0, 0.5, 1.5
 
     monkeypatch.setattr(bif, "largest_exponent", stand_in)
+    settings = mechanism.BifurcationSettings(exponent_revolutions=1.5, exponent_discard=0.5)
     ds = _speeds(
-        tmp_path, values=[3000.0], revolutions=5, discard=2, exponent=True,
-        exponent_revolutions=1.5, exponent_discard=0.5,
-    )  # fmt: skip
+        tmp_path, values=[3000.0], revolutions=5, discard=2, exponent=True, settings=settings
+    )
     assert seen == [(2.0, 0.5)]  # 0.5 discarded + 1.5 kept, not the points' 5 and 2
     assert ds.crossing.values.tolist() == [2, 3, 4, 5]  # the points keep theirs
     assert ds.lyapunov_exponent.attrs["revolutions_kept"] == 1.5
@@ -135,10 +173,11 @@ def test_the_exponent_can_keep_fewer_revolutions_than_the_points(tmp_path, monke
         ({"exponent_revolutions": 0}, "exponent_revolutions must be a number > 0"),
         ({"exponent_discard": -1}, "exponent_discard must be a number >= 0"),
         ({"exponent_revolutions": float("nan")}, "exponent_revolutions"),
-        ({"exponent_revolutions": 3, "exponent": False}, "pass exponent=True"),
     ):
         with pytest.raises(ValueError, match=match):
-            _speeds(tmp_path / "bad", **{"exponent": True, **kwargs})
+            mechanism.BifurcationSettings(**kwargs)
+    with pytest.raises(ValueError, match="pass exponent=True"):
+        _speeds(tmp_path / "bad", settings=mechanism.BifurcationSettings(exponent_revolutions=3))
 
 
 REGULAR_ORBIT = {"parameter": "drive.speed_rpm", "values": [60.0], "revolutions": 16,
@@ -149,9 +188,8 @@ def strobe_spreads(scene: mechanism.Scene, store) -> dict[str, float]:
     """Spread (m) of the strobed eccentricities of ``scene`` at 60 rpm over revolutions
     9 – 16, at the diagram's default tolerance (``tight``) and at the scene's (``loose``)."""
     tight = mechanism.bifurcation(scene, store=store / "tight", **REGULAR_ORBIT)
-    loose = mechanism.bifurcation(
-        scene, store=store / "loose", rtol=None, atol=None, **REGULAR_ORBIT
-    )
+    scenes = mechanism.BifurcationSettings(rtol=None, atol=None)
+    loose = mechanism.bifurcation(scene, store=store / "loose", settings=scenes, **REGULAR_ORBIT)
     return {
         k: float(np.ptp(d.eccentricity.values)) for k, d in (("tight", tight), ("loose", loose))
     }
@@ -168,7 +206,7 @@ def test_a_regular_orbit_is_one_point_at_the_diagram_tolerance(tmp_path) -> None
     assert spread["tight"] < 1e-10  # m: one point
     assert spread["loose"] > 1e-9  # integration scatter at the scene's tolerance
     with pytest.raises(ValueError, match="rtol"):
-        mechanism.bifurcation(scene, rtol=2.0, **REGULAR_ORBIT)
+        mechanism.BifurcationSettings(rtol=2.0)
 
 
 def test_thousands_of_points_stay_visible() -> None:

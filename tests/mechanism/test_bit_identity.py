@@ -84,16 +84,13 @@ def test_a_record_object_and_its_name_give_identical_datasets() -> None:
     by_object = mechanism.simulate(scene, revolutions=1, record=FullRecord())
     xr.testing.assert_identical(_results(by_name), _results(by_object))
     assert set(by_name.attrs) == set(by_object.attrs)
-    # the options given as keywords next to the name go into the same object
-    keywords = mechanism.simulate(
-        scene, revolutions=2, record="sections", discard=1, phase=0.25, companion=False
-    )
-    options = SectionsRecord(discard=1, phase=0.25, companion=False)
-    obj = mechanism.simulate(scene, revolutions=2, record=options)
-    xr.testing.assert_identical(_results(keywords), _results(obj))
-    assert keywords.sizes["crossing"] == 1
-    metrics = mechanism.simulate(scene, revolutions=2, record="metrics", discard=1)
-    same = mechanism.simulate(scene, revolutions=2, record=MetricsRecord(discard=1))
+    # a name is its mode with the default options
+    by_name = mechanism.simulate(scene, revolutions=2, record="sections")
+    obj = mechanism.simulate(scene, revolutions=2, record=SectionsRecord(discard=0, phase=0.0))
+    xr.testing.assert_identical(_results(by_name), _results(obj))
+    assert by_name.sizes["crossing"] == 3
+    metrics = mechanism.simulate(scene, revolutions=2, record="metrics")
+    same = mechanism.simulate(scene, revolutions=2, record=MetricsRecord(companion=True))
     xr.testing.assert_identical(_results(metrics), _results(same))
 
 

@@ -168,6 +168,10 @@ def test_scene_values_that_would_exhaust_or_mislead_are_refused(
          "Error: discard must be finite and >= 0; got nan."),
         (["--record", "everything"], "Error: record must be one of 'full', 'metrics', "),
         (["--var", "torque"], "Error: variables must be a non-empty list of names from "),
+        (["--discard", "1"],
+         "Error: --discard applies to --record metrics and sections; slice the full trajectory."),
+        (["--record", "sections", "--var", "crank_angle"],
+         "Error: --var applies to --record full only; got --record sections."),
     ],
 )  # fmt: skip
 def test_bad_run_options_exit_2_with_one_line(

@@ -12,7 +12,8 @@ import pytest
 import mechanism
 from mechanism.core.integrate import GeneralizedAlpha
 from mechanism.core.integrate import _newton_kernels as nk
-from mechanism.core.integrate._methods import _contact_columns, initial_latch
+from mechanism.core.integrate._driver import initial_latch
+from mechanism.core.integrate._methods import _contact_columns
 from mechanism.core.joints._kernels import update_point_rows, update_points
 from mechanism.core.model import _kernels as k
 from mechanism.core.model import assemble, initial_state

@@ -174,7 +174,9 @@ def test_double_pendulum_matches_closed_form_variational_equations() -> None:
     up to 2e-12 of themselves (bound 1e-3)."""
     scene = double_pendulum(*THETA0)
     horizon = 8.0
-    result = mechanism.lyapunov_exponent(scene, t_end=horizon, perturbation=1e-9)
+    result = mechanism.lyapunov_exponent(
+        scene, t_end=horizon, settings=mechanism.LyapunovSettings(perturbation=1e-9)
+    )
     reference = benettin_closed_form(THETA0, joint_angle_deviation(scene), horizon).sum() / horizon
     assert reference > 1.0  # chaotic: ≥ 8 nats over the horizon
     np.testing.assert_allclose(result.exponent, reference, rtol=1e-3)
@@ -233,7 +235,11 @@ def deviation_is_linear(scene: mechanism.Scene) -> mechanism.SceneLyapunov:
     """Assert that 1e-9 and 1e-7 of the clearance grow alike over the first revolution of
     ``scene`` on the same steps, through more than 5 contact events; the 1e-9 run."""
     small, large = (
-        mechanism.lyapunov_exponent(scene, revolutions=1, perturbation=eps, deviation_rtol=0.0)
+        mechanism.lyapunov_exponent(
+            scene,
+            revolutions=1,
+            settings=mechanism.LyapunovSettings(perturbation=eps, deviation_rtol=0.0),
+        )
         for eps in (1e-9, 1e-7)
     )
     assert small.stats is not None and small.stats.contact_events > 5
@@ -299,9 +305,13 @@ def test_paper_exponent_independent_of_perturbation_and_renormalisation(
     growth revolution by revolution from 1e-9 to 1e-5."""
     assert paper_reference.ci[0] > 0.0  # chaotic
     scene = rigid_paper()
-    smaller = mechanism.lyapunov_exponent(scene, revolutions=22, discard=2, perturbation=1e-9)
+    smaller = mechanism.lyapunov_exponent(
+        scene, revolutions=22, discard=2, settings=mechanism.LyapunovSettings(perturbation=1e-9)
+    )
     _agree(paper_reference, smaller)
-    sparse = mechanism.lyapunov_exponent(scene, revolutions=22, discard=2, renormalize_every=10)
+    sparse = mechanism.lyapunov_exponent(
+        scene, revolutions=22, discard=2, settings=mechanism.LyapunovSettings(renormalize_every=10)
+    )
     _agree(paper_reference, sparse)
     # The linear regime, revolution by revolution. With the deviation's error in the step
     # control, round-off at different sizes flips a few accept/reject decisions and the
@@ -309,7 +319,10 @@ def test_paper_exponent_independent_of_perturbation_and_renormalisation(
     # steps they share one, and must see the same growth in every revolution.
     runs = [
         mechanism.lyapunov_exponent(
-            scene, revolutions=22, discard=2, perturbation=eps, deviation_rtol=0.0
+            scene,
+            revolutions=22,
+            discard=2,
+            settings=mechanism.LyapunovSettings(perturbation=eps, deviation_rtol=0.0),
         )
         for eps in (1e-9, 1e-7, 1e-5)
     ]
@@ -330,11 +343,17 @@ def test_paper_exponent_independent_of_tolerance(paper_reference: mechanism.Scen
     of ±40 % each); before the deviation's error entered the step control 1e-6 gave
     3 900 s⁻¹ (3 300 – 4 500) against 135 at 1e-8 (docs/mechanism-lyapunov.md §3)."""
     tight = mechanism.lyapunov_exponent(
-        rigid_paper(), revolutions=22, discard=2, rtol=1e-9, atol=1e-9
+        rigid_paper(),
+        revolutions=22,
+        discard=2,
+        settings=mechanism.LyapunovSettings(rtol=1e-9, atol=1e-9),
     )
     _agree(paper_reference, tight)
     loose = mechanism.lyapunov_exponent(
-        rigid_paper(), revolutions=22, discard=2, rtol=1e-6, atol=1e-6
+        rigid_paper(),
+        revolutions=22,
+        discard=2,
+        settings=mechanism.LyapunovSettings(rtol=1e-6, atol=1e-6),
     )
     assert loose.ci[0] <= paper_reference.ci[1] and paper_reference.ci[0] <= loose.ci[1]
 
@@ -360,18 +379,53 @@ def test_flexible_scene_needs_generalized_alpha_without_projection() -> None:
 @pytest.mark.parametrize(
     ("kwargs", "match"),
     [
-        ({"revolutions": 2, "perturbation": 0.1}, "perturbation"),
-        ({"revolutions": 2, "perturbation": 5e-4}, r"perturbation must be in \(0, 1e-4\]"),
         ({"revolutions": 2, "discard": 2}, "discard"),
-        ({"revolutions": 2, "renormalize_every": 0}, "renormalize_every"),
         ({"revolutions": 2, "t_end": 1.0}, "exactly one"),
         ({"revolutions": -1}, "revolutions"),
-        ({"revolutions": 2, "deviation_rtol": 0.5}, "deviation_rtol"),
     ],
 )
 def test_bad_arguments_name_the_parameter(kwargs: dict, match: str) -> None:
     with pytest.raises(ValueError, match=match):
         mechanism.lyapunov_exponent(rigid_paper(), **kwargs)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "message"),
+    [
+        ({"perturbation": 0.1}, "perturbation must be in (0, 1e-4]; got 0.1."),
+        ({"perturbation": 5e-4}, "perturbation must be in (0, 1e-4]; got 0.0005."),
+        ({"renormalize_every": 0}, "renormalize_every"),
+        ({"deviation_rtol": 0.5}, "deviation_rtol must be in [0, 0.1]; got 0.5."),
+        ({"batches": 1}, "batches"),
+        ({"seed": -1}, "seed"),
+        ({"rtol": 0.0}, "rtol"),
+        ({"max_step": -1e-3}, "max_step"),
+    ],
+)
+def test_the_settings_name_the_bad_field(kwargs: dict, message: str) -> None:
+    """The settings object checks its fields on construction, before any run."""
+    with pytest.raises(ValueError) as info:
+        mechanism.LyapunovSettings(**kwargs)
+    assert message in str(info.value) and "\n" not in str(info.value)
+
+
+def test_the_settings_reach_the_result() -> None:
+    """Every field of the settings is what the estimate records it ran with."""
+    settings = mechanism.LyapunovSettings(
+        perturbation=1e-8, renormalize_every=2, deviation_rtol=1e-3, batches=4, seed=5,
+        rtol=1e-7, atol=1e-9, max_step=1e-3,
+    )  # fmt: skip
+    result = mechanism.lyapunov_exponent(
+        double_pendulum(*THETA0, tol=1e-8), t_end=0.5, settings=settings
+    )
+    recorded = {k: result.settings[k] for k in ("perturbation", "renormalize_every",
+                                                  "deviation_rtol", "seed", "rtol", "atol",
+                                                  "max_step")}  # fmt: skip
+    assert recorded == {"perturbation": 1e-8, "renormalize_every": 2, "deviation_rtol": 1e-3,
+                        "seed": 5, "rtol": 1e-7, "atol": 1e-9, "max_step": 1e-3}  # fmt: skip
+    assert result.batches == 4
+    with pytest.raises(TypeError, match=r"^settings must be a mechanism\.LyapunovSettings"):
+        mechanism.lyapunov_exponent(rigid_paper(), revolutions=2, settings={"seed": 1})
 
 
 def test_undriven_scene_needs_t_end() -> None:

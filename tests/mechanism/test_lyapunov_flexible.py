@@ -92,7 +92,10 @@ def test_stiff_rods_give_the_rigid_exponent() -> None:
     scene = beam_double_pendulum()
     flex = mechanism.lyapunov_exponent(scene, t_end=6.0, discard=2.0)
     ref = mechanism.lyapunov_exponent(
-        rigid_counterpart(scene), t_end=6.0, discard=2.0, rtol=1e-10, atol=1e-10
+        rigid_counterpart(scene),
+        t_end=6.0,
+        discard=2.0,
+        settings=mechanism.LyapunovSettings(rtol=1e-10, atol=1e-10),
     )
     assert flex.stats.method == "generalized-alpha"
     assert ref.exponent > 0.5  # chaotic over the window
@@ -153,8 +156,10 @@ def paper_perturbation_sizes(
 ) -> tuple[list[mechanism.SceneLyapunov], list[mechanism.SceneLyapunov]]:
     """Exponents over the first 0.1 revolution of ``scene`` at 1e-9 and 1e-7 of the
     clearance, one row per size, one column per seed of the initial deviation."""
+    settings = mechanism.LyapunovSettings
     runs = [
-        [mechanism.lyapunov_exponent(scene, revolutions=0.1, perturbation=eps, seed=seed)
+        [mechanism.lyapunov_exponent(scene, revolutions=0.1,
+                                     settings=settings(perturbation=eps, seed=seed))
          for seed in seeds]
         for eps in (1e-9, 1e-7)
     ]  # fmt: skip
@@ -185,8 +190,12 @@ def test_paper_exponent_independent_of_perturbation_size_over_revolutions() -> N
     """Flexible paper scene at 150 rpm, 4 revolutions with the first discarded: 1e-9 and
     1e-7 of the clearance each inside the other's 95 % interval."""
     scene = mechanism.load_scene("paper")
-    small = mechanism.lyapunov_exponent(scene, revolutions=4, discard=1, perturbation=1e-9)
-    large = mechanism.lyapunov_exponent(scene, revolutions=4, discard=1, perturbation=1e-7)
+    small, large = (
+        mechanism.lyapunov_exponent(
+            scene, revolutions=4, discard=1, settings=mechanism.LyapunovSettings(perturbation=eps)
+        )
+        for eps in (1e-9, 1e-7)
+    )
     assert small.ci[0] <= large.exponent <= small.ci[1]
     assert large.ci[0] <= small.exponent <= large.ci[1]
     assert small.exponent == pytest.approx(large.exponent, rel=0.1)

@@ -357,8 +357,10 @@ def test_quick_settings_reach_the_verdict_of_the_paper_settings_before_wear():
     ):
         rep = chaoskit.report(
             {"before wear": data},
-            exponents={"before wear": paper_runs.equation_exponent(scene, settings)},
             **paper_runs.chaos_analysis_options(settings),
+            extras=chaoskit.ReportExtras(
+                exponents={"before wear": paper_runs.equation_exponent(scene, settings)}
+            ),
         )
         verdicts[name] = rep.motions["before wear"]
     assert verdicts["quick"].label == verdicts["paper"].label, verdicts

@@ -126,7 +126,10 @@ def test_exponent_of_the_scene_equals_that_of_its_stable_orbit(orbit30):
     """λ₁ of a run that settles on the orbit is ln|μ_max|/T: the exponent without the
     latch's neutral direction is negative."""
     result = mechanism.lyapunov_exponent(
-        _rigid(30.0), revolutions=7, discard=3, rtol=1e-10, atol=1e-10, batches=4
+        _rigid(30.0),
+        revolutions=7,
+        discard=3,
+        settings=mechanism.LyapunovSettings(rtol=1e-10, atol=1e-10, batches=4),
     )
     expected = math.log(abs(orbit30.largest_multiplier)) / orbit30.drive_period
     assert result.exponent < 0.0
@@ -138,8 +141,8 @@ def test_evidence_of_a_run_that_settles_on_the_orbit(orbit30):
     """A simulated run from the scene's start approaches the orbit's section state; the
     evidence says stable and attracting."""
     run = mechanism.simulate(
-        _rigid(30.0), revolutions=8, record="sections", discard=2, companion=False,
-        rtol=1e-10, atol=1e-10,
+        _rigid(30.0), revolutions=8,
+        record=mechanism.SectionsRecord(discard=2, companion=False), rtol=1e-10, atol=1e-10,
     )  # fmt: skip
     evidence = orbit30.evidence(run, sections=3)
     assert isinstance(evidence, chaoskit.PeriodicOrbitEvidence)

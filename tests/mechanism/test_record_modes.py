@@ -37,16 +37,13 @@ def full_fine(scene):
 
 @pytest.fixture(scope="module")
 def sections(scene):
-    return mechanism.simulate(scene, revolutions=3, record="sections", discard=1)
+    return mechanism.simulate(scene, revolutions=3, record=mechanism.SectionsRecord(discard=1))
 
 
 def test_peak_force_does_not_depend_on_the_output_step(scene, full_fine) -> None:
-    fine = mechanism.simulate(
-        scene, revolutions=3, record="metrics", discard=1, output_step=PERIOD / 10000
-    )
-    coarse = mechanism.simulate(
-        scene, revolutions=3, record="metrics", discard=1, output_step=PERIOD / 100
-    )
+    metrics = mechanism.MetricsRecord(discard=1)
+    fine = mechanism.simulate(scene, revolutions=3, record=metrics, output_step=PERIOD / 10000)
+    coarse = mechanism.simulate(scene, revolutions=3, record=metrics, output_step=PERIOD / 100)
     peak_fine = float(fine["peak_contact_force"])
     peak_coarse = float(coarse["peak_contact_force"])
     assert peak_fine > 1000.0  # the journal impacts the bearing in every revolution
@@ -128,7 +125,10 @@ def test_sections_carry_every_variable_and_the_metrics(sections) -> None:
 
 def test_phase_moves_the_strobe(scene) -> None:
     quarter = mechanism.simulate(
-        scene, revolutions=2, record="sections", phase=math.pi / 2, output_step=PERIOD / 10
+        scene,
+        revolutions=2,
+        record=mechanism.SectionsRecord(phase=math.pi / 2),
+        output_step=PERIOD / 10,
     )
     np.testing.assert_allclose(quarter.time.values, PERIOD * np.array([0.25, 1.25]), atol=1e-9)
     np.testing.assert_allclose(
@@ -145,7 +145,10 @@ def test_the_initial_state_is_a_section_without_discard(scene) -> None:
 def test_named_variables_are_the_full_record_values_without_the_companion(scene, full_fine) -> None:
     names = ("crank_angle", "eccentricity_x", "eccentricity_y", "slider_position")
     light = mechanism.simulate(
-        scene, revolutions=3, output_step=PERIOD / 10000, variables=[*names, "slider_velocity"]
+        scene,
+        revolutions=3,
+        output_step=PERIOD / 10000,
+        record=mechanism.FullRecord(variables=[*names, "slider_velocity"]),
     )
     # the same steps, the same dense output at the same instants: equal to the last bit
     assert light.attrs["solver_steps"] == full_fine.attrs["solver_steps"]
@@ -166,7 +169,9 @@ def test_without_the_companion_the_run_is_the_same_and_the_errors_are_nan(scene,
     """``companion=False`` drops only the ideal mechanism: the run, its strobes and its own
     metrics are those with the companion, to the last bit; the errors against the ideal
     mechanism are NaN and the companion's statistics are absent."""
-    alone = mechanism.simulate(scene, revolutions=3, record="sections", discard=1, companion=False)
+    alone = mechanism.simulate(
+        scene, revolutions=3, record=mechanism.SectionsRecord(discard=1, companion=False)
+    )
     assert alone.attrs["solver_steps"] == sections.attrs["solver_steps"]
     np.testing.assert_array_equal(alone.time.values, sections.time.values)
     np.testing.assert_array_equal(alone.eccentricity_x.values, sections.eccentricity_x.values)
@@ -176,7 +181,9 @@ def test_without_the_companion_the_run_is_the_same_and_the_errors_are_nan(scene,
         assert math.isfinite(float(sections[name])) and math.isnan(float(alone[name]))
     assert not any(key.startswith("ideal_") for key in alone.attrs)
     assert any(key.startswith("ideal_solver_") for key in sections.attrs)
-    metrics = mechanism.simulate(scene, revolutions=2, record="metrics", companion=False)
+    metrics = mechanism.simulate(
+        scene, revolutions=2, record=mechanism.MetricsRecord(companion=False)
+    )
     assert math.isnan(float(metrics["max_displacement_error"]))
     assert float(metrics["peak_contact_force"]) > 0.0
 
@@ -187,7 +194,10 @@ def test_named_variables_of_flexible_rods_are_the_full_record_values() -> None:
     scene = mechanism.load_scene("paper").replace({"solver.max_step": PERIOD / 10000})
     full = mechanism.simulate(scene, revolutions=0.1, output_step=PERIOD / 1000)
     light = mechanism.simulate(
-        scene, revolutions=0.1, output_step=PERIOD / 1000, variables=("eccentricity_x",)
+        scene,
+        revolutions=0.1,
+        output_step=PERIOD / 1000,
+        record=mechanism.FullRecord(variables=("eccentricity_x",)),
     )
     assert np.ptp(full["eccentricity_x"].values) > 1e-5
     np.testing.assert_array_equal(light["eccentricity_x"].values, full["eccentricity_x"].values)
@@ -196,29 +206,34 @@ def test_named_variables_of_flexible_rods_are_the_full_record_values() -> None:
 @pytest.mark.parametrize(
     ("kwargs", "match"),
     [
-        ({"variables": ("position",)}, "variables must be a non-empty list of names from"),
-        ({"variables": "crank_angle"}, "variables must be a non-empty list"),
-        ({"variables": ()}, "variables must be a non-empty list"),
-        ({"variables": ("crank_angle",), "record": "sections"}, "variables applies to record"),
-        ({"variables": ("crank_angle",), "method": "RK45"}, "records the full trajectory only"),
-        ({"record": "trajectory"}, "record must be one of"),
-        ({"discard": 1}, "discard applies to record='metrics'"),
-        ({"record": "metrics", "discard": 2}, "discard must be below"),
-        ({"record": "metrics", "discard": -1}, "discard must be finite and >= 0"),
-        ({"record": "sections", "phase": math.nan}, "phase must be a finite angle"),
-        ({"record": "metrics", "method": "RK45"}, "records the full trajectory only"),
-        ({"companion": False}, "companion=False applies to record='metrics' and 'sections'"),
+        (lambda: {"record": mechanism.FullRecord(variables=("position",))},
+         "variables must be a non-empty list of names from"),
+        (lambda: {"record": mechanism.FullRecord(variables="crank_angle")},
+         "variables must be a non-empty list"),
+        (lambda: {"record": mechanism.FullRecord(variables=())},
+         "variables must be a non-empty list"),
+        (lambda: {"record": mechanism.FullRecord(variables=("crank_angle",)), "method": "RK45"},
+         "records the full trajectory only"),
+        (lambda: {"record": "trajectory"}, "record must be one of"),
+        (lambda: {"record": mechanism.MetricsRecord(discard=2)}, "discard must be below"),
+        (lambda: {"record": mechanism.MetricsRecord(discard=-1)},
+         "discard must be finite and >= 0"),
+        (lambda: {"record": mechanism.SectionsRecord(phase=math.nan)},
+         "phase must be a finite angle"),
+        (lambda: {"record": "metrics", "method": "RK45"}, "records the full trajectory only"),
     ],
-)
+)  # fmt: skip
 def test_bad_record_settings_raise(scene, kwargs, match) -> None:
     with pytest.raises(ValueError, match=match):
-        mechanism.simulate(scene, revolutions=2, **kwargs)
+        mechanism.simulate(scene, revolutions=2, **kwargs())
 
 
 def test_named_variables_must_exist_in_the_scene() -> None:
     pendulum = mechanism.load_scene("slider-crank")
     with pytest.raises(ValueError, match=r"variables \['eccentricity_x'\] are not outputs"):
-        mechanism.simulate(pendulum, revolutions=1, variables=("eccentricity_x",))
+        mechanism.simulate(
+            pendulum, revolutions=1, record=mechanism.FullRecord(variables=("eccentricity_x",))
+        )
 
 
 def test_command_line_records_sections(tmp_path) -> None:
@@ -299,54 +314,43 @@ def test_what_depends_on_the_scene_is_checked_before_the_run(scene) -> None:
     assert str(info.value) == "discard must be below the simulated 2 revolutions; got 2."
 
 
+_LOOSE = "simulate() got an unexpected keyword argument {!r}; pass it in the record object: "
+
+
 @pytest.mark.parametrize(
     ("kwargs", "message"),
     [
-        (
-            {"record": mechanism.SectionsRecord(), "discard": 1, "phase": 0.5},
-            "pass discard, phase inside the record object (SectionsRecord(...)), not next to it.",
-        ),
-        (
-            {"record": mechanism.SectionsRecord},
-            "record must be a record mode object (FullRecord(), MetricsRecord(), "
-            "SectionsRecord()) or one of 'full', 'metrics', 'sections'; got the class "
-            "SectionsRecord.",
-        ),
-        (
-            {"record": "metrics", "phase": 0.5},
-            "phase applies to record='sections' only; got record='metrics'.",
-        ),
-        (
-            {"record": "full", "discard": 1},
-            "discard applies to record='metrics' and 'sections'; slice the full trajectory.",
-        ),
-        (
-            {"record": "sections", "variables": ["crank_angle"]},
-            "variables applies to record='full' only; got record='sections' (the section and "
-            "metrics records choose their own variables).",
-        ),
+        ({"record": "sections", "discard": 1},
+         _LOOSE.format("discard")
+         + "record=MetricsRecord(discard=...) or record=SectionsRecord(discard=...)."),
+        ({"record": mechanism.SectionsRecord(), "phase": 0.5},
+         _LOOSE.format("phase") + "record=SectionsRecord(phase=...)."),
+        ({"variables": ["crank_angle"]},
+         _LOOSE.format("variables") + "record=FullRecord(variables=...)."),
+        ({"record": "metrics", "companion": False},
+         _LOOSE.format("companion")
+         + "record=MetricsRecord(companion=...) or record=SectionsRecord(companion=...)."),
     ],
-)
-def test_keyword_options_go_into_the_object_of_the_named_mode(scene, kwargs, message) -> None:
-    with pytest.raises(ValueError) as info:
+)  # fmt: skip
+def test_a_record_option_given_as_a_keyword_names_its_record_object(scene, kwargs, message) -> None:
+    """The record options live in the mode objects: as keywords of simulate they are a
+    TypeError whose one line says which object takes them."""
+    with pytest.raises(TypeError) as info:
         mechanism.simulate(scene, revolutions=2, **kwargs)
     assert str(info.value) == message
-    with pytest.raises(TypeError, match="unexpected keyword argument 'phases'"):
+    with pytest.raises(TypeError) as info:
         mechanism.simulate(scene, revolutions=2, record="sections", phases=0.5)
+    assert str(info.value) == "simulate() got an unexpected keyword argument 'phases'"
 
 
-def test_keyword_options_at_their_neutral_values_fit_every_mode(scene) -> None:
-    """What the command line passes whatever the mode: no discard, no variables."""
-    ds = mechanism.simulate(
-        scene, revolutions=0.05, record="full", discard=0, phase=0.0, companion=True,
-        variables=None, output_step=PERIOD / 100,
-    )  # fmt: skip
-    assert ds.attrs["record"] == "full" and ds.sizes["time"] == 6
-    light = mechanism.simulate(
-        scene, revolutions=0.05, output_step=PERIOD / 100, variables=["crank_angle"],
-        companion=False,
-    )  # fmt: skip
-    assert set(light.data_vars) == {"crank_angle"}
+def test_a_mode_class_given_for_a_mode_object_is_refused(scene) -> None:
+    with pytest.raises(ValueError) as info:
+        mechanism.simulate(scene, revolutions=2, record=mechanism.SectionsRecord)
+    assert str(info.value) == (
+        "record must be a record mode object (FullRecord(), MetricsRecord(), "
+        "SectionsRecord()) or one of 'full', 'metrics', 'sections'; got the class "
+        "SectionsRecord."
+    )
 
 
 def test_simulate_takes_at_most_twelve_parameters() -> None:

@@ -61,7 +61,9 @@ def test_double_pendulum_matches_closed_form_from_shifted_starts(shift: float) -
     release: 2.8e-5 – 4.6e-5 apart (bound 1e-3), both 1.6116 s⁻¹."""
     theta = scaled(rigid.THETA0, shift)
     scene = rigid.double_pendulum(*theta)
-    result = mechanism.lyapunov_exponent(scene, t_end=8.0, perturbation=1e-9)
+    result = mechanism.lyapunov_exponent(
+        scene, t_end=8.0, settings=mechanism.LyapunovSettings(perturbation=1e-9)
+    )
     first = rigid.joint_angle_deviation(scene)
     reference = rigid.benettin_closed_form(theta, first, 8.0).sum() / 8.0
     assert reference > 1.0
@@ -95,7 +97,10 @@ def test_stiff_rods_give_the_rigid_exponent_from_shifted_starts(shift: float) ->
     scene = flexible.beam_double_pendulum(theta=scaled(flexible.THETA0, shift))
     flex = mechanism.lyapunov_exponent(scene, t_end=6.0, discard=2.0)
     ref = mechanism.lyapunov_exponent(
-        flexible.rigid_counterpart(scene), t_end=6.0, discard=2.0, rtol=1e-10, atol=1e-10
+        flexible.rigid_counterpart(scene),
+        t_end=6.0,
+        discard=2.0,
+        settings=mechanism.LyapunovSettings(rtol=1e-10, atol=1e-10),
     )
     assert ref.exponent > 0.5
     assert flex.ci[0] <= ref.exponent <= flex.ci[1]

@@ -24,6 +24,7 @@ from mechanism.core.scene import (
     RigidBody,
     Scene,
     SceneError,
+    _load,
     _model,
     _scene,
     scene_from_dict,
@@ -641,11 +642,11 @@ def test_docs_describe_every_key() -> None:
 
 def test_builtin_toml_files_parse_with_tomllib_alone() -> None:
     for name in mechanism.list_scenes():
-        data = tomllib.loads(_scene._builtin_file(name).read_text(encoding="utf-8"))
+        data = tomllib.loads(_load.builtin_file(name).read_text(encoding="utf-8"))
         assert data["name"] == name
 
 
-@pytest.mark.parametrize("module", [_scene, _model, mechanism.cli])
+@pytest.mark.parametrize("module", [_scene, _load, _model, mechanism.cli])
 def test_docstring_examples_run(module) -> None:
     result = doctest.testmod(module, globs={**vars(module)}, optionflags=doctest.ELLIPSIS)
     assert result.failed == 0

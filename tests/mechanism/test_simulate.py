@@ -171,7 +171,10 @@ def test_failure_names_the_time_it_stopped_whatever_is_recorded() -> None:
     for variables in (None, ("crank_angle",)):
         with pytest.raises(mechanism.SimulationError) as err:
             mechanism.simulate(
-                scene, revolutions=1, method=Dopri5(max_steps=8), variables=variables
+                scene,
+                revolutions=1,
+                method=Dopri5(max_steps=8),
+                record=mechanism.FullRecord(variables=variables),
             )
         found = re.search(r"failed after t = (\S+) s", str(err.value))
         assert found is not None, err.value
@@ -385,8 +388,9 @@ def test_a_run_larger_than_the_memory_is_refused_before_allocating(monkeypatch) 
         "default output step (drive period / 10000) = 4e-05 s, revolutions = 3000 at "
         "drive.speed_rpm = 150), more than the 12.8 GB it may use (80% of the 16 GB of "
         "memory available); what fits: output_step >= 0.0002 s (--output-step); "
-        "variables=['crank_angle', 'slider_position', 'slider_velocity', 'eccentricity_x', "
-        "'eccentricity_y'] (--var; light samples only); record='metrics' or 'sections' "
+        "record=FullRecord(variables=['crank_angle', 'slider_position', 'slider_velocity', "
+        "'eccentricity_x', 'eccentricity_y']) (--var; light samples only); record='metrics' or "
+        "'sections' "
         "(--record); force=True (--force) runs it anyway."
     ), text
 
@@ -399,7 +403,9 @@ def test_force_runs_a_run_larger_than_the_memory(monkeypatch) -> None:
     ds = mechanism.simulate(scene, revolutions=0.05, force=True)
     assert ds.sizes["time"] == 501 and bool(np.isfinite(ds.slider_position).all())
     # the light record of a few variables holds far less: it fits
-    light = mechanism.simulate(scene, revolutions=0.05, variables=["slider_position"])
+    light = mechanism.simulate(
+        scene, revolutions=0.05, record=mechanism.FullRecord(variables=["slider_position"])
+    )
     assert light.sizes["time"] == 501
 
 
@@ -417,8 +423,8 @@ def test_a_scene_built_in_python_is_validated_by_simulate() -> None:
 def test_messages_show_numpy_numbers_as_plain_numbers() -> None:
     scene = mechanism.load_scene("slider-crank")
     with pytest.raises(ValueError) as info:
-        mechanism.simulate(scene, revolutions=np.float64(29.990000000000002), record="metrics",
-                           discard=np.float64(30.5))  # fmt: skip
+        mechanism.simulate(scene, revolutions=np.float64(29.990000000000002),
+                           record=mechanism.MetricsRecord(discard=np.float64(30.5)))  # fmt: skip
     assert str(info.value) == "discard must be below the simulated 29.99 revolutions; got 30.5."
     with pytest.raises(ValueError) as info:
         mechanism.simulate(scene, revolutions=np.float64(-1.0))

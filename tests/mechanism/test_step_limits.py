@@ -19,7 +19,7 @@ import pytest
 
 import mechanism
 from mechanism.core.integrate import initial_deviation, integrate_tangent
-from mechanism.core.integrate._methods import APPROACH_FRACTION
+from mechanism.core.integrate._driver import APPROACH_FRACTION
 from mechanism.core.model import _kernels as k
 from mechanism.core.model import assemble, initial_state
 from tests.mechanism.scenes import s3

@@ -32,8 +32,7 @@ def _quiet(fn, *args, **kwargs):
 #: few revolutions everywhere, no exponent: the default-run cost
 QUICK = {
     "averaged_revolutions": 2,
-    "settle_revolutions": 1.0,
-    "analysis_revolutions": 4,
+    "settings": mechanism.WearLifeSettings(settle_revolutions=1.0, analysis_revolutions=4),
     "exponent": False,
 }
 
@@ -54,8 +53,10 @@ def test_a_regular_path_reports_not_within_n_cycles():
     scene = rigid_paper({"drive.speed_rpm": 30.0})
     life = _quiet(
         mechanism.wear_life, scene, cycles=2000, checkpoints=[1000], averaged_revolutions=2,
-        settle_revolutions=1.0, analysis_revolutions=25, lyapunov_revolutions=3.0,
-        lyapunov_discard=1.0,
+        settings=mechanism.WearLifeSettings(
+            settle_revolutions=1.0, analysis_revolutions=25, lyapunov_revolutions=3.0,
+            lyapunov_discard=1.0,
+        ),
     )  # fmt: skip
     assert life.status == "complete", life.reason
     assert life.checkpoints.tolist() == [0.0, 1000.0, 2000.0]
@@ -94,7 +95,7 @@ def test_the_path_dataset_describes_every_variable(quick_path):
     shares = ds["free_flight_fraction"] + ds["impact_fraction"] + ds["continuous_contact_fraction"]
     np.testing.assert_allclose(shares.values, 1.0, rtol=0.0, atol=1e-12)
     # one stroboscopic point per analysed revolution (the last may fall at the very end)
-    assert ds.sizes["crossing"] >= QUICK["analysis_revolutions"] - 1
+    assert ds.sizes["crossing"] >= QUICK["settings"].analysis_revolutions - 1
     assert np.isfinite(ds["strobe_x"].isel(crossing=0)).all()
     assert (ds["peak_contact_force"] >= ds["mean_contact_force"]).all()
     assert set(ds["motion"].values) <= {
@@ -191,16 +192,41 @@ def test_averaged_revolutions_is_validated(value, shown):
             {"cycles": 2000, "checkpoints": [1000], "max_depth_increment": 0.0},
             "max_depth_increment must be in (0, 1] (a fraction of the radial clearance); got 0.0.",
         ),
-        (
-            {"cycles": 2000, "checkpoints": [1000], "continuous_contact": 1.0},
-            "continuous_contact must be in (0, 1) (a fraction of the drive period); got 1.0.",
-        ),
     ],
 )
 def test_wear_life_rejects_bad_settings_in_one_line(kwargs, message):
     with pytest.raises(ValueError) as info:
         mechanism.wear_life(rigid_paper(), **kwargs)
     assert str(info.value) == message
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "message"),
+    [
+        (
+            {"continuous_contact": 1.0},
+            "continuous_contact must be in (0, 1) (a fraction of the drive period); got 1.0.",
+        ),
+        (
+            {"lyapunov_revolutions": 3.0, "lyapunov_discard": 3.0},
+            "lyapunov_discard must be in [0, lyapunov_revolutions) = [0, 3); got 3.0.",
+        ),
+        (
+            {"analysis_revolutions": 3},
+            "analysis_revolutions must be in [4, 10000]; got 3.",
+        ),
+    ],
+)
+def test_the_settings_object_rejects_bad_fields_in_one_line(kwargs, message):
+    """The analysis settings are checked on construction, before any wear is run."""
+    with pytest.raises(ValueError) as info:
+        mechanism.WearLifeSettings(**kwargs)
+    assert str(info.value) == message
+
+
+def test_the_settings_object_must_be_one():
+    with pytest.raises(TypeError, match=r"^settings must be a mechanism\.WearLifeSettings; got"):
+        mechanism.wear_life(rigid_paper(), cycles=100, checkpoints=[50], settings={})
 
 
 def test_wear_life_needs_a_clearance_joint_that_wears():

@@ -131,7 +131,10 @@ def _trajectory(wobble: float) -> xr.Dataset:
 
 def test_the_wear_section_joins_an_analysis_report_in_place_and_renumbered() -> None:
     rep = chaoskit.report(
-        {"before": _trajectory(0.28)}, variables=["x"], drive_period=2 * np.pi / 1.2, rng=0
+        {"before": _trajectory(0.28)},
+        variables=["x"],
+        drive_period=2 * np.pi / 1.2,
+        options=chaoskit.ReportOptions(rng=0),
     )
     section = mechanism.wear_profile_section(
         mechanism.WornProfile.unworn(bearing_radius=0.01, clearance=2e-4, length=0.02).with_depth(

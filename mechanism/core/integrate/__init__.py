@@ -9,19 +9,10 @@ stops a run promptly; :func:`interrupt_integrations` stops the runs of other thr
 # the layout of what the compiled loops record (``MET_*``, ``REC_*``), for the recorder; not
 # public API
 from . import _step_kernels as kernels
-from ._methods import (
-    METHODS,
-    Dopri5,
-    GeneralizedAlpha,
-    Integration,
-    Integrator,
-    Recording,
-    RecordPlan,
-    ScipyIVP,
-    SolverStats,
-    interrupt_integrations,
-    resolve_method,
-)
+from ._driver import interrupt_integrations
+from ._interface import Integration, Integrator, Recording, RecordPlan, SolverStats
+from ._methods import METHODS, Dopri5, GeneralizedAlpha, resolve_method
+from ._scipy_ivp import ScipyIVP
 from ._tangent import (
     TangentIntegration,
     clearance_kinematics,

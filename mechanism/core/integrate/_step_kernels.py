@@ -2,7 +2,7 @@
 generalized-α in ``_genalpha_kernels.py``): the typed tuples they carry and what they
 record after every accepted step.
 
-Both loops run inside numba; the Python layer (``_methods.py``) calls them in chunks, up
+Both loops run inside numba; the Python layer (``_driver.py``) calls them in chunks, up
 to the times of an optional progress bar and for at most ``StepControl.chunk_steps``
 attempted steps per call, so that control returns to Python (where a pending Ctrl-C is
 raised) however small the steps get. The trajectory does not depend on the chunking or on

@@ -3,7 +3,8 @@
 # the compiled right-hand side, constraints, contact state and their table layouts, for the
 # integrators and the recorder; not public API
 from . import _kernels as kernels
-from ._assemble import KernelModel, Model, Workspace, assemble, initial_state
+from ._assemble import assemble, initial_state
+from ._compiled import KernelModel, Model, Workspace
 
 # the names the compiled integrator loops call (numba resolves them as globals of the
 # importing module, so they are bound by name rather than reached through ``kernels``)

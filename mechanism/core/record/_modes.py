@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass, fields, replace
+from dataclasses import dataclass, replace
 from typing import Any, ClassVar
 
 import numpy as np
@@ -48,8 +48,9 @@ __all__ = [
 ]
 
 # A warning raised by a mode's method reaches the caller of ``simulate`` from here:
-# warnings.warn → the check → the mode's method → simulate → the caller.
-_CALLER = 4
+# warnings.warn → the check → the mode's method → simulate → the wrapper that refuses loose
+# record options → the caller.
+_CALLER = 5
 
 
 def _number(value: Any) -> Any:
@@ -265,7 +266,7 @@ class FullRecord(RecordMode):
             found.append(
                 (
                     FullRecord(variables=light),
-                    f"variables={list(light)} (--var; light samples only)",
+                    f"record=FullRecord(variables={list(light)}) (--var; light samples only)",
                 )
             )
         if times.period is not None:
@@ -438,33 +439,11 @@ RECORD_MODES: dict[str, type[RecordMode]] = {
     mode.name: mode for mode in (FullRecord, MetricsRecord, SectionsRecord)
 }
 
-# The options ``simulate`` still takes as keywords, and the value that means "not given"
-# for a mode without that option.
-_NEUTRAL: dict[str, Any] = {"variables": None, "discard": 0.0, "phase": 0.0, "companion": True}
-_WRONG_MODE = {
-    "variables": "variables applies to record='full' only; got record={name!r} (the section "
-    "and metrics records choose their own variables).",
-    "discard": "discard applies to record='metrics' and 'sections'; slice the full trajectory.",
-    "phase": "phase applies to record='sections' only; got record={name!r}.",
-    "companion": "companion=False applies to record='metrics' and 'sections' (the full record "
-    "holds the ideal mechanism's twins; variables=... records without it).",
-}
 
-
-def record_mode(record: RecordMode | str, **options: Any) -> RecordMode:
-    """The record mode ``record`` names, with ``options`` (``variables``, ``discard``,
-    ``phase``, ``companion``: the fields of the mode's object) as its options.
-
-    An option a mode does not have is accepted at its neutral value (None, 0, 0, True),
-    so a caller may pass every option whatever the mode; otherwise it is a ValueError
-    naming the modes it applies to. With a mode object, options go into the object.
-    """
+def record_mode(record: RecordMode | str) -> RecordMode:
+    """The record mode ``record``: a mode object as given, a name (``"full"``,
+    ``"metrics"``, ``"sections"``) as that mode with its default options."""
     if isinstance(record, RecordMode):
-        if options:
-            raise ValueError(
-                f"pass {', '.join(sorted(options))} inside the record object "
-                f"({type(record).__name__}(...)), not next to it."
-            )
         return record
     if not isinstance(record, str):
         objects = ", ".join(f"{mode.__name__}()" for mode in RECORD_MODES.values())
@@ -473,35 +452,9 @@ def record_mode(record: RecordMode | str, **options: Any) -> RecordMode:
             f"record must be a record mode object ({objects}) or one of {names}; "
             f"got {_given(record)}."
         )
-    name = check_choice(record, name="record", choices=tuple(RECORD_MODES))
-    mode = RECORD_MODES[name]
-    own = {f.name for f in fields(mode)}
-    kept: dict[str, Any] = {}
-    for key, value in options.items():
-        if key not in _NEUTRAL:
-            raise TypeError(f"simulate() got an unexpected keyword argument {key!r}")
-        if key in own:
-            kept[key] = value
-            continue
-        # a light full record runs no companion anyway
-        light = key == "companion" and options.get("variables") is not None
-        if not light and not _is_neutral(key, value):
-            raise ValueError(_WRONG_MODE[key].format(name=name))
-    return mode(**kept)
+    return RECORD_MODES[check_choice(record, name="record", choices=tuple(RECORD_MODES))]()
 
 
 def _given(value: Any) -> str:
     """``value`` for a message; a class by its name (a mode class given for an object)."""
     return f"the class {value.__name__}" if isinstance(value, type) else repr(value)
-
-
-def _is_neutral(key: str, value: Any) -> bool:
-    neutral = _NEUTRAL[key]
-    if neutral is None:
-        return value is None
-    if key == "companion":
-        return value is True or value is np.True_
-    try:
-        return float(_number(value)) == neutral
-    except (TypeError, ValueError):
-        return False

@@ -28,7 +28,7 @@ __all__ = ["LIGHT_VARIABLES", "light_dataset", "metrics_dataset", "sections_data
 
 _AXES = ("x", "y", "theta")
 
-#: Variables a full record can hold alone (``simulate(..., variables=...)``): read from
+#: Variables a full record can hold alone (``FullRecord(variables=...)``): read from
 #: the light samples, positions and velocities only.
 LIGHT_VARIABLES: tuple[str, ...] = (
     "crank_angle",

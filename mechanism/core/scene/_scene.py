@@ -1,10 +1,9 @@
-"""The :class:`~mechanism.Scene`, its loading and storage: TOML/JSON → a validated
-:class:`~mechanism.Scene`, dotted-key replacement, and a small TOML emitter so that a saved
-scene loads back identical.
+"""The :class:`~mechanism.Scene`: its validation and its plain-data, JSON and TOML forms
+(``load_scene`` and the built-in scenes are in ``_load.py``).
 
 Validation has two stages. Field validation (pydantic ``TypeAdapter`` over the frozen
 dataclasses of ``_model.py``) checks types, ranges and unknown keys; every error is
-reported with its key path, the accepted range and the unit, e.g.
+reported with its key path, the accepted range and the unit (``_messages.py``), e.g.
 ``joints.C.clearance: must be > 0 (m); got -0.001``. Cross-checks then check what one
 field cannot know: bodies and points named by joints exist, a clearance is smaller than
 its bearing radius, the drive acts on an ideal revolute joint, and so on.
@@ -18,21 +17,17 @@ import itertools
 import json
 import math
 import re
-import tomllib
-import types
-import typing
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Mapping
 from dataclasses import dataclass, field
-from importlib import resources
 from pathlib import Path
 from typing import Annotated, Any
 
-import annotated_types as at
 import numpy as np
-from pydantic import Discriminator, Tag, TypeAdapter, ValidationError, with_config
+from pydantic import TypeAdapter, ValidationError, with_config
 
 from chaoskit.contract import atomic_write
 
+from ._messages import SceneError, describe_errors, format_number
 from ._model import (
     GROUND,
     INERTIA_RANGE,
@@ -57,17 +52,15 @@ from ._model import (
     Text,
     Unit,
 )
+from ._replace import assign_dotted
+from ._toml_writer import toml_document
 
 __all__ = [
+    "GYRATION_RATIO",
     "Scene",
-    "SceneError",
-    "list_scenes",
-    "load_scene",
     "replace_scene",
     "save_scene",
     "scene_from_dict",
-    "scene_from_json",
-    "scene_from_toml",
     "scene_to_dict",
     "scene_to_json",
     "scene_to_toml",
@@ -136,70 +129,8 @@ class Scene:
         save_scene(self, path)
 
 
-class SceneError(ValueError):
-    """An invalid scene: each entry of ``problems`` starts with the key path it concerns."""
-
-    def __init__(self, problems: Sequence[str] | str, *, source: str | None = None) -> None:
-        self.problems = (problems,) if isinstance(problems, str) else tuple(problems)
-        self.source = source
-        where = f" ({source})" if source else ""
-        if len(self.problems) == 1:
-            message = f"{self.problems[0]}{where}"
-        else:
-            lines = "\n".join(f"  - {p}" for p in self.problems)
-            message = f"{len(self.problems)} problems in scene{where}:\n{lines}"
-        super().__init__(message)
-
-
 # ---------------------------------------------------------------------------------------
 # Public functions
-
-
-def load_scene(name_or_path: str | Path | Scene) -> Scene:
-    """Load and validate a scene: a built-in name (see :func:`list_scenes`) or a TOML file.
-
-    Parameters
-    ----------
-    name_or_path : str, pathlib.Path or Scene
-        A built-in scene name (``"paper"``, ``"slider-crank"``, ...), or the path of a
-        TOML scene file (``docs/scenes.md`` describes the keys). A built-in name wins over
-        a file of the same name in the working directory; write ``./name`` for the file.
-        A :class:`~mechanism.Scene` is returned unchanged.
-
-    Returns
-    -------
-    Scene
-        The validated, frozen scene.
-
-    Raises
-    ------
-    SceneError
-        (a ``ValueError``) naming the key path, the accepted range and the unit of every
-        invalid entry, or the reason the file could not be read.
-
-    Examples
-    --------
-    >>> import mechanism
-    >>> scene = mechanism.load_scene("slider-crank-clearance")
-    >>> scene.joints["B"].clearance
-    0.0005
-    """
-    if isinstance(name_or_path, Scene):
-        return name_or_path
-    if isinstance(name_or_path, str) and name_or_path in _builtin_names():
-        text = _builtin_file(name_or_path).read_text(encoding="utf-8")
-        return scene_from_toml(text, source=f"built-in scene {name_or_path!r}")
-    path = Path(name_or_path)
-    if not path.is_file():
-        raise SceneError(
-            f"no built-in scene or file named {str(name_or_path)!r}; "
-            f"built-in scenes: {', '.join(_builtin_names())}"
-        )
-    try:
-        text = path.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as exc:
-        raise SceneError(f"cannot read scene file: {exc}", source=str(path)) from exc
-    return scene_from_toml(text, source=str(path))
 
 
 def save_scene(scene: Scene, path: str | Path) -> Path:
@@ -230,50 +161,6 @@ def save_scene(scene: Scene, path: str | Path) -> Path:
     return path
 
 
-def list_scenes() -> dict[str, str]:
-    """Built-in scene names with their one-line descriptions.
-
-    Examples
-    --------
-    >>> import mechanism
-    >>> "paper" in mechanism.list_scenes()
-    True
-    """
-    out = {}
-    for name in _builtin_names():
-        data = tomllib.loads(_builtin_file(name).read_text(encoding="utf-8"))
-        lines = str(data.get("description", "")).strip().splitlines()
-        out[name] = lines[0] if lines else ""
-    return out
-
-
-def scene_from_toml(text: str, *, source: str | None = None) -> Scene:
-    """Parse TOML text and validate it into a :class:`~mechanism.Scene`."""
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise SceneError(f"not valid TOML: {exc}", source=source) from exc
-    return scene_from_dict(data, source=source)
-
-
-def scene_from_json(text: str) -> Scene:
-    """Validate the JSON form written by :meth:`Scene.to_json` (e.g. from a Dataset's attrs).
-
-    Examples
-    --------
-    >>> import mechanism
-    >>> from mechanism.core.scene import scene_from_json
-    >>> scene = mechanism.load_scene("paper")
-    >>> scene_from_json(scene.to_json()) == scene
-    True
-    """
-    try:
-        data = json.loads(text)
-    except json.JSONDecodeError as exc:
-        raise SceneError(f"not valid JSON: {exc}", source="JSON") from exc
-    return scene_from_dict(data, source="JSON")
-
-
 def scene_from_dict(data: Mapping[str, Any], *, source: str | None = None) -> Scene:
     """Validate nested mappings (TOML/JSON layout, keys = field names) into a
     :class:`~mechanism.Scene`."""
@@ -284,7 +171,7 @@ def scene_from_dict(data: Mapping[str, Any], *, source: str | None = None) -> Sc
     try:
         scene = _adapter().validate_python(_plain(dict(data)))
     except ValidationError as exc:
-        raise SceneError(_describe_errors(exc), source=source) from None
+        raise SceneError(describe_errors(exc, Scene), source=source) from None
     problems = _cross_check(scene)
     if problems:
         raise SceneError(problems, source=source)
@@ -310,7 +197,7 @@ def scene_to_json(scene: Scene) -> str:
 
 def scene_to_toml(scene: Scene) -> str:
     """TOML text of the scene in the layout of ``docs/scenes.md``."""
-    return _toml_document(scene_to_dict(scene))
+    return toml_document(scene_to_dict(scene))
 
 
 def replace_scene(scene: Scene, changes: Mapping[str, Any]) -> Scene:
@@ -334,72 +221,8 @@ def replace_scene(scene: Scene, changes: Mapping[str, Any]) -> Scene:
         parts = key.split(".") if isinstance(key, str) else []
         if not parts or not all(parts):
             raise SceneError(f"{key!r}: not a dotted key such as 'joints.C.clearance'")
-        _assign(data, parts, _plain(value))
+        assign_dotted(data, parts, _plain(value), Scene)
     return scene_from_dict(data, source=f"scene {scene.name!r} after replace")
-
-
-def _assign(data: dict[str, Any], parts: list[str], value: Any) -> None:
-    """Set ``data[parts[0]][parts[1]]... = value``; the valid keys at each level come from
-    the model (dataclass fields) or, for named tables such as ``bodies``, the names present."""
-    key = ".".join(parts)
-    node: Any = data
-    tp: Any = Scene
-    for depth, part in enumerate(parts):
-        level = ".".join(parts[:depth])
-        if node is None:
-            raise SceneError(f"{key}: '{level}' is not set; assign '{level}' as a whole")
-        base, meta = _unwrap(tp)
-        tags = _tags(base)
-        if tags and isinstance(node, dict):
-            pick = next(m.discriminator for m in meta if isinstance(m, Discriminator))
-            tag = pick(node) if callable(pick) else None
-            base = tags.get(tag) if isinstance(tag, str) else None
-        if not isinstance(node, dict) or not (
-            typing.get_origin(base) is dict or dataclasses.is_dataclass(base)
-        ):
-            if isinstance(node, dict):  # a table of unknown type: take the keys present
-                valid = list(node)
-                child_tp = None
-            else:
-                raise SceneError(f"{key}: '{level}' is a value, not a table; assign it as a whole")
-        elif typing.get_origin(base) is dict:
-            valid, child_tp = list(node), typing.get_args(base)[1]
-        else:
-            hints = _hints(base)
-            valid, child_tp = list(hints), hints.get(part)
-        if part not in valid:
-            raise SceneError(
-                f"{key}: unknown key {part!r} in {level or 'the top level'}; "
-                f"valid keys there: {', '.join(valid) or '(none)'}"
-            )
-        if depth == len(parts) - 1:
-            node[part] = value
-            return
-        if part not in node:  # a table given partially earlier; pydantic fills the defaults
-            node[part] = {}
-        node, tp = node[part], child_tp
-
-
-# ---------------------------------------------------------------------------------------
-# Built-in scenes
-
-
-def _builtin_dir() -> Any:
-    return resources.files(__package__).joinpath("builtin")
-
-
-@functools.cache
-def _builtin_names() -> tuple[str, ...]:
-    names = [
-        entry.name.removesuffix(".toml")
-        for entry in _builtin_dir().iterdir()
-        if entry.name.endswith(".toml")
-    ]
-    return tuple(sorted(names))
-
-
-def _builtin_file(name: str) -> Any:
-    return _builtin_dir().joinpath(f"{name}.toml")
 
 
 # ---------------------------------------------------------------------------------------
@@ -424,230 +247,6 @@ def _plain(obj: Any) -> Any:
 @functools.cache
 def _adapter() -> TypeAdapter[Scene]:
     return TypeAdapter(Scene)
-
-
-# ---------------------------------------------------------------------------------------
-# Error messages: walk the dataclass annotations along pydantic's error location
-
-
-@functools.cache
-def _hints(cls: type) -> dict[str, Any]:
-    return typing.get_type_hints(cls, include_extras=True)
-
-
-def _unwrap(tp: Any) -> tuple[Any, list[Any]]:
-    """Strip ``Annotated`` and ``| None``; return the bare type and the metadata."""
-    meta: list[Any] = []
-    while True:
-        if typing.get_origin(tp) is Annotated:
-            base, *extra = typing.get_args(tp)
-            meta.extend(extra)
-            tp = base
-            continue
-        if _is_union(tp):
-            members = [a for a in typing.get_args(tp) if a is not type(None)]
-            if len(members) == 1:
-                tp = members[0]
-                continue
-        return tp, meta
-
-
-def _is_union(tp: Any) -> bool:
-    return typing.get_origin(tp) in (typing.Union, types.UnionType)
-
-
-def _tags(tp: Any) -> dict[str, Any]:
-    """For a tagged union (bodies, joints, drive): tag → member class."""
-    out = {}
-    if _is_union(tp):
-        for member in typing.get_args(tp):
-            if typing.get_origin(member) is Annotated:
-                base, *extra = typing.get_args(member)
-                for item in extra:
-                    if isinstance(item, Tag):
-                        out[item.tag] = base
-    return out
-
-
-@dataclasses.dataclass
-class _Location:
-    path: str  # key path shown to the user
-    tp: Any  # bare type at the location (None if unknown)
-    meta: list[Any]  # constraints and Unit at the location
-    unit: str | None
-    parent: Any  # bare type of the container
-
-
-def _locate(loc: Sequence[int | str]) -> _Location:
-    tp: Any = Scene
-    parent: Any = None
-    unit: str | None = None
-    meta: list[Any] = []
-    parts: list[str] = []
-    for item in loc:
-        tp, meta = _unwrap(tp)
-        unit = _unit(meta, unit)
-        tags = _tags(tp)
-        if tags:
-            if item in tags:  # pydantic puts the union tag into the location
-                tp = tags[item]
-                continue
-        parent = tp
-        if dataclasses.is_dataclass(tp) and isinstance(tp, type):
-            parts.append(f".{item}")
-            tp = _hints(tp).get(str(item))
-            unit = None
-        elif typing.get_origin(tp) is dict:
-            parts.append(f".{item}")
-            tp = typing.get_args(tp)[1]
-        elif typing.get_origin(tp) is tuple and isinstance(item, int):
-            parts.append(f"[{item}]")
-            args = typing.get_args(tp)
-            if len(args) == 2 and args[1] is Ellipsis:
-                tp = args[0]
-            else:
-                tp = args[item] if item < len(args) else None
-        else:
-            parts.append(f".{item}")
-            tp = None
-    tp, meta = _unwrap(tp)
-    unit = _unit(meta, unit)
-    return _Location("".join(parts).lstrip("."), tp, meta, unit, parent)
-
-
-def _unit(meta: Iterable[Any], default: str | None) -> str | None:
-    for item in meta:
-        if isinstance(item, Unit):
-            default = item.symbol
-    return default
-
-
-def _fmt(x: Any) -> str:
-    if isinstance(x, float):
-        return f"{x:g}"
-    return str(x)
-
-
-def _range(meta: Iterable[Any]) -> str:
-    lo: tuple[str, Any] | None = None
-    hi: tuple[str, Any] | None = None
-    for item in meta:
-        if isinstance(item, at.Gt):
-            lo = ("(", item.gt)
-        elif isinstance(item, at.Ge):
-            lo = ("[", item.ge)
-        elif isinstance(item, at.Lt):
-            hi = (")", item.lt)
-        elif isinstance(item, at.Le):
-            hi = ("]", item.le)
-    if lo and hi:
-        return f"in {lo[0]}{_fmt(lo[1])}, {_fmt(hi[1])}{hi[0]}"
-    if lo:
-        return f"{'>' if lo[0] == '(' else '>='} {_fmt(lo[1])}"
-    if hi:
-        return f"{'<' if hi[0] == ')' else '<='} {_fmt(hi[1])}"
-    return ""
-
-
-def _units(unit: str | None) -> str:
-    return f" ({unit})" if unit not in (None, "", "1") else ""
-
-
-def _show(value: Any) -> str:
-    text = json.dumps(value, default=repr) if not isinstance(value, str) else repr(value)
-    return text if len(text) <= 60 else text[:57] + "..."
-
-
-def _expected(where: _Location) -> str:
-    """What a location accepts, e.g. 'a number > 0 (kg)' or 'an array of 2 numbers (m)'."""
-    tp, rng = where.tp, _range(where.meta)
-    if tp is bool:
-        return "true or false"
-    if tp is float:
-        return f"a number{' ' + rng if rng else ''}{_units(where.unit)}"
-    if tp is int:
-        return f"an integer{' ' + rng if rng else ''}"
-    if tp is str:
-        return "a string"
-    if typing.get_origin(tp) is typing.Literal:
-        return "one of " + ", ".join(repr(a) for a in typing.get_args(tp))
-    if typing.get_origin(tp) is tuple:
-        args = typing.get_args(tp)
-        elem, _ = _unwrap(args[0])
-        kind = "numbers" if elem is float else "names" if elem is str else "values"
-        if len(args) == 2 and args[1] is Ellipsis:
-            return f"an array of {kind}{_units(where.unit)}"
-        return f"an array of {len(args)} {kind}{_units(where.unit)}"
-    if typing.get_origin(tp) is dict or dataclasses.is_dataclass(tp) or _tags(tp):
-        return "a table"
-    return "a valid value"
-
-
-_ENTRY = re.compile(r"^(?P<array>.*)\[(?P<index>\d+)\]: (?P<problem>.*?); got ")
-
-
-def _describe_errors(exc: ValidationError) -> list[str]:
-    """One line per problem; the entries of one array that break the same rule are one
-    line (the first, and how many more), not one line per entry."""
-    lines: list[str] = []
-    more: dict[tuple[str, str], int] = {}
-    first: dict[tuple[str, str], int] = {}
-    for err in exc.errors():
-        line = _describe(err)
-        entry = _ENTRY.match(line)
-        if entry is not None:
-            rule = (entry["array"], entry["problem"])
-            if rule in first:
-                more[rule] = more.get(rule, 0) + 1
-                continue
-            first[rule] = len(lines)
-        if line not in lines:
-            lines.append(line)
-    for rule, count in more.items():
-        lines[first[rule]] += f" (and {count} more entries)"
-    return lines
-
-
-def _describe(err: Any) -> str:
-    kind, loc, value = err["type"], tuple(err["loc"]), err.get("input")
-    where = _locate(loc)
-    got = f"; got {_show(value)}"
-    if kind == "missing" and loc and isinstance(loc[-1], int):
-        # a too-short array is reported per missing element: report it on the array
-        where = _locate(loc[:-1])
-        return f"{where.path}: must be {_expected(where)}{got}"
-    if kind == "missing":
-        return f"{where.path}: required key is missing (expected {_expected(where)})"
-    if kind == "unexpected_keyword_argument":
-        parent = where.parent
-        valid = ", ".join(f.name for f in dataclasses.fields(parent)) if parent else ""
-        return f"{where.path}: unknown key; valid keys here: {valid}"
-    if kind == "union_tag_invalid":
-        tags = ", ".join(repr(t) for t in _tags(where.tp))
-        tag = value.get("type") if isinstance(value, dict) else value
-        return f"{where.path}.type: must be one of {tags}; got {_show(tag)}"
-    if kind == "union_tag_not_found":
-        if not isinstance(value, dict):
-            return f"{where.path}: must be a table{got}"
-        tags = ", ".join(repr(t) for t in _tags(where.tp))
-        return f"{where.path}.type: required key is missing (expected one of {tags})"
-    if kind == "value_error":
-        message = str(err["msg"]).removeprefix("Value error, ")
-        return f"{where.path}: {message}{got}"
-    if kind == "finite_number":
-        return f"{where.path}: must be a finite number{_units(where.unit)}{got}"
-    if kind in ("greater_than", "greater_than_equal", "less_than", "less_than_equal"):
-        return f"{where.path}: must be {_range(where.meta)}{_units(where.unit)}{got}"
-    if kind == "string_too_short":
-        return f"{where.path}: must be a non-empty string{got}"
-    known = (
-        "float_type float_parsing int_type int_parsing int_from_float bool_type bool_parsing "
-        "string_type literal_error tuple_type too_long too_short dict_type dataclass_type "
-        "dataclass_exact_type"
-    ).split()
-    if kind in known:
-        return f"{where.path}: must be {_expected(where)}{got}"
-    return f"{where.path}: {err['msg']}{got}"
 
 
 # ---------------------------------------------------------------------------------------
@@ -682,9 +281,10 @@ def _cross_check(scene: Scene) -> list[str]:
         if not 1.0 / GYRATION_RATIO <= ratio <= GYRATION_RATIO:
             add(
                 f"bodies.{body_name}.inertia: the radius of gyration sqrt(inertia / mass) = "
-                f"{_fmt(ratio * reach)} m must be within a factor {GYRATION_RATIO:g} of the "
-                f"farthest point from the centre of mass ({_fmt(reach)} m); got inertia "
-                f"{_fmt(body.inertia)} (kg m2) with mass {_fmt(body.mass)} (kg)"
+                f"{format_number(ratio * reach)} m must be within a factor "
+                f"{GYRATION_RATIO:g} of the farthest point from the centre of mass "
+                f"({format_number(reach)} m); got inertia {format_number(body.inertia)} "
+                f"(kg m2) with mass {format_number(body.mass)} (kg)"
             )
 
     held = _held_bodies(scene)
@@ -705,14 +305,14 @@ def _cross_check(scene: Scene) -> list[str]:
             if body.mass is None and not low <= body.total_mass <= high:
                 add(
                     f"bodies.{body_name}.mass: density × area × length = "
-                    f"{_fmt(body.total_mass)} kg is outside [{low:g}, {high:g}] (kg); "
+                    f"{format_number(body.total_mass)} kg is outside [{low:g}, {high:g}] (kg); "
                     "change them or give mass"
                 )
             chord = math.dist(body.start, body.end)
             if abs(chord - body.length) > _BEAM_LENGTH_RTOL * body.length:
                 add(
-                    f"bodies.{body_name}.length: {_fmt(body.length)} m differs from "
-                    f"|end − start| = {_fmt(chord)} m by more than "
+                    f"bodies.{body_name}.length: {format_number(body.length)} m differs from "
+                    f"|end − start| = {format_number(chord)} m by more than "
                     f"{_BEAM_LENGTH_RTOL:.1%}"
                 )
 
@@ -744,19 +344,20 @@ def _cross_check(scene: Scene) -> list[str]:
             if joint.clearance >= joint.bearing_radius:
                 add(
                     f"{base}.clearance: must be < bearing_radius = "
-                    f"{_fmt(joint.bearing_radius)} (m); got {_fmt(joint.clearance)}"
+                    f"{format_number(joint.bearing_radius)} (m); "
+                    f"got {format_number(joint.clearance)}"
                 )
             ecc = math.hypot(*joint.initial_eccentricity)
             if ecc > joint.clearance:
                 add(
                     f"{base}.initial_eccentricity: |e| must be <= clearance = "
-                    f"{_fmt(joint.clearance)} (m); got |e| = {_fmt(ecc)}"
+                    f"{format_number(joint.clearance)} (m); got |e| = {format_number(ecc)}"
                 )
             friction = joint.friction
             if friction.law == "ambrosio" and friction.v1 <= friction.v0:
                 add(
-                    f"{base}.friction.v1: must be > v0 = {_fmt(friction.v0)} "
-                    f"(m s-1); got {_fmt(friction.v1)}"
+                    f"{base}.friction.v1: must be > v0 = {format_number(friction.v0)} "
+                    f"(m s-1); got {format_number(friction.v1)}"
                 )
             wear = joint.wear
             for part in ("bearing_profile", "journal_profile"):
@@ -777,8 +378,8 @@ def _cross_check(scene: Scene) -> list[str]:
             if wear.journal_profile and 0.0 < journal_radius <= deepest:
                 add(
                     f"{base}.wear.journal_profile: every depth must be < the journal radius "
-                    f"(bearing_radius - clearance = {_fmt(journal_radius)} m); got "
-                    f"{_fmt(deepest)}"
+                    f"(bearing_radius - clearance = {format_number(journal_radius)} m); got "
+                    f"{format_number(deepest)}"
                 )
             continue
         for i in (0, 1):
@@ -790,7 +391,7 @@ def _cross_check(scene: Scene) -> list[str]:
         if isinstance(joint, PrismaticJoint):
             norm = math.hypot(*joint.axis)
             if abs(norm - 1.0) > _AXIS_TOL:
-                add(f"{base}.axis: must be a unit vector; got length {_fmt(norm)}")
+                add(f"{base}.axis: must be a unit vector; got length {format_number(norm)}")
 
     def check_joint_ref(path: str, joint_name: str, kinds: tuple[type, ...]) -> None:
         joint = scene.joints.get(joint_name)
@@ -815,7 +416,7 @@ def _cross_check(scene: Scene) -> list[str]:
             elif t[-1] - t[0] > drive.period:
                 add(
                     f"drive.time: the samples must span at most one period "
-                    f"({_fmt(drive.period)} s); got {_fmt(t[-1] - t[0])} s"
+                    f"({format_number(drive.period)} s); got {format_number(t[-1] - t[0])} s"
                 )
     outputs = scene.outputs
     if outputs.slider_joint is not None:
@@ -856,98 +457,3 @@ def _resolve_inertias(scene: Scene) -> Scene:
 
 def _joint_type(cls: type) -> str:
     return str(next(f.default for f in dataclasses.fields(cls) if f.name == "type"))
-
-
-# ---------------------------------------------------------------------------------------
-# TOML emitter (tomllib only reads); covers what a scene holds: tables, strings, numbers,
-# booleans and arrays of those.
-
-_BARE_KEY = re.compile(r"^[A-Za-z0-9_-]+$")
-_INLINE_WIDTH = 88
-_ARRAY_WIDTH = 88
-
-
-def _toml_key(key: str) -> str:
-    return key if _BARE_KEY.match(key) else _toml_string(key)
-
-
-def _toml_string(text: str) -> str:
-    out = ['"']
-    for ch in text:
-        code = ord(ch)
-        if ch == '"':
-            out.append('\\"')
-        elif ch == "\\":
-            out.append("\\\\")
-        elif ch == "\n":
-            out.append("\\n")
-        elif ch == "\t":
-            out.append("\\t")
-        elif code < 0x20 or code == 0x7F:
-            out.append(f"\\u{code:04X}")
-        else:
-            out.append(ch)
-    out.append('"')
-    return "".join(out)
-
-
-def _toml_value(value: Any, indent: str = "") -> str:
-    if isinstance(value, bool):
-        return "true" if value else "false"
-    if isinstance(value, int):
-        return str(value)
-    if isinstance(value, float):
-        if not math.isfinite(value):
-            raise ValueError(f"cannot write non-finite number {value} to a scene")
-        return repr(value)
-    if isinstance(value, str):
-        return _toml_string(value)
-    if isinstance(value, list | tuple):
-        items = [_toml_value(v, indent + "    ") for v in value]
-        flat = "[" + ", ".join(items) + "]"
-        if len(flat) + len(indent) <= _ARRAY_WIDTH:
-            return flat
-        lines, line = [], ""
-        for item in items:
-            if line and len(indent) + 4 + len(line) + len(item) + 2 > _ARRAY_WIDTH:
-                lines.append(line.rstrip())
-                line = ""
-            line += item + ", "
-        lines.append(line.rstrip())
-        body = "".join(f"\n{indent}    {ln}" for ln in lines)
-        return f"[{body}\n{indent}]"
-    if isinstance(value, dict):
-        items = [f"{_toml_key(k)} = {_toml_value(v)}" for k, v in value.items() if v is not None]
-        return "{ " + ", ".join(items) + " }" if items else "{}"
-    raise TypeError(f"cannot write {type(value).__name__} to TOML")
-
-
-def _inline_ok(key: str, value: dict[str, Any]) -> bool:
-    if any(isinstance(v, dict) for v in value.values()):
-        return False
-    return len(f"{key} = {_toml_value(value)}") <= _INLINE_WIDTH
-
-
-def _toml_document(data: dict[str, Any]) -> str:
-    lines: list[str] = []
-    _emit_table(lines, [], data)
-    return "\n".join(lines).lstrip("\n") + "\n"
-
-
-def _emit_table(lines: list[str], path: list[str], table: dict[str, Any]) -> None:
-    simple, subtables = [], []
-    for key, value in table.items():
-        if value is None:
-            continue
-        # small leaf tables inside a body or joint (points, materials, laws) go inline;
-        # the named entries of [bodies] and [joints] always get their own header
-        if isinstance(value, dict) and not (len(path) >= 2 and _inline_ok(key, value)):
-            subtables.append((key, value))
-        else:
-            simple.append(f"{_toml_key(key)} = {_toml_value(value)}")
-    if path and (simple or not subtables):
-        lines.append("")
-        lines.append("[" + ".".join(_toml_key(p) for p in path) + "]")
-    lines.extend(simple)
-    for key, value in subtables:
-        _emit_table(lines, [*path, key], value)

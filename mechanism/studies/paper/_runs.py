@@ -13,7 +13,7 @@ import xarray as xr
 
 import chaoskit
 from chaoskit.reporting import plural
-from mechanism.core import SimulationError, WornProfile, load_scene, simulate
+from mechanism.core import FullRecord, SimulationError, WornProfile, load_scene, simulate
 from mechanism.core.scene import ClearanceRevolute
 
 from .._bifurcation import ORBIT_TOLERANCE
@@ -70,10 +70,10 @@ def chaos_run(scene: Any, settings: StudySettings) -> xr.Dataset:
     """The analysed series of one state: ≥ 200 revolutions after the transient at the
     paper's step T/10000, output every T/``chaos_samples_per_revolution`` (runs in a pool).
 
-    Only the journal-centre eccentricity and the crank angle are recorded (``simulate(...,
-    variables=...)``): no full state on the grid and no ideal companion, so the run holds
-    a few arrays of the grid's length and costs the integration of the worn mechanism
-    alone.
+    Only the journal-centre eccentricity and the crank angle are recorded
+    (``FullRecord(variables=...)``): no full state on the grid and no ideal companion, so
+    the run holds a few arrays of the grid's length and costs the integration of the worn
+    mechanism alone.
     """
     period = 60.0 / abs(float(scene.drive.speed_rpm))
     step = min(scene.solver.max_step or math.inf, period / PAPER_SAMPLES)
@@ -84,7 +84,7 @@ def chaos_run(scene: Any, settings: StudySettings) -> xr.Dataset:
             sc.replace({"solver.max_step": step}),
             revolutions=revolutions,
             output_step=period / settings.chaos_samples_per_revolution,
-            variables=CHAOS_VARIABLES,
+            record=FullRecord(variables=CHAOS_VARIABLES),
         )
 
     # The worn profile's narrow grooves can throw the journal of the fixed-step flexible
@@ -131,16 +131,19 @@ def bearing_room(scene: Any) -> float:
 def chaos_analysis_options(settings: StudySettings) -> dict[str, Any]:
     """The :func:`chaoskit.report` options of the study's chaos analysis of one state's
     series from :func:`chaos_run` (the journal centre of joint C as ``X`` and ``Y``, the
-    crank angle as the drive's phase, the transient dropped)."""
+    crank angle as the drive's phase, the transient dropped, the finer settings in
+    ``options``)."""
     return {
         "variables": {"X": "eccentricity_x[joint=C]", "Y": "eccentricity_y[joint=C]"},
         "phase_variable": "crank_angle",
         "discard": settings.discard_revolutions * 60.0 / 150.0,
-        "max_samples": settings.max_samples,
-        "n_surrogates": settings.n_surrogates,
-        "rng": 0,
-        # journal displacements in mm in every figure, as in the stroboscopic maps
-        "display_units": {"X": "mm", "Y": "mm"},
+        "options": chaoskit.ReportOptions(
+            max_samples=settings.max_samples,
+            n_surrogates=settings.n_surrogates,
+            rng=0,
+            # journal displacements in mm in every figure, as in the stroboscopic maps
+            display_units={"X": "mm", "Y": "mm"},
+        ),
     }
 
 
@@ -202,7 +205,7 @@ def compile_kernels(part: str, *, rigid_exponent: bool = True) -> float:
             scene,
             revolutions=0.01,
             output_step=period / 1000,
-            variables=CHAOS_VARIABLES,
+            record=FullRecord(variables=CHAOS_VARIABLES),
         )
         predict_wear(
             scene,

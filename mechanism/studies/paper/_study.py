@@ -479,20 +479,23 @@ def _report(
     if command is None:
         command = " ".join(shlex.quote(a) for a in sys.argv) if sys.argv else "run_paper_study"
     analysis_options = chaos_analysis_options(settings) if trajectories else {}
-    rep = chaoskit.report(
-        trajectories or None,
+    extras = chaoskit.ReportExtras(
         exponents={
             s: e for s, e in results.equations.items() if e is not None and s in trajectories
         },
-        **analysis_options,
         chaos_reference=chaos_reference(run.paper, trajectories) if trajectories else None,
         reference_name="paper",
         chaos_notes=notes["chaos"],
         tables=report_tables(tables, run.paper, notes, has_after=has_after),
         parameters={"quick": run.quick, "settings": settings.to_dict()},
+        command=command,
+    )
+    rep = chaoskit.report(
+        trajectories or None,
+        **analysis_options,
         title="Is the six-bar press with a worn clearance joint chaotic? Jia et al. (2025) "
         "reproduced" + (" (quick settings)" if run.quick else ""),
-        command=command,
+        extras=extras,
     )
     chaos = rep.table("Chaos table").data if trajectories else pd.DataFrame()
     tables["chaos"] = chaos

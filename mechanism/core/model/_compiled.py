@@ -1,0 +1,179 @@
+"""The compiled model: the flat tables the kernels read (:class:`KernelModel`), their
+scratch arrays (:class:`Workspace`) and the :class:`Model` that names what the tables hold
+(bodies, coordinates, joint reactions, outputs)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import NamedTuple
+
+import numpy as np
+
+from mechanism.core.bodies import AncfLayout
+from mechanism.core.joints import PCF_COLUMNS, PCI_COLUMNS
+from mechanism.core.scene import Scene
+
+from . import _kernels as k
+
+__all__ = ["IdealJointRows", "KernelModel", "Model", "SliderMap", "Workspace"]
+
+
+class KernelModel(NamedTuple):
+    """The arrays the compiled kernels read (contiguous int64 / float64)."""
+
+    n_dof: int
+    n_rows: int
+    mass: np.ndarray  # (n, n) constant mass matrix
+    minv: np.ndarray  # (n, n) its inverse (block diagonal)
+    blk_lo: np.ndarray  # (n,) first coordinate of the mass block of coordinate i
+    blk_hi: np.ndarray  # (n,) one past its last coordinate
+    gravity_force: np.ndarray  # (n,) constant generalised gravity
+    pt_i: np.ndarray
+    pt_f: np.ndarray
+    con_i: np.ndarray
+    con_f: np.ndarray
+    drive_i: np.ndarray  # [kind, constraint index]
+    drive_f: np.ndarray  # [θ₀, ω, period, ramp per period]
+    spline_x: np.ndarray
+    spline_c: np.ndarray
+    cj_i: np.ndarray  # (n_cj, 4) [bearing point, journal point, law code, friction code]
+    cj_f: np.ndarray  # (n_cj, CF_COLUMNS)
+    cw_i: np.ndarray  # (n_cj, CW_COLUMNS) worn-profile layout
+    cw_f: np.ndarray  # (n_cj, 2) [E*, radius ratio limit]
+    cw_h: np.ndarray  # flat wear depths (m) of all worn surfaces
+    cw_k: np.ndarray  # flat tabulated curvatures (1/m) of the same regions
+    out_i: np.ndarray  # [crank point a, crank point b, guide point, slider point] (−1: none)
+    out_f: np.ndarray  # [ux, uy] slider guide axis in the guide body's frame
+    jt_i: np.ndarray  # (n_ideal, 3) [JOINT_PIN | JOINT_PRISMATIC, first row, guide point]
+    jt_f: np.ndarray  # (n_ideal, 2) prismatic guide normal in the guide body's frame
+    alpha: float
+    beta: float
+    # flexible bodies : one row per ANCF beam, see ``beams_force_add``
+    beam_i: np.ndarray  # (n_beams, BEAM_I_COLUMNS) int64
+    beam_f: np.ndarray  # (n_beams, BEAM_F_COLUMNS) float64
+
+
+class Workspace(NamedTuple):
+    """Scratch arrays of one right-hand-side evaluation (allocated once per run)."""
+
+    phi: np.ndarray
+    phiq: np.ndarray
+    phit: np.ndarray
+    gam: np.ndarray
+    gen: np.ndarray
+    a0: np.ndarray
+    w: np.ndarray
+    s: np.ndarray
+    lam: np.ndarray
+    cj: np.ndarray
+    pci: np.ndarray
+    pcf: np.ndarray
+    nz_n: np.ndarray
+    nz_j: np.ndarray
+
+
+@dataclass(frozen=True, kw_only=True)
+class IdealJointRows:
+    """Where an ideal joint's reaction lives in λ.
+
+    ``kind``: ``"revolute"`` (rows r, r+1 = force on ``bodies[1]`` in x, y),
+    ``"prismatic"`` (row r = relative angle → reaction moment, r+1 = normal force),
+    ``"fixed"`` (r, r+1 force, r+2 moment). ``normal`` is the guide normal in the frame
+    of ``bodies[0]`` for prismatic joints.
+    """
+
+    name: str
+    kind: str
+    row: int
+    normal: tuple[float, float] = (0.0, 0.0)
+    guide_point: int = -1
+
+
+@dataclass(frozen=True, kw_only=True)
+class SliderMap:
+    """Slider output of a prismatic joint: s = u·(r_b − r_a), u = A(θ_a) ū."""
+
+    joint: str
+    guide_point: int
+    slider_point: int
+    axis: tuple[float, float]
+
+
+@dataclass(frozen=True, kw_only=True)
+class Model:
+    """A scene compiled for the time loop (immutable; arrays are not to be modified).
+
+    Attributes
+    ----------
+    scene : Scene
+        The scene it was assembled from.
+    kernel : KernelModel
+        The compiled tables.
+    body_names, body_offsets
+        Bodies in coordinate order and the index of each body's first coordinate.
+    rigid_bodies
+        Names of the bodies with (x, y, θ) coordinates (outputs ``position``/``velocity``).
+    beams
+        Layout of every flexible ANCF beam by body name (empty when
+        ``effects.flexibility`` is off); its coordinates start at its body offset.
+    dof_names
+        ``"body.coordinate"`` for every coordinate.
+    ideal_joints
+        Reaction layout of every ideal joint (including clearance joints made ideal).
+    clearance_joints
+        Names of the clearance joints that act through contact forces (empty when
+        ``effects.clearance`` is off).
+    drive_row
+        Row of the driving constraint in λ (driving torque T = −λ), or None.
+    crank_points
+        (point a, point b) whose relative angle is the crank angle, or None.
+    slider
+        Slider output map, or None.
+    q_guess
+        Initial coordinates from the scene's pose guesses.
+    """
+
+    scene: Scene
+    kernel: KernelModel
+    body_names: tuple[str, ...]
+    body_offsets: tuple[int, ...]
+    rigid_bodies: tuple[str, ...]
+    beams: dict[str, AncfLayout]
+    dof_names: tuple[str, ...]
+    point_index: dict[tuple[str, str], int]
+    ideal_joints: tuple[IdealJointRows, ...]
+    clearance_joints: tuple[str, ...]
+    drive_row: int | None
+    crank_points: tuple[int, int] | None
+    slider: SliderMap | None
+    q_guess: np.ndarray
+
+    @property
+    def n_dof(self) -> int:
+        return self.kernel.n_dof
+
+    @property
+    def n_rows(self) -> int:
+        return self.kernel.n_rows
+
+    def workspace(self) -> Workspace:
+        """Fresh scratch arrays for the kernels."""
+        n = self.n_dof
+        m = self.n_rows
+        n_points = self.kernel.pt_i.shape[0]
+        return Workspace(
+            phi=np.zeros(m),
+            phiq=np.zeros((m, n)),
+            phit=np.zeros(m),
+            gam=np.zeros(m),
+            gen=np.zeros(n),
+            a0=np.zeros(n),
+            w=np.zeros((n, m)),
+            s=np.zeros((m, m)),
+            lam=np.zeros(m),
+            cj=np.zeros((self.kernel.cj_i.shape[0], k.CJ_COLUMNS)),
+            pci=np.zeros((n_points, PCI_COLUMNS), dtype=np.int64),
+            pcf=np.zeros((n_points, PCF_COLUMNS)),
+            nz_n=np.zeros(m, dtype=np.int64),
+            nz_j=np.zeros((m, n), dtype=np.int64),
+        )

@@ -1,0 +1,536 @@
+"""The tables of a scene's assembly: bodies laid out on the coordinates, the point and
+constraint rows of the joints, the clearance-joint and worn-profile rows, the drive and
+the output points, packed into the contiguous arrays of a :class:`KernelModel`.
+
+* **coordinates** — each body owns a contiguous slice of q starting at its offset: a rigid
+  body (x, y, θ) of its centre of mass (docs/paper-model.md §3); an ANCF beam  4 DOF
+  per node. Everything else addresses coordinates through *points*.
+* **points** — ground points, rigid-body points (offset + local vector, nonlinear in θ)
+  and linear points (weighted node positions of a flexible body); see
+  ``mechanism.core.joints._kernels`` for the table layout.
+* **mass** — the constant block-diagonal mass matrix, its inverse (used for the Schur
+  complement of the equations of motion) and the per-coordinate block bounds.
+* **constraints** — ideal joints as primitive rows (coincident points, relative angle,
+  normal distance, driven angle), a clearance joint as a force element (or, with
+  ``effects.clearance = False``, as an ideal revolute: no contact code at all).
+* **clearance joints** — bearing/journal points, radii, contact and friction laws.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from mechanism.core.bodies import (
+    BEAM_F_COLUMNS,
+    BEAM_I_COLUMNS,
+    AncfLayout,
+    RigidLayout,
+    rigid_bar_from_beam,
+)
+from mechanism.core.contact import contact_parameters
+from mechanism.core.joints import (
+    ANGLE_NONE,
+    CON_ANGLE,
+    CON_COINCIDE,
+    CON_DRIVE,
+    CON_NORMAL,
+    CON_ROWS,
+    DRIVE_CONSTANT_SPEED,
+    DRIVE_NONE,
+    DRIVE_PROFILE,
+    POINT_GROUND,
+)
+from mechanism.core.scene import (
+    GROUND,
+    AncfBeam,
+    AngleProfileDrive,
+    ClearanceRevolute,
+    ConstantSpeedDrive,
+    FixedJoint,
+    PrismaticJoint,
+    RevoluteJoint,
+    RigidBody,
+    Scene,
+)
+from mechanism.core.wear import WornProfile
+from mechanism.core.wear import kernels as wk
+
+from . import _kernels as k
+from ._compiled import IdealJointRows, KernelModel, SliderMap
+
+__all__ = [
+    "DriveRows",
+    "JointTables",
+    "MassTables",
+    "TableBuilder",
+    "body_layouts",
+    "drive_rows",
+    "joint_tables",
+    "kernel_model",
+    "mass_tables",
+    "output_crank_points",
+    "slider_map",
+]
+
+
+def body_layouts(scene: Scene) -> list[Any]:
+    layouts: list[Any] = []
+    for name, body in scene.bodies.items():
+        if name == GROUND:
+            raise ValueError(f"bodies.{GROUND} is reserved for the frame; rename that body.")
+        if isinstance(body, RigidBody):
+            layouts.append(RigidLayout(name=name, body=body))
+        elif isinstance(body, AncfBeam):
+            if scene.effects.flexibility:
+                layouts.append(
+                    AncfLayout(
+                        name=name,
+                        beam=body,
+                        axial_strain=body.axial_strain,
+                        curvature=body.curvature,
+                    )
+                )
+            else:
+                layouts.append(RigidLayout(name=name, body=rigid_bar_from_beam(body)))
+        else:
+            raise TypeError(f"bodies.{name}: unsupported body type {type(body).__name__}.")
+    return layouts
+
+
+class TableBuilder:
+    """Accumulates the point and constraint tables."""
+
+    def __init__(self, scene: Scene, layouts: list[Any], offsets: dict[str, int]):
+        self.scene = scene
+        self.layouts = {lay.name: lay for lay in layouts}
+        self.offsets = offsets
+        self.pt_i: list[list[int]] = []
+        self.pt_f: list[list[float]] = []
+        self.point_index: dict[tuple[str, str], int] = {}
+        self.con_i: list[list[int]] = []
+        self.con_f: list[list[float]] = []
+        self.rows = 0
+
+    def point(self, body: str, point: str, where: str) -> int:
+        key = (body, point)
+        if key in self.point_index:
+            return self.point_index[key]
+        if body == GROUND:
+            if point not in self.scene.ground_points:
+                raise ValueError(
+                    f"{where}: ground point {point!r} is not defined; ground points are "
+                    f"{sorted(self.scene.ground_points)}."
+                )
+            x, y = self.scene.ground_points[point]
+            row_i = [POINT_GROUND, -1, ANGLE_NONE, -1, -1, -1, -1, -1]
+            row_f = [float(x), float(y), 0.0, 0.0, 0.0, 0.0]
+        else:
+            if body not in self.layouts:
+                raise ValueError(
+                    f"{where}: body {body!r} is not defined; bodies are "
+                    f"{sorted(self.layouts)} (and {GROUND!r})."
+                )
+            layout = self.layouts[body]
+            try:
+                row_i, row_f = layout.point_row(point, self.offsets[body])
+            except KeyError:
+                raise ValueError(
+                    f"{where}: body {body!r} has no point {point!r}; its points are "
+                    f"{sorted(layout.point_names)}."
+                ) from None
+        self.point_index[key] = len(self.pt_i)
+        self.pt_i.append(list(row_i))
+        self.pt_f.append(list(row_f))
+        return self.point_index[key]
+
+    def add(self, typ: int, a: int, b: int, floats: tuple[float, ...] = ()) -> int:
+        row = self.rows
+        f = [0.0, 0.0, 0.0, 0.0]
+        f[: len(floats)] = [float(x) for x in floats]
+        self.con_i.append([typ, a, b, row])
+        self.con_f.append(f)
+        self.rows += CON_ROWS[typ]
+        return row
+
+
+def _angle_guess(layouts: dict[str, Any], body: str) -> float:
+    if body == GROUND:
+        return 0.0
+    layout = layouts[body]
+    if isinstance(layout, AncfLayout):
+        # a beam's frame angle is the slope angle of its (straight) initial chord
+        return layout.chord_angle
+    return float(layout.initial_coordinates()[2])
+
+
+def _profile_tables(drive: AngleProfileDrive) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Periodic cubic spline of an angle profile: f(t) = ramp·t/P + s((t − t₀) mod P).
+
+    ``ramp`` is the angle gained per period: a[-1] − a[0] when the samples span the whole
+    period, else the mean rate extrapolated to a period and rounded to whole turns (0 for
+    an oscillating profile, 2π per turn for a rotating crank); the spline is closed at
+    t₀ + P with a[0] + ramp.
+    """
+    from scipy.interpolate import CubicSpline
+
+    t = np.asarray(drive.time, dtype=np.float64)
+    a = np.asarray(drive.angle, dtype=np.float64)
+    period = float(drive.period)
+    if t.ndim != 1 or t.size < 2 or t.size != a.size or np.any(np.diff(t) <= 0):
+        raise ValueError(
+            "drive.time and drive.angle must be equally long (≥ 2 samples) with strictly "
+            "increasing times."
+        )
+    span = float(t[-1] - t[0])
+    if span > period * (1.0 + 1e-12):
+        raise ValueError(
+            f"drive.time must span at most one drive.period ({period!r} s); got {span!r} s."
+        )
+    if math.isclose(span, period, rel_tol=1e-9):
+        ramp = float(a[-1] - a[0])
+    else:
+        turns = (a[-1] - a[0]) * period / span / (2.0 * math.pi)
+        ramp = 2.0 * math.pi * round(turns)
+        t = np.append(t, t[0] + period)
+        a = np.append(a, a[0] + ramp)
+    periodic = a - ramp * t / period
+    periodic[-1] = periodic[0]
+    if t.size < 3:
+        x = np.array([t[0], t[0] + period])
+        c = np.zeros((4, 1))
+        c[3, 0] = periodic[0]
+        return np.array([0.0, 0.0, period, ramp]), x, c
+    spline = CubicSpline(t, periodic, bc_type="periodic")
+    return (
+        np.array([0.0, 0.0, period, ramp]),
+        np.ascontiguousarray(spline.x, dtype=np.float64),
+        np.ascontiguousarray(spline.c, dtype=np.float64),
+    )
+
+
+def _drive_tables(
+    scene: Scene,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, float]:
+    """(drive_f, spline_x, spline_c, kind, θ₀) of the scene's drive."""
+    drive = scene.drive
+    empty_x = np.zeros(2)
+    empty_c = np.zeros((4, 1))
+    if drive is None:
+        return np.zeros(4), empty_x, empty_c, np.array(DRIVE_NONE), 0.0
+    if isinstance(drive, ConstantSpeedDrive):
+        w = drive.speed
+        return (
+            np.array([drive.initial_angle, w, drive.period, 0.0]),
+            empty_x,
+            empty_c,
+            np.array(DRIVE_CONSTANT_SPEED),
+            float(drive.initial_angle),
+        )
+    if isinstance(drive, AngleProfileDrive):
+        return (*_profile_tables(drive), np.array(DRIVE_PROFILE), 0.0)
+    raise TypeError(f"unsupported drive type {type(drive).__name__}.")
+
+
+def _worn_tables(
+    joint: ClearanceRevolute, p: Any, flat: list[np.ndarray]
+) -> tuple[list[int], list[float]]:
+    """Worn-profile row of one clearance joint; appends its depth and curvature arrays.
+
+    ``flat`` alternates depth and curvature arrays; offsets index their concatenations.
+    The kernels read both through the continuous surface of
+    ``mechanism.core.wear._kernels.surface_value`` (and its slope for the rate of the local
+    clearance while the contact moves over a worn flank).
+    An unworn joint (both profiles empty) gets ``CW_WORN = 0`` and no arrays, so its
+    contact runs the unworn code path.
+    """
+    row_i = [0] * k.CW_COLUMNS
+    row_f = [p.effective_modulus, float(joint.wear.radius_ratio_limit)]
+    if not (joint.wear.bearing_profile or joint.wear.journal_profile):
+        return row_i, row_f
+    profile = WornProfile.from_joint(joint)
+    offset = sum(a.size for a in flat[0::2])
+    row_i[k.CW_WORN] = 1
+    row_i[k.CW_FORM] = p.stiffness_form_code if p.form is not None else -1
+    for depth, radius, outward, col in (
+        (profile.bearing_depth, joint.bearing_radius, True, k.CW_B_OFF),
+        (profile.journal_depth, joint.journal_radius, False, k.CW_J_OFF),
+    ):
+        depth = np.ascontiguousarray(depth, dtype=np.float64)
+        if not depth.any():
+            continue  # an unworn surface: empty slice, nominal clearance and curvature
+        kappa = np.empty(depth.size)
+        wk.curvature_profile(radius, depth, profile.smoothing_regions, outward, kappa)
+        row_i[col] = offset
+        row_i[col + 1] = depth.size
+        flat.extend((depth, kappa))
+        offset += depth.size
+    return row_i, row_f
+
+
+@dataclass
+class MassTables:
+    mass: np.ndarray
+    minv: np.ndarray
+    blk_lo: np.ndarray
+    blk_hi: np.ndarray
+    gravity: np.ndarray
+    q_guess: np.ndarray
+    dof_names: list[str]
+
+
+def mass_tables(scene: Scene, layouts: list[Any], offsets: dict[str, int], n: int) -> MassTables:
+    """Block-diagonal mass matrix and its inverse, gravity forces and the first guess of q."""
+    t = MassTables(
+        mass=np.zeros((n, n)),
+        minv=np.zeros((n, n)),
+        blk_lo=np.zeros(n, dtype=np.int64),
+        blk_hi=np.zeros(n, dtype=np.int64),
+        gravity=np.zeros(n),
+        q_guess=np.zeros(n),
+        dof_names=[],
+    )
+    g = scene.gravity if scene.effects.gravity else (0.0, 0.0)
+    for lay in layouts:
+        o = offsets[lay.name]
+        blk = lay.mass_block()
+        sl = slice(o, o + lay.n_dof)
+        t.mass[sl, sl] = blk
+        inv = np.linalg.inv(blk)
+        # exactly symmetric, so the kernels may read a column as the contiguous row
+        t.minv[sl, sl] = 0.5 * (inv + inv.T)
+        t.blk_lo[sl] = o
+        t.blk_hi[sl] = o + lay.n_dof
+        t.gravity[sl] = lay.gravity_block(g)
+        t.q_guess[sl] = lay.initial_coordinates()
+        t.dof_names.extend(f"{lay.name}.{c}" for c in lay.coordinate_names)
+    return t
+
+
+@dataclass
+class JointTables:
+    ideal_rows: list[IdealJointRows] = field(default_factory=list)
+    clearance_names: list[str] = field(default_factory=list)
+    cj_i: list[list[int]] = field(default_factory=list)
+    cj_f: list[list[float]] = field(default_factory=list)
+    worn: list[tuple[list[int], list[float]]] = field(default_factory=list)
+    cw_h: list[np.ndarray] = field(default_factory=list)
+
+
+def joint_tables(
+    scene: Scene,
+    b: TableBuilder,
+    layout_map: dict[str, Any],
+    *,
+    use_clearance: bool,
+    eccentricity_offsets: bool,
+) -> JointTables:
+    """Constraint rows of the ideal joints and the table rows of the clearance joints."""
+    t = JointTables()
+    for name, joint in scene.joints.items():
+        where = f"joints.{name}"
+        if isinstance(joint, ClearanceRevolute):
+            pb = b.point(joint.bearing[0], joint.bearing[1], where)
+            pj = b.point(joint.journal[0], joint.journal[1], where)
+            if use_clearance:
+                p = contact_parameters(joint)
+                friction = p.friction_code if scene.effects.friction else 0
+                t.cj_i.append([pb, pj, p.law_code, friction])
+                t.cj_f.append(_clearance_row(joint, p))
+                t.worn.append(_worn_tables(joint, p, t.cw_h))
+                t.clearance_names.append(name)
+            else:
+                ex, ey = joint.initial_eccentricity if eccentricity_offsets else (0.0, 0.0)
+                # Φ = r_b − r_j + e₀ keeps r_j − r_b = e₀
+                row = b.add(CON_COINCIDE, pb, pj, (-ex, -ey))
+                t.ideal_rows.append(IdealJointRows(name=name, kind="revolute", row=row))
+            continue
+        if not isinstance(joint, RevoluteJoint | PrismaticJoint | FixedJoint):
+            raise TypeError(f"{where}: unsupported joint type {type(joint).__name__}.")
+        (ba, bb), (na, nb) = joint.bodies, joint.points
+        pa = b.point(ba, na, where)
+        pb = b.point(bb, nb, where)
+        rel = _angle_guess(layout_map, bb) - _angle_guess(layout_map, ba)
+        if isinstance(joint, RevoluteJoint):
+            row = b.add(CON_COINCIDE, pa, pb)
+            t.ideal_rows.append(IdealJointRows(name=name, kind="revolute", row=row))
+        elif isinstance(joint, FixedJoint):
+            row = b.add(CON_COINCIDE, pa, pb)
+            b.add(CON_ANGLE, pa, pb, (rel,))
+            t.ideal_rows.append(IdealJointRows(name=name, kind="fixed", row=row))
+        else:
+            ux, uy = (float(c) for c in joint.axis)
+            norm = math.hypot(ux, uy)
+            if not norm > 0.0:
+                raise ValueError(f"{where}.axis must be a non-zero vector; got {joint.axis!r}.")
+            ux, uy = ux / norm, uy / norm
+            row = b.add(CON_ANGLE, pa, pb, (rel,))
+            b.add(CON_NORMAL, pa, pb, (-uy, ux, 0.0))
+            t.ideal_rows.append(
+                IdealJointRows(
+                    name=name, kind="prismatic", row=row, normal=(-uy, ux), guide_point=pa
+                )
+            )
+    return t
+
+
+def _clearance_row(joint: ClearanceRevolute, p: Any) -> list[float]:
+    """The ``CF_*`` row of a clearance joint: geometry and its contact and friction laws."""
+    row_f = [0.0] * k.CF_COLUMNS
+    row_f[k.CF_RB] = joint.bearing_radius
+    row_f[k.CF_RJ] = joint.journal_radius
+    row_f[k.CF_C] = joint.clearance
+    row_f[k.CF_K] = p.stiffness
+    row_f[k.CF_EXP] = p.exponent
+    row_f[k.CF_CE] = p.restitution
+    row_f[k.CF_MU] = p.friction_coefficient
+    row_f[k.CF_V0] = p.v0
+    row_f[k.CF_V1] = p.v1
+    row_f[k.CF_FLOOR] = p.impact_velocity_floor
+    return row_f
+
+
+@dataclass
+class DriveRows:
+    f: np.ndarray
+    spline_x: np.ndarray
+    spline_c: np.ndarray
+    kind: int
+    row: int | None = None
+    con: int = -1
+    crank_points: tuple[int, int] | None = None
+
+
+def drive_rows(scene: Scene, b: TableBuilder) -> DriveRows:
+    """The driving constraint (a prescribed angle of a revolute joint) and its tables."""
+    drive_f, spline_x, spline_c, drive_kind, theta0 = _drive_tables(scene)
+    out = DriveRows(f=drive_f, spline_x=spline_x, spline_c=spline_c, kind=int(drive_kind))
+    if scene.drive is not None:
+        jname = scene.drive.joint
+        driven = scene.joints.get(jname)
+        if not isinstance(driven, RevoluteJoint):
+            raise ValueError(
+                f"drive.joint must name a revolute joint; got {jname!r} "
+                f"({type(driven).__name__ if driven is not None else 'undefined'})."
+            )
+        pa = b.point(driven.bodies[0], driven.points[0], "drive")
+        pb = b.point(driven.bodies[1], driven.points[1], "drive")
+        out.con = len(b.con_i)
+        out.row = b.add(CON_DRIVE, pa, pb, (theta0,))
+        out.crank_points = (pa, pb)
+    return out
+
+
+def output_crank_points(
+    scene: Scene, b: TableBuilder, default: tuple[int, int] | None
+) -> tuple[int, int] | None:
+    """Points whose relative angle is the output ``crank_angle`` (default: the driven joint)."""
+    crank_joint = scene.outputs.crank_joint
+    if crank_joint is None:
+        return default
+    crank = scene.joints.get(crank_joint)
+    if not isinstance(crank, RevoluteJoint | ClearanceRevolute):
+        raise ValueError(f"outputs.crank_joint must name a revolute joint; got {crank_joint!r}.")
+    if isinstance(crank, ClearanceRevolute):
+        return (
+            b.point(*crank.bearing, "outputs.crank_joint"),
+            b.point(*crank.journal, "outputs.crank_joint"),
+        )
+    return (
+        b.point(crank.bodies[0], crank.points[0], "outputs.crank_joint"),
+        b.point(crank.bodies[1], crank.points[1], "outputs.crank_joint"),
+    )
+
+
+def _arr_i(rows: list[list[int]], width: int) -> np.ndarray:
+    return np.ascontiguousarray(np.array(rows, dtype=np.int64).reshape(-1, width))
+
+
+def _arr_f(rows: list[list[float]], width: int) -> np.ndarray:
+    return np.ascontiguousarray(np.array(rows, dtype=np.float64).reshape(-1, width))
+
+
+def kernel_model(
+    scene: Scene,
+    layouts: list[Any],
+    offsets: dict[str, int],
+    mass: MassTables,
+    b: TableBuilder,
+    joints: JointTables,
+    drive: DriveRows,
+    crank_points: tuple[int, int] | None,
+    slider: SliderMap | None,
+) -> KernelModel:
+    """Pack the assembled tables into the contiguous arrays the kernels read."""
+    beam_names = [lay.name for lay in layouts if isinstance(lay, AncfLayout)]
+    beam_rows = {
+        lay.name: lay.beam_row(offsets[lay.name]) for lay in layouts if isinstance(lay, AncfLayout)
+    }
+    cw_h = joints.cw_h
+    solver = scene.solver
+    return KernelModel(
+        n_dof=mass.mass.shape[0],
+        n_rows=b.rows,
+        mass=mass.mass,
+        minv=mass.minv,
+        blk_lo=mass.blk_lo,
+        blk_hi=mass.blk_hi,
+        gravity_force=mass.gravity,
+        pt_i=_arr_i(b.pt_i, 8),
+        pt_f=_arr_f(b.pt_f, 6),
+        con_i=_arr_i(b.con_i, 4),
+        con_f=_arr_f(b.con_f, 4),
+        drive_i=np.array([drive.kind, drive.con], dtype=np.int64),
+        drive_f=np.ascontiguousarray(drive.f, dtype=np.float64),
+        spline_x=drive.spline_x,
+        spline_c=drive.spline_c,
+        cj_i=_arr_i(joints.cj_i, 4),
+        cj_f=_arr_f(joints.cj_f, k.CF_COLUMNS),
+        cw_i=_arr_i([w[0] for w in joints.worn], k.CW_COLUMNS),
+        cw_f=_arr_f([w[1] for w in joints.worn], 2),
+        cw_h=np.ascontiguousarray(np.concatenate([np.zeros(0), *cw_h[0::2]])),
+        cw_k=np.ascontiguousarray(np.concatenate([np.zeros(0), *cw_h[1::2]])),
+        out_i=np.array(
+            [
+                *(crank_points if crank_points is not None else (-1, -1)),
+                *((slider.guide_point, slider.slider_point) if slider is not None else (-1, -1)),
+            ],
+            dtype=np.int64,
+        ),
+        out_f=np.array(slider.axis if slider is not None else (1.0, 0.0), dtype=np.float64),
+        jt_i=_arr_i(
+            [
+                [k.JOINT_PRISMATIC if j.kind == "prismatic" else k.JOINT_PIN, j.row, j.guide_point]
+                for j in joints.ideal_rows
+            ],
+            3,
+        ),
+        jt_f=_arr_f([list(j.normal) for j in joints.ideal_rows], 2),
+        alpha=float(solver.baumgarte_alpha),
+        beta=float(solver.baumgarte_beta),
+        beam_i=_arr_i([beam_rows[n][0] for n in beam_names], BEAM_I_COLUMNS),
+        beam_f=_arr_f([beam_rows[n][1] for n in beam_names], BEAM_F_COLUMNS),
+    )
+
+
+def slider_map(scene: Scene, b: TableBuilder) -> SliderMap | None:
+    name = scene.outputs.slider_joint
+    if name is None:
+        prismatic = [n for n, j in scene.joints.items() if isinstance(j, PrismaticJoint)]
+        if len(prismatic) != 1:
+            return None
+        name = prismatic[0]
+    joint = scene.joints.get(name)
+    if not isinstance(joint, PrismaticJoint):
+        raise ValueError(f"outputs.slider_joint must name a prismatic joint; got {name!r}.")
+    ux, uy = (float(c) for c in joint.axis)
+    norm = math.hypot(ux, uy)
+    return SliderMap(
+        joint=name,
+        guide_point=b.point(joint.bodies[0], joint.points[0], "outputs.slider_joint"),
+        slider_point=b.point(joint.bodies[1], joint.points[1], "outputs.slider_joint"),
+        axis=(ux / norm, uy / norm),
+    )
