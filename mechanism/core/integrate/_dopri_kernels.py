@@ -19,7 +19,6 @@ from mechanism.core._jit import (
     njit_noalloc,
 )
 from mechanism.core._status import (
-    STATUS_MAX_STEPS,
     STATUS_OK,
     STATUS_RUNNING,
     STATUS_SINGULAR,
@@ -39,7 +38,9 @@ from ._step_kernels import (
     DENSE_DOPRI5,
     EPS,
     after_step,
+    chunk_end,
     entry_fraction,
+    next_step_size,
 )
 
 __all__: list[str] = []
@@ -194,16 +195,11 @@ def dopri5_advance(model, ws, loop, out, ctl, t_stop):
     attempted = counters[CNT_STEPS] + counters[CNT_REJECTED]
     status = STATUS_RUNNING
     while True:
-        if t >= t_end:
-            status = STATUS_OK
+        stop, status = chunk_end(
+            t, t_end, t_stop, counters, ctl.max_steps, ctl.chunk_steps, attempted
+        )
+        if stop:
             break
-        if t >= t_stop:
-            break
-        if counters[CNT_STEPS] + counters[CNT_REJECTED] >= ctl.max_steps:
-            status = STATUS_MAX_STEPS
-            break
-        if 0 < ctl.chunk_steps <= counters[CNT_STEPS] + counters[CNT_REJECTED] - attempted:
-            break  # back to Python, which checks for Ctrl-C and calls again
         h = min(h, max_step)
         if ctl.approach_floor > 0.0:
             near = approach_step(model, ws, y, k1[n2 // 2 :], ctl.approach_fraction)
@@ -286,18 +282,14 @@ def dopri5_advance(model, ws, loop, out, ctl, t_stop):
                     status = STATUS_SINGULAR
                     break
                 rhs(model, ws, t, y, vimp, k1, counters)
-            fac = fac11 / facold**beta
-            fac = max(0.1, min(5.0, fac / 0.9))
-            hnew = h / fac
-            facold = max(e, 1e-4)
-            if last_rejected:
-                hnew = min(hnew, h)
-            last_rejected = False
-            h = hnew
+            h, facold, last_rejected = next_step_size(
+                True, e, h, fac11, facold, beta, last_rejected
+            )
         else:
             counters[CNT_REJECTED] += 1
-            h = h / min(5.0, fac11 / 0.9)
-            last_rejected = True
+            h, facold, last_rejected = next_step_size(
+                False, e, h, fac11, facold, beta, last_rejected
+            )
     loop.step[0] = t
     loop.step[1] = h
     loop.step[2] = facold

@@ -21,7 +21,6 @@ from numba import (
 )
 
 from mechanism.core._status import (
-    STATUS_MAX_STEPS,
     STATUS_NONFINITE,
     STATUS_OK,
     STATUS_RUNNING,
@@ -63,6 +62,7 @@ from ._step_kernels import (
     DENSE_HERMITE,
     EPS,
     after_step,
+    chunk_end,
     entry_fraction,
 )
 from ._tangent_kernels import (
@@ -249,16 +249,11 @@ def genalpha_advance(model, ws, loop, out, ctl, jac, t_stop, dev):
     attempted = counters[CNT_STEPS] + counters[CNT_REJECTED]
     status = STATUS_RUNNING
     while True:
-        if t >= t_end:
-            status = STATUS_OK
+        stop, status = chunk_end(
+            t, t_end, t_stop, counters, ctl.max_steps, ctl.chunk_steps, attempted
+        )
+        if stop:
             break
-        if t >= t_stop:
-            break
-        if counters[CNT_STEPS] + counters[CNT_REJECTED] >= ctl.max_steps:
-            status = STATUS_MAX_STEPS
-            break
-        if 0 < ctl.chunk_steps <= counters[CNT_STEPS] + counters[CNT_REJECTED] - attempted:
-            break  # back to Python, which checks for Ctrl-C and calls again
         h = min(h, max_step)
         if ctl.approach_floor > 0.0:
             near = approach_step(model, ws, y, acc, ctl.approach_fraction)

@@ -40,7 +40,9 @@ from mechanism.core._jit import (
     njit_noalloc,
 )
 from mechanism.core._status import (
+    STATUS_MAX_STEPS,
     STATUS_OK,
+    STATUS_RUNNING,
 )
 from mechanism.core.joints import (
     update_points,
@@ -48,6 +50,8 @@ from mechanism.core.joints import (
 from mechanism.core.model import (
     CJ_DELTA,
     CJ_FN,
+    CNT_REJECTED,
+    CNT_STEPS,
     accelerations,
     crank_angle,
     derived_outputs,
@@ -328,3 +332,39 @@ def entry_fraction(model, ws, y, contact, entry_depth, r_end):
     if r_start < 0.5 * entry_depth:
         frac = (0.5 * entry_depth - r_start) / (r_end - r_start)
     return min(0.9, max(0.01, frac))
+
+
+@njit_noalloc()
+def chunk_end(t, t_end, t_stop, counters, max_steps, chunk_steps, attempted):  # type: ignore[no-untyped-def]
+    """Whether a compiled loop stops before its next step, and with which status.
+
+    (True, ``STATUS_OK``) at the end of the interval; (True, ``STATUS_RUNNING``) at a stop
+    time or after ``chunk_steps`` attempted steps of this call (back to Python, which
+    checks for Ctrl-C and calls again); (True, ``STATUS_MAX_STEPS``) at the step cap;
+    (False, ``STATUS_RUNNING``) to go on. ``attempted``: steps attempted before this call.
+    """
+    if t >= t_end:
+        return True, STATUS_OK
+    if t >= t_stop:
+        return True, STATUS_RUNNING
+    done = counters[CNT_STEPS] + counters[CNT_REJECTED]
+    if done >= max_steps:
+        return True, STATUS_MAX_STEPS
+    if 0 < chunk_steps <= done - attempted:
+        return True, STATUS_RUNNING
+    return False, STATUS_RUNNING
+
+
+@njit_noalloc()
+def next_step_size(accepted, e, h, fac11, facold, beta, last_rejected):  # type: ignore[no-untyped-def]
+    """(h, facold, last_rejected) after a step of the stabilised (PI) step-size control of
+    Hairer, Nørsett & Wanner (Solving ODEs I, §II.4, DOPRI5): ``e`` the error norm,
+    ``fac11`` = e**(0.2 − 0.75·beta); after a rejection the step may not grow."""
+    if accepted:
+        fac = fac11 / facold**beta
+        fac = max(0.1, min(5.0, fac / 0.9))
+        hnew = h / fac
+        if last_rejected:
+            hnew = min(hnew, h)
+        return hnew, max(e, 1e-4), False
+    return h / min(5.0, fac11 / 0.9), facold, True

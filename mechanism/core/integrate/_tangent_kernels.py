@@ -57,7 +57,6 @@ from mechanism.core._jit import (
     njit_noalloc,
 )
 from mechanism.core._status import (
-    STATUS_MAX_STEPS,
     STATUS_NONFINITE,
     STATUS_OK,
     STATUS_RUNNING,
@@ -139,6 +138,10 @@ from ._newton_kernels import (
     contact_newton_solve,
     lu_factor,
     lu_solve,
+)
+from ._step_kernels import (
+    chunk_end,
+    next_step_size,
 )
 
 _EPS = 2.220446049250313e-16
@@ -540,16 +543,9 @@ def tangent_advance(
     attempted = counters[CNT_STEPS] + counters[CNT_REJECTED]
     status = STATUS_RUNNING
     while True:
-        if t >= t_end:
-            status = STATUS_OK
+        stop, status = chunk_end(t, t_end, t_stop, counters, max_steps, chunk_steps, attempted)
+        if stop:
             break
-        if t >= t_stop:
-            break
-        if counters[CNT_STEPS] + counters[CNT_REJECTED] >= max_steps:
-            status = STATUS_MAX_STEPS
-            break
-        if 0 < chunk_steps <= counters[CNT_STEPS] + counters[CNT_REJECTED] - attempted:
-            break  # back to Python, which checks for Ctrl-C and calls again
         h = min(h, max_step)
         if approach_floor > 0.0:
             near = approach_step(model, ws, y, k1[n2 // 2 :], approach_fraction)
@@ -687,18 +683,14 @@ def tangent_advance(
             if st != STATUS_OK:
                 status = STATUS_SINGULAR
                 break
-            fac = fac11 / facold**beta
-            fac = max(0.1, min(5.0, fac / 0.9))
-            hnew = h / fac
-            facold = max(e, 1e-4)
-            if last_rejected:
-                hnew = min(hnew, h)
-            last_rejected = False
-            h = hnew
+            h, facold, last_rejected = next_step_size(
+                True, e, h, fac11, facold, beta, last_rejected
+            )
         else:
             counters[CNT_REJECTED] += 1
-            h = h / min(5.0, fac11 / 0.9)
-            last_rejected = True
+            h, facold, last_rejected = next_step_size(
+                False, e, h, fac11, facold, beta, last_rejected
+            )
     state[0] = t
     state[1] = h
     state[2] = facold
