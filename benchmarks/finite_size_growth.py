@@ -37,7 +37,7 @@ import numpy as np
 import mechanism
 from chaoskit.contract import atomic_write
 from mechanism.core import default_step, step_limits
-from mechanism.core.integrate import Dopri5, initial_deviation
+from mechanism.core.integrate import Dopri5, StepSettings, initial_deviation
 from mechanism.core.model import assemble, initial_state
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -56,7 +56,7 @@ def separations(
     model = assemble(scene)
     method = Dopri5()
     max_step, floor = step_limits(model, method, default_step(scene, transient * period))
-    kw = {"rtol": tol, "atol": tol, "max_step": max_step, "approach_floor": floor}
+    kw = {"steps": StepSettings(rtol=tol, atol=tol, max_step=max_step, approach_floor=floor)}
     q0, v0 = initial_state(model)
     # the starts: after the transient, every 1 + 1/pairs revolutions (different phases)
     starts = transient * period + np.arange(pairs) * period * (1.0 + 1.0 / pairs)

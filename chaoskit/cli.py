@@ -10,6 +10,7 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
+import numpy as np
 import pandas as pd
 import typer
 from typer.core import TyperGroup
@@ -23,8 +24,10 @@ from ._paths import folder_problem, unique_filename
 from ._portraits import phase_portrait
 from ._samples import sample_path
 from ._selection import expand_variables, parse_variable, select_series, variable_spec
-from ._validate import check_choice, check_positive
+from ._validate import check_choice, check_int, check_positive
 from ._version import __version__
+from .denoise import MAX_ITERATIONS as DENOISE_MAX_ITERATIONS
+from .denoise import local_projective_denoise
 from .reporting import ReportExtras, ReportOptions, plural
 from .reporting import report as build_report
 from .verdict import (
@@ -332,6 +335,43 @@ def _load(path: Path, keep: list[str], *, discard: float = 0.0, **options: Any) 
     return ds, f"  {ds.sizes[index]} samples along {index!r}" + (cut if discard else "")
 
 
+def _denoise(ds: Any, names: list[str], iterations: int) -> tuple[Any, list[str]]:
+    """``ds`` with each series of ``names`` replaced by its local projective noise
+    reduction (parameters chosen from the data, ``iterations`` passes), the parameters in
+    the series' ``denoised`` attribute and the file's ``history``; and one line per series
+    saying what was done."""
+    ds = ds.copy()
+    index = "time" if "time" in ds.coords else "step"
+    lines, notes = [], []
+    for alias in names:
+        spec = variable_spec(ds, alias)
+        series = select_series(ds, spec)
+        res = local_projective_denoise(series, iterations=iterations)
+        std = float(np.std(res.original))
+        share = 100.0 * res.noise_level / std if std > 0 else float("nan")
+        note = (
+            f"local projective noise reduction: embedding_dim={res.embedding_dim}, "
+            f"lag={res.lag}, manifold_dim={res.manifold_dim}, iterations={res.iterations}, "
+            f"noise_level={res.noise_level:.4g} ({share:.3g} % of the standard deviation), "
+            f"correction_rms={', '.join(f'{c:.3g}' for c in res.correction_rms)}"
+        )
+        var = ds[spec.name]
+        where = {
+            d: (var.get_index(d).get_loc(series[d].item()) if d in series.coords else 0)
+            for d in var.dims
+            if d != index
+        }
+        values = var.values.astype(float)
+        values[tuple(where.get(d, slice(None)) for d in var.dims)] = res.cleaned
+        attrs = {**var.attrs, "denoised": note if var.ndim == 1 else f"{alias}: {note}"}
+        ds[spec.name] = (var.dims, values, attrs)
+        lines.append(f"  denoised {alias}: {note}")
+        notes.append(f"{alias} denoised by chaoskit analyze --denoise: {note}")
+    history = str(ds.attrs.get("history", "")).strip()
+    ds.attrs["history"] = "\n".join([*([history] if history else []), *notes])
+    return ds, lines
+
+
 def _run_analysis(
     path: Path,
     variables: list[str] | None,
@@ -345,10 +385,12 @@ def _run_analysis(
     motion: str | None = None,
     drive_variables: list[str] | None = None,
     discard: float = 0.0,
+    denoise: int = 0,
     **reading: Any,
 ) -> None:
     """Load, classify and print; ``reading`` holds the options of :func:`load_trajectory`
-    (time, dt, step, skip_rows, decimal, nan, group, resample)."""
+    (time, dt, step, skip_rows, decimal, nan, group, resample); ``denoise`` passes of noise
+    reduction of the analysed series first (0: none)."""
     with _user_errors():
         if drive_period is not None:  # else every variable's analysis fails on it (exit 1)
             check_positive(drive_period, name="--drive-period")
@@ -383,6 +425,12 @@ def _run_analysis(
         motion_names = rows
         if chosen is not None:
             _, motion_names = series_dataset(ds, variables=chosen, phase_variable=phase_variable)
+        if denoise:
+            setting_aside = {*(drive_variables or []), phase_variable}
+            cleaned = [n for n in dict.fromkeys([*rows, *motion_names]) if n not in setting_aside]
+            ds, lines = _denoise(ds, cleaned, denoise)
+            typer.echo("\n".join(lines))
+            typer.echo("")
         mv = None
         if not off and len(motion_names) >= 2:
             with _bar_line_ended(progress):
@@ -410,6 +458,8 @@ def _run_analysis(
                     progress=progress,
                 )
         table = verdict_table(verdicts)
+        if denoise:
+            table.attrs["history"] = ds.attrs["history"]
     if progress:
         typer.echo("", err=True)  # end the line of the progress bar
     _print_results(ds, mv, table, verdicts, figures=figures, measures=names, seed=seed)
@@ -553,6 +603,18 @@ def analyze(
         "angle): set aside from the motion verdict (repeat). Such variables are also found "
         "by themselves when --drive-period or --phase-variable is given.",
     ),
+    denoise: bool = typer.Option(
+        False,
+        "--denoise",
+        help="Reduce measurement noise in the analysed series before the analysis (local "
+        "projective noise reduction, its parameters chosen from the data and printed); off "
+        "by default: noise reduction also changes what the estimators see.",
+    ),
+    denoise_iterations: int = typer.Option(
+        3,
+        "--denoise-iterations",
+        help=f"Passes of the noise reduction with --denoise, 1 to {DENOISE_MAX_ITERATIONS}.",
+    ),
 ) -> None:
     """Classify the motion of a trajectory (its variables together) and each variable,
     and print the motion verdict, then the evidence table.
@@ -566,6 +628,12 @@ def analyze(
         discard = check_positive(discard, name="--discard", allow_zero=True)
         if resample is not None:
             resample = check_choice(resample, name="--resample", choices=RESAMPLE_METHODS)
+        denoise_iterations = check_int(
+            denoise_iterations,
+            name="--denoise-iterations",
+            minimum=1,
+            maximum=DENOISE_MAX_ITERATIONS,
+        )
     _run_analysis(
         path,
         specs or None,
@@ -586,6 +654,7 @@ def analyze(
         measures=measures,
         motion=motion,
         drive_variables=list(drive_variable) if drive_variable else None,
+        denoise=denoise_iterations if denoise else 0,
     )
 
 

@@ -50,24 +50,35 @@ from .core import integrate as integrate
 from .core import scene as scene
 from .studies import (
     Analysis,
+    Basins,
+    BifurcationPoint,
     BifurcationSettings,
+    Continuation,
+    ContinuationBranch,
+    ContinuationPoint,
+    ContinuationSettings,
     ElementConvergence,
     GridTransform,
     LyapunovSettings,
     PaperStudy,
     PeriodicOrbit,
+    RouteToChaos,
     SceneLyapunov,
     StudySettings,
     SweepStoreBusy,
     SweepStoreMismatch,
     WearComparison,
     WearLife,
+    WearLifeMap,
     WearLifeSettings,
     WearPrediction,
     WearPredictionError,
+    basins,
     bifurcation,
     chaos_map,
     compare_wear,
+    continuation,
+    continue_map,
     element_convergence,
     grid_transforms,
     load_sweep,
@@ -75,14 +86,20 @@ from .studies import (
     paper_claims,
     paper_tables,
     periodic_orbit,
+    plot_basins,
     plot_bifurcation,
+    plot_wear_life,
     plot_wear_profile,
     predict_wear,
     register_grid_transform,
+    route,
     run_paper_study,
     stroboscopic_points,
     sweep,
     wear_life,
+    wear_life_map,
+    wear_life_report,
+    wear_life_section,
     wear_profile_section,
 )
 
@@ -107,6 +124,7 @@ _simulation = [
 _contact_wear = [
     "WearComparison",
     "WearLife",
+    "WearLifeMap",
     "WearLifeSettings",
     "WearPrediction",
     "WearPredictionError",
@@ -115,9 +133,13 @@ _contact_wear = [
     "compare_wear",
     "contact_stiffness",
     "hertz_stiffness",
+    "plot_wear_life",
     "plot_wear_profile",
     "predict_wear",
     "wear_life",
+    "wear_life_map",
+    "wear_life_report",
+    "wear_life_section",
     "wear_profile_section",
 ]
 _flexibility = [
@@ -150,6 +172,20 @@ _chaos = [
     "SceneLyapunov",
     "lyapunov_exponent",
     "periodic_orbit",
+    "Basins",
+    "basins",
+    "plot_basins",
+]
+_routes_to_chaos = [
+    "BifurcationPoint",
+    "Continuation",
+    "ContinuationBranch",
+    "ContinuationPoint",
+    "ContinuationSettings",
+    "RouteToChaos",
+    "continuation",
+    "continue_map",
+    "route",
 ]
 
 __all__ = (
@@ -162,4 +198,5 @@ __all__ = (
     + _bifurcations
     + _paper_study
     + _chaos
+    + _routes_to_chaos
 )

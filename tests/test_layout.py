@@ -20,6 +20,7 @@ import importlib
 import re
 import subprocess
 import sys
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -305,7 +306,9 @@ def private_name_problems(root: Path, packages: tuple[str, ...] = PACKAGES) -> l
 def _layer_problem(module: str, target: str) -> str | None:
     if _top(module) == "chaoskit" and _top(target) == "mechanism":
         return f"chaoskit imports {target!r}"
-    upward = target in ("mechanism", "mechanism.cli") or target.startswith("mechanism.studies")
+    upward = target in ("mechanism", "mechanism.cli") or target.startswith(
+        ("mechanism.studies", "mechanism.cli.")
+    )
     if module.startswith("mechanism.core") and upward:
         return (
             f"the core module {module} imports {target!r}; the core never imports upward "
@@ -326,6 +329,111 @@ def layer_problems(root: Path) -> list[str]:
         for imp, target, where in _pairs(root)
         if (problem := _layer_problem(imp.module, target)) is not None
     ]
+
+
+#: Lines above which a module (other than a numba kernel module) is split by concern.
+MAX_MODULE_LINES = 800
+#: Parameters (``self`` included) above which a public function wants an options object.
+MAX_PARAMETERS = 12
+#: Public functions still over ``MAX_PARAMETERS``, with what they take; each must still be
+#: over the limit (``test_signature_exceptions_are_still_needed``), so a fixed one leaves.
+SIGNATURE_EXCEPTIONS = {
+    "integrate_tangent": "the tangent loop's tolerances, step limits and deviation options",
+    "integrate_tangent_flexible": "the flexible tangent loop's tolerances and step limits",
+}
+
+
+def long_module_problems(root: Path, packages: tuple[str, ...] = PACKAGES) -> list[str]:
+    """Modules over ``MAX_MODULE_LINES`` lines; the numba kernel modules (``*_kernels.py``)
+    are exempt (a compiled loop is one long function by design)."""
+    problems = []
+    for path in source_files(root, packages).values():
+        if path.name.endswith("_kernels.py"):
+            continue
+        lines = len(path.read_text(encoding="utf-8").splitlines())
+        if lines > MAX_MODULE_LINES:
+            problems.append(
+                f"{path.relative_to(root)}: {lines} lines, more than {MAX_MODULE_LINES}; split "
+                "it into modules of one concern each"
+            )
+    return problems
+
+
+def _all_names(tree: ast.Module) -> set[str]:
+    """The names of a module's ``__all__`` (``=`` or ``+=``, through the per-topic lists it
+    is assembled from)."""
+    lists = {
+        node.targets[0].id: node.value
+        for node in tree.body
+        if isinstance(node, ast.Assign)
+        and len(node.targets) == 1
+        and isinstance(node.targets[0], ast.Name)
+    }
+    values = [lists["__all__"]] if "__all__" in lists else []
+    values += [
+        node.value
+        for node in tree.body
+        if isinstance(node, ast.AugAssign)
+        and isinstance(node.target, ast.Name)
+        and node.target.id == "__all__"
+    ]
+    names: set[str] = set()
+    while values:
+        for node in ast.walk(values.pop()):
+            if isinstance(node, ast.Constant) and isinstance(node.value, str):
+                names.add(node.value)
+            elif isinstance(node, ast.Name) and node.id in lists and node.id != "__all__":
+                values.append(lists.pop(node.id))
+    return names
+
+
+def _parameters(func: ast.FunctionDef | ast.AsyncFunctionDef) -> int:
+    a = func.args
+    return (
+        len(a.posonlyargs) + len(a.args) + len(a.kwonlyargs)
+        + (a.vararg is not None) + (a.kwarg is not None)
+    )  # fmt: skip
+
+
+def _is_command(func: ast.FunctionDef) -> bool:
+    """A command-line command (``@app.command(...)``): one parameter per option, by design."""
+    return any(
+        isinstance(d, ast.Call) and isinstance(d.func, ast.Attribute) and d.func.attr == "command"
+        for d in func.decorator_list
+    )
+
+
+def long_signature_problems(
+    root: Path, packages: tuple[str, ...] = PACKAGES, exceptions: Sequence[str] = ()
+) -> list[str]:
+    """Public functions and public methods of public classes (a name of some ``__all__``)
+    with more than ``MAX_PARAMETERS`` parameters; command-line commands and the names in
+    ``exceptions`` are left out."""
+    trees = {
+        path: ast.parse(path.read_text(encoding="utf-8"), filename=str(path))
+        for path in source_files(root, packages).values()
+    }
+    public = set().union(*(_all_names(tree) for tree in trees.values()))
+    problems = []
+    for path, tree in trees.items():
+        for node in tree.body:
+            if not isinstance(node, ast.FunctionDef | ast.ClassDef) or node.name not in public:
+                continue
+            if node.name in exceptions or (isinstance(node, ast.FunctionDef) and _is_command(node)):
+                continue
+            funcs = [node] if isinstance(node, ast.FunctionDef) else [
+                f for f in node.body
+                if isinstance(f, ast.FunctionDef) and not f.name.startswith("_")
+            ]  # fmt: skip
+            for func in funcs:
+                if (count := _parameters(func)) > MAX_PARAMETERS:
+                    name = func.name if func is node else f"{node.name}.{func.name}"
+                    problems.append(
+                        f"{path.relative_to(root)}:{func.lineno}: {name} takes {count} "
+                        f"parameters, more than {MAX_PARAMETERS}; group the options that "
+                        "belong together in a frozen settings object"
+                    )
+    return problems
 
 
 # --------------------------------------------------------------------------- the real tree
@@ -351,9 +459,22 @@ def test_layers_point_down() -> None:
     assert layer_problems(REPO) == []
 
 
+def test_modules_stay_small() -> None:
+    assert long_module_problems(REPO) == []
+
+
+def test_public_signatures_stay_short() -> None:
+    assert long_signature_problems(REPO, exceptions=tuple(SIGNATURE_EXCEPTIONS)) == []
+
+
+def test_signature_exceptions_are_still_needed() -> None:
+    over = {p.split(": ", 1)[1].split(" takes")[0] for p in long_signature_problems(REPO)}
+    assert set(SIGNATURE_EXCEPTIONS) <= over
+
+
 def test_mechanism_is_core_and_studies() -> None:
     top = {p.name for p in (REPO / "mechanism").iterdir() if not p.name.startswith("__")}
-    assert top == {"cli.py", "core", "studies"}
+    assert top == {"cli", "core", "studies"}
 
 
 def test_importing_chaoskit_does_not_load_mechanism() -> None:
@@ -476,6 +597,45 @@ def test_checks_catch_a_private_name_crossing_files(tmp_path: Path) -> None:
         "chaoskit/n.py:1",
         "chaoskit/n.py:3",
         "chaoskit/o.py:2",
+    ]
+
+
+def test_checks_catch_a_long_module(tmp_path: Path) -> None:
+    body = "x = 1\n" * MAX_MODULE_LINES
+    root = _tree(
+        tmp_path,
+        {
+            "mechanism/core/long.py": body + "y = 2\n",
+            "mechanism/core/just.py": body,
+            "mechanism/core/_long_kernels.py": body * 2,
+        },
+    )
+    assert long_module_problems(root) == [
+        f"mechanism/core/long.py: {MAX_MODULE_LINES + 1} lines, more than {MAX_MODULE_LINES}; "
+        "split it into modules of one concern each"
+    ]
+
+
+def test_checks_catch_a_long_signature(tmp_path: Path) -> None:
+    many = ", ".join(f"p{i}" for i in range(MAX_PARAMETERS))
+    root = _tree(
+        tmp_path,
+        {
+            "chaoskit/a.py": "__all__ = ['f', 'g', 'K']\n"
+            f"def f({many}, extra): ...\n"
+            f"def g({many}): ...\n"
+            f"def _h({many}, extra): ...\n"
+            f"class K:\n    def m(self, {many}): ...\n    def _p(self, {many}): ...\n",
+            "chaoskit/b.py": "_topic = ['r']\n__all__ = _topic\n__all__ += ['s', 'c']\n"
+            f"def r(*, {many}, **extra): ...\ndef s(*args, {many}): ...\n"
+            f"@app.command('c')\ndef c({many}, extra): ...\n",
+        },
+    )
+    assert [p.split(": ", 1)[1].split(" takes")[0] for p in long_signature_problems(root)] == [
+        "f",
+        "K.m",
+        "r",
+        "s",
     ]
 
 

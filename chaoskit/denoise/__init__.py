@@ -8,6 +8,7 @@ TISEAN's ``ghkss``). No estimator applies it by itself: call it, then pass
 
 from __future__ import annotations
 
+from ._local import MAX_ITERATIONS as MAX_ITERATIONS  # the command line's bound
 from ._local import local_projective_denoise
 from ._result import DenoiseResult
 

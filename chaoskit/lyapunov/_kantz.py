@@ -334,6 +334,7 @@ def lyapunov_kantz(
     else:
         eps = eps_given / prep.scale
         eps_rule = "given"
+    cols = np.ascontiguousarray(pts.T)
     order = np.argsort(head[:, 0], kind="stable").astype(np.int64)
     key = np.ascontiguousarray(head[order, 0])
     pairs = rng.integers(0, n_pts, (2, _PLATEAU_PAIRS))
@@ -345,8 +346,8 @@ def lyapunov_kantz(
         used = np.empty((ref.size, eps.size), dtype=np.int64)
         for r0 in range(0, ref.size, REF_CHUNK):
             part = slice(r0, min(r0 + REF_CHUNK, ref.size))
-            used[part] = _kk.kantz_log_distances(
-                pts, order, key, ref[part], w, eps, ks, max_neighbors, transverse, logd[part]
+            used[part] = _kk.kantz_log_distances_cols(
+                pts, order, key, ref[part], w, eps, ks, max_neighbors, transverse, logd[part], cols
             )
         plateau = _log_mean_distance(pts, pairs, transverse)
         return {"logd": logd, "used": used, "plateau": plateau} | _fit_all(

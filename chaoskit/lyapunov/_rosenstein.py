@@ -6,7 +6,7 @@ from typing import Any, Literal
 
 import numpy as np
 
-from .._neighbors import build_tree, nearest_neighbors
+from .._neighbors import grid_nearest_neighbors
 from .._progress import stage
 from .._validate import check_choice, check_int
 from . import _kernels as _k
@@ -162,7 +162,7 @@ def _auto_horizon(pts: np.ndarray, w: int, period: float, plateau: float, cap: i
     """Grow the horizon (doubling) on a pilot set until the curve nears its plateau."""
     n = pts.shape[0]
     ref = references(n, _PILOT_POINTS)
-    nbr, _ = nearest_neighbors(pts, theiler_window=w, query=ref)
+    nbr, _ = grid_nearest_neighbors(pts, theiler_window=w, query=ref)
     h = int(min(cap, max(16, np.ceil(4 * period))))
     while True:
         ks = _grid(h)
@@ -375,7 +375,7 @@ def lyapunov_rosenstein(
         )
     ref = references(usable, max_points)
     head = np.ascontiguousarray(pts[:usable])
-    nbr, _ = nearest_neighbors(head, theiler_window=w, query=ref, tree=build_tree(head))
+    nbr, _ = grid_nearest_neighbors(head, theiler_window=w, query=ref)
     flow = prep.lag > 1
     shift = np.zeros(ref.size)
     if neighbor in ("orbit", "mean") or (neighbor == "auto" and flow):

@@ -212,16 +212,7 @@ def classify(
         surrogate_max_samples, name="surrogate_max_samples", minimum=MIN_SAMPLES
     )
     gen = as_generator(rng)
-    inp = read_input(data, variable=variable, dt=dt, phase_variable=phase_variable)
-    if drive_period is not None or inp.angle is not None:
-        if inp.kind == "map":
-            raise ValueError("drive_period needs a continuous-time series (a 'time' axis or dt).")
-        if drive_period is not None and inp.angle is not None:
-            raise ValueError("give drive_period or phase_variable, not both.")
-        if drive_period is not None:
-            drive_period = check_positive(drive_period, name="drive_period")
-        inp = SeriesInput(inp.x, inp.t, inp.dt, "forced", inp.variable, inp.angle)
-    inp, exponent = scaled_to_unit_peak(inp)
+    inp, drive_period, exponent = _read_series(data, variable, dt, drive_period, phase_variable)
     base: dict[str, Any] = {"variable": inp.variable, "kind": inp.kind, "dt": inp.dt, "rule": rule}
     if is_equilibrium(inp.x, rule.equilibrium_rtol):
         return Verdict(
@@ -231,50 +222,15 @@ def classify(
         )  # fmt: skip
     x = as_series(inp.x, name=inp.variable or "x", min_length=MIN_SAMPLES)
     errors: dict[str, str] = {}
-    delay = estimate_delay(x, method="auto") if lag is None else None
-    lag = delay.lag if delay is not None else check_int(lag, name="lag", minimum=1)
-    dimension = None
-    if embedding_dim is None:
-        max_dim = min(10, (x.size - 10) // lag - 1)
-        dimension = estimate_embedding_dim(
-            x, lag=lag, max_dim=max(1, max_dim), max_points=DIMENSION_POINTS
-        )
-        embedding_dim = dimension.embedding_dim
-    embedding_dim = check_int(embedding_dim, name="embedding_dim", minimum=1)
+    delay, dimension, lag, embedding_dim = _embedding(x, lag, embedding_dim)
     noise = noise_level(x) if inp.kind != "map" else float("nan")
-
-    structure = section = None
-    # T of the growth test until the section gives a better one: a delay is about a quarter
-    # of the mean period of a flow.
-    time_scale = 1.0 if inp.kind == "map" else (drive_period or 4.0 * lag * inp.dt)
-    try:
-        n_coords = 3 if inp.kind == "flow" else max(2, embedding_dim)
-        section, points, time_scale = section_points(inp, x, lag, n_coords, drive_period, noise)
-        tol = rule.cluster_tol
-        if inp.kind != "map":
-            tol = max(tol, min(rule.noise_factor * noise, rule.max_noise_allowance))
-        structure = section_structure(
-            points, scale=float(np.std(x)), cluster_tol=tol, max_clusters=rule.max_period
-        )
-    except ValueError as exc:
-        errors["section"] = str(exc)
-
-    lyap: dict[str, Any] = {}
-    for name, func in (("rosenstein", lyapunov_rosenstein), ("wolf", lyapunov_wolf)):
-        try:
-            lyap[name] = func(x, embedding_dim=embedding_dim, lag=lag, dt=inp.dt)
-        except Exception as exc:  # failure is data: the verdict records it and goes on
-            lyap[name] = None
-            errors[name] = describe_error(exc)
-    positives = {name: clearly_positive(res, time_scale, rule) for name, res in lyap.items()}
-
-    zero_one = None
-    try:
-        phi = x if inp.kind == "map" else x[::lag]
-        zero_one = zero_one_test(phi, rng=gen)
-    except ValueError as exc:
-        errors["zero_one"] = str(exc)
-
+    # the steps run in this order, each drawing from the same generator ``gen``: the 0-1
+    # test, the surrogate tests, the cycle test
+    section, structure, time_scale = _section(
+        inp, x, lag, embedding_dim, drive_period, noise, rule, errors
+    )
+    lyap, positives = _exponents(x, embedding_dim, lag, inp.dt, time_scale, rule, errors)
+    zero_one = _zero_one(x, inp, lag, gen, errors)
     surrogates, low_dim, one_step = surrogate_evidence(
         x,
         lag=lag,
@@ -286,43 +242,15 @@ def classify(
         gen=gen,
         errors=errors,
     )
-    lines = None
-    try:
-        forced_period = None
-        if inp.kind == "forced":
-            forced_period = drive_period or time_scale
-        lines = line_spectrum(
-            x,
-            dt=inp.dt,
-            drive_period=forced_period,
-            max_period=rule.max_period,
-            max_residual=rule.max_residual,
-            fold=inp.kind != "forced",
-        )
-    except (ValueError, np.linalg.LinAlgError) as exc:
-        errors["lines"] = describe_error(exc)
+    lines = _lines(x, inp, drive_period, time_scale, rule, errors)
     n_cycles, unit = count_cycles(inp, x.size, time_scale)
-    cycles = None
-    spread = float("nan")
-    if inp.kind == "forced":
-        try:
-            # cycles of k drive periods for a section of k clusters or a series that repeats
-            # after k: a period-k orbit keeps its order
-            k = structure.n_clusters if structure and structure.kind == "clusters" else 1
-            if lines is not None and lines.kind == "periodic" and k == 1:
-                k = line_period(lines, inp, time_scale) or 1
-            cycles = cycle_test(x, inp.dt, lag, k * time_scale, rule, n_surrogates, gen)
-            spread = cycle_spread(x, k * time_scale, dt=inp.dt)
-        except ValueError as exc:
-            errors["cycles"] = str(exc)
+    cycles, spread = _cycle_null(
+        x, inp, lag, structure, lines, time_scale, rule, n_surrogates, gen, errors
+    )
     kantz = None
     kantz_positive = None
     if needs_referee(positives, structure, lines, surrogates, n_cycles >= rule.min_cycles):
-        try:
-            kantz = lyapunov_kantz(x, embedding_dim=embedding_dim, lag=lag, dt=inp.dt)
-            kantz_positive = clearly_positive(kantz, time_scale, rule)
-        except Exception as exc:  # failure is data, as for the other two
-            errors["kantz"] = describe_error(exc)
+        kantz, kantz_positive = _referee(x, embedding_dim, lag, inp.dt, time_scale, rule, errors)
     label, period, confidence, reason, votes, needs = combine(
         structure=structure,
         rosenstein_positive=positives["rosenstein"],
@@ -375,3 +303,185 @@ def classify(
         cycle_spread=spread,
         **base,
     )
+
+
+# --- the steps of the pipeline, in the order classify calls them ---------------------------
+
+
+def _read_series(
+    data: Any,
+    variable: str | None,
+    dt: float | None,
+    drive_period: float | None,
+    phase_variable: str | None,
+) -> tuple[SeriesInput, float | None, int]:
+    """The series (a forced one when a drive is given), the checked drive period and the
+    power of two the series was scaled by."""
+    inp = read_input(data, variable=variable, dt=dt, phase_variable=phase_variable)
+    if drive_period is not None or inp.angle is not None:
+        if inp.kind == "map":
+            raise ValueError("drive_period needs a continuous-time series (a 'time' axis or dt).")
+        if drive_period is not None and inp.angle is not None:
+            raise ValueError("give drive_period or phase_variable, not both.")
+        if drive_period is not None:
+            drive_period = check_positive(drive_period, name="drive_period")
+        inp = SeriesInput(inp.x, inp.t, inp.dt, "forced", inp.variable, inp.angle)
+    inp, exponent = scaled_to_unit_peak(inp)
+    return inp, drive_period, exponent
+
+
+def _embedding(
+    x: np.ndarray, lag: int | None, embedding_dim: int | None
+) -> tuple[Any, Any, int, int]:
+    """The delay and the embedding dimension: estimated (with their estimates) or given."""
+    delay = estimate_delay(x, method="auto") if lag is None else None
+    lag = delay.lag if delay is not None else check_int(lag, name="lag", minimum=1)
+    dimension = None
+    if embedding_dim is None:
+        max_dim = min(10, (x.size - 10) // lag - 1)
+        dimension = estimate_embedding_dim(
+            x, lag=lag, max_dim=max(1, max_dim), max_points=DIMENSION_POINTS
+        )
+        embedding_dim = dimension.embedding_dim
+    embedding_dim = check_int(embedding_dim, name="embedding_dim", minimum=1)
+    return delay, dimension, lag, embedding_dim
+
+
+def _section(
+    inp: SeriesInput,
+    x: np.ndarray,
+    lag: int,
+    embedding_dim: int,
+    drive_period: float | None,
+    noise: float,
+    rule: VerdictRule,
+    errors: dict[str, str],
+) -> tuple[Any, Any, float]:
+    """The section, its structure and the characteristic time T (the section's, else the
+    first guess); a section that cannot be built is recorded in ``errors``."""
+    structure = section = None
+    # T of the growth test until the section gives a better one: a delay is about a quarter
+    # of the mean period of a flow.
+    time_scale = 1.0 if inp.kind == "map" else (drive_period or 4.0 * lag * inp.dt)
+    try:
+        n_coords = 3 if inp.kind == "flow" else max(2, embedding_dim)
+        section, points, time_scale = section_points(inp, x, lag, n_coords, drive_period, noise)
+        tol = rule.cluster_tol
+        if inp.kind != "map":
+            tol = max(tol, min(rule.noise_factor * noise, rule.max_noise_allowance))
+        structure = section_structure(
+            points, scale=float(np.std(x)), cluster_tol=tol, max_clusters=rule.max_period
+        )
+    except ValueError as exc:
+        errors["section"] = str(exc)
+    return section, structure, time_scale
+
+
+def _exponents(
+    x: np.ndarray,
+    embedding_dim: int,
+    lag: int,
+    dt: float,
+    time_scale: float,
+    rule: VerdictRule,
+    errors: dict[str, str],
+) -> tuple[dict[str, Any], dict[str, bool]]:
+    """Rosenstein's and Wolf's exponents (None when an estimator fails, its reason in
+    ``errors``) and whether each is clearly positive."""
+    lyap: dict[str, Any] = {}
+    for name, func in (("rosenstein", lyapunov_rosenstein), ("wolf", lyapunov_wolf)):
+        try:
+            lyap[name] = func(x, embedding_dim=embedding_dim, lag=lag, dt=dt)
+        except Exception as exc:  # failure is data: the verdict records it and goes on
+            lyap[name] = None
+            errors[name] = describe_error(exc)
+    positives = {name: clearly_positive(res, time_scale, rule) for name, res in lyap.items()}
+    return lyap, positives
+
+
+def _zero_one(
+    x: np.ndarray, inp: SeriesInput, lag: int, gen: np.random.Generator, errors: dict[str, str]
+) -> Any:
+    """The 0-1 test (flows subsampled every delay), or None with the reason in ``errors``."""
+    try:
+        phi = x if inp.kind == "map" else x[::lag]
+        return zero_one_test(phi, rng=gen)
+    except ValueError as exc:
+        errors["zero_one"] = str(exc)
+    return None
+
+
+def _lines(
+    x: np.ndarray,
+    inp: SeriesInput,
+    drive_period: float | None,
+    time_scale: float,
+    rule: VerdictRule,
+    errors: dict[str, str],
+) -> Any:
+    """The line spectrum, or None with the reason in ``errors``."""
+    try:
+        forced_period = None
+        if inp.kind == "forced":
+            forced_period = drive_period or time_scale
+        return line_spectrum(
+            x,
+            dt=inp.dt,
+            drive_period=forced_period,
+            max_period=rule.max_period,
+            max_residual=rule.max_residual,
+            fold=inp.kind != "forced",
+        )
+    except (ValueError, np.linalg.LinAlgError) as exc:
+        errors["lines"] = describe_error(exc)
+    return None
+
+
+def _cycle_null(
+    x: np.ndarray,
+    inp: SeriesInput,
+    lag: int,
+    structure: Any,
+    lines: Any,
+    time_scale: float,
+    rule: VerdictRule,
+    n_surrogates: int,
+    gen: np.random.Generator,
+    errors: dict[str, str],
+) -> tuple[Any, float]:
+    """For a forced series, the null of a noisy periodic orbit: the cycle-shuffled
+    surrogate test and the correlated departure from the mean cycle (None and NaN
+    otherwise, or when they cannot be computed)."""
+    cycles = None
+    spread = float("nan")
+    if inp.kind == "forced":
+        try:
+            # cycles of k drive periods for a section of k clusters or a series that repeats
+            # after k: a period-k orbit keeps its order
+            k = structure.n_clusters if structure and structure.kind == "clusters" else 1
+            if lines is not None and lines.kind == "periodic" and k == 1:
+                k = line_period(lines, inp, time_scale) or 1
+            cycles = cycle_test(x, inp.dt, lag, k * time_scale, rule, n_surrogates, gen)
+            spread = cycle_spread(x, k * time_scale, dt=inp.dt, max_noise=rule.max_noise_allowance)
+        except ValueError as exc:
+            errors["cycles"] = str(exc)
+    return cycles, spread
+
+
+def _referee(
+    x: np.ndarray,
+    embedding_dim: int,
+    lag: int,
+    dt: float,
+    time_scale: float,
+    rule: VerdictRule,
+    errors: dict[str, str],
+) -> tuple[Any, bool | None]:
+    """Kantz's exponent and whether it is clearly positive (None when it cannot be said)."""
+    kantz = None
+    try:
+        kantz = lyapunov_kantz(x, embedding_dim=embedding_dim, lag=lag, dt=dt)
+        return kantz, clearly_positive(kantz, time_scale, rule)
+    except Exception as exc:  # failure is data, as for the other two
+        errors["kantz"] = describe_error(exc)
+    return kantz, None

@@ -70,7 +70,10 @@ def _votes(
     if noisy_orbit:
         # the cycle test found nothing beyond noise: what the noise does to the exponents,
         # the 0–1 test and the spectrum is no evidence (as for a noise label)
-        for name in ("rosenstein", "wolf", "kantz", "zero_one", "lines"):
+        blurred = ("rosenstein", "wolf", "kantz", "zero_one", "lines")
+        if structure is not None and structure.kind == "scattered":
+            blurred += ("section",)  # coloured noise scatters the section as well
+        for name in blurred:
             if votes.get(name) in ("supports", "opposes"):
                 votes[name] = "neutral"
     return votes
@@ -136,11 +139,17 @@ def combine(
     # contradicts k tight clusters (chaotic flows sampled coarsely show both)
     lines_contradict_clusters = lines in ("unresolved", "quasi-periodic")
     # a driven series whose section is k tight clusters and whose departure from its mean
-    # cycle is white noise, up to the cluster tolerance, is a periodic orbit plus noise,
-    # whatever the noise does to the spectrum and the exponents
+    # cycle is measurement noise (white, or coloured but the same at every phase of the
+    # cycle), up to the cluster tolerance, is a periodic orbit plus noise, whatever the
+    # noise does to the spectrum and the exponents. Coloured noise also scatters the
+    # section beyond what the white-noise estimate allows: a scattered section counts too
+    # when nothing carries over from one cycle to the next (the cycle-shuffled test ran
+    # and does not reject); chaos carries its departure over, or makes it depend on the
+    # phase (then the spread exceeds the tolerance)
+    coloured_orbit = section == "scattered" and cycles_rejected is False
     noisy_orbit = bool(
         driven
-        and section == "clusters"
+        and (section == "clusters" or coloured_orbit)
         and lines != "quasi-periodic"
         and cycle_spread <= rule.cluster_tol
     )
@@ -160,6 +169,17 @@ def combine(
         reason = (
             f"the section is {period} tight cluster{'s' * (period != 1)} visited in a fixed "
             "cyclic order"
+        )
+    elif noisy_orbit and coloured_orbit:
+        label, period = "periodic", 1
+        reason = (
+            "the departure from the mean cycle is measurement noise: its variance is the "
+            "same at every phase of the cycle, nothing carries over from one cycle to the "
+            "next (the cycle-shuffled surrogate test does not reject) and what varies beyond "
+            f"noise is {cycle_spread:.2g} of the standard deviation (at most "
+            f"{rule.cluster_tol:g}): a periodic orbit plus coloured noise (correlated over "
+            "several samples: it scatters the section beyond what white noise of about "
+            f"{noise:.2g} of the standard deviation allows)"
         )
     elif noisy_orbit:
         assert structure is not None

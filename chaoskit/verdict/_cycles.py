@@ -324,8 +324,10 @@ def _whole_samples_per_cycle(x: np.ndarray, spc: float) -> tuple[np.ndarray, flo
     return CubicSpline(np.arange(x.size), x)(np.arange(n_new) / scale), scale
 
 
-def cycle_spread(x: Any, period: float, *, dt: float = 1.0) -> float:
-    r"""RMS cycle-to-cycle variation that is not white noise, over the standard deviation.
+def cycle_spread(
+    x: Any, period: float, *, dt: float = 1.0, noise: str = "stationary", max_noise: float = 0.3
+) -> float:
+    r"""RMS cycle-to-cycle variation beyond measurement noise, over the standard deviation.
 
     With :math:`r_t = x_t - \bar x(\phi_t)` the departure of the series from its mean cycle
     (the average over whole cycles at the same phase :math:`\phi`), white measurement noise
@@ -340,6 +342,22 @@ def cycle_spread(x: Any, period: float, *, dt: float = 1.0) -> float:
     noise smooth): with a fractional number of samples per cycle the mean cycle is averaged
     in phase bins and interpolated instead.
 
+    Coloured (linear, e.g. AR(1)) measurement noise is smooth over one sample too, so with
+    ``noise="stationary"`` (the default) the spread is the smaller of that reading and a
+    second one that holds for any stationary additive noise, white or coloured: such noise
+    has the same variance at every phase of the cycle, while a deviation the dynamics
+    produce (a chaotic wandering, a transient) is larger at some phases than at others.
+    The second reading is :math:`\sqrt{\max(\bar v - v_0, 0)} / \sigma_x`, with
+    :math:`v_j` the mean of :math:`r^2` in each of ten phase bins, :math:`\bar v` their
+    mean and :math:`v_0 = \min_j (v_j + 2 s_j)` the noise variance at most (:math:`s_j`
+    the standard error of :math:`v_j` over the cycles): 0 for a periodic orbit plus
+    stationary noise of any colour and level, the phase-dependent part of the departure
+    otherwise. A departure whose variance does not depend on the phase (a second frequency,
+    a slow drift) reads small here; the cycle-shuffled test (:func:`cycle_surrogate_test`)
+    is the one that sees it carried over from cycle to cycle. Noise is discounted only up to
+    ``max_noise``: a departure whose RMS exceeds that fraction of the standard deviation
+    is not all measurement noise, and the spread is then the larger of the two readings.
+
     Parameters
     ----------
     x
@@ -348,11 +366,19 @@ def cycle_spread(x: Any, period: float, *, dt: float = 1.0) -> float:
         Cycle length in the units of ``dt``.
     dt
         Sampling interval.
+    noise
+        ``"stationary"`` (default): the noise may be white or coloured;
+        ``"white"``: only white noise is discounted (the lag-one reading alone).
+    max_noise
+        Largest RMS departure from the mean cycle, relative to the standard deviation,
+        that ``noise="stationary"`` may attribute to measurement noise (the default is
+        ``VerdictRule.max_noise_allowance``).
 
     Returns
     -------
     float
-        The correlated cycle-to-cycle spread, relative to the standard deviation of ``x``.
+        The cycle-to-cycle spread measurement noise does not explain, relative to the
+        standard deviation of ``x``.
 
     Examples
     --------
@@ -371,6 +397,9 @@ def cycle_spread(x: Any, period: float, *, dt: float = 1.0) -> float:
             f"x spans {n} whole cycles of period {period:g}; the cycle spread needs at least "
             f"{MIN_CYCLES}."
         )
+    if noise not in ("stationary", "white"):
+        raise ValueError(f'noise must be "stationary" or "white"; got {noise!r}.')
+    max_noise = check_positive(max_noise, name="max_noise")
     r = x - _mean_cycle_at_samples(x, spc)
     c1 = float(np.mean(r[:-1] * r[1:]))
     power = float(np.mean(r * r))
@@ -379,7 +408,39 @@ def cycle_spread(x: Any, period: float, *, dt: float = 1.0) -> float:
     # scatters about 0 with a standard error of about power / sqrt(N): keep only what
     # exceeds two standard errors
     c1 -= max(power - c1, 0.0) / n + 2.0 * power / np.sqrt(r.size)
-    return float(np.sqrt(max(c1, 0.0)) / np.std(x))
+    sigma = float(np.std(x))
+    white = float(np.sqrt(max(c1, 0.0)) / sigma)
+    if noise == "white":
+        return white
+    phased = _phase_dependent_spread(r, spc) / sigma
+    if np.sqrt(power) > max_noise * sigma:
+        return max(white, phased)  # too large to be measurement noise
+    return min(white, phased)  # either reading is a valid one for its kind of noise
+
+
+PHASE_BINS = 10  # phase bins per cycle of the stationarity reading (fewer for short cycles)
+
+
+def _phase_dependent_spread(r: np.ndarray, spc: float) -> float:
+    """RMS of the part of the departure ``r`` from the mean cycle whose variance depends on
+    the phase: the mean over phase bins of the variance above the smallest one, which
+    bounds the variance of any stationary noise (less two standard errors over the cycles,
+    so that the scatter of noise alone reads 0)."""
+    n = int(r.size // spc)
+    bins = min(PHASE_BINS, int(np.floor(spc)))
+    index = np.arange(min(int(n * spc), r.size))  # whole cycles only
+    cycle = np.minimum((index / spc).astype(np.int64), n - 1)
+    phase = np.minimum((((index / spc) % 1.0) * bins).astype(np.int64), bins - 1)
+    key = cycle * bins + phase
+    count = np.bincount(key, minlength=n * bins).reshape(n, bins)
+    sums = np.bincount(key, weights=r[index] ** 2, minlength=n * bins).reshape(n, bins)
+    per_cycle = sums / np.maximum(count, 1)  # (cycle, bin): mean square in the bin
+    v = per_cycle.mean(axis=0)
+    # cycles are independent replicates under the null (the noise does not carry over a
+    # cycle), so their scatter gives each bin's standard error
+    se = per_cycle.std(axis=0, ddof=1) / np.sqrt(n)
+    floor = float(np.min(v + 2.0 * se))
+    return float(np.sqrt(max(float(np.mean(v)) - floor, 0.0)))
 
 
 def _mean_cycle_at_samples(x: np.ndarray, spc: float) -> np.ndarray:

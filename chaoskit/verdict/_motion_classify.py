@@ -207,6 +207,7 @@ def classify_motion(
         _as_dataset(data, dt), variables=variables, phase_variable=phase_variable
     )
     known_drive = [str(n) for n in drive_variables]
+    # the only random draws of the motion verdict: those of each variable's verdict
     verdicts = classify_variables(
         ds,
         variables=names,
@@ -223,23 +224,7 @@ def classify_motion(
     say, say_text = equations_arbiter(exponent) if exponent is not None else (None, "")
     first = next(iter(verdicts.values()))
     kind = first.kind
-    drive = [n for n, v in verdicts.items() if n in known_drive or is_drive_follower(v)]
-    constant = [n for n, v in verdicts.items() if v.label == "equilibrium" and n not in drive]
-    failed = [n for n, v in verdicts.items() if "classify" in v.errors and n not in drive]
-    voters = {n: v for n, v in verdicts.items() if n not in drive and n not in constant + failed}
-    reasons: list[str] = []
-    if drive:
-        reasons.append(
-            f"set aside as following the drive alone: {', '.join(drive)} (periodic with the "
-            "drive by construction, no evidence against chaos)"
-        )
-    if constant:
-        reasons.append(f"set aside as constant: {', '.join(constant)}")
-    if failed:
-        reasons.append(
-            f"set aside, its analysis failed: {', '.join(failed)} "
-            f"({'; '.join(verdicts[n].errors['classify'] for n in failed)})"
-        )
+    drive, constant, failed, voters, reasons = _set_aside(verdicts, known_drive)
     base: dict[str, Any] = {
         "variables": verdicts,
         "voting": tuple(voters),
@@ -255,86 +240,20 @@ def classify_motion(
         "rule": rule,
     }
     if not voters:
-        if known_drive and len(known_drive) == len(verdicts):
-            raise ValueError("every variable is listed in drive_variables; nothing votes.")
-        if failed:
-            reason = "no variable could be analysed: needs " + "; ".join(
-                f"{n}: {verdicts[n].errors['classify']}" for n in failed
-            )
-            return MotionVerdict(
-                label="undetermined", period=None, confidence=float("nan"), reason=reason,
-                reasons=(reason, *reasons), needs=(reason,), votes={}, **base,
-            )  # fmt: skip
-        label: Label = "periodic" if drive else "equilibrium"
-        reason = (
-            "every variable follows the drive: the motion is periodic with the drive"
-            if drive
-            else "every variable is constant"
-        )
-        votes: dict[str, Vote] = {}
-        if orbit is not None:
-            votes["orbit"] = "supports" if base["orbit_says_periodic"] else "neutral"
-            if orbit.problem() is not None:
-                reasons.append(
-                    f"the equations' periodic orbit (period {orbit.period}) is not evidence: "
-                    f"{orbit.problem()}"
-                )
-        return MotionVerdict(
-            label=label, period=1 if drive else None, confidence=1.0, reason=reason,
-            reasons=(reason, *reasons), needs=(), votes=votes, **base,
-        )  # fmt: skip
+        return _without_voters(verdicts, known_drive, drive, failed, reasons, orbit, base)
     ref = reference_variable(voters)
     ref_v = voters[ref]
     errors: dict[str, str] = {}
-    structure = section = res = None
-    positive: bool | None
     time_scale = ref_v.characteristic_time
     if len(voters) == 1:
         structure, section = ref_v.structure, ref_v.section
         res, positive = ref_v.rosenstein, ref_v.rosenstein_positive
     else:
-        try:
-            section, points = joint_section(
-                ds[[*voters, *([phase_variable] if phase_variable else [])]],
-                voters,
-                ref,
-                kind=kind,
-                drive_period=drive_period,
-                phase_variable=phase_variable,
-            )
-            tol = rule.cluster_tol
-            if kind != "map":
-                noise = max(float(np.nan_to_num(v.noise_level)) for v in voters.values())
-                noise = max(noise, float(section.attrs["interpolation_rms"]))
-                tol = max(tol, min(rule.noise_factor * noise, rule.max_noise_allowance))
-            structure = section_structure(
-                points,
-                scale=1.0,
-                cluster_tol=tol,
-                max_clusters=rule.max_period,
-                min_points=rule.min_cycles,
-            )
-        except ValueError as exc:
-            errors["section"] = str(exc)
-        try:
-            vectors, lag = mixed_embedding(ds, voters)
-            res = lyapunov_rosenstein(vectors, dt=ref_v.dt, lag=lag)
-        except Exception as exc:  # failure is data, as in classify
-            errors["exponent"] = describe_error(exc)
-        positive = None if res is None else clearly_positive(res, time_scale, rule)
-    unit = {"map": "samples", "forced": "drive periods"}.get(kind, "oscillations (maxima)")
-    # the joint section is read only where the sampling resolves it: its cluster allowance
-    # (noise_factor × the interpolation uncertainty) must stay below its cap
-    resolution = 0.0 if section is None else float(section.attrs.get("interpolation_rms", 0.0))
-    limit = rule.max_noise_allowance / rule.noise_factor
-    section_need = None
-    if len(voters) > 1 and resolution > limit:
-        section_need = (
-            "finer sampling: the joint section falls between samples (cubic and linear "
-            f"interpolation differ by {resolution:.2g} of each variable's spread; at most "
-            f"{limit:.2g} resolves it)"
+        structure, section, res, positive = _joint_evidence(
+            ds, voters, ref, kind, drive_period, phase_variable, rule, errors
         )
-        reasons.append(f"the joint section is not used: {section_need}")
+    unit = {"map": "samples", "forced": "drive periods"}.get(kind, "oscillations (maxima)")
+    section_need = _section_need(section, voters, rule, reasons)
     label, period, confidence, reason, votes, needs = combine_motion(
         voters,
         structure=None if section_need else structure,
@@ -347,29 +266,7 @@ def classify_motion(
         orbit=orbit,
     )
     reasons.insert(0, reason)
-    if orbit is not None and orbit.problem() is not None:
-        reasons.append(
-            f"the equations' periodic orbit (period {orbit.period}) is not evidence: "
-            f"{orbit.problem()}"
-        )
-    for n, v in verdicts.items():
-        conf = "" if math.isnan(v.confidence) else f" ({v.confidence:.2f})"
-        reasons.append(f"{n}: {v.label}{conf} — {v.reason}")
-    t_unit = "1/iteration" if kind == "map" else "1/s"
-    if res is not None:
-        reasons.append(
-            f"the data say: joint exponent (Rosenstein, mixed embedding) λ₁ = {res.mle:.4g} "
-            f"[{res.ci[0]:.4g}, {res.ci[1]:.4g}] {t_unit}, "
-            + ("clearly positive" if positive else "not clearly positive")
-        )
-    for n, v in voters.items():
-        if v.rosenstein is not None or v.wolf is not None:
-            parts = [
-                f"{name} {r.mle:.4g} [{r.ci[0]:.4g}, {r.ci[1]:.4g}]"
-                for name, r in (("Rosenstein", v.rosenstein), ("Wolf", v.wolf))
-                if r is not None
-            ]
-            reasons.append(f"the data say ({n}): {', '.join(parts)} {t_unit}")
+    _add_evidence_reasons(reasons, verdicts, voters, orbit, kind, res, positive)
     if say is None and say_text:
         reasons.append(say_text)
     if say is not None:
@@ -402,3 +299,175 @@ def classify_motion(
         errors=errors,
         **base,
     )
+
+
+# --- the steps of the pipeline, in the order classify_motion calls them -------------------
+
+
+def _set_aside(
+    verdicts: dict[str, Any], known_drive: list[str]
+) -> tuple[list[str], list[str], list[str], dict[str, Any], list[str]]:
+    """The variables that follow the drive, are constant or failed, those left to vote,
+    and the reasons naming what was set aside."""
+    drive = [n for n, v in verdicts.items() if n in known_drive or is_drive_follower(v)]
+    constant = [n for n, v in verdicts.items() if v.label == "equilibrium" and n not in drive]
+    failed = [n for n, v in verdicts.items() if "classify" in v.errors and n not in drive]
+    voters = {n: v for n, v in verdicts.items() if n not in drive and n not in constant + failed}
+    reasons: list[str] = []
+    if drive:
+        reasons.append(
+            f"set aside as following the drive alone: {', '.join(drive)} (periodic with the "
+            "drive by construction, no evidence against chaos)"
+        )
+    if constant:
+        reasons.append(f"set aside as constant: {', '.join(constant)}")
+    if failed:
+        reasons.append(
+            f"set aside, its analysis failed: {', '.join(failed)} "
+            f"({'; '.join(verdicts[n].errors['classify'] for n in failed)})"
+        )
+    return drive, constant, failed, voters, reasons
+
+
+def _without_voters(
+    verdicts: dict[str, Any],
+    known_drive: list[str],
+    drive: list[str],
+    failed: list[str],
+    reasons: list[str],
+    orbit: PeriodicOrbitEvidence | None,
+    base: dict[str, Any],
+) -> MotionVerdict:
+    """The verdict when no variable votes: every one follows the drive, is constant or
+    failed."""
+    if known_drive and len(known_drive) == len(verdicts):
+        raise ValueError("every variable is listed in drive_variables; nothing votes.")
+    if failed:
+        reason = "no variable could be analysed: needs " + "; ".join(
+            f"{n}: {verdicts[n].errors['classify']}" for n in failed
+        )
+        return MotionVerdict(
+            label="undetermined", period=None, confidence=float("nan"), reason=reason,
+            reasons=(reason, *reasons), needs=(reason,), votes={}, **base,
+        )  # fmt: skip
+    label: Label = "periodic" if drive else "equilibrium"
+    reason = (
+        "every variable follows the drive: the motion is periodic with the drive"
+        if drive
+        else "every variable is constant"
+    )
+    votes: dict[str, Vote] = {}
+    if orbit is not None:
+        votes["orbit"] = "supports" if base["orbit_says_periodic"] else "neutral"
+        if orbit.problem() is not None:
+            reasons.append(
+                f"the equations' periodic orbit (period {orbit.period}) is not evidence: "
+                f"{orbit.problem()}"
+            )
+    return MotionVerdict(
+        label=label, period=1 if drive else None, confidence=1.0, reason=reason,
+        reasons=(reason, *reasons), needs=(), votes=votes, **base,
+    )  # fmt: skip
+
+
+def _joint_evidence(
+    ds: xr.Dataset,
+    voters: dict[str, Any],
+    ref: str,
+    kind: str,
+    drive_period: float | None,
+    phase_variable: str | None,
+    rule: VerdictRule,
+    errors: dict[str, str],
+) -> tuple[Any, Any, Any, bool | None]:
+    """The joint section of the voting variables with its structure, and the exponent of
+    their mixed embedding with whether it is clearly positive; what fails is recorded in
+    ``errors`` and left None."""
+    structure = section = res = None
+    time_scale = voters[ref].characteristic_time
+    try:
+        section, points = joint_section(
+            ds[[*voters, *([phase_variable] if phase_variable else [])]],
+            voters,
+            ref,
+            kind=kind,
+            drive_period=drive_period,
+            phase_variable=phase_variable,
+        )
+        tol = rule.cluster_tol
+        if kind != "map":
+            noise = max(float(np.nan_to_num(v.noise_level)) for v in voters.values())
+            noise = max(noise, float(section.attrs["interpolation_rms"]))
+            tol = max(tol, min(rule.noise_factor * noise, rule.max_noise_allowance))
+        structure = section_structure(
+            points,
+            scale=1.0,
+            cluster_tol=tol,
+            max_clusters=rule.max_period,
+            min_points=rule.min_cycles,
+        )
+    except ValueError as exc:
+        errors["section"] = str(exc)
+    try:
+        vectors, lag = mixed_embedding(ds, voters)
+        res = lyapunov_rosenstein(vectors, dt=voters[ref].dt, lag=lag)
+    except Exception as exc:  # failure is data, as in classify
+        errors["exponent"] = describe_error(exc)
+    positive = None if res is None else clearly_positive(res, time_scale, rule)
+    return structure, section, res, positive
+
+
+def _section_need(
+    section: Any, voters: dict[str, Any], rule: VerdictRule, reasons: list[str]
+) -> str | None:
+    """What the joint section needs before it is read (None: it can be read); the need is
+    added to ``reasons``."""
+    # the joint section is read only where the sampling resolves it: its cluster allowance
+    # (noise_factor × the interpolation uncertainty) must stay below its cap
+    resolution = 0.0 if section is None else float(section.attrs.get("interpolation_rms", 0.0))
+    limit = rule.max_noise_allowance / rule.noise_factor
+    section_need = None
+    if len(voters) > 1 and resolution > limit:
+        section_need = (
+            "finer sampling: the joint section falls between samples (cubic and linear "
+            f"interpolation differ by {resolution:.2g} of each variable's spread; at most "
+            f"{limit:.2g} resolves it)"
+        )
+        reasons.append(f"the joint section is not used: {section_need}")
+    return section_need
+
+
+def _add_evidence_reasons(
+    reasons: list[str],
+    verdicts: dict[str, Any],
+    voters: dict[str, Any],
+    orbit: PeriodicOrbitEvidence | None,
+    kind: str,
+    res: Any,
+    positive: bool | None,
+) -> None:
+    """Append the evidence behind the verdict to ``reasons``: an orbit that is not
+    evidence, each variable's verdict, the joint and each voter's exponents."""
+    if orbit is not None and orbit.problem() is not None:
+        reasons.append(
+            f"the equations' periodic orbit (period {orbit.period}) is not evidence: "
+            f"{orbit.problem()}"
+        )
+    for n, v in verdicts.items():
+        conf = "" if math.isnan(v.confidence) else f" ({v.confidence:.2f})"
+        reasons.append(f"{n}: {v.label}{conf} — {v.reason}")
+    t_unit = "1/iteration" if kind == "map" else "1/s"
+    if res is not None:
+        reasons.append(
+            f"the data say: joint exponent (Rosenstein, mixed embedding) λ₁ = {res.mle:.4g} "
+            f"[{res.ci[0]:.4g}, {res.ci[1]:.4g}] {t_unit}, "
+            + ("clearly positive" if positive else "not clearly positive")
+        )
+    for n, v in voters.items():
+        if v.rosenstein is not None or v.wolf is not None:
+            parts = [
+                f"{name} {r.mle:.4g} [{r.ci[0]:.4g}, {r.ci[1]:.4g}]"
+                for name, r in (("Rosenstein", v.rosenstein), ("Wolf", v.wolf))
+                if r is not None
+            ]
+            reasons.append(f"the data say ({n}): {', '.join(parts)} {t_unit}")

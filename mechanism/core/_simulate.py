@@ -24,6 +24,7 @@ from .integrate import (
     Integrator,
     RecordPlan,
     ScipyIVP,
+    StepSettings,
     resolve_method,
 )
 from .model import Model, assemble, initial_state
@@ -358,19 +359,16 @@ def _run(
     approach_floor: float = 0.0,
     step_budget: float = math.inf,
 ) -> Integration:
-    return method.integrate(
-        model,
-        y0,
-        t_out,
+    steps = StepSettings(
         rtol=rtol,
         atol=atol,
         max_step=max_step,
         approach_floor=approach_floor,
         projection=model.scene.solver.projection,
-        progress=progress,
-        label=label,
-        record=record,
         step_budget=step_budget,
+    )
+    return method.integrate(
+        model, y0, t_out, steps=steps, record=record, progress=progress, label=label
     )
 
 

@@ -19,22 +19,37 @@ from ._lyapunov import (
     lyapunov_exponent,
 )
 from ._plot import plot_bifurcation
+from ._wear_compare import WearComparison, compare_wear
 from ._wear_life import (
     DEFAULT_WEAR_LIFE_AVERAGED_REVOLUTIONS,
     WearLife,
     WearLifeSettings,
     wear_life,
 )
-from ._wear_prediction import (
-    DEFAULT_MAX_DEPTH_INCREMENT,
-    WearComparison,
-    WearPrediction,
-    WearPredictionError,
-    compare_wear,
-    predict_wear,
-)
+from ._wear_life_map import WearLifeMap, wear_life_map
+from ._wear_life_plot import plot_wear_life
+from ._wear_life_report import wear_life_report, wear_life_section
+from ._wear_prediction import predict_wear
 from ._wear_report import plot_wear_profile, wear_profile_section
-from .orbits import ContactPhase, PeriodicOrbit, periodic_orbit
+from ._wear_result import WearPrediction, WearPredictionError
+from ._wear_settings import DEFAULT_MAX_DEPTH_INCREMENT
+from .orbits import (
+    Basins,
+    BifurcationPoint,
+    ContactPhase,
+    Continuation,
+    ContinuationBranch,
+    ContinuationPoint,
+    ContinuationSettings,
+    PeriodicOrbit,
+    RouteToChaos,
+    basins,
+    continuation,
+    continue_map,
+    periodic_orbit,
+    plot_basins,
+    route,
+)
 from .paper import PaperStudy, StudySettings, paper_claims, paper_tables, run_paper_study
 from .sweep import (
     Analysis,
@@ -55,25 +70,36 @@ __all__ = [
     "DEFAULT_MAX_DEPTH_INCREMENT",
     "DEFAULT_WEAR_LIFE_AVERAGED_REVOLUTIONS",
     "Analysis",
+    "Basins",
+    "BifurcationPoint",
     "BifurcationSettings",
     "ContactPhase",
+    "Continuation",
+    "ContinuationBranch",
+    "ContinuationPoint",
+    "ContinuationSettings",
     "ElementConvergence",
     "GridTransform",
     "LyapunovSettings",
     "PaperStudy",
     "PeriodicOrbit",
+    "RouteToChaos",
     "SceneLyapunov",
     "StudySettings",
     "SweepStoreBusy",
     "SweepStoreMismatch",
     "WearComparison",
     "WearLife",
+    "WearLifeMap",
     "WearLifeSettings",
     "WearPrediction",
     "WearPredictionError",
+    "basins",
     "bifurcation",
     "chaos_map",
     "compare_wear",
+    "continuation",
+    "continue_map",
     "dask_client",
     "element_convergence",
     "grid_transforms",
@@ -83,13 +109,19 @@ __all__ = [
     "paper_tables",
     "parse_values",
     "periodic_orbit",
+    "plot_basins",
     "plot_bifurcation",
+    "plot_wear_life",
     "plot_wear_profile",
     "predict_wear",
     "register_grid_transform",
+    "route",
     "run_paper_study",
     "stroboscopic_points",
     "sweep",
     "wear_life",
+    "wear_life_map",
+    "wear_life_report",
+    "wear_life_section",
     "wear_profile_section",
 ]

@@ -23,7 +23,15 @@ import numpy as np
 import xarray as xr
 
 from chaoskit.contract import __version__, stamp
-from mechanism.core import simulate
+from mechanism.core import default_step, drive_period, simulate, step_limits
+from mechanism.core.integrate import (
+    Dopri5,
+    clearance_kinematics,
+    integrate_tangent,
+    project_state,
+    section_latch,
+)
+from mechanism.core.model import assemble, initial_state
 from mechanism.core.record import SectionsRecord
 
 from ._lyapunov import lyapunov_exponent
@@ -41,6 +49,12 @@ _SOURCE = f"mechanism (chaoskit {__version__})"
 #: rtol = atol = 1e-5 the step control accepts 10 µm on positions, and a regular orbit's
 #: strobes scatter by up to a micrometre; from 1e-7 on they coincide (docs/sweeps.md).
 ORBIT_TOLERANCE = 1e-7
+#: sweep directions: None, each value from the scene's start; up / down, state continuation
+DIRECTIONS = (None, "up", "down")
+#: the section variables of a sweep with state continuation
+CONTINUED_VARIABLES = (ECCENTRICITY, "eccentricity_x", "eccentricity_y")
+#: no renormalisation of the (zero) deviation: the reference alone is integrated
+_NO_RENORMALIZATION = 2**62
 
 
 def _scene_exponent(
@@ -150,6 +164,16 @@ class BifurcationSettings:
         the points per revolution, so a diagram over many values can keep fewer for it:
         its interval widens about as the inverse square root of the kept revolutions,
         which ``docs/sweeps.md`` measures against the cost.
+    direction : {None, "up", "down"}
+        None (default): every value starts from the scene's initial state, the values
+        run in parallel. ``"up"`` / ``"down"``: state continuation, the values run one
+        after the other in increasing / decreasing order, each starting from the final
+        state of the previous one (the first from the scene's start), so coexisting
+        motions and hysteresis show as different points up and down. Rigid scenes with
+        a constant crank speed and whole ``revolutions`` only; the points are the
+        journals' eccentricity (``"eccentricity"``, ``"eccentricity_x"``,
+        ``"eccentricity_y"``); no exponent, no store and no dask client (the values
+        depend on each other).
 
     Examples
     --------
@@ -163,8 +187,14 @@ class BifurcationSettings:
     atol: float | None = ORBIT_TOLERANCE
     exponent_revolutions: float | None = None
     exponent_discard: float | None = None
+    direction: str | None = None
 
     def __post_init__(self) -> None:
+        if self.direction not in DIRECTIONS:
+            raise ValueError(
+                f"direction must be 'up', 'down' or None (each value from the scene's "
+                f"start); got {self.direction!r}."
+            )
         phase = self.phase
         if (
             isinstance(phase, bool)
@@ -305,8 +335,11 @@ def bifurcation(
         ``lyapunov_exponent_low`` / ``_high``, 1/s), by default over the same
         revolutions as the points (see ``settings``).
     settings
-        The strobe phase (rad), the tolerances of the points (default 1e-7) and the
-        revolutions of the exponent: a :class:`BifurcationSettings` (default
+        The strobe phase (rad), the tolerances of the points (default 1e-7), the
+        revolutions of the exponent and the sweep direction (default: every value from
+        the scene's start; ``"up"`` / ``"down"``: state continuation, each value from
+        the previous one's final state, recorded in the attribute
+        ``bifurcation_direction``): a :class:`BifurcationSettings` (default
         ``BifurcationSettings()``).
     client, n_workers, progress
         As for :func:`mechanism.sweep` (default: a ``LocalCluster``; ``"serial"``: this
@@ -360,6 +393,11 @@ def bifurcation(
             raise ValueError(
                 f"settings.{name} applies to the exponent; pass exponent=True with it."
             )
+    if settings.direction is not None:
+        _check_continued(scene, variables, revolutions, exponent, client, store)
+        ds = _continued(scene, parameter, values, float(revolutions), float(discard),
+                        variables, settings)  # fmt: skip
+        return ds
     simulator = _SectionPoint(
         discard=float(discard), phase=settings.phase, exponent=bool(exponent),
         rtol=settings.rtol, atol=settings.atol,
@@ -460,3 +498,180 @@ def _assemble(
         history=f"mechanism.bifurcation(parameter={parameter!r}, variables={list(variables)})",
         extra=extra,
     )
+
+
+def _check_continued(
+    scene: Any,
+    variables: tuple[str, ...],
+    revolutions: Any,
+    exponent: bool,
+    client: Any,
+    store: Any,
+) -> None:
+    """Refuse what a sweep with state continuation cannot do, naming the argument."""
+    if _flexible(scene) or drive_period(scene) is None:
+        raise ValueError(
+            "settings.direction needs a rigid scene (effects.flexibility = false) with a "
+            "constant crank speed."
+        )
+    unknown = [v for v in variables if v not in CONTINUED_VARIABLES]
+    if unknown:
+        raise ValueError(
+            f"with settings.direction the variables must be among {list(CONTINUED_VARIABLES)}; "
+            f"got {unknown}."
+        )
+    whole = not isinstance(revolutions, bool) and isinstance(revolutions, int | float)
+    if not (whole and revolutions >= 1 and float(revolutions).is_integer()):
+        raise ValueError(
+            f"with settings.direction revolutions must be a whole number >= 1 (each value "
+            f"continues from the previous one's state at t = 0 mod T); got {revolutions!r}."
+        )
+    if exponent:
+        raise ValueError("exponent=True is not available with settings.direction.")
+    if store is not None or client not in (None, "serial"):
+        raise ValueError(
+            "with settings.direction the values run one after the other in this process: "
+            "pass neither store nor a dask client."
+        )
+
+
+def _continued(
+    scene: Any,
+    parameter: str,
+    values: list[float],
+    revolutions: float,
+    discard: float,
+    variables: tuple[str, ...],
+    settings: BifurcationSettings,
+) -> xr.Dataset:
+    """Orbit diagram with state continuation: the values in the sweep's order, each
+    from the final state of the previous one."""
+    order = sorted(values, reverse=settings.direction == "down")
+    rows: list[dict[str, Any]] = []
+    carried: tuple[np.ndarray, np.ndarray] | None = None
+    for value in order:
+        row = _continued_value(scene.replace({parameter: value}), revolutions, discard,
+                               settings, carried)  # fmt: skip
+        carried = row.pop("carry")
+        rows.append(row)
+    cycles = sorted({int(k) for r in rows for k in r["cycle"]})
+    slot = {k: i for i, k in enumerate(cycles)}
+    n_joints = max((r["ecc"].shape[1] for r in rows if r["ecc"].size), default=0)
+    ecc = np.full((len(order), len(cycles), n_joints, 2), np.nan)
+    times = np.full((len(order), len(cycles)), np.nan)
+    for i, r in enumerate(rows):
+        where = np.array([slot[int(k)] for k in r["cycle"]], dtype=int)
+        ecc[i, where] = r["ecc"]
+        times[i, where] = r["time"]
+    names = {
+        "x": "journal centre minus bearing centre, x",
+        "y": "journal centre minus bearing centre, y",
+    }
+    data: dict[str, Any] = {}
+    dims = (parameter, "crossing", "joint")
+    for name in variables:
+        if name == ECCENTRICITY:
+            data[name] = (
+                dims,
+                np.hypot(ecc[..., 0], ecc[..., 1]),
+                {"units": "m", "long_name": "journal eccentricity |e| in its bearing"},
+            )
+        else:
+            axis = name[-1]
+            data[name] = (
+                dims,
+                ecc[..., "xy".index(axis)],
+                {"units": "m", "long_name": names[axis]},
+            )
+    data["status"] = (
+        (parameter,),
+        np.array([r["status"] for r in rows], dtype=object),
+        {"long_name": "ok, or failed (the next value starts from the scene's start)"},
+    )
+    data["message"] = (
+        (parameter,),
+        np.array([r["message"] for r in rows], dtype=object),
+        {"long_name": "why the integration failed (empty when ok)"},
+    )
+    data["start"] = (
+        (parameter,),
+        np.array([r["start"] for r in rows], dtype=object),
+        {"long_name": "initial state of the value: continued or scene start"},
+    )
+    coords = {
+        parameter: (parameter, np.asarray(order, dtype=np.float64)),
+        "crossing": ("crossing", np.asarray(cycles, dtype=np.int64),
+                     {"units": "1", "long_name": "drive cycle k (crank angle = phase + 2 pi k)"}),
+        "time": ((parameter, "crossing"), times,
+                 {"units": "s", "long_name": "time of the stroboscopic point"}),
+        "joint": ("joint", np.asarray(rows[0]["joints"], dtype=object)),
+    }  # fmt: skip
+    ds = xr.Dataset(data, coords=coords)
+    return stamp(
+        ds,
+        title=f"bifurcation diagram over {parameter} (stroboscopic points, sweep "
+        f"{settings.direction})",
+        source=_SOURCE,
+        history=f"mechanism.bifurcation(parameter={parameter!r}, variables={list(variables)}, "
+        f"direction={settings.direction!r})",
+        extra={
+            "bifurcation_parameter": parameter,
+            "bifurcation_variables": ",".join(variables),
+            "bifurcation_direction": settings.direction,
+            "section_kind": "stroboscopic",
+            "phase_variable": "crank_angle",
+            "drive_phase": settings.phase,
+        },
+    )
+
+
+def _continued_value(
+    scene: Any,
+    revolutions: float,
+    discard: float,
+    settings: BifurcationSettings,
+    carried: tuple[np.ndarray, np.ndarray] | None,
+) -> dict[str, Any]:
+    """One value of a continued sweep: its section points and the state it ends in."""
+    model = assemble(scene)
+    big_t = drive_period(scene)
+    q0, v0 = initial_state(model)
+    y_start = np.concatenate([q0, v0])
+    start, latch = "scene start", None
+    if carried is not None:
+        y, held = carried
+        n = len(model.dof_names)
+        angles = np.zeros(2 * n, dtype=bool)
+        angles[:n] = [name.endswith(".theta") for name in model.dof_names]
+        # the same drive phase at t = 0: angles back by whole turns, then onto this
+        # value's constraints (a new speed changes the driven velocities)
+        y = y.copy()
+        y[angles] -= 2.0 * math.pi * np.round((y - y_start)[angles] / (2.0 * math.pi))
+        y_start = project_state(model, y, t=0.0)
+        latch = section_latch(model, y_start, held)
+        start = "continued"
+    rtol = scene.solver.rtol if settings.rtol is None else settings.rtol
+    atol = scene.solver.atol if settings.atol is None else settings.atol
+    max_step, floor = step_limits(model, Dopri5(), default_step(scene, big_t))
+    omega = 2.0 * math.pi / big_t
+    first = (settings.phase - scene.drive.initial_angle) / (2.0 * math.pi)
+    cycles = np.arange(math.floor(first + discard), math.ceil(first + revolutions) + 1)
+    t_sec = (cycles - first) * big_t
+    keep = (t_sec > discard * big_t - 1e-12 * big_t) & (t_sec <= revolutions * big_t)
+    cycles, t_sec = cycles[keep], t_sec[keep]
+    stops = np.unique(np.concatenate([[0.0], t_sec, [revolutions * big_t]]))
+    run = integrate_tangent(
+        model, y_start, np.zeros_like(y_start), stops, rtol=rtol, atol=atol,
+        max_step=max_step, approach_floor=floor, renormalize_every=_NO_RENORMALIZATION,
+        time_scale=1.0 / omega, latch=latch, record_states=True, label="bifurcation",
+    )  # fmt: skip
+    joints = tuple(model.clearance_joints)
+    if not run.stats.success:
+        return {"cycle": np.zeros(0), "ecc": np.zeros((0, len(joints), 2)), "time": np.zeros(0),
+                "status": "failed", "message": str(run.stats.message), "start": start,
+                "joints": joints, "carry": None}  # fmt: skip
+    rows = np.searchsorted(stops, t_sec)
+    kin = clearance_kinematics(model, run.states[rows], t=t_sec, latch=run.latches[rows])
+    return {"cycle": cycles, "ecc": kin[:, :, :2], "time": t_sec, "status": "ok",
+            "message": "", "start": start, "joints": joints,
+            "carry": (run.final_state.copy(), run.final_latch.copy())}  # fmt: skip

@@ -26,6 +26,7 @@ def plot_bifurcation(
     joint: str | None = None,
     axes: Sequence[Any] | None = None,
     marker_size: float | None = None,
+    continuation: Any | None = None,
 ) -> list[Any]:
     """Draw a :func:`mechanism.bifurcation` Dataset as the classic orbit diagram.
 
@@ -49,6 +50,11 @@ def plot_bifurcation(
     marker_size
         Dot area in points² (default: from the number of points N, 12 000/N between 1 and
         6).
+    continuation
+        A :class:`mechanism.Continuation` over the same parameter, drawn over the orbit
+        diagram: each branch's ``|e|`` at its section times (stable solid, unstable dashed)
+        and its labelled points (PD period doubling, F fold, NS Neimark–Sacker, G
+        grazing). Only for ``variable="eccentricity"``.
 
     Returns
     -------
@@ -111,6 +117,10 @@ def plot_bifurcation(
         + (f", {int(failed.sum())} failed (red)" if failed.any() else ""),
         fontsize=9,
     )
+    if continuation is not None:
+        if variable != "eccentricity":
+            raise ValueError("continuation= overlays |e|: draw variable='eccentricity'.")
+        _overlay_branches(ax, continuation, joint, var)
     if len(groups) > 1:
         ax.legend(fontsize=8, markerscale=4)
     if has_exponent and len(axes) > 1:
@@ -136,3 +146,39 @@ def plot_bifurcation(
         bottom = ax
     bottom.set_xlabel(_label(ds[parameter], parameter))
     return axes
+
+
+#: short labels of the bifurcation kinds on the figure
+_KIND_LABELS = {"period-doubling": "PD", "fold": "F", "neimark-sacker": "NS", "grazing": "G"}
+
+
+def _overlay_branches(ax: Any, continuation: Any, joint: str | None, var: xr.DataArray) -> None:
+    """Branches (stable solid, unstable dashed) and labelled points of a continuation."""
+    joints = [str(j) for j in var["joint"].values] if "joint" in var.dims else []
+    column = joints.index(joint) if joint is not None and joint in joints else 0
+    for index, branch in enumerate(continuation.branches):
+        p = branch.parameter
+        e = [pt.eccentricity for pt in branch.points]
+        if not e or any(x.ndim != 2 or x.shape[1] <= column for x in e):
+            continue
+        stable = branch.stable
+        color = f"C{index % 10}"
+        for k in range(branch.period):
+            y = np.array([x[k, column] if x.shape[0] > k else np.nan for x in e])
+            for mask, style in ((stable, "-"), (~stable, "--")):
+                # runs of the mask, each joined to the next point so the line is continuous
+                yy = np.where(mask | np.roll(mask, 1) & (np.arange(p.size) > 0), y, np.nan)
+                ax.plot(p, yy, style, color=color, lw=1.2,
+                        label=(f"period-{branch.period} branch" if k == 0 and style == "-"
+                               and mask.any() else None))  # fmt: skip
+    for bif in continuation.bifurcations:
+        branch = continuation.branches[bif.branch]
+        near = int(np.argmin(np.abs(branch.parameter - bif.parameter)))
+        e = branch.points[near].eccentricity
+        if e.ndim != 2 or e.shape[1] <= column:
+            continue
+        ax.plot(bif.parameter, e[0, column], "o", mfc="none", mec="tab:red", ms=7)
+        ax.annotate(_KIND_LABELS.get(bif.kind, bif.kind), (bif.parameter, e[0, column]),
+                    xytext=(3, 5), textcoords="offset points", fontsize=8,
+                    color="tab:red")  # fmt: skip
+    ax.legend(fontsize=8, loc="best")

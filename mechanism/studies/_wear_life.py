@@ -21,17 +21,17 @@ from tqdm.auto import tqdm
 
 import chaoskit
 from chaoskit.contract import __version__, check_int, check_positive, stamp, variable
-from mechanism.core import Scene, SimulationError, drive_period, simulate
+from mechanism.core import Scene, SimulationError, drive_period, scene_from_json, simulate
 from mechanism.core.record import window_start
 from mechanism.core.scene import ClearanceRevolute
 from mechanism.core.wear import SURFACES, WornProfile, surface_angle
 
 from ._lyapunov import SceneLyapunov, lyapunov_exponent
-from ._wear_prediction import (
+from ._wear_prediction import update_loop
+from ._wear_settings import (
     DEFAULT_MAX_DEPTH_INCREMENT,
     check_averaged_revolutions,
     check_depth_increment,
-    update_loop,
 )
 
 __all__ = [
@@ -76,9 +76,11 @@ class WearLife:
         The first checkpoint whose exponent's 95 % interval lies above zero and whose
         motion verdict is chaotic, else None (always None without ``exponent``).
     verdicts : tuple of chaoskit.MotionVerdict
-        The motion verdict of every finished checkpoint.
+        The motion verdict of every finished checkpoint (empty for a path read back with
+        :meth:`from_dataset`).
     exponents : tuple of SceneLyapunov or None
-        The exponent of every finished checkpoint (None: not computed or failed).
+        The exponent of every finished checkpoint (None: not computed or failed; empty for
+        a path read back with :meth:`from_dataset`).
     dataset : xarray.Dataset
         See :meth:`to_dataset`.
     """
@@ -98,6 +100,32 @@ class WearLife:
     def success(self) -> bool:
         """True when the path reached ``cycles``."""
         return self.status == _COMPLETE
+
+    @classmethod
+    def from_dataset(cls, ds: xr.Dataset) -> WearLife:
+        """The path of a Dataset written from :meth:`to_dataset` (e.g. read back from a file).
+
+        Every number comes from the Dataset; ``verdicts`` and ``exponents`` are empty
+        tuples (their labels, confidences and intervals are the Dataset's variables).
+        """
+        try:
+            chaos = float(ds.attrs["cycles_to_chaos"])
+            return cls(
+                scene=scene_from_json(ds.attrs["scene"]),
+                worn_scene=scene_from_json(ds.attrs["worn_scene"]),
+                cycles=float(ds.attrs["cycles"]),
+                checkpoints=np.asarray(ds["checkpoint"].values, dtype=np.float64),
+                status=str(ds.attrs["status"]),
+                reason=str(ds.attrs["status_reason"]),
+                cycles_to_chaos=None if chaos < 0.0 else chaos,
+                verdicts=(),
+                exponents=(),
+                dataset=ds,
+            )
+        except KeyError as exc:
+            raise ValueError(
+                f"the Dataset is not a wear path of mechanism.wear_life (no {exc.args[0]!r})."
+            ) from None
 
     def to_dataset(self) -> xr.Dataset:
         """The path as a Dataset over dim ``checkpoint`` (coordinate: its cycles).
@@ -144,7 +172,7 @@ class WearLife:
 
 @dataclass(frozen=True, kw_only=True)
 class WearLifeSettings:
-    """How :func:`wear_life` analyses the motion of each checkpoint's worn state.
+    """How :func:`wear_life` wears the joints and analyses each checkpoint's worn state.
 
     Every field is checked on construction (a ValueError names the field and its
     accepted range).
@@ -160,6 +188,15 @@ class WearLifeSettings:
         Revolutions of the exponent's run (> 0) and those left out of it (≥ 0, fewer).
     continuous_contact : float
         Shortest continuous-contact episode, as a fraction of the drive period, in (0, 1).
+    averaged_revolutions : int
+        Revolutions whose mean wear is the wear per cycle, in [1, 1000] (an argument of
+        :func:`wear_life` given explicitly wins over this field).
+    max_depth_increment : float
+        Largest depth one increment may add, as a fraction of the radial clearance, in
+        (0, 1] (an explicit argument of :func:`wear_life` wins).
+    exponent : bool
+        Compute the exponent from the equations at each checkpoint (an explicit argument
+        of :func:`wear_life` wins).
 
     Examples
     --------
@@ -173,6 +210,9 @@ class WearLifeSettings:
     lyapunov_revolutions: float = 10.0
     lyapunov_discard: float = 2.0
     continuous_contact: float = 0.01
+    averaged_revolutions: int = DEFAULT_WEAR_LIFE_AVERAGED_REVOLUTIONS
+    max_depth_increment: float = DEFAULT_MAX_DEPTH_INCREMENT
+    exponent: bool = True
 
     def __post_init__(self) -> None:
         settle = check_positive(self.settle_revolutions, name="settle_revolutions", allow_zero=True)
@@ -194,9 +234,36 @@ class WearLifeSettings:
             "lyapunov_revolutions": lyap_revs,
             "lyapunov_discard": lyap_discard,
             "continuous_contact": _fraction(self.continuous_contact, "continuous_contact"),
+            "averaged_revolutions": check_averaged_revolutions(self.averaged_revolutions),
+            "max_depth_increment": check_depth_increment(self.max_depth_increment),
+            "exponent": _flag(self.exponent, "exponent"),
         }
         for name, value in checked.items():
             object.__setattr__(self, name, value)
+
+
+def checked_settings(settings: Any) -> WearLifeSettings:
+    """``settings`` (None: the defaults), or a TypeError when it is not a WearLifeSettings."""
+    if settings is None:
+        return WearLifeSettings()
+    if not isinstance(settings, WearLifeSettings):
+        raise TypeError(
+            f"settings must be a mechanism.WearLifeSettings; got {type(settings).__name__}."
+        )
+    return settings
+
+
+def check_wear_path(scene: Any, cycles: Any, checkpoints: Any) -> tuple[Scene, list[float]]:
+    """The checks :func:`wear_life` makes before any work: the scene, ``cycles`` and the
+    checkpoints (a ValueError or TypeError in one line). Returns the scene and the
+    cumulative cycles at the end of every interval."""
+    scene = _checked_scene(scene)
+    _, targets = _checked_path(cycles, checkpoints)
+    update_loop(
+        scene, targets=targets, limit=DEFAULT_MAX_DEPTH_INCREMENT, settle=0.0, averaged=1,
+        simulate_kwargs={}, caller="wear_life",
+    )  # fmt: skip
+    return scene, targets
 
 
 def _checked_path(cycles: Any, checkpoints: Any) -> tuple[float, list[float]]:
@@ -237,6 +304,12 @@ def _checked_scene(scene: Any) -> Scene:
                 f"got {joint.wear.coefficient!r}."
             )
     return scene
+
+
+def _flag(value: Any, name: str) -> bool:
+    if not isinstance(value, bool | np.bool_):
+        raise ValueError(f"{name} must be True or False; got {value!r}.")
+    return bool(value)
 
 
 def _fraction(value: Any, name: str) -> float:
@@ -352,9 +425,9 @@ def wear_life(
     *,
     cycles: float,
     checkpoints: Sequence[float],
-    averaged_revolutions: int = DEFAULT_WEAR_LIFE_AVERAGED_REVOLUTIONS,
-    exponent: bool = True,
-    max_depth_increment: float = DEFAULT_MAX_DEPTH_INCREMENT,
+    averaged_revolutions: int | None = None,
+    exponent: bool | None = None,
+    max_depth_increment: float | None = None,
     settings: WearLifeSettings | None = None,
     method: str | None = None,
     rtol: float | None = None,
@@ -402,16 +475,19 @@ def wear_life(
     checkpoints : sequence of float
         Strictly increasing cumulative cycle counts in (0, ``cycles``]; ``cycles`` is
         added as the last one when missing, and the unworn state is always the first.
-    averaged_revolutions : int
-        Revolutions whose mean wear is the wear per cycle, in [1, 1000].
-    exponent : bool
-        Compute the exponent from the equations at each checkpoint (the costliest part).
-    max_depth_increment : float
+    averaged_revolutions : int, optional
+        Revolutions whose mean wear is the wear per cycle, in [1, 1000]; default the
+        field of ``settings`` (8).
+    exponent : bool, optional
+        Compute the exponent from the equations at each checkpoint (the costliest part);
+        default the field of ``settings`` (True).
+    max_depth_increment : float, optional
         Largest depth one increment may add, as a fraction of the radial clearance, in
-        (0, 1].
+        (0, 1]; default the field of ``settings`` (0.025).
     settings : WearLifeSettings, optional
         The settle, analysed and exponent revolutions and the continuous-contact time of
-        each checkpoint's analysis; default ``WearLifeSettings()``.
+        each checkpoint's analysis, and the defaults of the three arguments above;
+        default ``WearLifeSettings()``.
     method, rtol, atol, output_step
         Passed to :func:`mechanism.simulate`.
     progress : bool
@@ -436,14 +512,14 @@ def wear_life(
     """
     scene = _checked_scene(scene)
     total, targets = _checked_path(cycles, checkpoints)
-    averaged = check_averaged_revolutions(averaged_revolutions)
-    limit = check_depth_increment(max_depth_increment)
-    if settings is None:
-        settings = WearLifeSettings()
-    elif not isinstance(settings, WearLifeSettings):
-        raise TypeError(
-            f"settings must be a mechanism.WearLifeSettings; got {type(settings).__name__}."
-        )
+    settings = checked_settings(settings)
+    averaged = check_averaged_revolutions(
+        settings.averaged_revolutions if averaged_revolutions is None else averaged_revolutions
+    )
+    limit = check_depth_increment(
+        settings.max_depth_increment if max_depth_increment is None else max_depth_increment
+    )
+    exponent = settings.exponent if exponent is None else _flag(exponent, "exponent")
     settle = settings.settle_revolutions
     lyap_revs, lyap_discard = settings.lyapunov_revolutions, settings.lyapunov_discard
     kwargs = {"method": method, "rtol": rtol, "atol": atol, "output_step": output_step}

@@ -1,16 +1,15 @@
-"""Wear prediction: ``predict_wear`` (cycle extrapolation) and ``compare_wear`` (before/after).
+"""Wear prediction: ``predict_wear``, the cycle extrapolation of docs/paper-model.md §6.
 
 The wear of one run (:func:`mechanism.core.wear.run_wear`) is part of the core; this study
-builds on it:
+builds on it (Flores 2009; Mukras 2010): settle, accumulate one cycle's wear, extrapolate it
+over a block of cycles worn in sub-updates that each deepen the profile by at most a fraction
+of the clearance, smooth, update the profile, re-simulate, repeat; every simulated state must
+keep its penetration within the clearance, or the prediction stops
+(:class:`WearPredictionError`).
 
-* :func:`predict_wear` — the update loop of docs/paper-model.md §6 (Flores 2009; Mukras 2010):
-  settle, accumulate one cycle's wear, extrapolate it over a block of cycles worn in
-  sub-updates that each deepen the profile by at most a fraction of the clearance, smooth,
-  update the profile, re-simulate, repeat; every simulated state must keep its
-  penetration within the clearance, or the prediction stops (:class:`WearPredictionError`).
-* :func:`compare_wear` — the response metrics of docs/paper-model.md §7 before and after
-  wear, side by side with their ratios (metric definitions shared with sweeps,
-  ``_metrics.py``).
+This module holds the update loop (shared with :func:`mechanism.wear_life`); its settings
+are in ``_wear_settings``, the statistics of the averaged wear in ``_wear_statistics``, the
+result and its Dataset in ``_wear_result``, and ``compare_wear`` in ``_wear_compare``.
 
 See ``docs/wear.md``.
 """
@@ -24,74 +23,25 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-import pandas as pd
 import xarray as xr
-from scipy.stats import t as student_t
 
-from chaoskit.contract import __version__, check_int, check_positive, stamp, variable
 from mechanism.core import Scene, SimulationError, simulate
-from mechanism.core.record import METRICS, ROD_STRAIN, response_metrics, window_start
+from mechanism.core.record import response_metrics, window_start
 from mechanism.core.scene import ClearanceRevolute
-from mechanism.core.wear import SURFACES, WornProfile, clearance_joint, run_wear, surface_angle
+from mechanism.core.wear import WornProfile, clearance_joint, run_wear
 
-__all__ = [
-    "DEFAULT_AVERAGED_REVOLUTIONS",
-    "DEFAULT_MAX_DEPTH_INCREMENT",
-    "MAX_AVERAGED_REVOLUTIONS",
-    "MAX_SUB_UPDATES",
-    "PENETRATION_LIMIT",
-    "WearComparison",
-    "WearPrediction",
-    "WearPredictionError",
-    "compare_wear",
-    "predict_wear",
-]
+from ._wear_result import COMPLETE, FAILED, WearPrediction, WearPredictionError, prediction_dataset
+from ._wear_settings import (
+    DEFAULT_AVERAGED_REVOLUTIONS,
+    DEFAULT_MAX_DEPTH_INCREMENT,
+    MAX_SUB_UPDATES,
+    PENETRATION_LIMIT,
+    check_averaged_revolutions,
+    checked_settings,
+)
+from ._wear_statistics import batch_halfwidth, nanmax, relative_halfwidth, revolution_bounds
 
-# --------------------------------------------------------------------------- predict_wear
-
-#: Default of ``max_depth_increment``: the largest depth one sub-update may add, as a
-#: fraction of the radial clearance (docs/wear.md, "Sub-updates").
-DEFAULT_MAX_DEPTH_INCREMENT = 0.025
-#: The hard check: a simulated state whose penetration exceeds this fraction of the joint's
-#: radial clearance stops the prediction (the compliant contact law describes a small overlap).
-PENETRATION_LIMIT = 1.0
-#: Most sub-updates one update may be split into before the prediction stops.
-MAX_SUB_UPDATES = 100
-#: Default of ``averaged_revolutions`` in :func:`predict_wear`: one revolution, the
-#: published update scheme (Flores 2009), so its results are unchanged; where the motion is
-#: irregular use more (:func:`mechanism.wear_life` defaults to more; docs/wear.md).
-DEFAULT_AVERAGED_REVOLUTIONS = 1
-#: Largest accepted ``averaged_revolutions``.
-MAX_AVERAGED_REVOLUTIONS = 1000
-#: Most batches of consecutive revolutions behind the 95 % interval of the wear per cycle.
-MAX_BATCHES = 10
-#: Regions whose mean wear per cycle is at least this fraction of their surface's largest
-#: enter the largest *relative* half-width (elsewhere the relative width of a vanishing
-#: rate says nothing about the profile).
-RELATIVE_HALFWIDTH_FLOOR = 0.1
-
-_COMPLETE = "complete"
-_FAILED = "failed"
-
-
-class WearPredictionError(SimulationError):
-    """A wear prediction stopped before its last update.
-
-    ``prediction`` is the :class:`WearPrediction` of the updates that finished, with
-    ``status == "failed"`` and the reason in ``reason`` (the exception text). It is
-    ``None`` only when the exception is built by hand.
-    """
-
-    def __init__(self, message: str, *, prediction: WearPrediction | None = None) -> None:
-        super().__init__(message)
-        self.prediction = prediction
-
-    def __reduce__(self) -> tuple[Any, ...]:  # keeps ``prediction`` across processes
-        return (_wear_prediction_error, (str(self), self.prediction))
-
-
-def _wear_prediction_error(message: str, prediction: Any) -> WearPredictionError:
-    return WearPredictionError(message, prediction=prediction)
+__all__ = ["predict_wear"]
 
 
 def _with_profiles(scene: Scene, profiles: dict[str, WornProfile]) -> Scene:
@@ -102,66 +52,6 @@ def _with_profiles(scene: Scene, profiles: dict[str, WornProfile]) -> Scene:
             raise TypeError(f"joint {name!r} is not a clearance_revolute joint; it has no profile.")
         joints[name] = profile.apply_to(joint)
     return dataclasses.replace(scene, joints=joints)
-
-
-@dataclass(frozen=True, kw_only=True, eq=False)
-class WearPrediction:
-    """Result of :func:`predict_wear`.
-
-    Attributes
-    ----------
-    scene, worn_scene : Scene
-        The starting scene and the scene carrying the profiles of the last finished update
-        (``simulate`` runs it; ``save_scene``/``load_scene`` round-trip it).
-    cycles : numpy.ndarray
-        Cumulative crank cycles of wear at each finished update state 0, 1, ….
-    reduced_updates : int
-        Updates whose block of cycles was split into more than one sub-update.
-    dataset : xarray.Dataset
-        See :meth:`to_dataset`.
-    status : str
-        ``"complete"`` when every update finished, ``"failed"`` when the prediction stopped
-        (then :func:`predict_wear` raised :class:`WearPredictionError` carrying this result).
-    reason : str
-        Why it stopped (one line), or a summary of the hard check when complete.
-    """
-
-    scene: Scene
-    worn_scene: Scene
-    cycles: np.ndarray
-    reduced_updates: int
-    dataset: xr.Dataset
-    status: str = _COMPLETE
-    reason: str = ""
-
-    @property
-    def updates(self) -> int:
-        """Finished updates (the requested number unless the prediction failed)."""
-        return max(int(self.cycles.size - 1), 0)
-
-    @property
-    def success(self) -> bool:
-        """True when every requested update finished and passed the hard check."""
-        return self.status == _COMPLETE
-
-    def to_dataset(self) -> xr.Dataset:
-        """The prediction as a Dataset.
-
-        ``wear_depth(update, joint, surface, angle)`` (m), ``worn_volume(update, joint,
-        surface)`` (m³), ``cycles(update)``, ``block_cycles(update)``,
-        ``sub_updates(update)``, the response metrics of each update state
-        (``peak_contact_force(update)``, … over its last revolution),
-        ``penetration_fraction(update)`` (the hard check over the whole run), the sub-update
-        records ``sub_update_cycles(sub_update)``, ``sub_update_of``,
-        ``sub_update_depth_increment``, ``sub_update_penetration``,
-        ``sub_update_peak_contact_force``, ``sub_update_relative_halfwidth``, the wear per
-        cycle of each update state ``wear_rate(update, joint, surface, angle)`` (m) with
-        its 95 % half-width ``wear_rate_halfwidth`` and ``wear_rate_relative_halfwidth(update)``
-        (NaN with one averaged revolution), the worn scene as JSON in
-        ``attrs["worn_scene"]``, ``attrs["status"]`` (``"complete"``/``"failed"``),
-        ``attrs["status_reason"]`` and the settings in attrs.
-        """
-        return self.dataset.copy()
 
 
 @dataclass(frozen=True)
@@ -284,7 +174,7 @@ def predict_wear(
     """
     if not isinstance(scene, Scene):
         raise TypeError(f"scene must be a mechanism Scene; got {type(scene).__name__}.")
-    updates, block, limit, settle = _checked_settings(
+    updates, block, limit, settle = checked_settings(
         updates, cycles_per_update, max_depth_increment, settle_revolutions
     )
     averaged = check_averaged_revolutions(averaged_revolutions)
@@ -319,40 +209,6 @@ def predict_wear(
     return prediction
 
 
-def _checked_settings(
-    updates: Any, cycles_per_update: Any, max_depth_increment: Any, settle_revolutions: Any
-) -> tuple[int, float, float, float]:
-    """The settings of :func:`predict_wear`, or a ValueError naming the one out of range."""
-    n = check_int(updates, name="updates", minimum=1)
-    block = check_positive(cycles_per_update, name="cycles_per_update")
-    limit = check_depth_increment(max_depth_increment)
-    settle = float(settle_revolutions)
-    if not (math.isfinite(settle) and settle >= 0.0):
-        raise ValueError(f"settle_revolutions must be >= 0; got {settle_revolutions!r}.")
-    return n, block, limit, settle
-
-
-def check_depth_increment(value: Any) -> float:
-    """``max_depth_increment`` as a float in (0, 1], or a ValueError naming its range."""
-    try:
-        limit = float(value)
-    except (TypeError, ValueError):
-        limit = math.nan
-    if not 0.0 < limit <= 1.0:  # NaN fails too
-        raise ValueError(
-            "max_depth_increment must be in (0, 1] (a fraction of the radial clearance); "
-            f"got {value!r}."
-        )
-    return limit
-
-
-def check_averaged_revolutions(value: Any) -> int:
-    """``averaged_revolutions`` as an int, or a ValueError naming its range."""
-    return check_int(
-        value, name="averaged_revolutions", minimum=1, maximum=MAX_AVERAGED_REVOLUTIONS
-    )
-
-
 def update_loop(
     scene: Scene,
     *,
@@ -362,7 +218,7 @@ def update_loop(
     averaged: int,
     simulate_kwargs: dict[str, Any],
     caller: str,
-) -> _UpdateLoop:
+) -> UpdateLoop:
     """The update loop of ``scene`` (wear switched on) before it runs; shared with
     :func:`mechanism.wear_life`. ``targets`` are the cumulative cycles at the end of
     each update (increasing). A ValueError when the scene has no clearance joint to
@@ -377,7 +233,7 @@ def update_loop(
     profiles = {n: WornProfile.from_joint(clearance_joint(scene, n)) for n in names}
     if len({p.regions for p in profiles.values()}) != 1:
         raise ValueError("all clearance joints must have the same wear.regions.")
-    return _UpdateLoop(
+    return UpdateLoop(
         scene, names, profiles, targets=targets, limit=limit, settle=settle,
         averaged=averaged, simulate_kwargs=simulate_kwargs,
     )  # fmt: skip
@@ -394,50 +250,7 @@ class _Rates:
     relative_halfwidth: float  # largest half-width / mean over the worn regions
 
 
-def batch_halfwidth(samples: np.ndarray, batches: int = MAX_BATCHES) -> np.ndarray:
-    """95 % half-width of the mean of ``samples`` along axis 0, from batch means.
-
-    The samples (one per revolution) are split into at most ``batches`` groups of
-    consecutive samples; t(0.975, B − 1) s_B / √B with s_B the standard deviation of the
-    B group means. NaN for fewer than two samples.
-    """
-    n = samples.shape[0]
-    b = min(n, batches)
-    if b < 2:
-        return np.full(samples.shape[1:], math.nan)
-    means = np.stack([g.mean(axis=0) for g in np.array_split(samples, b, axis=0)])
-    return float(student_t.ppf(0.975, b - 1)) * means.std(axis=0, ddof=1) / math.sqrt(b)
-
-
-def _relative_halfwidth(mean: np.ndarray, halfwidth: np.ndarray) -> float:
-    """Largest half-width / mean over the regions whose mean is at least
-    :data:`RELATIVE_HALFWIDTH_FLOOR` of their surface's largest (NaN when nothing wears)."""
-    worst = math.nan
-    for m, h in zip(mean, halfwidth, strict=True):
-        top = float(m.max())
-        if top <= 0.0 or not np.isfinite(h).all():
-            continue
-        worn = m >= RELATIVE_HALFWIDTH_FLOOR * top
-        value = float((h[worn] / m[worn]).max())
-        worst = value if math.isnan(worst) else max(worst, value)
-    return worst
-
-
-def _nanmax(a: float, b: float) -> float:
-    """The larger of two values, ignoring NaN (NaN only when both are)."""
-    if math.isnan(a):
-        return b
-    return a if math.isnan(b) else max(a, b)
-
-
-def revolution_bounds(traj: xr.Dataset, settle: float, revolutions: int) -> list[int]:
-    """Sample indices that start the ``revolutions`` revolutions after ``settle`` and end
-    the last one (its last sample)."""
-    bounds = [window_start(traj, settle + k) for k in range(revolutions)]
-    return [*bounds, int(traj.sizes["time"]) - 1]
-
-
-class _UpdateLoop:
+class UpdateLoop:
     """The state of :func:`predict_wear`: profiles, the scene carrying them, the records."""
 
     def __init__(
@@ -583,7 +396,7 @@ class _UpdateLoop:
                  "force": last.force if last else math.nan,
                  "relative_halfwidth": rates.relative_halfwidth}
             )  # fmt: skip
-            self.states[-1]["relative_halfwidth"] = _nanmax(
+            self.states[-1]["relative_halfwidth"] = nanmax(
                 self.states[-1]["relative_halfwidth"], rates.relative_halfwidth
             )
             rates = None
@@ -624,7 +437,7 @@ class _UpdateLoop:
             samples = np.stack(per_rev[name])
             dh = increments[name] = samples[0] if self.averaged == 1 else samples.mean(axis=0)
             halfwidth[name] = batch_halfwidth(samples)
-            relative = _nanmax(relative, _relative_halfwidth(dh, halfwidth[name]))
+            relative = nanmax(relative, relative_halfwidth(dh, halfwidth[name]))
             rate = max(rate, float(dh.max()) / p.clearance)
             jpeak = float(dh[1].max())
             if jpeak > 0.0:
@@ -646,7 +459,7 @@ class _UpdateLoop:
 
     # -- the result
     def prediction(self, settings: dict[str, Any]) -> WearPrediction:
-        status = _FAILED if self.failure else _COMPLETE
+        status = FAILED if self.failure else COMPLETE
         if self.failure:
             reason = self.failure
         else:
@@ -657,227 +470,8 @@ class _UpdateLoop:
             )
         cum = np.array([s["cycles"] for s in self.states], dtype=np.float64)
         settings = {**settings, "status": status, "status_reason": reason}
-        ds = _prediction_dataset(self, cum, settings=settings)
+        ds = prediction_dataset(self, cum, settings=settings)
         return WearPrediction(
             scene=self.scene, worn_scene=self.kept, cycles=cum, reduced_updates=self.reduced,
             dataset=ds, status=status, reason=reason,
         )  # fmt: skip
-
-
-def _prediction_dataset(
-    loop: _UpdateLoop, cum: np.ndarray, *, settings: dict[str, Any]
-) -> xr.Dataset:
-    names, states, subs = loop.names, loop.states, loop.subs
-    regions = loop.profiles[names[0]].regions
-    depth = (
-        np.stack([s["depth"] for s in states]) if states else np.zeros((0, len(names), 2, regions))
-    )
-    volume = np.zeros(depth.shape[:3])
-    rate = (
-        np.stack([[s["rates"].increments[n] for n in names] for s in states]) if states else depth
-    )
-    halfwidth = (
-        np.stack([[s["rates"].halfwidth[n] for n in names] for s in states]) if states else depth
-    )
-    for u in range(depth.shape[0]):
-        for j, name in enumerate(names):
-            state = loop.profiles[name].with_depth(
-                bearing_depth=depth[u, j, 0], journal_depth=depth[u, j, 1]
-            )
-            volume[u, j] = (state.bearing_volume, state.journal_volume)
-    # the cycles actually worn after each state (0 after the last; short when it failed)
-    block = [sum(s["cycles"] for s in subs if s["update"] == u) for u in range(len(states))]
-    data: dict[str, Any] = {
-        "wear_depth": variable(("update", "joint", "surface", "angle"), depth, "m", "wear depth"),
-        "worn_volume": variable(("update", "joint", "surface"), volume, "m3", "worn volume"),
-        "cycles": variable(("update",), cum, "1", "crank cycles of wear at this update state"),
-        "block_cycles": variable(
-            ("update",), block, "1", "cycles extrapolated after this update state"
-        ),
-        "sub_updates": variable(
-            ("update",), [s["sub_updates"] for s in states], "1",
-            "sub-updates the block after this update state was worn in",
-        ),
-        "penetration_fraction": variable(
-            ("update",), [s["check"].fraction for s in states], "1",
-            "largest penetration over the whole run of this state / radial clearance",
-        ),
-        "sub_update_of": variable(
-            ("sub_update",), [s["update"] for s in subs], "1",
-            "update (0 = the first) this sub-update belongs to",
-        ),
-        "sub_update_cycles": variable(
-            ("sub_update",), [s["cycles"] for s in subs], "1",
-            "crank cycles extrapolated in this sub-update",
-        ),
-        "sub_update_depth_increment": variable(
-            ("sub_update",), [s["depth_increment"] for s in subs], "1",
-            "largest depth added by this sub-update / radial clearance",
-        ),
-        "sub_update_penetration": variable(
-            ("sub_update",), [s["penetration"] for s in subs], "1",
-            "largest penetration over the run of the state after this sub-update / radial "
-            "clearance (NaN: its simulation failed)",
-        ),
-        "sub_update_peak_contact_force": variable(
-            ("sub_update",), [s["force"] for s in subs], "N",
-            "peak contact force over the run of the state after this sub-update",
-        ),
-        "sub_update_relative_halfwidth": variable(
-            ("sub_update",), [s["relative_halfwidth"] for s in subs], "1",
-            "largest 95 % half-width / mean of the wear per cycle this sub-update "
-            "extrapolated, over the worn regions (NaN: one revolution averaged)",
-        ),
-        "wear_rate": variable(
-            ("update", "joint", "surface", "angle"), rate, "m",
-            "smoothed wear depth per crank cycle at this update state (mean over the "
-            "averaged revolutions)",
-        ),
-        "wear_rate_halfwidth": variable(
-            ("update", "joint", "surface", "angle"), halfwidth, "m",
-            "95 % half-width of wear_rate from batch means over revolutions (NaN: one "
-            "revolution averaged)",
-        ),
-        "wear_rate_relative_halfwidth": variable(
-            ("update",), [s["relative_halfwidth"] for s in states], "1",
-            "largest 95 % half-width / mean of the wear per cycle over the worn regions, "
-            "of every increment worn from this update state on (NaN: one revolution averaged)",
-        ),
-    }  # fmt: skip
-    metrics_hist = [s["traj_metrics"] for s in states]
-    for name, (units, long_name) in METRICS.items():
-        values = [float(m[name].values) for m in metrics_hist]
-        data[name] = variable(("update",), values, units, long_name + " (last revolution)")
-    coords: dict[str, Any] = {
-        "update": ("update", np.arange(depth.shape[0]), {"long_name": "profile update"}),
-        "sub_update": ("sub_update", np.arange(len(subs)), {"long_name": "sub-update"}),
-        "joint": ("joint", np.array(names, dtype=object)),
-        "surface": ("surface", np.array(SURFACES, dtype=object)),
-        "angle": surface_angle(regions),
-    }
-    if metrics_hist and all(ROD_STRAIN in m for m in metrics_hist):
-        strain = xr.concat([m[ROD_STRAIN] for m in metrics_hist], dim="update")
-        data[ROD_STRAIN] = variable(
-            ("update", "rod"), strain.values, "1", strain.attrs.get("long_name", ROD_STRAIN)
-        )
-        coords["rod"] = ("rod", np.asarray(strain["rod"].values).astype(object))
-    ds = xr.Dataset(data, coords=coords)
-    scene = loop.scene
-    ds.attrs["scene"] = scene.to_json()
-    ds.attrs["worn_scene"] = loop.kept.to_json()
-    ds.attrs["scene_name"] = scene.name
-    for key, value in settings.items():
-        ds.attrs[key] = value
-    failed = settings["status"] == _FAILED
-    title = f"wear prediction of scene {scene.name!r}"
-    if failed:
-        title += f" (FAILED after {max(len(states) - 1, 0)} of {settings['updates']} updates)"
-    return stamp(
-        ds,
-        title=title,
-        source=f"mechanism (chaoskit {__version__})",
-        history=(
-            f"mechanism.predict_wear({scene.name!r}, updates={settings['updates']}, "
-            f"cycles_per_update={settings['cycles_per_update']}, "
-            f"max_depth_increment={settings['max_depth_increment']})"
-        ),
-    )
-
-
-# --------------------------------------------------------------------------- compare_wear
-
-
-@dataclass(frozen=True, kw_only=True, eq=False)
-class WearComparison:
-    """Response metrics before and after wear with their ratios (:func:`compare_wear`).
-
-    ``table`` is a pandas DataFrame indexed by metric with columns ``before``, ``after``,
-    ``ratio`` (after/before) and ``units``; rod strains appear as
-    ``rod_strain_extreme[<rod>]``.
-    """
-
-    table: pd.DataFrame
-    discard_revolutions: float
-
-    def to_dataset(self) -> xr.Dataset:
-        """Variables ``before``, ``after``, ``ratio`` over dim ``metric`` with ``units``."""
-        t = self.table
-        ds = xr.Dataset(
-            {
-                "before": variable(("metric",), t["before"].to_numpy(float), "", "value before"),
-                "after": variable(("metric",), t["after"].to_numpy(float), "", "value after"),
-                "ratio": variable(("metric",), t["ratio"].to_numpy(float), "1", "after / before"),
-            },
-            coords={
-                "metric": ("metric", np.array(t.index, dtype=object)),
-                "units": ("metric", np.array(t["units"], dtype=object)),
-            },
-        )
-        for v in ("before", "after"):
-            ds[v].attrs["units"] = "see the units coordinate"
-        ds.attrs["discard_revolutions"] = self.discard_revolutions
-        return ds
-
-
-def _metric_rows(traj: xr.Dataset, discard: float) -> dict[str, tuple[float, str]]:
-    start = window_start(traj, discard)
-    rows: dict[str, tuple[float, str]] = {}
-    for name, da in response_metrics(traj, start).items():
-        if name == ROD_STRAIN:
-            for rod, value in zip(da["rod"].values, da.values, strict=True):
-                rows[f"{ROD_STRAIN}[{rod}]"] = (float(value), "1")
-        else:
-            rows[name] = (float(da.values), METRICS[name][0])
-    return rows
-
-
-def compare_wear(
-    before: xr.Dataset, after: xr.Dataset, *, discard_revolutions: float = 1.0
-) -> WearComparison:
-    """The paper's response metrics of two trajectories side by side, with ratios.
-
-    Displacement error, speed error, peak contact force, maximum penetration, signed
-    extreme driving torque and (when recorded) the signed extreme rod strains, each over
-    the samples after ``discard_revolutions`` (docs/paper-model.md §7; the same definitions as
-    the sweep's metrics). ratio = after/before (signed metrics keep their sign, so a
-    torque extreme that grows in magnitude has a ratio > 1 when the sign is unchanged).
-
-    Parameters
-    ----------
-    before, after : xarray.Dataset
-        Trajectories from :func:`mechanism.simulate` (e.g. of ``pred.scene`` and
-        ``pred.worn_scene``).
-    discard_revolutions : float
-        Transient dropped from both (crank revolutions).
-
-    Returns
-    -------
-    WearComparison
-
-    Examples
-    --------
-    >>> import numpy as np, xarray as xr
-    >>> t = np.linspace(0.0, 1.0, 5)
-    >>> a = xr.Dataset({"contact_force": ("time", [0.0, 1.0, 2.0, 1.0, 0.0])}, {"time": t})
-    >>> b = a.assign(contact_force=2.0 * a.contact_force)
-    >>> float(compare_wear(a, b, discard_revolutions=0).table.loc["peak_contact_force", "ratio"])
-    2.0
-    """
-    for label, ds in (("before", before), ("after", after)):
-        if not isinstance(ds, xr.Dataset):
-            raise TypeError(f"{label} must be an xarray.Dataset; got {type(ds).__name__}.")
-    discard = float(discard_revolutions)
-    if not (math.isfinite(discard) and discard >= 0.0):
-        raise ValueError(f"discard_revolutions must be >= 0; got {discard_revolutions!r}.")
-    rb = _metric_rows(before, discard)
-    ra = _metric_rows(after, discard)
-    index = [k for k in rb if k in ra]
-    b = np.array([rb[k][0] for k in index])
-    a = np.array([ra[k][0] for k in index])
-    with np.errstate(divide="ignore", invalid="ignore"):
-        ratio = np.where(b != 0.0, a / b, np.nan)
-    table = pd.DataFrame(
-        {"before": b, "after": a, "ratio": ratio, "units": [rb[k][1] for k in index]},
-        index=pd.Index(index, name="metric"),
-    )
-    return WearComparison(table=table, discard_revolutions=discard)

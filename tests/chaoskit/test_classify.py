@@ -368,12 +368,18 @@ def test_rule_a_driven_chaotic_label_needs_the_noisy_orbit_null_rejected() -> No
     )
     assert label == "chaotic" and votes["cycles"] == "supports"  # the spread rejects the null
     assert "departure from the mean cycle is not white noise (0.15 of" in reason
-    for rejected in (False, None):
-        label, _, confidence, _, _, needs = combine(
-            cycles_rejected=rejected, cycle_spread=0.01, rule=RULE, **chaos
-        )
-        assert label == "undetermined" and np.isnan(confidence)
-        assert needs[0].startswith("evidence beyond a noisy periodic orbit")
+    label, _, confidence, _, _, needs = combine(
+        cycles_rejected=None, cycle_spread=0.01, rule=RULE, **chaos
+    )
+    assert label == "undetermined" and np.isnan(confidence)
+    assert needs[0].startswith("evidence beyond a noisy periodic orbit")
+    # the cycle test ran and does not reject, the spread is within cluster_tol: a section
+    # scattered by coloured noise about a periodic orbit
+    label, period, _, reason, _, _ = combine(
+        cycles_rejected=False, cycle_spread=0.01, rule=RULE, **chaos
+    )
+    assert (label, period) == ("periodic", 1)
+    assert "a periodic orbit plus coloured noise" in reason
 
 
 def test_rule_a_wandering_beyond_the_tolerance_is_not_a_noisy_orbit() -> None:

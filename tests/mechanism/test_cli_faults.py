@@ -11,9 +11,9 @@ import xarray as xr
 from typer.testing import CliRunner
 
 import chaoskit
+import mechanism
 from chaoskit.cli import app as chaoskit_app
-from mechanism import cli as mechanism_cli
-from mechanism.cli import app
+from mechanism.cli import _lyapunov, _paper, _simulate, _sweep, _wear, app
 
 runner = CliRunner()
 
@@ -23,8 +23,15 @@ def no_simulation(monkeypatch: pytest.MonkeyPatch) -> None:
     def refuse(*args, **kwargs):
         raise AssertionError("the output should have been refused before simulating")
 
-    for name in ("simulate", "predict_wear", "run_paper_study", "bifurcation", "lyapunov_exponent"):
-        monkeypatch.setattr(mechanism_cli, name, refuse)
+    # each command module calls the library through its own imported name
+    for module, name in (
+        (_simulate, "simulate"),
+        (_wear, "predict_wear"),
+        (_paper, "run_paper_study"),
+        (_sweep, "bifurcation"),
+        (_lyapunov, "lyapunov_exponent"),
+    ):
+        monkeypatch.setattr(module, name, refuse)
 
 
 def _one_error_line(out, exit_code: int = 2) -> str:
@@ -86,7 +93,7 @@ def _fake_run() -> xr.Dataset:
 def test_simulate_write_failure_is_one_line_and_exit_1(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    monkeypatch.setattr(mechanism_cli, "simulate", lambda *a, **k: _fake_run())
+    monkeypatch.setattr(_simulate, "simulate", lambda *a, **k: _fake_run())
 
     def full(ds, path):
         raise OSError(errno.ENOSPC, "not enough free space")
@@ -96,7 +103,7 @@ def test_simulate_write_failure_is_one_line_and_exit_1(
     assert out.exit_code == 1, out.output
     assert out.stderr.count("\n") == 1 and "not enough free space" in out.stderr
     monkeypatch.undo()
-    monkeypatch.setattr(mechanism_cli, "simulate", lambda *a, **k: _fake_run())
+    monkeypatch.setattr(_simulate, "simulate", lambda *a, **k: _fake_run())
     out = runner.invoke(app, ["simulate", "slider-crank", "-o", str(tmp_path / "new" / "run.nc")])
     assert out.exit_code == 0, out.output
     assert chaoskit.load_trajectory(tmp_path / "new" / "run.nc").sizes["time"] == 10
@@ -193,7 +200,7 @@ def test_a_run_larger_than_the_memory_is_refused_unless_forced(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     # 62.6 GB on a 23 GB machine: a warning, then the machine ran out of memory
-    monkeypatch.setattr(mechanism_cli.simulate.__globals__["psutil"], "virtual_memory",
+    monkeypatch.setattr(mechanism.simulate.__globals__["psutil"], "virtual_memory",
                         lambda: _Memory(23e9))  # fmt: skip
     args = ["simulate", "paper", "--revolutions", "3000", "--set", "effects.flexibility=false"]
     out = runner.invoke(app, [*args, "-o", str(tmp_path / "x.nc")])
@@ -204,7 +211,7 @@ def test_a_run_larger_than_the_memory_is_refused_unless_forced(
     assert "(--var; light samples only); record='metrics' or 'sections' (--record)" in line
     assert line.endswith("force=True (--force) runs it anyway.")
     # forced: a small run on a machine that seems to have no memory left
-    monkeypatch.setattr(mechanism_cli.simulate.__globals__["psutil"], "virtual_memory",
+    monkeypatch.setattr(mechanism.simulate.__globals__["psutil"], "virtual_memory",
                         lambda: _Memory(5e4))  # fmt: skip
     small = ["simulate", "slider-crank", "--revolutions", "0.02", "--no-progress"]
     out = runner.invoke(app, [*small, "-o", str(tmp_path / "y.nc")])
@@ -308,3 +315,15 @@ def test_the_chaoskit_command_line_shows_help_in_full_and_exits_2_on_a_bad_perio
         out = runner.invoke(chaoskit_app, ["analyze", sample, "--drive-period", period])
         assert out.exit_code == 2, out.output
         assert out.stderr == f"error: --drive-period must be finite and > 0; got {float(period)}.\n"
+
+
+def test_help_lists_the_commands_in_a_fixed_order() -> None:
+    """The order does not depend on which command module imports which first."""
+    out = runner.invoke(app, ["--help"])
+    assert out.exit_code == 0, out.output
+    listed = out.output.split("Commands:")[1].splitlines()
+    names = [line.split()[0] for line in listed if line.startswith("  ")]
+    assert names[:10] == [
+        "scenes", "show", "simulate", "wear", "wear-life", "convergence", "sweep",
+        "bifurcation", "paper", "lyapunov",
+    ]  # fmt: skip

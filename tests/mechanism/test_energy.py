@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from mechanism.core.integrate import Dopri5, GeneralizedAlpha
+from mechanism.core.integrate import Dopri5, GeneralizedAlpha, StepSettings
 from mechanism.core.model import _kernels as k
 from mechanism.core.model import assemble, initial_state
 from tests.mechanism.scenes import s3
@@ -37,7 +37,9 @@ def _series(model, rec):
 def test_energy_is_conserved_to_1e6_over_one_second() -> None:
     model, y0 = _coasting_mechanism()
     t_out = np.linspace(0.0, 1.0, 2001)
-    run = Dopri5().integrate(model, y0, t_out, rtol=1e-10, atol=1e-10, max_step=np.inf)
+    run = Dopri5().integrate(
+        model, y0, t_out, steps=StepSettings(rtol=1e-10, atol=1e-10, max_step=np.inf)
+    )
     assert run.stats.success
     rec = run.recording
     # the test is only meaningful with many impacts
@@ -53,7 +55,9 @@ def test_contact_potential_is_part_of_the_energy() -> None:
     """During an impact kinetic energy dips and K δ^(n+1)/(n+1) makes up for it."""
     model, y0 = _coasting_mechanism()
     t_out = np.linspace(0.0, 0.05, 50001)
-    run = Dopri5().integrate(model, y0, t_out, rtol=1e-10, atol=1e-10, max_step=np.inf)
+    run = Dopri5().integrate(
+        model, y0, t_out, steps=StepSettings(rtol=1e-10, atol=1e-10, max_step=np.inf)
+    )
     rec = run.recording
     energy, _ = _series(model, rec)
     mass = model.kernel.mass
@@ -70,7 +74,7 @@ def test_generalized_alpha_without_numerical_damping_keeps_energy_bounded() -> N
     model, y0 = _coasting_mechanism()
     t_out = np.linspace(0.0, 0.1, 1001)
     run = GeneralizedAlpha(rho_inf=1.0).integrate(
-        model, y0, t_out, rtol=1e-8, atol=1e-8, max_step=np.inf
+        model, y0, t_out, steps=StepSettings(rtol=1e-8, atol=1e-8, max_step=np.inf)
     )
     assert run.stats.success
     energy, drift = _series(model, run.recording)
@@ -82,7 +86,9 @@ def test_generalized_alpha_without_numerical_damping_keeps_energy_bounded() -> N
 def test_energy_over_ten_seconds() -> None:
     model, y0 = _coasting_mechanism()
     t_out = np.linspace(0.0, 10.0, 2001)
-    run = Dopri5().integrate(model, y0, t_out, rtol=1e-11, atol=1e-11, max_step=np.inf)
+    run = Dopri5().integrate(
+        model, y0, t_out, steps=StepSettings(rtol=1e-11, atol=1e-11, max_step=np.inf)
+    )
     energy, drift = _series(model, run.recording)
     assert np.abs(energy / energy[0] - 1.0).max() < 1e-6
     assert drift.max() < DRIFT_BOUND

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import mechanism
-from mechanism.core.integrate import GeneralizedAlpha
+from mechanism.core.integrate import GeneralizedAlpha, StepSettings
 from mechanism.core.integrate import _newton_kernels as nk
 from mechanism.core.integrate._driver import initial_latch
 from mechanism.core.integrate._methods import _contact_columns
@@ -127,7 +127,11 @@ def test_chunked_integration_follows_the_same_path(flexible) -> None:
     method = GeneralizedAlpha(step="max_step")
     runs = [
         method.integrate(
-            model, y0, t_out, rtol=1e-5, atol=1e-5, max_step=period / 10_000, progress=progress
+            model,
+            y0,
+            t_out,
+            steps=StepSettings(rtol=1e-5, atol=1e-5, max_step=period / 10_000),
+            progress=progress,
         )
         for progress in (False, True)
     ]

@@ -18,6 +18,7 @@ import pytest
 import mechanism
 from mechanism.core import default_step, step_limits
 from mechanism.core.integrate import (
+    StepSettings,
     initial_deviation,
     integrate_tangent_flexible,
     length_scale,
@@ -141,10 +142,8 @@ def test_reference_takes_the_steps_of_simulate() -> None:
     method = resolve_method(scene.solver.method, model)
     max_step, _ = step_limits(model, method, default_step(scene, t_end))
     q0, v0 = initial_state(model)
-    plain = method.integrate(
-        model, np.concatenate([q0, v0]), np.array([0.0, t_end]), rtol=scene.solver.rtol,
-        atol=scene.solver.atol, max_step=max_step,
-    )  # fmt: skip
+    steps = StepSettings(rtol=scene.solver.rtol, atol=scene.solver.atol, max_step=max_step)
+    plain = method.integrate(model, np.concatenate([q0, v0]), np.array([0.0, t_end]), steps=steps)
     np.testing.assert_array_equal(run.final_state, plain.final_state)
     # the copy converged at (nearly) every step, and the growth was read at the stops
     assert run.unconverged_steps <= 0.25 * run.stats.steps

@@ -30,11 +30,13 @@ import chaoskit
 import mechanism
 import mechanism.cli
 from chaoskit.reporting import plural
+from mechanism.cli import _paper as cli_paper
 from mechanism.studies import StudySettings
 from mechanism.studies.paper import COLUMNS, paper_wear_zones
 from mechanism.studies.paper import _report as paper_report
 from mechanism.studies.paper import _runs as paper_runs
 from mechanism.studies.paper import _schedule as paper_schedule
+from mechanism.studies.paper._published import WEAR_PATHS
 from mechanism.studies.paper._summary import strobe_figure
 
 # CI clones the repository with shared/ beside it; developers have it at ../shared too.
@@ -157,6 +159,8 @@ TINY = {
     "orbit_revolutions": 2.0,
     "orbit_discard_revolutions": 1.0,
     "orbit_flexible_rods": False,
+    # the wear paths (five wear_life runs) are tested in test_paper_wear_life.py
+    "wear_paths": False,
 }
 
 
@@ -433,6 +437,7 @@ def test_long_runs_queue_both_exponents_with_flexible_rods(monkeypatch, threads)
     monkeypatch.setattr(
         paper_schedule, "equation_exponent", lambda scene, s, *, rigid=False: ("λ", rigid)
     )
+    monkeypatch.setattr(paper_schedule, "wear_path", lambda scene, rpm, c, s: ("path", rpm, c))
     base = mechanism.load_scene("paper")
     for flexible, rigid_rods, third in (
         (True, True, ("λ", True)),
@@ -450,6 +455,9 @@ def test_long_runs_queue_both_exponents_with_flexible_rods(monkeypatch, threads)
                 assert (rigid.result() if rigid is not None else None) == third
                 # a series that fell back to rigid rods gets its rigid-rod exponent anyway
                 assert long_runs.rigid_exponent(state).result() == ("λ", True)
+            # the five wear paths, each one task
+            paths = {key: f.result() for key, f in long_runs.paths().items()}
+            assert paths == {key: ("path", *key) for key in WEAR_PATHS}
 
 
 def _kept_trajectories(study) -> dict[str, xr.Dataset]:
@@ -513,7 +521,7 @@ def test_report_text_reads_plainly(tiny_study):
 
 
 def test_paper_command_prints_the_answer_before_the_files(tiny_study, monkeypatch, tmp_path):
-    monkeypatch.setattr(mechanism.cli, "run_paper_study", lambda *args, **kwargs: tiny_study)
+    monkeypatch.setattr(cli_paper, "run_paper_study", lambda *args, **kwargs: tiny_study)
     result = CliRunner().invoke(mechanism.cli.app, ["paper", "--quick", "-o", str(tmp_path)])
     assert result.exit_code == 0, result.output
     lines = result.output.splitlines()

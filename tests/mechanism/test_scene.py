@@ -13,7 +13,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import mechanism
-import mechanism.cli
+from mechanism.cli import _common as cli_common
+from mechanism.cli import _sweep as cli_sweep
 from mechanism.core.scene import (
     AncfBeam,
     AngleProfileDrive,
@@ -646,7 +647,7 @@ def test_builtin_toml_files_parse_with_tomllib_alone() -> None:
         assert data["name"] == name
 
 
-@pytest.mark.parametrize("module", [_scene, _load, _model, mechanism.cli])
+@pytest.mark.parametrize("module", [_scene, _load, _model, cli_common, cli_sweep])
 def test_docstring_examples_run(module) -> None:
     result = doctest.testmod(module, globs={**vars(module)}, optionflags=doctest.ELLIPSIS)
     assert result.failed == 0

@@ -383,7 +383,8 @@ def test_run_wear_window_only_counts_its_samples(worn_run):
 def test_docstring_examples_run() -> None:
     import doctest
 
-    from mechanism.studies import _wear_prediction as _wear
+    from mechanism.studies import _wear_compare, _wear_prediction
 
-    result = doctest.testmod(_wear, globs={**vars(_wear)}, optionflags=doctest.ELLIPSIS)
-    assert result.failed == 0 and result.attempted > 0
+    for module in (_wear_prediction, _wear_compare):
+        result = doctest.testmod(module, globs={**vars(module)}, optionflags=doctest.ELLIPSIS)
+        assert result.failed == 0 and result.attempted > 0, module.__name__

@@ -1,9 +1,7 @@
 """Bodies of a mechanism: rigid bodies (reference-point coordinates) and, with
 flexible ANCF beams. Assembly uses their layouts; users describe bodies in scenes."""
 
-from ._ancf import (
-    AncfLayout,
-    AncfMesh,
+from ._ancf_analysis import (
     BeamModes,
     BeamStaticSolution,
     beam_modes,
@@ -20,6 +18,8 @@ from ._ancf_kernels import (
     beams_jacobian_add,
     beams_strain_energy,
 )
+from ._ancf_layout import AncfLayout
+from ._ancf_mesh import AncfMesh
 from ._rigid import RigidLayout, rigid_bar_from_beam
 
 __all__ = [

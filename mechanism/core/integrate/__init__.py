@@ -10,7 +10,14 @@ stops a run promptly; :func:`interrupt_integrations` stops the runs of other thr
 # public API
 from . import _step_kernels as kernels
 from ._driver import interrupt_integrations
-from ._interface import Integration, Integrator, Recording, RecordPlan, SolverStats
+from ._interface import (
+    Integration,
+    Integrator,
+    Recording,
+    RecordPlan,
+    SolverStats,
+    StepSettings,
+)
 from ._methods import METHODS, Dopri5, GeneralizedAlpha, resolve_method
 from ._scipy_ivp import ScipyIVP
 from ._tangent import (
@@ -37,6 +44,7 @@ __all__ = [
     "Recording",
     "ScipyIVP",
     "SolverStats",
+    "StepSettings",
     "TangentIntegration",
     "clearance_kinematics",
     "deviation_size",

@@ -15,7 +15,7 @@ from mechanism.core._status import STATUS_MAX_STEPS, STATUS_RUNNING
 from mechanism.core.model import kernels as k
 
 from . import _step_kernels as sk
-from ._interface import Integration, Recording, RecordPlan, solver_stats
+from ._interface import Integration, Recording, RecordPlan, StepSettings, solver_stats
 
 if TYPE_CHECKING:
     from mechanism.core.model import Model
@@ -299,31 +299,30 @@ def step_control(
     method: Any,
     t0: float,
     t_end: float,
+    steps: StepSettings,
     *,
-    rtol: float,
-    atol: float,
-    max_step: float,
-    projection: bool,
+    max_step: float | None = None,
     fixed_step: float = 0.0,
-    approach_floor: float = 0.0,
 ) -> sk.StepControl:
-    """The kernels' StepControl of ``method`` (a Dopri5 or GeneralizedAlpha) for a run."""
+    """The kernels' StepControl of ``method`` (a Dopri5 or GeneralizedAlpha) for a run
+    with ``steps``; ``max_step`` replaces ``steps.max_step`` (a fixed step's bound)."""
+    max_step = steps.max_step if max_step is None else max_step
     entry = float(getattr(method, "contact_entry_depth", 0.0))
     # below this step an entry is accepted (a worn profile can make the penetration jump)
     floor = 1e-6 * max_step if math.isfinite(max_step) else 1e-10 * (t_end - t0)
     return sk.StepControl(
         t_end=t_end,
-        rtol=float(rtol),
-        atol=float(atol),
+        rtol=float(steps.rtol),
+        atol=float(steps.atol),
         max_step=float(max_step),
         max_steps=int(method.max_steps),
-        projection=bool(projection),
+        projection=bool(steps.projection),
         entry_depth=entry,
         entry_min_step=float(floor),
         rho_inf=float(getattr(method, "rho_inf", 0.0)),
         max_newton=int(getattr(method, "max_newton", 1)),
         fixed_step=float(fixed_step),
-        approach_floor=float(approach_floor),
+        approach_floor=float(steps.approach_floor),
         approach_fraction=APPROACH_FRACTION,
         chunk_steps=int(method.chunk_steps),
     )

@@ -23,6 +23,7 @@ __all__ = [
     "RecordPlan",
     "Recording",
     "SolverStats",
+    "StepSettings",
     "solver_stats",
 ]
 
@@ -151,6 +152,59 @@ FULL = RecordPlan()
 
 
 @dataclass(frozen=True, kw_only=True)
+class StepSettings:
+    """How an integration steps: its tolerances and step limits, built once per run.
+
+    Parameters
+    ----------
+    rtol, atol : float
+        Relative and absolute tolerance (> 0) of the local error; a fixed-step
+        generalized-α run uses them for its Newton convergence test.
+    max_step : float
+        Largest step (s, > 0; ``math.inf``: unbounded).
+    approach_floor : float
+        With a value (s) > 0 each step is also bounded by the approach of the clearance
+        joints — no separated journal travels more than ``APPROACH_FRACTION`` of its gap
+        to the wall — but never below the floor (the model kernels' ``approach_step``);
+        the scipy methods, whose step control has no such hook, take the floor as their
+        largest step. 0: no approach bound.
+    projection : bool
+        Project the state onto the constraints after each accepted step
+        (``solver.projection`` of the scene).
+    step_budget : float
+        A run whose attempted steps, extrapolated from its progress after each return of
+        a compiled loop, exceed this is stopped early with the status of the step cap (the
+        compiled integrators; default none: a run whose forecast exceeds the integrator's
+        ``max_steps`` is stopped early all the same).
+
+    Examples
+    --------
+    >>> StepSettings(rtol=1e-8, atol=1e-8, max_step=1e-3).approach_floor
+    0.0
+    >>> StepSettings(rtol=0.0, atol=1e-8, max_step=1e-3)
+    Traceback (most recent call last):
+    ...
+    ValueError: rtol must be a number > 0; got 0.0.
+    """
+
+    rtol: float
+    atol: float
+    max_step: float
+    approach_floor: float = 0.0
+    projection: bool = False
+    step_budget: float = math.inf
+
+    def __post_init__(self) -> None:
+        for name in ("rtol", "atol", "max_step", "step_budget"):
+            value = getattr(self, name)
+            if isinstance(value, bool) or not (isinstance(value, int | float) and value > 0):
+                raise ValueError(f"{name} must be a number > 0; got {value!r}.")
+        floor = self.approach_floor
+        if isinstance(floor, bool) or not (isinstance(floor, int | float) and floor >= 0):
+            raise ValueError(f"approach_floor must be a number >= 0 (s); got {floor!r}.")
+
+
+@dataclass(frozen=True, kw_only=True)
 class Integration:
     """Result of an integrator run: the recorded samples (possibly fewer than requested
     when the run failed) and the statistics.
@@ -206,27 +260,32 @@ class Integrator:
         y0: np.ndarray,
         t_out: np.ndarray,
         *,
-        rtol: float,
-        atol: float,
-        max_step: float,
-        approach_floor: float = 0.0,
-        projection: bool = False,
+        steps: StepSettings,
+        record: RecordPlan = FULL,
         progress: bool = False,
         label: str = "simulate",
-        record: RecordPlan = FULL,
-        step_budget: float = math.inf,
     ) -> Integration:
         """Integrate ``model`` from ``y0`` over the grid ``t_out``.
 
-        ``step_budget``: a run whose attempted steps, extrapolated from its progress
-        after each return of a compiled loop, exceed it is stopped early with the status
-        of the step cap (the compiled integrators; default none: a run whose forecast
-        exceeds ``max_steps`` is stopped early all the same).
+        Parameters
+        ----------
+        model : mechanism.core.model.Model
+            The assembled mechanism.
+        y0 : numpy.ndarray
+            Consistent initial state (positions, then velocities).
+        t_out : numpy.ndarray
+            Uniform output grid (s); the run goes from its first to its last time.
+        steps : StepSettings
+            Tolerances and step limits.
+        record : RecordPlan
+            What the run records besides its statistics (default: full samples).
+        progress : bool
+            Show a progress bar labelled ``label``.
+        label : str
+            Name of the run in the progress bar.
 
-        ``max_step`` (s) bounds every step. ``approach_floor`` (s) > 0 also bounds each
-        step by the approach of the clearance joints — no separated journal travels more
-        than ``APPROACH_FRACTION`` of its gap to the wall — but never below the floor
-        (the model kernels' ``approach_step``); the scipy methods, whose
-        step control has no such hook, take the floor as their largest step.
+        Returns
+        -------
+        Integration
         """
         raise NotImplementedError

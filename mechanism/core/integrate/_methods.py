@@ -56,7 +56,7 @@ from ._driver import (
     progress_chunks,
     step_control,
 )
-from ._interface import FULL, Integration, Integrator, RecordPlan
+from ._interface import FULL, Integration, Integrator, RecordPlan, StepSettings
 from ._interface import Recording as Recording
 from ._interface import SolverStats as SolverStats
 from ._interface import solver_stats as solver_stats
@@ -114,15 +114,10 @@ class Dopri5(Integrator):
         y0: np.ndarray,
         t_out: np.ndarray,
         *,
-        rtol: float,
-        atol: float,
-        max_step: float,
-        approach_floor: float = 0.0,
-        projection: bool = False,
+        steps: StepSettings,
+        record: RecordPlan = FULL,
         progress: bool = False,
         label: str = "simulate",
-        record: RecordPlan = FULL,
-        step_budget: float = math.inf,
     ) -> Integration:
         km = model.kernel
         ws = model.workspace()
@@ -135,16 +130,16 @@ class Dopri5(Integrator):
         )  # fmt: skip
         t0 = float(t_out[0])
         t_end = float(t_out[-1])
-        ctl = step_control(self, t0, t_end, rtol=rtol, atol=atol, max_step=max_step,
-                       projection=projection, approach_floor=approach_floor)  # fmt: skip
+        ctl = step_control(self, t0, t_end, steps)
         out = loop_output(model, ws, y, vimp, t_out, record)
         since = interruptions()
         start = time.perf_counter()
-        status = dk.dopri5_start(km, ws, t0, y, loop.f, vimp, loop.step, counters, rtol, atol,
-                                 ctl.max_step)  # fmt: skip
+        status = dk.dopri5_start(km, ws, t0, y, loop.f, vimp, loop.step, counters, steps.rtol,
+                                 steps.atol, ctl.max_step)  # fmt: skip
         forecast = StepForecast(
-            t0=t0, t_end=t_end, max_steps=self.max_steps, counters=counters, budget=step_budget
-        )
+            t0=t0, t_end=t_end, max_steps=self.max_steps, counters=counters,
+            budget=steps.step_budget,
+        )  # fmt: skip
         if status == STATUS_RUNNING:
             bar = ProgressBar(progress, t0, t_end, label)
             try:
@@ -277,21 +272,14 @@ class GeneralizedAlpha(Integrator):
         y0: np.ndarray,
         t_out: np.ndarray,
         *,
-        rtol: float,
-        atol: float,
-        max_step: float,
-        approach_floor: float = 0.0,
-        projection: bool = False,
+        steps: StepSettings,
+        record: RecordPlan = FULL,
         progress: bool = False,
         label: str = "simulate",
-        record: RecordPlan = FULL,
-        step_budget: float = math.inf,
     ) -> Integration:
         return self._advance(
-            model, y0, t_out, rtol=rtol, atol=atol, max_step=max_step,
-            approach_floor=approach_floor, projection=projection, progress=progress,
-            label=label, record=record, step_budget=step_budget,
-        )  # fmt: skip
+            model, y0, t_out, steps=steps, record=record, progress=progress, label=label
+        )
 
     def _advance(
         self,
@@ -299,18 +287,13 @@ class GeneralizedAlpha(Integrator):
         y0: np.ndarray,
         t_out: np.ndarray,
         *,
-        rtol: float,
-        atol: float,
-        max_step: float,
-        approach_floor: float = 0.0,
-        projection: bool = False,
+        steps: StepSettings,
+        record: RecordPlan = FULL,
         progress: bool = False,
         label: str = "simulate",
-        record: RecordPlan = FULL,
         deviation: tk.Deviation | None = None,
         stops: np.ndarray | None = None,
         on_stop: Callable[[float], None] | None = None,
-        step_budget: float = math.inf,
     ) -> Integration:
         """:meth:`integrate`, optionally carrying a :class:`~._kernels.Deviation` along
         (the largest Lyapunov exponent): the loop then stops at every time of ``stops``
@@ -331,8 +314,10 @@ class GeneralizedAlpha(Integrator):
         t_now = t0
         loop = None
         forecast = StepForecast(
-            t0=t0, t_end=t_end, max_steps=self.max_steps, counters=counters, budget=step_budget
-        )
+            t0=t0, t_end=t_end, max_steps=self.max_steps, counters=counters,
+            budget=steps.step_budget,
+        )  # fmt: skip
+        max_step = steps.max_step
         status = k.accelerations(km, ws, t0, y[:n], y[n:], vimp, acc, counters)
         if status == STATUS_OK:
             status = STATUS_RUNNING
@@ -350,9 +335,7 @@ class GeneralizedAlpha(Integrator):
                 h0 = max_step
             else:
                 h0 = min(max_step, 1e-3 * (t_end - t0), 1e-4)
-            ctl = step_control(self, t0, t_end, rtol=rtol, atol=atol, max_step=max_step,
-                           projection=projection, fixed_step=fixed,
-                           approach_floor=approach_floor)  # fmt: skip
+            ctl = step_control(self, t0, t_end, steps, max_step=max_step, fixed_step=fixed)
             loop = sk.LoopState(
                 y=y, f=acc, apse=acc.copy(), step=np.array([t0, h0, 0.0, 0.0, 0.0]),
                 vimp=vimp, contact=contact, counters=counters,

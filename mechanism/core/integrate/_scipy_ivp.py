@@ -15,7 +15,15 @@ from mechanism.core.model import kernels as k
 
 from . import _step_kernels as sk
 from ._driver import ProgressBar, initial_latch
-from ._interface import FULL, Integration, Integrator, Recording, RecordPlan, solver_stats
+from ._interface import (
+    FULL,
+    Integration,
+    Integrator,
+    Recording,
+    RecordPlan,
+    StepSettings,
+    solver_stats,
+)
 
 if TYPE_CHECKING:
     from mechanism.core.model import Model
@@ -54,15 +62,10 @@ class ScipyIVP(Integrator):
         y0: np.ndarray,
         t_out: np.ndarray,
         *,
-        rtol: float,
-        atol: float,
-        max_step: float,
-        approach_floor: float = 0.0,
-        projection: bool = False,
+        steps: StepSettings,
+        record: RecordPlan = FULL,
         progress: bool = False,
         label: str = "simulate",
-        record: RecordPlan = FULL,
-        step_budget: float = math.inf,
     ) -> Integration:
         import scipy.integrate as si
 
@@ -89,10 +92,11 @@ class ScipyIVP(Integrator):
         t0 = float(t_out[0])
         t_end = float(t_out[-1])
         solver_cls = getattr(si, self.method)
-        options: dict[str, Any] = {"rtol": rtol, "atol": atol}
-        if approach_floor > 0.0:
+        options: dict[str, Any] = {"rtol": steps.rtol, "atol": steps.atol}
+        max_step = steps.max_step
+        if steps.approach_floor > 0.0:
             # scipy's step control has no approach bound: the floor is the largest step
-            max_step = min(max_step, approach_floor)
+            max_step = min(max_step, steps.approach_floor)
         if math.isfinite(max_step):
             options["max_step"] = max_step
         start = time.perf_counter()

@@ -21,6 +21,7 @@ from mechanism.core.bodies import beams_force_add
 from mechanism.core.model import kernels as k
 
 from . import _tangent_kernels as tk
+from ._interface import StepSettings
 from ._methods import GeneralizedAlpha, RecordPlan, initial_latch
 from ._tangent import TangentIntegration, inverse_total_mass
 
@@ -125,9 +126,11 @@ def integrate_tangent_flexible(
         logs.append(float(dev.growth[tk.DEV_LOG]))
 
     start = time.perf_counter()
+    steps = StepSettings(
+        rtol=rtol, atol=atol, max_step=max_step, approach_floor=approach_floor, projection=False
+    )
     run = method._advance(
-        model, y, stops, rtol=rtol, atol=atol, max_step=max_step,
-        approach_floor=approach_floor, projection=False, progress=progress, label=label,
+        model, y, stops, steps=steps, progress=progress, label=label,
         record=RecordPlan(grid="light"), deviation=dev, stops=stops[1:], on_stop=read,
     )  # fmt: skip
     wall = time.perf_counter() - start

@@ -71,6 +71,9 @@ from mechanism.core.contact import (
     APPROACH_RATIO,
     FRICTION_AMBROSIO,
 )
+from mechanism.core.forces import (
+    force_elements_add,
+)
 from mechanism.core.joints import (
     constraint_rows,
     update_point_rows,
@@ -761,9 +764,9 @@ def copy_accelerations(model, dev, t, q, v, dq, dv, vimp, acc):
     Evaluated directly at a deviation of 1e-13 m, the rods' axial stiffness (1e9–1e10 N/m
     per element) turns the round-off of the perturbed slopes (an ulp, 2e-16) into forces
     larger than the deviation's own; the forces are smooth, so their increment is taken
-    at a larger scale instead. Everything else (constraints, contact, friction) is
-    evaluated at the perturbed state. With δq = δq̇ = 0 it is the reference's q̈ by the
-    same arithmetic. Returns a status."""
+    at a larger scale instead. Everything else (constraints, contact, friction, force
+    elements) is evaluated at the perturbed state. With δq = δq̇ = 0 it is the
+    reference's q̈ by the same arithmetic. Returns a status."""
     ws = dev.ws
     n = q.shape[0]
     yp = dev.yp
@@ -795,6 +798,10 @@ def copy_accelerations(model, dev, t, q, v, dq, dv, vimp, acc):
         beams_force_add(model.beam_i, model.beam_f, sc[:n], sc[n:], 0.5 / step, gen)
     if model.cj_i.shape[0] > 0:
         clearance_forces(model, ws.pci, ws.pcf, vimp, gen, ws.cj, dev.counters)
+    if model.fe_i.shape[0] > 0:
+        # the force elements are soft (springs, dampers, loads): evaluated at the
+        # perturbed state like the contact, as the reference's accelerations add them
+        force_elements_add(model.fe_i, model.fe_f, model.fe_t, t, ws.pci, ws.pcf, gen, ws.fe)
     return solve(
         model.minv, model.blk_lo, model.blk_hi, model.alpha, model.beta, ws.phi, ws.phiq,
         ws.phit, ws.gam, gen, yp[n:], ws.a0, ws.w, ws.s, ws.lam, ws.nz_n, ws.nz_j, acc,

@@ -28,6 +28,7 @@ from ._kernels import (
     POINT_LINEAR,
     POINT_RIGID,
     angle_acceleration,
+    apply_point_force,
     clearance_force_add,
     clearance_kinematics,
     constraint_rows,

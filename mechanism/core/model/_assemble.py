@@ -26,6 +26,7 @@ import dataclasses
 import numpy as np
 
 from mechanism.core.bodies import AncfLayout, RigidLayout
+from mechanism.core.forces import force_tables
 from mechanism.core.scene import Scene
 
 from . import _kernels as k
@@ -98,12 +99,16 @@ def assemble(scene: Scene, *, ideal: bool = False, eccentricity_offsets: bool = 
     drive = drive_rows(scene, b)
     crank_points = output_crank_points(scene, b, drive.crank_points)
     slider = slider_map(scene, b)
+    # after every joint's points, so a scene without force elements keeps its point table
+    forces = force_tables(scene, b.point)
     if b.rows > n:
         raise ValueError(
             f"the scene has {b.rows} constraint equations for {n} coordinates; it is "
             "over-constrained (remove a redundant joint)."
         )
-    kernel = kernel_model(scene, layouts, offsets, mass, b, joints, drive, crank_points, slider)
+    kernel = kernel_model(
+        scene, layouts, offsets, mass, b, joints, drive, crank_points, slider, forces
+    )
     return Model(
         scene=scene,
         kernel=kernel,
@@ -115,6 +120,7 @@ def assemble(scene: Scene, *, ideal: bool = False, eccentricity_offsets: bool = 
         point_index=dict(b.point_index),
         ideal_joints=tuple(joints.ideal_rows),
         clearance_joints=tuple(joints.clearance_names),
+        force_elements=forces.names,
         drive_row=drive.row,
         crank_points=crank_points,
         slider=slider,

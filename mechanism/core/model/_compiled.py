@@ -10,7 +10,8 @@ from typing import NamedTuple
 import numpy as np
 
 from mechanism.core.bodies import AncfLayout
-from mechanism.core.joints import PCF_COLUMNS, PCI_COLUMNS
+from mechanism.core.forces import FO_COLUMNS, force_elements_add
+from mechanism.core.joints import PCF_COLUMNS, PCI_COLUMNS, update_points
 from mechanism.core.scene import Scene
 
 from . import _kernels as k
@@ -51,6 +52,10 @@ class KernelModel(NamedTuple):
     # flexible bodies : one row per ANCF beam, see ``beams_force_add``
     beam_i: np.ndarray  # (n_beams, BEAM_I_COLUMNS) int64
     beam_f: np.ndarray  # (n_beams, BEAM_F_COLUMNS) float64
+    # force elements (springs, dampers, loads): see ``mechanism.core.forces._kernels``
+    fe_i: np.ndarray  # (n_elements, FI_COLUMNS) int64
+    fe_f: np.ndarray  # (n_elements, FF_COLUMNS) float64
+    fe_t: np.ndarray  # flat tables and Fourier coefficients
 
 
 class Workspace(NamedTuple):
@@ -70,6 +75,7 @@ class Workspace(NamedTuple):
     pcf: np.ndarray
     nz_n: np.ndarray
     nz_j: np.ndarray
+    fe: np.ndarray  # (n_elements, FO_COLUMNS) force, coordinate and rate of each element
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -123,6 +129,8 @@ class Model:
     clearance_joints
         Names of the clearance joints that act through contact forces (empty when
         ``effects.clearance`` is off).
+    force_elements
+        Names of the scene's force elements in the row order of the kernel tables.
     drive_row
         Row of the driving constraint in λ (driving torque T = −λ), or None.
     crank_points
@@ -143,6 +151,7 @@ class Model:
     point_index: dict[tuple[str, str], int]
     ideal_joints: tuple[IdealJointRows, ...]
     clearance_joints: tuple[str, ...]
+    force_elements: tuple[str, ...]
     drive_row: int | None
     crank_points: tuple[int, int] | None
     slider: SliderMap | None
@@ -155,6 +164,36 @@ class Model:
     @property
     def n_rows(self) -> int:
         return self.kernel.n_rows
+
+    def force_element_values(self, t: np.ndarray, q: np.ndarray, v: np.ndarray) -> np.ndarray:
+        """Force, coordinate and rate of every force element at each sample, on request.
+
+        Parameters
+        ----------
+        t : numpy.ndarray
+            Times (N,), s.
+        q, v : numpy.ndarray
+            Coordinates and velocities (N, n_dof). For a model of rigid bodies only they
+            are a run's ``position`` and ``velocity`` reshaped to (N, 3 × bodies).
+
+        Returns
+        -------
+        numpy.ndarray
+            (N, len(force_elements), 3): [..., 0] the spring tension (N), the torsional
+            moment on the joint's second body (N m) or the load factor (1); [..., 1] the
+            deflection L − L₀ (m), the angle φ − φ₀ (rad) or the profile's joint
+            coordinate; [..., 2] its rate.
+        """
+        t = np.ascontiguousarray(t, dtype=np.float64)
+        q = np.ascontiguousarray(q, dtype=np.float64).reshape(t.size, self.n_dof)
+        v = np.ascontiguousarray(v, dtype=np.float64).reshape(t.size, self.n_dof)
+        ws = self.workspace()
+        out = np.zeros((t.size, len(self.force_elements), FO_COLUMNS))
+        km = self.kernel
+        for i in range(t.size):
+            update_points(q[i], v[i], km.pt_i, km.pt_f, ws.pci, ws.pcf)
+            force_elements_add(km.fe_i, km.fe_f, km.fe_t, t[i], ws.pci, ws.pcf, ws.gen, out[i])
+        return out
 
     def workspace(self) -> Workspace:
         """Fresh scratch arrays for the kernels."""
@@ -176,4 +215,5 @@ class Model:
             pcf=np.zeros((n_points, PCF_COLUMNS)),
             nz_n=np.zeros(m, dtype=np.int64),
             nz_j=np.zeros((m, n), dtype=np.int64),
+            fe=np.zeros((self.kernel.fe_i.shape[0], FO_COLUMNS)),
         )

@@ -38,6 +38,7 @@ from mechanism.core.contact import (
     friction_force,
     normal_force,
 )
+from mechanism.core.forces import force_elements_add, force_elements_potential
 from mechanism.core.joints import (
     PC_ANG,
     PC_RATE,
@@ -330,7 +331,8 @@ def accelerations(model, ws, t, q, v, vimp, acc, counters):
         t, model.con_i, model.con_f, model.drive_i, model.drive_f, model.spline_x,
         model.spline_c, pci, pcf, phi, phiq, phit, gam,
     )  # fmt: skip
-    # Q = gravity − elastic/damping forces of the ANCF beams + contact/friction
+    # Q = gravity − elastic/damping forces of the ANCF beams + contact/friction + force
+    # elements (each term only when the scene has it, so an absent effect costs nothing)
     gravity = model.gravity_force
     for i in range(gen.shape[0]):
         gen[i] = gravity[i]
@@ -338,6 +340,8 @@ def accelerations(model, ws, t, q, v, vimp, acc, counters):
         beams_force_add(model.beam_i, model.beam_f, q, v, -1.0, gen)
     if model.cj_i.shape[0] > 0:
         clearance_forces(model, pci, pcf, vimp, gen, ws.cj, counters)
+    if model.fe_i.shape[0] > 0:
+        force_elements_add(model.fe_i, model.fe_f, model.fe_t, t, pci, pcf, gen, ws.fe)
     return solve(
         model.minv, model.blk_lo, model.blk_hi, model.alpha, model.beta, phi, phiq, phit, gam,
         gen, v, ws.a0, ws.w, ws.s, ws.lam, ws.nz_n, ws.nz_j, acc,
@@ -620,11 +624,15 @@ def project(model, ws, t, y, tol, max_iter):
 
 @njit_noalloc()
 def mechanical_energy(model, ws, y):
-    """Kinetic + gravity + contact potential + beam strain energy (J) of state ``y``.
+    """Kinetic + gravity + contact potential + beam strain energy + the potential of the
+    force elements (J) of state ``y``.
 
-    T = ½ q̇ᵀMq̇, V_g = −Q_gᵀq (Q_g constant), V_c = Σ K δ^(n+1)/(n+1), and for flexible
+    T = ½ q̇ᵀMq̇, V_g = −Q_gᵀq (Q_g constant), V_c = Σ K δ^(n+1)/(n+1), for flexible
     bodies U = Σ ∫ ½EA ε² + ½EI κ² dx by the quadrature of their elastic forces
-    (:func:`~mechanism.core.bodies._ancf_kernels.beams_strain_energy`).
+    (:func:`~mechanism.core.bodies._ancf_kernels.beams_strain_energy`), and the energy
+    stored by springs and actuators
+    (:func:`~mechanism.core.forces._kernels.force_elements_potential`; dampers and
+    applied loads store none).
     """
     n = model.n_dof
     q = y[:n]
@@ -645,6 +653,9 @@ def mechanical_energy(model, ws, y):
             pot += contact_potential(kn, model.cj_f[j, CF_EXP], delta)
     if model.beam_i.shape[0] > 0:
         pot += beams_strain_energy(model.beam_i, model.beam_f, q)
+    if model.fe_i.shape[0] > 0:
+        update_points(q, v, model.pt_i, model.pt_f, ws.pci, ws.pcf)
+        pot += force_elements_potential(model.fe_i, model.fe_f, model.fe_t, ws.pcf)
     return kin + pot
 
 
@@ -777,6 +788,8 @@ def derived_outputs(model, ws, q, v, a, out, jf):
         energy += contact_potential(ws.cj[j, CJ_K], model.cj_f[j, CF_EXP], ws.cj[j, CJ_DELTA])
     if model.beam_i.shape[0] > 0:
         energy += beams_strain_energy(model.beam_i, model.beam_f, q)
+    if model.fe_i.shape[0] > 0:
+        energy += force_elements_potential(model.fe_i, model.fe_f, model.fe_t, pcf)
     out[OUT_ENERGY] = energy
     worst = 0.0
     for k in range(model.n_rows):

@@ -32,6 +32,7 @@ from mechanism.core.bodies import (
     rigid_bar_from_beam,
 )
 from mechanism.core.contact import contact_parameters
+from mechanism.core.forces import ForceTables
 from mechanism.core.joints import (
     ANGLE_NONE,
     CON_ANGLE,
@@ -51,6 +52,7 @@ from mechanism.core.scene import (
     ClearanceRevolute,
     ConstantSpeedDrive,
     FixedJoint,
+    MotorDrive,
     PrismaticJoint,
     RevoluteJoint,
     RigidBody,
@@ -219,7 +221,8 @@ def _drive_tables(
     drive = scene.drive
     empty_x = np.zeros(2)
     empty_c = np.zeros((4, 1))
-    if drive is None:
+    if drive is None or isinstance(drive, MotorDrive):
+        # a motor prescribes no angle: its torque is a force element
         return np.zeros(4), empty_x, empty_c, np.array(DRIVE_NONE), 0.0
     if isinstance(drive, ConstantSpeedDrive):
         w = drive.speed
@@ -307,7 +310,27 @@ def mass_tables(scene: Scene, layouts: list[Any], offsets: dict[str, int], n: in
         t.gravity[sl] = lay.gravity_block(g)
         t.q_guess[sl] = lay.initial_coordinates()
         t.dof_names.extend(f"{lay.name}.{c}" for c in lay.coordinate_names)
+    _add_flywheel(scene, layouts, offsets, t)
     return t
+
+
+def _add_flywheel(scene: Scene, layouts: list[Any], offsets: dict[str, int], t: MassTables) -> None:
+    """A motor drive's flywheel inertia on the rotation of the driven joint's second
+    (rigid) body."""
+    drive = scene.drive
+    if not isinstance(drive, MotorDrive) or drive.flywheel_inertia == 0.0:
+        return
+    joint = scene.joints.get(drive.joint)
+    body = joint.bodies[1] if isinstance(joint, RevoluteJoint) else None
+    lay = next((lay for lay in layouts if lay.name == body), None)
+    if not isinstance(lay, RigidLayout):
+        raise ValueError(
+            f"drive.flywheel_inertia: the flywheel needs a rigid second body of joint "
+            f"{drive.joint!r}; got {body!r}."
+        )
+    i = offsets[lay.name] + 2  # (x, y, θ): the rotation
+    t.mass[i, i] += drive.flywheel_inertia
+    t.minv[i, i] = 1.0 / t.mass[i, i]
 
 
 @dataclass
@@ -405,7 +428,8 @@ class DriveRows:
 
 
 def drive_rows(scene: Scene, b: TableBuilder) -> DriveRows:
-    """The driving constraint (a prescribed angle of a revolute joint) and its tables."""
+    """The driving constraint (a prescribed angle of a revolute joint) and its tables;
+    a motor drive adds no row, only the joint's points for ``crank_angle``."""
     drive_f, spline_x, spline_c, drive_kind, theta0 = _drive_tables(scene)
     out = DriveRows(f=drive_f, spline_x=spline_x, spline_c=spline_c, kind=int(drive_kind))
     if scene.drive is not None:
@@ -418,6 +442,10 @@ def drive_rows(scene: Scene, b: TableBuilder) -> DriveRows:
             )
         pa = b.point(driven.bodies[0], driven.points[0], "drive")
         pb = b.point(driven.bodies[1], driven.points[1], "drive")
+        out.crank_points = (pa, pb)
+        if isinstance(scene.drive, MotorDrive):
+            # the joint's angle stays free; crank_angle reads the same points
+            return out
         out.con = len(b.con_i)
         out.row = b.add(CON_DRIVE, pa, pb, (theta0,))
         out.crank_points = (pa, pb)
@@ -463,6 +491,7 @@ def kernel_model(
     drive: DriveRows,
     crank_points: tuple[int, int] | None,
     slider: SliderMap | None,
+    forces: ForceTables,
 ) -> KernelModel:
     """Pack the assembled tables into the contiguous arrays the kernels read."""
     beam_names = [lay.name for lay in layouts if isinstance(lay, AncfLayout)]
@@ -513,6 +542,9 @@ def kernel_model(
         beta=float(solver.baumgarte_beta),
         beam_i=_arr_i([beam_rows[n][0] for n in beam_names], BEAM_I_COLUMNS),
         beam_f=_arr_f([beam_rows[n][1] for n in beam_names], BEAM_F_COLUMNS),
+        fe_i=forces.fe_i,
+        fe_f=forces.fe_f,
+        fe_t=forces.fe_t,
     )
 
 

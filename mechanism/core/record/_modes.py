@@ -26,6 +26,7 @@ from mechanism.core._run_checks import (
 from mechanism.core.integrate import Integration, Recording, RecordPlan
 from mechanism.core.model import Model
 from mechanism.core.model import kernels as k
+from mechanism.core.scene import MotorDrive
 from mechanism.core.wear import add_run_wear
 
 from ._record import (
@@ -178,6 +179,17 @@ def available_variables(model: Model) -> tuple[str, ...]:
         "eccentricity_y": not model.clearance_joints,
     }
     return tuple(v for v in LIGHT_VARIABLES if not absent.get(v, False))
+
+
+def _free_crank(model: Model) -> bool:
+    """True when a motor drives the crank: its angle is a free coordinate, the motion
+    autonomous, and revolutions are counted on the crank angle, not the clock."""
+    return isinstance(model.scene.drive, MotorDrive)
+
+
+#: a motor-driven crank's sections are stored up to this many times the revolutions at
+#: the motor's no-load speed (a run that turns faster keeps the first ones)
+_FREE_CRANK_MARGIN = 4.0
 
 
 def _light_row(model: Model) -> int:
@@ -409,19 +421,43 @@ class SectionsRecord(MetricsRecord):
             raise ValueError(f"phase must be a finite angle in rad; got {_shown(phase)}.")
         object.__setattr__(self, "phase", float(phase))
 
-    def sections(self, times: RunTimes) -> int:
+    def check(self, model: Model, times: RunTimes) -> None:
+        if not _free_crank(model):
+            super().check(model, times)
+
+    def sections(self, times: RunTimes, model: Model | None = None) -> int:
+        if model is not None and _free_crank(model):
+            drive = model.scene.drive
+            turns = _FREE_CRANK_MARGIN * times.duration * drive.no_load_speed / (2.0 * math.pi)
+            return math.ceil(turns) + 2
         assert times.period is not None
         return math.ceil(times.duration / times.period - self.discard) + 2
 
+    def estimated_bytes(self, model: Model, times: RunTimes) -> int:
+        if not _free_crank(model):
+            return super().estimated_bytes(model, times)
+        sample = sum(a.nbytes for a in Recording.empty(model, 1))
+        light = times.n_out * (8 + _light_row(model))
+        return light + 2 * self.sections(times, model) * sample
+
     def plans(self, model: Model, times: RunTimes) -> tuple[RecordPlan, RecordPlan]:
+        if _free_crank(model):
+            # revolutions of a free crank are counted on its angle (the strobe starts
+            # after ``discard`` turns of it); the metrics cover the whole run
+            plan = RecordPlan(
+                grid="light", sections=self.sections(times, model), discard=self.discard,
+                metrics_from=0.0, peak_step=times.scene_step, phase=self.phase,
+            )  # fmt: skip
+            return plan, RecordPlan(grid="light")
         plan, ideal_plan = super().plans(model, times)
         return replace(plan, phase=self.phase), ideal_plan
 
     def output_times(self, grid: np.ndarray, times: RunTimes) -> np.ndarray:
+        if times.period is None:
+            return grid
         # run a hair past the end so the strobe at the last revolution is always taken
         # (the crank angle at the end may fall short of it by round-off); it is kept only
         # if within the simulated revolutions
-        assert times.period is not None
         return np.append(grid, times.duration + 1e-6 * times.period)
 
     def dataset(
@@ -429,7 +465,11 @@ class SectionsRecord(MetricsRecord):
         ideal_run: Integration | None, t_out: np.ndarray, times: RunTimes,
         attrs: dict[str, Any],
     ) -> xr.Dataset:  # fmt: skip
-        metrics = super().dataset(model, run, ideal_model, ideal_run, t_out, times, attrs)
+        if _free_crank(model):
+            attrs["discard_revolutions"] = float(self.discard)
+            metrics = metrics_dataset(model, run, ideal_run, t_out, window=0.0, attrs=attrs)
+        else:
+            metrics = super().dataset(model, run, ideal_model, ideal_run, t_out, times, attrs)
         ds = sections_dataset(model, run, ideal_run, metrics=metrics, phase=self.phase, attrs=attrs)
         return ds.isel(crossing=ds["time"].values <= times.duration * (1.0 + 1e-9))
 

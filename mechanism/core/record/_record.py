@@ -243,7 +243,8 @@ def to_dataset(
         ("time",),
         rec.out[:, k.OUT_ENERGY],
         "J",
-        "kinetic + gravity + contact potential + beam strain energy",
+        "kinetic + gravity + contact potential + beam strain energy + energy stored by "
+        "the force elements",
     )
     data["constraint_violation"] = variable(
         ("time",),

@@ -20,7 +20,10 @@ The TOML keys are exactly the dataclass field names, so a TOML file, the JSON fo
     [joints.NAME.contact]            # clearance joints: normal force law
     [joints.NAME.friction]           #                   tangential force law
     [joints.NAME.wear]               #                   Archard wear settings
-    [drive]                          # type = "constant_speed" (default) or "angle_profile"
+    [forces.NAME]                    # type = "spring_damper" | "rotational_spring_damper"
+                                     #      | "load"
+    [drive]                          # type = "constant_speed" (default), "angle_profile"
+                                     #      or "motor"
     [solver]                         # method, rtol, atol, max_step, output_step, baumgarte_*
     [outputs]                        # slider_joint, crank_joint
 
@@ -57,13 +60,22 @@ __all__ = [
     "ContactLaw",
     "Effects",
     "FixedJoint",
+    "ForceDeflectionTable",
+    "ForceVelocityTable",
+    "FourierProfile",
     "FrictionLaw",
+    "JointCoordinateProfile",
+    "Load",
     "Material",
+    "MotorDrive",
     "Outputs",
     "PrismaticJoint",
     "RevoluteJoint",
     "RigidBody",
+    "RotationalSpringDamper",
     "SolverSettings",
+    "SpringDamper",
+    "TimeTableProfile",
     "WearSettings",
 ]
 
@@ -462,6 +474,199 @@ class Outputs:
     crank_joint: Name | None = None  # a revolute joint; default: the drive joint
 
 
+# ---------------------------------------------------------------------------------------
+# Force elements (docs/force-elements.md): springs, dampers, actuators and applied loads
+
+STIFFNESS_LIMIT = 1e12  # N/m of a translational spring (a steel rod of 1 cm² over 20 µm)
+DAMPING_LIMIT = 1e9  # N s/m
+TORSION_STIFFNESS_LIMIT = 1e9  # N m/rad
+TORSION_DAMPING_LIMIT = 1e6  # N m s/rad
+FORCE_LIMIT = 1e9  # N, |actuator force|, |load|, |table force|
+TORQUE_LIMIT = 1e9  # N m
+FACTOR_LIMIT = 1e6  # |profile factor| and |Fourier coefficient|
+MAX_HARMONICS = 1000  # Fourier terms of a time profile
+
+Force = Annotated[Real, Ge(-FORCE_LIMIT), Le(FORCE_LIMIT), Unit("N")]
+Torque = Annotated[Real, Ge(-TORQUE_LIMIT), Le(TORQUE_LIMIT), Unit("N m")]
+Factor = Annotated[Real, Ge(-FACTOR_LIMIT), Le(FACTOR_LIMIT), Unit("1")]
+
+
+# table columns: at most MAX_SAMPLES numbers each
+Deflections = Annotated[tuple[Coordinate, ...], MaxLen(MAX_SAMPLES), Unit("m")]
+Velocities = Annotated[
+    tuple[Annotated[Real, Ge(-1e4), Le(1e4)], ...], MaxLen(MAX_SAMPLES), Unit("m s-1")
+]
+Forces = Annotated[tuple[Force, ...], MaxLen(MAX_SAMPLES), Unit("N")]
+Times = Annotated[tuple[Annotated[Real, Ge(0), Le(1e6)], ...], MaxLen(MAX_SAMPLES), Unit("s")]
+Factors = Annotated[tuple[Factor, ...], MaxLen(MAX_SAMPLES), Unit("1")]
+JointCoordinates = Annotated[tuple[Coordinate, ...], MaxLen(MAX_SAMPLES), Unit("m or rad")]
+
+
+@with_config(MODEL_CONFIG)
+@dataclass(frozen=True, kw_only=True)
+class ForceDeflectionTable:
+    """Nonlinear spring law: tension (N) at each deflection L − L₀ (m), interpolated
+    linearly; outside the table the end values hold (clamped). ``deflection`` strictly
+    increasing, one ``force`` per deflection, at least 2 entries."""
+
+    deflection: Deflections
+    force: Forces
+
+
+@with_config(MODEL_CONFIG)
+@dataclass(frozen=True, kw_only=True)
+class ForceVelocityTable:
+    """Nonlinear damper law: tension (N) at each extension rate L̇ (m/s), interpolated
+    linearly; outside the table the end values hold (clamped). ``velocity`` strictly
+    increasing, one ``force`` per velocity, at least 2 entries."""
+
+    velocity: Velocities
+    force: Forces
+
+
+@with_config(MODEL_CONFIG)
+@dataclass(frozen=True, kw_only=True)
+class SpringDamper:
+    """Translational spring–damper–actuator between ``points[0]`` of ``bodies[0]`` and
+    ``points[1]`` of ``bodies[1]``, acting along the line through them.
+
+    Tension T = k (L − L₀) + f_k(L − L₀) + c L̇ + f_c(L̇) + ``actuator_force``, with L the
+    distance of the points and f_k, f_c the optional tables (they add to the linear
+    terms; set ``stiffness = 0`` for a purely tabulated law). A positive tension pulls
+    the points together. The spring and the actuator force store potential energy; the
+    damper dissipates.
+    """
+
+    type: Literal["spring_damper"] = "spring_damper"
+    bodies: tuple[Name, Name]
+    points: tuple[Name, Name]
+    stiffness: Annotated[Real, Ge(0), Le(STIFFNESS_LIMIT), Unit("N m-1")] = 0.0
+    damping: Annotated[Real, Ge(0), Le(DAMPING_LIMIT), Unit("N s m-1")] = 0.0
+    free_length: Annotated[Real, Ge(0), Le(COORDINATE_LIMIT), Unit("m")]
+    actuator_force: Force = 0.0
+    force_deflection: ForceDeflectionTable | None = None
+    force_velocity: ForceVelocityTable | None = None
+
+
+@with_config(MODEL_CONFIG)
+@dataclass(frozen=True, kw_only=True)
+class RotationalSpringDamper:
+    """Torsional spring–damper at a revolute (or clearance revolute) ``joint``.
+
+    With φ the angle of the joint's second body relative to its first (the journal's
+    relative to the bearing's), the moment on the second body is
+    −k (φ − ``reference_angle``) − c φ̇ + ``actuator_torque`` (counter-clockwise positive),
+    and its opposite acts on the first.
+    """
+
+    type: Literal["rotational_spring_damper"] = "rotational_spring_damper"
+    joint: Name
+    stiffness: Annotated[Real, Ge(0), Le(TORSION_STIFFNESS_LIMIT), Unit("N m rad-1")] = 0.0
+    damping: Annotated[Real, Ge(0), Le(TORSION_DAMPING_LIMIT), Unit("N m s rad-1")] = 0.0
+    reference_angle: Angle = 0.0
+    actuator_torque: Torque = 0.0
+
+
+@with_config(MODEL_CONFIG)
+@dataclass(frozen=True, kw_only=True)
+class FourierProfile:
+    """Periodic factor a₀ + Σₖ aₖ cos(2πkt/P) + bₖ sin(2πkt/P), k = 1, 2, ...
+    (``mean`` = a₀, ``cosine`` = a₁..., ``sine`` = b₁...)."""
+
+    type: Literal["fourier"] = "fourier"
+    period: Annotated[Real, Ge(1e-6), Le(1e6), Unit("s")]
+    mean: Factor = 0.0
+    cosine: Annotated[tuple[Factor, ...], MaxLen(MAX_HARMONICS), Unit("1")] = ()
+    sine: Annotated[tuple[Factor, ...], MaxLen(MAX_HARMONICS), Unit("1")] = ()
+
+
+@with_config(MODEL_CONFIG)
+@dataclass(frozen=True, kw_only=True)
+class TimeTableProfile:
+    """Periodic factor through (``time``, ``factor``) samples over one ``period``,
+    interpolated linearly and closed from the last sample back to the first (which
+    repeats at ``time[0]`` + ``period``)."""
+
+    type: Literal["table"] = "table"
+    period: Annotated[Real, Ge(1e-6), Le(1e6), Unit("s")]
+    time: Times
+    factor: Factors
+
+
+@with_config(MODEL_CONFIG)
+@dataclass(frozen=True, kw_only=True)
+class JointCoordinateProfile:
+    """Factor as a function of a joint coordinate: the slider position s along a
+    prismatic ``joint``'s axis (m, as the ``slider_position`` output) or the relative
+    angle of a revolute joint (rad, unwrapped), interpolated linearly through
+    (``coordinate``, ``factor``); outside the table the end values hold (clamped).
+
+    ``active``: ``"always"``, or only while the coordinate ``"increasing"`` (ṡ > 0) or
+    ``"decreasing"`` (ṡ < 0) — a press's working force acts on the working stroke only.
+    """
+
+    joint: Name
+    coordinate: JointCoordinates
+    factor: Factors
+    active: Literal["always", "increasing", "decreasing"] = "always"
+
+
+def _profile_tag(value: Any) -> str | None:
+    return _tag(value, None)
+
+
+TimeProfile = Annotated[
+    Annotated[FourierProfile, Tag("fourier")] | Annotated[TimeTableProfile, Tag("table")],
+    Discriminator(_profile_tag),
+]
+
+
+@with_config(MODEL_CONFIG)
+@dataclass(frozen=True, kw_only=True)
+class Load:
+    """Applied force and torque at ``point`` of ``body``: (``force``, ``torque``) times the
+    factor of ``time_profile`` (1 if absent) times the factor of ``coordinate_profile``
+    (1 if absent). ``frame = "body"`` turns ``force`` with the body (a follower load);
+    ``"global"`` keeps its direction fixed. Applied loads do work but store no energy.
+    """
+
+    type: Literal["load"] = "load"
+    body: Name
+    point: Name
+    force: Annotated[tuple[Force, Force], Unit("N")] = (0.0, 0.0)
+    torque: Torque = 0.0
+    frame: Literal["global", "body"] = "global"
+    time_profile: TimeProfile | None = None
+    coordinate_profile: JointCoordinateProfile | None = None
+
+
+@with_config(MODEL_CONFIG)
+@dataclass(frozen=True, kw_only=True)
+class MotorDrive:
+    """A motor at a revolute ``joint``: the torque on bodies[1] (its opposite on
+    bodies[0]) follows the linear torque–speed curve T(ω) = ``stall_torque`` (1 − ω/ω₀),
+    ω the joint's relative rate and ω₀ the ``no_load_speed_rpm`` (counter-clockwise
+    positive). ``flywheel_inertia`` (kg m²) adds to the moment of inertia of the rigid
+    bodies[1]. The joint's angle is a free coordinate: no angle is prescribed, the
+    motion is autonomous and starts from the scene's pose at rest."""
+
+    type: Literal["motor"] = "motor"
+    joint: Name
+    stall_torque: Annotated[Real, Gt(0), Le(TORQUE_LIMIT), Unit("N m")]
+    no_load_speed_rpm: Annotated[Real, Ge(SPEED_RPM_RANGE[0]), Le(SPEED_RPM_RANGE[1]), Unit("rpm")]
+    flywheel_inertia: Annotated[Real, Ge(0), Le(INERTIA_RANGE[1]), Unit("kg m2")] = 0.0
+
+    @property
+    def no_load_speed(self) -> float:
+        """ω₀ in rad/s."""
+        return self.no_load_speed_rpm * 2.0 * math.pi / 60.0
+
+    @property
+    def damping(self) -> float:
+        """−dT/dω = stall torque / ω₀ (N m s/rad)."""
+        return self.stall_torque / self.no_load_speed
+
+
 def _body_tag(value: Any) -> str | None:
     return _tag(value, "rigid")
 
@@ -494,6 +699,13 @@ Joint = Annotated[
 ]
 Drive = Annotated[
     Annotated[ConstantSpeedDrive, Tag("constant_speed")]
-    | Annotated[AngleProfileDrive, Tag("angle_profile")],
+    | Annotated[AngleProfileDrive, Tag("angle_profile")]
+    | Annotated[MotorDrive, Tag("motor")],
     Discriminator(_drive_tag),
+]
+ForceElement = Annotated[
+    Annotated[SpringDamper, Tag("spring_damper")]
+    | Annotated[RotationalSpringDamper, Tag("rotational_spring_damper")]
+    | Annotated[Load, Tag("load")],
+    Discriminator(_joint_tag),
 ]

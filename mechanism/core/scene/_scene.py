@@ -27,6 +27,7 @@ from pydantic import TypeAdapter, ValidationError, with_config
 
 from chaoskit.contract import atomic_write
 
+from ._force_checks import force_problems
 from ._messages import SceneError, describe_errors, format_number
 from ._model import (
     GROUND,
@@ -41,7 +42,9 @@ from ._model import (
     Drive,
     Effects,
     FixedJoint,
+    ForceElement,
     Joint,
+    MotorDrive,
     Name,
     Outputs,
     Point,
@@ -54,6 +57,10 @@ from ._model import (
 )
 from ._replace import assign_dotted
 from ._toml_writer import toml_document
+
+#: the force-element name under which a motor drive's torque is recorded (the model's
+#: force tables add it as their last element)
+_MOTOR_ELEMENT = "drive"
 
 __all__ = [
     "GYRATION_RATIO",
@@ -79,7 +86,8 @@ _AXIS_TOL = 1e-6
 @with_config(MODEL_CONFIG)
 @dataclass(frozen=True, kw_only=True)
 class Scene:
-    """A planar mechanism as data: bodies, joints, drive, effects and solver settings.
+    """A planar mechanism as data: bodies, joints, force elements, drive, effects and solver
+    settings.
 
     Load one with :func:`mechanism.load_scene` (built-in name or TOML path), change it with
     :meth:`replace`, store it with :func:`mechanism.save_scene` or :meth:`to_json`.
@@ -100,6 +108,7 @@ class Scene:
     ground_points: Annotated[dict[str, Point], Unit("m")] = field(default_factory=dict)
     bodies: dict[str, Body] = field(default_factory=dict)
     joints: dict[str, Joint] = field(default_factory=dict)
+    forces: dict[str, ForceElement] = field(default_factory=dict)
     drive: Drive | None = None
     solver: SolverSettings = field(default_factory=SolverSettings)
     outputs: Outputs = field(default_factory=Outputs)
@@ -418,6 +427,24 @@ def _cross_check(scene: Scene) -> list[str]:
                     f"drive.time: the samples must span at most one period "
                     f"({format_number(drive.period)} s); got {format_number(t[-1] - t[0])} s"
                 )
+        driven = scene.joints.get(drive.joint)
+        if (
+            isinstance(drive, MotorDrive)
+            and drive.flywheel_inertia > 0.0
+            and isinstance(driven, RevoluteJoint)
+            and not isinstance(scene.bodies.get(driven.bodies[1]), RigidBody)
+        ):
+            add(
+                f"drive.flywheel_inertia: the flywheel needs a rigid second body of joint "
+                f"{drive.joint!r}; got {driven.bodies[1]!r}"
+            )
+        if isinstance(drive, MotorDrive) and _MOTOR_ELEMENT in scene.forces:
+            add(
+                f"forces.{_MOTOR_ELEMENT}: the name is taken by the motor drive's torque; "
+                "rename the element"
+            )
+    names("forces", scene.forces)
+    problems.extend(force_problems(scene, body_points))
     outputs = scene.outputs
     if outputs.slider_joint is not None:
         check_joint_ref("outputs.slider_joint", outputs.slider_joint, (PrismaticJoint,))

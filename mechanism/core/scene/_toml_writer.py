@@ -84,7 +84,9 @@ def toml_document(data: dict[str, Any]) -> str:
 def _emit_table(lines: list[str], path: list[str], table: dict[str, Any]) -> None:
     simple, subtables = [], []
     for key, value in table.items():
-        if value is None:
+        if value is None or (not path and value == {}):
+            # an empty top-level table ([forces] of a scene without force elements) loads
+            # back as its default, so it is left out
             continue
         # small leaf tables inside a body or joint (points, materials, laws) go inline;
         # the named entries of [bodies] and [joints] always get their own header

@@ -7,7 +7,33 @@ like :func:`mechanism.lyapunov_exponent`, so it sits with the studies.
 
 from __future__ import annotations
 
+from ._basins import Basins, basins, plot_basins
+from ._continuation import (
+    BifurcationPoint,
+    ContinuationBranch,
+    ContinuationPoint,
+    ContinuationSettings,
+)
+from ._maps import continue_map
 from ._modes import ContactPhase
 from ._orbit import PeriodicOrbit, periodic_orbit
+from ._route import RouteToChaos, route
+from ._scene import Continuation, continuation
 
-__all__ = ["ContactPhase", "PeriodicOrbit", "periodic_orbit"]
+__all__ = [
+    "Basins",
+    "BifurcationPoint",
+    "ContactPhase",
+    "Continuation",
+    "ContinuationBranch",
+    "ContinuationPoint",
+    "ContinuationSettings",
+    "PeriodicOrbit",
+    "RouteToChaos",
+    "basins",
+    "continuation",
+    "continue_map",
+    "periodic_orbit",
+    "plot_basins",
+    "route",
+]

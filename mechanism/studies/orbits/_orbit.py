@@ -19,6 +19,7 @@ from mechanism.core.model import assemble, initial_state
 from mechanism.core.scene import Scene
 
 from ._modes import ContactPhase, contact_phases
+from ._multiple import solve as multiple_shooting
 from ._shooting import (
     Section,
     StroboscopicMap,
@@ -44,6 +45,10 @@ DEFAULT_APPROACH_TOLERANCE = 1e-3
 MONODROMY_OFFSET = 1e-5
 #: pieces of the period whose Jacobians make the final monodromy matrix (no renewed latch)
 SEGMENTS = 8
+#: segments of the multiple shooting that follows a stalled single shooting
+AUTOMATIC_SEGMENTS = 8
+#: most segments accepted (each costs a tangent run per unknown and Newton iteration)
+MAX_SEGMENTS = 64
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -67,7 +72,8 @@ class PeriodicOrbit:
         (k, joints, 2): the journals' eccentricity (m) at the k section times jT.
     residual : float
         Size of map(section) − section over the clearance (mass-weighted state norm, as
-        the exponent's, and τ × the latch differences that are unknowns).
+        the exponent's, and τ × the latch differences that are unknowns); with multiple
+        shooting the root sum of squares of the segments' continuity defects.
     iterations : int
         Newton iterations done.
     converged : bool
@@ -103,11 +109,27 @@ class PeriodicOrbit:
     clearance : float
         Smallest radial clearance (m): the scale of ``residual``.
     settings : dict
-        What the orbit depends on (tolerances, steps, perturbation, settling).
+        What the orbit depends on (tolerances, steps, perturbation, settling, shooting).
     cpu_time : float
         Process CPU time of the computation (s).
     function_evaluations : int
         Right-hand-side evaluations of all runs.
+    shooting : str
+        ``"single"`` (Newton on the k-fold map) or ``"multiple"`` (on the continuity
+        defects of ``segments`` segments).
+    segments : int
+        Segments of the period used (1 for single shooting).
+    floquet_vectors : numpy.ndarray
+        (2n, multipliers) complex: column i is the eigenvector of ``multipliers[i]`` as a
+        section-state difference [δq; δq̇] (SI; tangent to the constraint manifold), of
+        unit size in the metric of the shooting's coordinates (positions in m, velocities
+        × τ = T/2π; mass-weighted) with its largest component real and positive. A real
+        multiplier has a real vector: ``section_state + h * floquet_vectors[:, i].real``
+        (h in m) starts a branch switch, e.g. to the period-2 orbit at a period doubling
+        (μ = −1).
+    floquet_latch_vectors : numpy.ndarray
+        (joints, multipliers) complex: the same eigenvectors' latched impact velocity
+        parts (m/s per unit of the vector; 0 for joints separated at the section).
     """
 
     scene_name: str
@@ -139,6 +161,10 @@ class PeriodicOrbit:
     settings: dict[str, Any] = field(default_factory=dict)
     cpu_time: float = 0.0
     function_evaluations: int = 0
+    shooting: str = "single"
+    segments: int = 1
+    floquet_vectors: np.ndarray = field(default_factory=lambda: np.zeros((0, 0), complex))
+    floquet_latch_vectors: np.ndarray = field(default_factory=lambda: np.zeros((0, 0), complex))
 
     @property
     def stable(self) -> bool:
@@ -273,6 +299,12 @@ def _orbit_dataset(orbit: PeriodicOrbit) -> xr.Dataset:
             "units": "1", "long_name": "Floquet multiplier (non-neutral), imaginary part"}),
         "multiplier_modulus": (("multiplier",), np.abs(orbit.multipliers), {
             "units": "1", "long_name": "modulus of the Floquet multiplier"}),
+        "floquet_vector_real": (("state", "multiplier"), orbit.floquet_vectors.real, {
+            "units": "SI (m, rad, m s-1, rad s-1) per unit size",
+            "long_name": "Floquet vector of the multiplier at the section, real part"}),
+        "floquet_vector_imag": (("state", "multiplier"), orbit.floquet_vectors.imag, {
+            "units": "SI (m, rad, m s-1, rad s-1) per unit size",
+            "long_name": "Floquet vector of the multiplier at the section, imaginary part"}),
         "neutral_multiplier": (("neutral",), orbit.neutral_multipliers.real, {
             "units": "1", "long_name": "multiplier of a neutral latch direction"}),
         "phase_start": (("phase",), np.array([p.start for p in orbit.phases]), {
@@ -328,6 +360,7 @@ def periodic_orbit(
     atol: float | None = None,
     max_step: float | None = None,
     perturbation: float = DEFAULT_PERTURBATION,
+    segments: int | None = None,
 ) -> PeriodicOrbit:
     r"""Periodic orbit of a rigid scene through its impacts, and its Floquet multipliers.
 
@@ -380,6 +413,12 @@ def periodic_orbit(
         Largest step (s); default the step limits of :func:`mechanism.simulate`.
     perturbation : float
         ε / clearance of the tangent runs' finite differences, in (0, 1e-4].
+    segments : int, optional
+        Multiple shooting over this many segments of the orbit period (in [1, 64]; 1:
+        single shooting only). Default: single shooting, then, when it stalls above
+        ``tol``, multiple shooting over 8 segments from its best state: the states at
+        the segment starts are the unknowns and the continuity defects the residuals,
+        so an unstable impacting orbit (one-period growth of hundreds) converges.
 
     Returns
     -------
@@ -412,6 +451,8 @@ def periodic_orbit(
     max_iterations = check_int(max_iterations, name="max_iterations", minimum=1)
     settle = check_int(settle, name="settle", minimum=0)
     search = check_int(search, name="search", minimum=0)
+    if segments is not None:
+        segments = check_int(segments, name="segments", minimum=1, maximum=MAX_SEGMENTS)
     perturbation = check_positive(perturbation, name="perturbation")
     if perturbation > 1e-4:
         raise ValueError(f"perturbation must be in (0, 1e-4]; got {perturbation!r}.")
@@ -441,12 +482,45 @@ def periodic_orbit(
         approach_floor=floor, perturbation=perturbation, clearance=clearance,
     )  # fmt: skip
     start = _start(smap, y_init, guess, settle, search)
-    solved = _newton(smap, start, tol, max_iterations)
+    shooting, used = "single", 1
+    solved = None
+    if segments in (None, 1):
+        solved = _newton(smap, start, tol, max_iterations)
+    if segments not in (None, 1) or (segments is None and solved.residual > tol):
+        used = AUTOMATIC_SEGMENTS if segments is None else segments
+        solved = _multiple(
+            smap,
+            solved.section if solved else start,
+            used,
+            tol,
+            max_iterations,
+            solved.iterations if solved else 0,
+        )
+        shooting = "multiple"
     return _assemble_orbit(
         smap, scene, solved, tol, cpu0,
         {"rtol": rtol, "atol": atol, "max_step": max_step, "approach_floor": floor,
          "perturbation": perturbation, "settle": settle, "search": search,
-         "guess": "given" if guess is not None else "settled"},
+         "guess": "given" if guess is not None else "settled", "shooting": shooting,
+         "segments": used},
+    )  # fmt: skip
+
+
+def _multiple(
+    smap: StroboscopicMap,
+    start: Section,
+    segments: int,
+    tol: float,
+    max_iterations: int,
+    done: int,
+) -> _Solved:
+    """Multiple shooting from ``start`` (after ``done`` single-shooting iterations)."""
+    result = multiple_shooting(smap, start, segments, tol, max_iterations)
+    first = result.nodes.states[0]
+    return _Solved(
+        section=first, residual=result.residual, iterations=done + result.iterations,
+        jacobian=result.monodromy, jacobian_at=first, latches=result.latches,
+        n_free=result.n_free,
     )  # fmt: skip
 
 
@@ -594,18 +668,44 @@ def _newton(smap: StroboscopicMap, start: Section, tol: float, max_iterations: i
 
 def _multipliers(
     jac: np.ndarray, n_free: int, latches: np.ndarray, joints: tuple[str, ...]
-) -> tuple[np.ndarray, np.ndarray, tuple[str, ...]]:
-    """(non-neutral multipliers, neutral multipliers, what each neutral one is)."""
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, tuple[str, ...]]:
+    """(non-neutral multipliers, their eigenvectors in the monodromy's coordinates (one
+    column each, zero on the frozen latches), neutral multipliers, what each neutral one
+    is)."""
     frozen = frozen_latches(jac, n_free)
     keep = np.setdiff1d(np.arange(jac.shape[0]), n_free + frozen)
-    values = sorted_by_modulus(np.linalg.eigvals(jac[np.ix_(keep, keep)]))
+    values, vectors = np.linalg.eig(jac[np.ix_(keep, keep)])
+    order = np.argsort(-np.abs(values), kind="stable")
+    full = np.zeros((jac.shape[0], order.size), dtype=np.complex128)
+    full[keep] = vectors[:, order]
     neutral = np.array([jac[n_free + f, n_free + f] for f in frozen], dtype=np.complex128)
     what = tuple(
         f"latched impact velocity of clearance joint {joints[latches[f]]!r}: in contact the "
         "whole period, nothing renews it (the model's memory of the last impact)"
         for f in frozen
     )
-    return values, neutral, what
+    return sorted_by_modulus(values[order]), full, neutral, what
+
+
+def _floquet_vectors(
+    smap: StroboscopicMap, state: _Solved, vectors: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """Eigenvectors of the monodromy's coordinates as section-state differences
+    [δq; δq̇] (SI) and latch differences (m/s per joint), each of unit size in the tangent
+    coordinates' metric (positions in m, velocities × τ) with its largest state component
+    real and positive."""
+    basis = smap.basis(state.jacobian_at)
+    n_free = state.n_free
+    states = basis[:, :n_free] @ vectors[:n_free]
+    latch = np.zeros((state.jacobian_at.latch.size, vectors.shape[1]), dtype=np.complex128)
+    latch[state.latches] = vectors[n_free:] / smap.tau
+    for i in range(vectors.shape[1]):
+        norm = float(np.linalg.norm(vectors[:, i]))
+        big = states[np.argmax(np.abs(states[:, i])), i]
+        turn = big / abs(big) if abs(big) > 0.0 else 1.0
+        states[:, i] /= norm * turn
+        latch[:, i] /= norm * turn
+    return states, latch
 
 
 def _assemble_orbit(
@@ -622,7 +722,8 @@ def _assemble_orbit(
         _refresh(smap, state, _run_ok(smap, sec, smap.stops))
     offset = smap.distance(state.jacobian_at.y, sec.y)
     joints = tuple(model.clearance_joints)
-    mult, neutral, what = _multipliers(state.jacobian, state.n_free, state.latches, joints)
+    mult, vectors, neutral, what = _multipliers(state.jacobian, state.n_free, state.latches, joints)
+    floquet, floquet_latch = _floquet_vectors(smap, state, vectors)
     k, big_t = smap.period, smap.drive_period
     n = model.n_dof
     # the orbit on the map's own steps: it ends at the section state to the residual
@@ -647,6 +748,10 @@ def _assemble_orbit(
         neutral_directions=what,
         monodromy=state.jacobian,
         monodromy_offset=float(offset),
+        shooting=str(settings["shooting"]),
+        segments=int(settings["segments"]),
+        floquet_vectors=floquet,
+        floquet_latch_vectors=floquet_latch,
         phases=phases,
         time=rec.t,
         position=rec.states[:, :n],

@@ -144,6 +144,30 @@ class StroboscopicMap:
             raise SimulationError(f"the integration failed: {run.stats.message}")
         self.schedule = run.step_times
 
+    def freeze_pieces(
+        self, starts: list[Section], times: np.ndarray, bases: list[np.ndarray]
+    ) -> None:
+        """As :meth:`freeze_steps`, piece by piece for multiple shooting: the steps of a
+        run from ``starts[i]`` over ``times[i:i + 2]`` (with a deviation along all the
+        tangent directions of ``bases[i]``), joined into one schedule."""
+        self.schedule = None
+        options = dict(self.options, deviation_rtol=self.deviation_rtol)
+        pieces = []
+        for i, (section, basis) in enumerate(zip(starts, bases, strict=True)):
+            d0 = basis.sum(axis=1)
+            d0 *= self.size / deviation_size(self.model, d0, time_scale=self.tau)
+            run = integrate_tangent(
+                self.model, section.y, d0, times[i : i + 2],
+                latch=(section.latch, section.contact), record_steps=True, label="orbit",
+                **options,
+            )  # fmt: skip
+            self.evaluations += 1
+            self.function_evaluations += run.stats.function_evaluations
+            if not run.stats.success:
+                raise SimulationError(f"the integration failed: {run.stats.message}")
+            pieces.append(run.step_times)
+        self.schedule = np.unique(np.concatenate([*pieces, times]))
+
     def run(
         self,
         section: Section,

@@ -2,10 +2,12 @@
 
 :func:`run_paper_study` answers the question of Jia, Meng, Jiang, Kang (Lubricants 2025,
 13(3), 130) with the reconstructed ``paper`` scene (docs/paper-model.md) and writes a
-report (HTML + Markdown, :func:`chaoskit.report`) that opens with the answer — the verdict
-of each state with its confidence and the largest Lyapunov exponent from the equations and
-from the data, beside the paper's values and claims — followed by every published table
-beside ours. The published numbers are data (``data/paper_tables.toml`` in this package,
+report (HTML + Markdown, :func:`chaoskit.report`) that opens with the answer — the
+wear-life answer (cycles to chaos of five wear paths over speed and clearance, beside the
+paper's claims on the transition to chaos), then the verdict of each state with its
+confidence and the largest Lyapunov exponent from the equations and from the data, beside
+the paper's values and claims — followed by every published table beside ours. The
+published numbers are data (``data/paper_tables.toml`` in this package,
 :func:`paper_tables`, :func:`paper_claims`).
 
 The study is built from the public pieces, nothing is computed a second way:
@@ -19,6 +21,7 @@ The study is built from the public pieces, nothing is computed a second way:
 * :func:`mechanism.lyapunov_exponent` gives the exponent from the equations (on the
   series' model, and with rigid rods beside it unless the settings leave that out);
 * :func:`mechanism.bifurcation` gives the orbit diagrams over crank speed;
+* :func:`mechanism.wear_life` gives the wear paths and their cycles to chaos;
 * :func:`chaoskit.report` analyses the journal-centre motion before and after wear (the
   chaos table) and assembles the page.
 
@@ -29,7 +32,8 @@ Modules, one concern each: ``_published`` (the paper's data and the study's fixe
 design), ``_settings`` (:class:`StudySettings`), ``_runs`` (the single computations, pool
 tasks), ``_schedule`` (backends, the pool's queue, stores, stage costs), ``_study`` (the
 stages in order), ``_tables`` (our tables), ``_report`` and ``_summary`` (the report's
-parts) and ``_result`` (:class:`PaperStudy`).
+parts), ``_claims`` (the transition claims judged on the wear paths), ``_wear_paths``
+(the report's wear-life answer) and ``_result`` (:class:`PaperStudy`).
 """
 
 from __future__ import annotations

@@ -1,9 +1,10 @@
 """The paper's published tables and claims, and the fixed design of the study (its
-clearances, speeds and integration step), all from Jia et al. (2025)."""
+clearances, speeds, integration step and wear paths), all from Jia et al. (2025)."""
 
 from __future__ import annotations
 
 import tomllib
+from dataclasses import dataclass
 from pathlib import Path
 
 import pandas as pd
@@ -59,6 +60,54 @@ PERIOD_150 = 60.0 / 150.0
 #: what the chaos runs record: the drive's phase and the journal centre (no full state)
 CHAOS_VARIABLES = ("crank_angle", "eccentricity_x", "eccentricity_y")
 NOT_AVAILABLE = "NOT AVAILABLE IN THIS VERSION"
+
+#: The wear paths of the wear-life answer, (crank speed in rpm, radial clearance in m): the
+#: speed table's three speeds at the default clearance, and the clearance table's three
+#: clearances at 150 rpm (150 rpm with 0.2 mm is one path, shared by both claims).
+WEAR_PATHS: tuple[tuple[float, float], ...] = (
+    (30.0, DEFAULT_CLEARANCE),
+    (90.0, DEFAULT_CLEARANCE),
+    (150.0, DEFAULT_CLEARANCE),
+    (150.0, 1e-4),
+    (150.0, 5e-4),
+)
+
+
+@dataclass(frozen=True)
+class TransitionClaim:
+    """One of the paper's conclusions on how the motion changes with wear.
+
+    ``key`` names the parameter the claim varies (``"clearance"`` or ``"speed"``),
+    ``quote`` is the paper's wording, ``short`` a few words for the report's table and
+    ``paths`` the wear paths (:data:`WEAR_PATHS`) it is judged on, in increasing parameter.
+    ``threshold`` is the speed (rpm) below which the claim says the motion is stable.
+    """
+
+    key: str
+    quote: str
+    short: str
+    paths: tuple[tuple[float, float], ...]
+    threshold: float | None = None
+
+
+#: The paper's conclusions on the transition to chaos, as the study states them.
+TRANSITION_CLAIMS: tuple[TransitionClaim, ...] = (
+    TransitionClaim(
+        key="clearance",
+        quote="enlarged clearances accelerate the transition from periodic to chaotic "
+        "motion due to intensified wear",
+        short="larger clearances turn chaotic sooner",
+        paths=((150.0, 1e-4), (150.0, DEFAULT_CLEARANCE), (150.0, 5e-4)),
+    ),
+    TransitionClaim(
+        key="speed",
+        quote="rotational speeds below 90 rpm effectively suppressing wear severity and "
+        "stabilizing motion",
+        short="below 90 rpm less wear and stable motion",
+        paths=((30.0, DEFAULT_CLEARANCE), (90.0, DEFAULT_CLEARANCE), (150.0, DEFAULT_CLEARANCE)),
+        threshold=90.0,
+    ),
+)
 
 
 # --------------------------------------------------------------------------- the paper's data

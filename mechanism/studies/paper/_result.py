@@ -5,6 +5,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pandas as pd
@@ -46,6 +47,14 @@ class PaperStudy:
     motions
         ``{state: MotionVerdict}``: the verdict on the motion of each analysed state
         (the ``motions`` of :class:`chaoskit.Report`); :attr:`answer` tabulates it.
+    wear_paths
+        ``{(crank speed in rpm, clearance in m): WearLife}``: each wear path of the
+        wear-life answer (:func:`mechanism.wear_life`), or the exception its run raised;
+        empty when the settings leave the paths out.
+    transition_claims
+        The paper's claims on the transition to chaos judged on the wear paths, one row
+        per claim (index: a few words of it): ``claim`` (the paper's words),
+        ``agreement`` ("agree", "disagree" or "cannot tell") and ``why`` (one line).
     """
 
     tables: Mapping[str, pd.DataFrame]
@@ -60,6 +69,8 @@ class PaperStudy:
     output_size: int = 0
     sweeps: Mapping[str, xr.Dataset] = field(default_factory=dict, repr=False)
     motions: Mapping[str, chaoskit.MotionVerdict] = field(default_factory=dict, repr=False)
+    wear_paths: Mapping[tuple[float, float], Any] = field(default_factory=dict, repr=False)
+    transition_claims: pd.DataFrame = field(default_factory=pd.DataFrame, repr=False)
 
     @property
     def answer(self) -> pd.DataFrame:

@@ -19,6 +19,7 @@ from mechanism.core.scene import ClearanceRevolute
 from .._bifurcation import ORBIT_TOLERANCE
 from .._convergence import element_convergence
 from .._lyapunov import lyapunov_exponent
+from .._wear_life import WearLife, WearLifeSettings, wear_life
 from .._wear_prediction import predict_wear
 from ._published import (
     CHAOS_VARIABLES,
@@ -161,6 +162,37 @@ def equation_exponent(scene: Any, settings: StudySettings, *, rigid: bool = Fals
         model,
         revolutions=settings.discard_revolutions + settings.exponent_revolutions,
         discard=settings.discard_revolutions,
+    )
+
+
+def wear_path_scene(scene: Any, rpm: float, clearance: float, settings: StudySettings) -> Any:
+    """The scene of one wear path: ``scene`` at ``rpm`` with radial clearance ``clearance``
+    at C and the wear paths' rods (flexible ones at the study's step, rigid ones at the
+    error control's)."""
+    flexible = settings.wear_path_flexible_rods
+    return scene.replace(
+        {
+            "drive.speed_rpm": float(rpm),
+            "joints.C.clearance": float(clearance),
+            "effects.flexibility": flexible,
+            "solver.max_step": STEP if flexible else None,
+        }
+    )
+
+
+def wear_path(scene: Any, rpm: float, clearance: float, settings: StudySettings) -> WearLife:
+    """One wear path of the wear-life answer (pool task): :func:`mechanism.wear_life` of
+    :func:`wear_path_scene` with the settings' cycles, checkpoints and analysis."""
+    return wear_life(
+        wear_path_scene(scene, rpm, clearance, settings),
+        cycles=settings.wear_path_cycles,
+        checkpoints=list(settings.wear_path_checkpoints),
+        averaged_revolutions=settings.wear_path_averaged_revolutions,
+        settings=WearLifeSettings(
+            analysis_revolutions=settings.wear_path_analysis_revolutions,
+            lyapunov_revolutions=settings.wear_path_lyapunov_revolutions,
+            lyapunov_discard=settings.wear_path_lyapunov_discard,
+        ),
     )
 
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import contextlib
 import hashlib
+import itertools
 import json
 import math
 import os
@@ -19,8 +20,16 @@ from ._published import (
     BEFORE_SPEEDS,
     CLEARANCES,
     SPEEDS,
+    WEAR_PATHS,
 )
-from ._runs import at_speed, chaos_run, equation_exponent, predict_worn, wear_scene_of
+from ._runs import (
+    at_speed,
+    chaos_run,
+    equation_exponent,
+    predict_worn,
+    wear_path,
+    wear_scene_of,
+)
 from ._settings import StudySettings
 
 
@@ -74,6 +83,50 @@ def drop_trajectories(store: Path) -> None:
             path.unlink(missing_ok=True)
 
 
+#: The progress stage that waits for the wear paths.
+WEAR_PATHS_STAGE = "wear paths: cycles to chaos at 3 speeds and 3 clearances"
+
+
+def wear_path_cost(rpm: float, settings: StudySettings, *, flexible: bool | None = None) -> float:
+    """Prior CPU seconds of one wear path at ``rpm`` (one core; ``flexible`` overrides the
+    settings' rods).
+
+    Per analysed state (unworn, every checkpoint and the end): the settled and analysed
+    revolutions, the exponent's revolutions and the motion verdict; per checkpoint
+    interval: the increments (one per 700 cycles at 150 rpm, fewer at a slower speed,
+    which wears less per cycle), each its settled and averaged revolutions. Calibrated on
+    the rigid paper scene at 150 rpm (178 s of CPU for 10 000 cycles, analysed unworn and
+    at 5 000 and 10 000, 8 averaged revolutions) and at 30 rpm (269 s for the same path);
+    flexible rods take the study's fixed step
+    in time, so a slower speed costs more per revolution (1.2 s per revolution at 150 rpm,
+    2.8 for the exponent).
+    """
+    flexible = settings.wear_path_flexible_rods if flexible is None else flexible
+    points = [0.0, *settings.wear_path_checkpoints]
+    if points[-1] < settings.wear_path_cycles:
+        points.append(settings.wear_path_cycles)
+    slower = 150.0 / rpm
+    if flexible:
+        revolution, exponent = 1.2 * slower, 2.8 * slower
+    else:
+        # the error control's steps follow the impacts, whose number per revolution grows
+        # less than the revolution's length (30 rpm: 269 s against 178 s)
+        revolution = _RIGID_REVOLUTION * slower**0.75
+        exponent = _RIGID_EXPONENT * slower**0.25
+    analysed = (2.0 + settings.wear_path_analysis_revolutions) * revolution
+    per_state = analysed + settings.wear_path_lyapunov_revolutions * exponent + _VERDICT
+    increments = sum(max(1.0, (b - a) / 700.0 / slower) for a, b in itertools.pairwise(points))
+    return (
+        len(points) * per_state
+        + increments * (2.0 + settings.wear_path_averaged_revolutions) * revolution
+    )
+
+
+#: CPU seconds of the rigid paper scene at 150 rpm: one worn revolution with the default
+#: tolerances, one revolution of the exponent, one motion verdict
+_RIGID_REVOLUTION, _RIGID_EXPONENT, _VERDICT = 0.5, 2.0, 3.0
+
+
 def stage_weights(settings: StudySettings, n_conv: int) -> dict[str, float]:
     """Prior wall time of each stage, in CPU seconds of one core (for the time left).
 
@@ -85,8 +138,9 @@ def stage_weights(settings: StudySettings, n_conv: int) -> dict[str, float]:
     chaos run 0.70 before and 1.19 after wear; a flexible exponent 2.8 (rigid 1.3). The
     long runs (wear, chaos runs, exponents) run in the pool beside the sweeps and the
     orbit diagrams, and the four processes share the two cores: a dask stage takes about
-    its own CPU time in wall time, the pool doing as much meanwhile, and the long-runs
-    stage is what the pool has left, on two cores. The analysis runs on one core.
+    its own CPU time in wall time, the pool doing as much meanwhile, and the wear-paths and
+    long-runs stages are what the pool has left, on two cores (the wear paths
+    :func:`wear_path_cost` first). The analysis runs on one core.
     """
     flex = (1.2 + 0.35 * settings.samples_per_revolution / 2500) if settings.flexible_rods else 0.25
     speeds = sum(150.0 / v for v in SPEEDS)
@@ -103,8 +157,12 @@ def stage_weights(settings: StudySettings, n_conv: int) -> dict[str, float]:
     exponent = (
         (2.8 + (1.3 if settings.rigid_rod_exponent else 0.0)) if settings.flexible_rods else 1.3
     )
+    paths = (
+        sum(wear_path_cost(rpm, settings) for rpm, _ in WEAR_PATHS) if settings.wear_paths else 0.0
+    )
     pool = (
-        0.5 * (settings.wear_updates + 1) * (settings.wear_settle_revolutions + 1) * speeds * flex
+        paths
+        + 0.5 * (settings.wear_updates + 1) * (settings.wear_settle_revolutions + 1) * speeds * flex
         + 2 * long_run * (0.95 if settings.flexible_rods else 0.2)
         + 2 * (settings.discard_revolutions + settings.exponent_revolutions) * exponent
     )
@@ -120,7 +178,12 @@ def stage_weights(settings: StudySettings, n_conv: int) -> dict[str, float]:
         "after-wear sweeps": dask["after-wear sweeps"],
         "element convergence": n_conv * settings.convergence_revolutions * 2.0,
         "orbit diagrams over speed": dask["orbit diagrams over speed"],
-        "long runs for the chaos analysis and exponents": max(pool - sum(dask.values()), 0.0) / 2.0,
+        # the pool's work left when the dask stages end, on two cores, the wear paths first
+        WEAR_PATHS_STAGE: min(paths, max(pool - sum(dask.values()), 0.0)) / 2.0,
+        "long runs for the chaos analysis and exponents": max(
+            pool - paths - sum(dask.values()), 0.0
+        )
+        / 2.0,
         "chaos analysis and report": 4 * (8.0 + 0.04e-3 * samples),
     }
 
@@ -129,10 +192,12 @@ class LongRuns:
     """The study's long compiled runs in the process pool, in the order that finishes
     first: the three wear predictions (short; the after-wear sweeps wait for them) at once;
     as soon as the profile worn at 150 rpm exists, the after-wear chaos run (the longest
-    run) first, then the before-wear chaos run, the two exponents and, when asked for, the
-    rigid-rod ones. The pool's two processes then finish within a short run of each other
-    (measured on the quick settings: 240 s of CPU for the after-wear chaos run against
-    141 + 62 + 54 s for the rest).
+    run) first, then the before-wear chaos run, the five wear paths of the wear-life
+    answer (each one task, the slowest speed first), the two exponents and, when asked
+    for, the rigid-rod ones. Without the wear paths the pool's two processes finish within
+    a short run of each other (measured on the quick settings: 240 s of CPU for the
+    after-wear chaos run against 141 + 62 + 54 s for the rest); the paths, about as long
+    as a chaos run each, are spread over both.
 
     With no pool (``client="serial"``) everything runs here, in that order.
     """
@@ -140,6 +205,7 @@ class LongRuns:
     def __init__(self, pool: Any, base_scene: Any, settings: StudySettings) -> None:
         self._pool = pool
         self._settings = settings
+        self._base = base_scene
         before = wear_scene_of(base_scene)
         # the wear predictions are short, and the after-wear sweeps wait for them
         self._wear = {
@@ -147,6 +213,7 @@ class LongRuns:
             for rpm in sorted(SPEEDS, reverse=True)
         }
         self._states: dict[str, list[Any]] = {}
+        self._paths: dict[tuple[float, float], Future[Any]] = {}
         self._queue = threading.Thread(
             target=self._then, args=(before,), name="paper-long-runs", daemon=True
         )
@@ -166,6 +233,14 @@ class LongRuns:
         runs: dict[str, list[Any]] = {s: [] for s in order}
         for state in order:
             runs[state].append(submit(pool, chaos_run, scenes[state], settings))
+        # the wear paths (each one task, the slowest speed first: its revolutions are the
+        # longest) before the exponents, the shortest runs, so that the pool's two
+        # processes end close together
+        if settings.wear_paths:
+            for rpm, clearance in sorted(WEAR_PATHS):
+                self._paths[(rpm, clearance)] = submit(
+                    pool, wear_path, self._base, rpm, clearance, settings
+                )
         for state in order:
             runs[state].append(submit(pool, equation_exponent, scenes[state], settings))
         # the rigid-rod model's exponent beside the flexible one
@@ -197,6 +272,12 @@ class LongRuns:
     def wear(self) -> dict[float, Future[Any]]:
         """The wear predictions by speed (rpm), in increasing speed."""
         return {rpm: self._wear[rpm] for rpm in sorted(self._wear)}
+
+    def paths(self) -> dict[tuple[float, float], Future[Any]]:
+        """The wear paths by (crank speed in rpm, clearance in m); empty when the settings
+        leave them out."""
+        self._queued()
+        return dict(self._paths)
 
     def states(self) -> dict[str, tuple[Future[Any], Future[Any], Future[Any] | None]]:
         """(chaos run, exponent on the series' model, rigid-rod exponent or None when the

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+import itertools
 import math
 from dataclasses import dataclass
 from typing import Any
@@ -59,6 +60,25 @@ class StudySettings:
         the test cannot reach its 5 % level).
     max_samples
         At most this many samples of each analysed series (plain stride); None: all.
+    wear_paths
+        Run the wear paths of the wear-life answer (:func:`mechanism.wear_life` at 30, 90
+        and 150 rpm with c = 0.2 mm and at 0.1, 0.2 and 0.5 mm with 150 rpm), judged
+        against the paper's claims on the transition to chaos.
+    wear_path_cycles, wear_path_checkpoints
+        Crank cycles of wear of each path and its checkpoints (strictly increasing, in
+        (0, cycles]); the unworn state is always analysed too.
+    wear_path_averaged_revolutions
+        Revolutions whose mean wear is the wear per cycle of a path's increments.
+    wear_path_analysis_revolutions
+        Revolutions analysed at each checkpoint (≥ 20 for a decided motion verdict).
+    wear_path_lyapunov_revolutions, wear_path_lyapunov_discard
+        Revolutions of the exponent from the equations at each checkpoint, and those left
+        out of it.
+    wear_path_flexible_rods
+        Rods 3 and 4 of the wear paths as ANCF beams (at the study's step T/10000 at
+        150 rpm) or rigid bars (the report says which). Rigid by default, also in the
+        paper's settings: flexible paths cost about three times as much, over an hour of
+        CPU in the paper's settings (the report states the estimate).
     """
 
     revolutions: float = 11.0
@@ -81,6 +101,16 @@ class StudySettings:
     orbit_flexible_rods: bool = True
     n_surrogates: int = 19
     max_samples: int | None = 400_000
+    wear_paths: bool = True
+    wear_path_cycles: float = 20_000.0
+    wear_path_checkpoints: tuple[float, ...] = (5_000.0, 10_000.0, 15_000.0, 20_000.0)
+    wear_path_averaged_revolutions: int = 8
+    wear_path_analysis_revolutions: int = 25
+    wear_path_lyapunov_revolutions: float = 10.0
+    wear_path_lyapunov_discard: float = 2.0
+    # rigid even in the paper's settings: flexible paths would cost over an hour of CPU
+    # (docs/paper-study.md, "Wear-life answer")
+    wear_path_flexible_rods: bool = False
 
     def __post_init__(self) -> None:
         def number(name: str, low: float, *, integer: bool = False) -> None:
@@ -130,11 +160,66 @@ class StudySettings:
             raise ValueError(
                 f"StudySettings.orbit_speeds must be positive speeds in rpm; got {speeds}."
             )
+        self._check_wear_paths()
         object.__setattr__(self, "elements", elements)
         object.__setattr__(self, "orbit_speeds", speeds)
         object.__setattr__(self, "flexible_rods", bool(self.flexible_rods))
         object.__setattr__(self, "orbit_flexible_rods", bool(self.orbit_flexible_rods))
         object.__setattr__(self, "rigid_rod_exponent", bool(self.rigid_rod_exponent))
+        object.__setattr__(self, "wear_paths", bool(self.wear_paths))
+        object.__setattr__(self, "wear_path_flexible_rods", bool(self.wear_path_flexible_rods))
+
+    def _check_wear_paths(self) -> None:
+        """The wear paths' fields: WearLifeSettings and wear_life check them again, but a
+        bad value must stop the study before its first run, not in a pool task."""
+        cycles = self.wear_path_cycles
+        if not isinstance(cycles, (int, float)) or not math.isfinite(cycles) or cycles <= 0:
+            raise ValueError(
+                f"StudySettings.wear_path_cycles must be a number > 0; got {cycles!r}."
+            )
+        try:
+            points = tuple(float(n) for n in self.wear_path_checkpoints)
+        except (TypeError, ValueError):
+            points = ()
+        if (
+            not points
+            or points[0] <= 0.0
+            or points[-1] > cycles
+            or any(b <= a for a, b in itertools.pairwise(points))
+        ):
+            raise ValueError(
+                "StudySettings.wear_path_checkpoints must be strictly increasing cycle "
+                f"counts in (0, wear_path_cycles] = (0, {cycles:g}]; got "
+                f"{self.wear_path_checkpoints!r}."
+            )
+        object.__setattr__(self, "wear_path_checkpoints", points)
+        averaged = self.wear_path_averaged_revolutions
+        if isinstance(averaged, bool) or not isinstance(averaged, int) or not 1 <= averaged <= 1000:
+            raise ValueError(
+                "StudySettings.wear_path_averaged_revolutions must be an integer in "
+                f"[1, 1000]; got {averaged!r}."
+            )
+        analysed = self.wear_path_analysis_revolutions
+        if (
+            isinstance(analysed, bool)
+            or not isinstance(analysed, int)
+            or not 4 <= analysed <= 10000
+        ):
+            raise ValueError(
+                "StudySettings.wear_path_analysis_revolutions must be an integer in "
+                f"[4, 10000]; got {analysed!r}."
+            )
+        revs, discard = self.wear_path_lyapunov_revolutions, self.wear_path_lyapunov_discard
+        ok = all(
+            isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
+            for v in (revs, discard)
+        )
+        if not ok or revs <= 0 or not 0 <= discard < revs:
+            raise ValueError(
+                "StudySettings.wear_path_lyapunov_revolutions must be > 0 and "
+                "wear_path_lyapunov_discard in [0, wear_path_lyapunov_revolutions); got "
+                f"{revs!r} and {discard!r}."
+            )
 
     @classmethod
     def paper(cls) -> StudySettings:
@@ -149,7 +234,9 @@ class StudySettings:
         points run 4 revolutions with output T/2500, the wear 1 update of 10 000 cycles,
         the convergence table 3 meshes over the first impact, the analysed series at most
         100 000 samples, the exponent from the equations 10 revolutions (flexible rods
-        only), and the orbit diagrams rigid rods at 5 speeds.
+        only), the orbit diagrams rigid rods at 5 speeds, and the wear paths analysed
+        unworn and after 10 000 cycles only, the wear per cycle averaged over 2
+        revolutions.
         """
         return cls(
             revolutions=4.0,
@@ -172,6 +259,14 @@ class StudySettings:
             orbit_flexible_rods=False,
             n_surrogates=19,
             max_samples=100_000,
+            wear_paths=True,
+            wear_path_cycles=10_000.0,
+            wear_path_checkpoints=(10_000.0,),
+            wear_path_averaged_revolutions=2,
+            wear_path_analysis_revolutions=25,
+            wear_path_lyapunov_revolutions=10.0,
+            wear_path_lyapunov_discard=2.0,
+            wear_path_flexible_rods=False,
         )
 
     def to_dict(self) -> dict[str, Any]:
@@ -179,4 +274,5 @@ class StudySettings:
         d = dataclasses.asdict(self)
         d["elements"] = list(self.elements)
         d["orbit_speeds"] = list(self.orbit_speeds)
+        d["wear_path_checkpoints"] = list(self.wear_path_checkpoints)
         return d

@@ -26,6 +26,7 @@ from mechanism.core import load_scene
 from .._bifurcation import bifurcation
 from .._wear_report import wear_profile_section
 from ..sweep import Analysis, sweep
+from ._claims import judge_claims, path_label
 from ._published import (
     BEFORE_SPEEDS,
     CLEARANCES,
@@ -35,6 +36,7 @@ from ._published import (
     SPEEDS,
     SPR,
     STEP,
+    TRANSITION_CLAIMS,
     paper_claims,
     paper_tables,
     paper_wear_zones,
@@ -53,6 +55,7 @@ from ._report import (
 from ._result import PaperStudy
 from ._runs import chaos_analysis_options, compile_kernels, convergence_run, wear_scene_of
 from ._schedule import (
+    WEAR_PATHS_STAGE,
     LongRuns,
     drop_trajectories,
     folder_size,
@@ -65,6 +68,7 @@ from ._schedule import (
 from ._settings import StudySettings
 from ._summary import Stages, summary_section
 from ._tables import response_tables
+from ._wear_paths import claims_frame, outcomes_of, wear_life_opening, wear_life_tables
 
 
 def run_paper_study(
@@ -98,10 +102,15 @@ def run_paper_study(
        the rigid-rod one);
     5. **element convergence**: :func:`mechanism.element_convergence`;
     6. **orbit diagrams** over crank speed before and after wear
-       (:func:`mechanism.bifurcation`).
+       (:func:`mechanism.bifurcation`);
+    7. **wear paths**: :func:`mechanism.wear_life` at 30, 90 and 150 rpm (c = 0.2 mm) and
+       at c = 0.1, 0.2 and 0.5 mm (150 rpm), five paths, each one task of the pool.
 
-    The report opens with a summary: the verdict of each state with its confidence, the
-    exponents in 1/s and bits per sample, and the paper's values and claims beside ours.
+    The report opens with a summary: first the wear-life answer — each wear path's cycles
+    to chaos (or "not within N cycles") with its confidence, beside the paper's claims on
+    the transition to chaos, each with agree / disagree / cannot tell and one line of
+    why — then the verdict of each state with its confidence, the exponents in 1/s and
+    bits per sample, and the paper's values and claims beside ours.
 
     Parameters
     ----------
@@ -271,6 +280,7 @@ class _Results:
     trajectories: dict[str, xr.Dataset]
     equations: dict[str, Any]
     rigid_equations: dict[str, Any]
+    wear_paths: dict[tuple[float, float], Any]
 
 
 def _compile_in_pool(run: _Run, pool: Any) -> None:
@@ -302,6 +312,8 @@ def _run_stages(run: _Run, long_runs: LongRuns) -> _Results:
         convergence, convergence_errors = _element_convergence(run)
     with run.stages.stage("orbit diagrams over speed"):
         orbits = _orbit_diagrams(run, state_scenes)
+    with run.stages.stage(WEAR_PATHS_STAGE):
+        wear_paths = _collect_wear_paths(run, long_runs)
     with run.stages.stage("long runs for the chaos analysis and exponents"):
         trajectories, equations, rigid_equations = _collect_long_runs(run, long_runs)
     return _Results(
@@ -316,7 +328,23 @@ def _run_stages(run: _Run, long_runs: LongRuns) -> _Results:
         trajectories=trajectories,
         equations=equations,
         rigid_equations=rigid_equations,
+        wear_paths=wear_paths,
     )
+
+
+def _collect_wear_paths(run: _Run, long_runs: LongRuns) -> dict[tuple[float, float], Any]:
+    """Each wear path's WearLife, or the exception its run raised (the answer says it
+    cannot tell, and why)."""
+    found: dict[tuple[float, float], Any] = {}
+    for key, future in long_runs.paths().items():
+        try:
+            found[key] = future.result()
+        except Exception as exc:
+            found[key] = exc
+            run.unavailable.append(
+                f"wear path at {path_label(*key)} failed: {type(exc).__name__}: {exc}"
+            )
+    return found
 
 
 def _before_wear_sweep(run: _Run) -> xr.Dataset:
@@ -522,6 +550,8 @@ def _report(
         figures=headline,
         series_rods=rods_of(trajectories, settings),
     )
+    if results.wear_paths:
+        summary = _with_wear_life(summary, results.wear_paths, settings)
     sections = [summary]
     if results.profiles:
         sections.append(
@@ -530,6 +560,23 @@ def _report(
             )
         )
     return dataclasses.replace(rep, sections=(*sections, *rep.sections))
+
+
+def _with_wear_life(
+    summary: chaoskit.ReportSection,
+    paths: Mapping[tuple[float, float], Any],
+    settings: StudySettings,
+) -> chaoskit.ReportSection:
+    """The summary opening with the wear-life answer: its sentences first, then the claims
+    and the paths tables before the before/after-wear answer."""
+    outcomes = outcomes_of(paths)
+    verdicts = judge_claims(TRANSITION_CLAIMS, outcomes)
+    opening = wear_life_opening(outcomes, verdicts, settings)
+    return dataclasses.replace(
+        summary,
+        text=f"{opening} {summary.text}",
+        items=(*wear_life_tables(outcomes, verdicts, settings), *summary.items),
+    )
 
 
 def _keep_or_drop_trajectories(
@@ -580,4 +627,10 @@ def _finish(
             **{f"after {k:g} rpm": v for k, v in results.after.items()},
         },
         motions=dict(rep.motions),
+        wear_paths=dict(results.wear_paths),
+        transition_claims=claims_frame(
+            judge_claims(TRANSITION_CLAIMS, outcomes_of(results.wear_paths))
+        )
+        if results.wear_paths
+        else pd.DataFrame(),
     )

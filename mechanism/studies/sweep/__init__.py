@@ -23,9 +23,16 @@ from __future__ import annotations
 from ._analysis import Analysis
 from ._backends import dask_client
 from ._driver import resolve_scene, sweep
-from ._gather import load_sweep
+from ._gather import key_attrs, load_sweep
 from ._point import STATUSES
-from ._store import SweepStoreBusy, SweepStoreMismatch
+from ._store import (
+    MANIFEST_FORMAT,
+    SweepStoreBusy,
+    SweepStoreMismatch,
+    check_or_write_manifest,
+    locked,
+    remove_stale_temporaries,
+)
 from ._transforms import (
     WEAR_AFTER_SETTINGS,
     GridTransform,
@@ -36,6 +43,7 @@ from ._transforms import (
 from ._views import chaos_map, stroboscopic_points
 
 __all__ = [
+    "MANIFEST_FORMAT",
     "STATUSES",
     "WEAR_AFTER_SETTINGS",
     "Analysis",
@@ -43,10 +51,14 @@ __all__ = [
     "SweepStoreBusy",
     "SweepStoreMismatch",
     "chaos_map",
+    "check_or_write_manifest",
     "dask_client",
     "grid_transforms",
+    "key_attrs",
     "load_sweep",
+    "locked",
     "register_grid_transform",
+    "remove_stale_temporaries",
     "resolve_scene",
     "stroboscopic_points",
     "sweep",
