@@ -56,7 +56,8 @@ def slot_table(keys, total):
 
 
 @njit(cache=True, inline="always")
-def _find(keys, key):
+def find_key(keys, key):
+    """Position of ``key`` in the sorted ``keys``, or −1 (binary search)."""
     lo = 0
     hi = keys.size
     while lo < hi:
@@ -165,7 +166,7 @@ def _ring(
                 if _join(g1, e2 if mx else e2 * e2, mx) > best:
                     continue
                 key = c0 * strd[0] + c1 * strd[1] + c2 * strd[2]
-                pos = slot[key] if slot.size else _find(keys, key)
+                pos = slot[key] if slot.size else find_key(keys, key)
                 if pos < 0:
                     continue
                 best, best_j = _scan_cell(

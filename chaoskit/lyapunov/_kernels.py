@@ -5,6 +5,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from .._neighbors_kernels import find_key
+
 
 @njit(cache=True, inline="always")
 def _row_sq_distance(a: np.ndarray, i: int, b: np.ndarray, j: int) -> float:
@@ -521,22 +523,6 @@ def evolve_pair(
 # does not depend on it.
 
 
-@njit(cache=True)
-def _find_key(keys: np.ndarray, key: int) -> int:
-    """Position of ``key`` in the sorted ``keys``, or −1."""
-    lo = 0
-    hi = keys.size
-    while lo < hi:
-        mid = (lo + hi) // 2
-        if keys[mid] < key:
-            lo = mid + 1
-        else:
-            hi = mid
-    if lo < keys.size and keys[lo] == key:
-        return lo
-    return -1
-
-
 @njit(cache=True, inline="always")
 def _is_candidate(c: int, fid: int, w: int, stop: int) -> bool:
     """Outside the Theiler window ``w`` of ``fid``, with a successor before ``stop``."""
@@ -611,7 +597,7 @@ def _band_scan(
         else:
             if not inside or gap2 > rc2:
                 continue
-            pos = _find_key(keys, key)
+            pos = find_key(keys, key)
             if pos < 0:
                 continue
             lo, hi = starts[pos], starts[pos + 1]
