@@ -1,6 +1,5 @@
-"""Analyses of one ANCF beam: static equilibrium by Newton's method (validation test S4), the
-linearised eigenmodes (S5) and the Euler–Bernoulli reference frequencies they are checked
-against."""
+"""Analyses of one ANCF beam: static equilibrium by Newton's method, the linearised
+eigenmodes and the Euler–Bernoulli reference frequencies they are checked against."""
 
 from __future__ import annotations
 
