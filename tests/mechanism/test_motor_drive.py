@@ -183,3 +183,20 @@ def test_flywheel_on_a_flexible_body_is_a_one_line_error() -> None:
     assert info.value.problems == (
         "drive.flywheel_inertia: the flywheel needs a rigid second body of joint 'O'; got 'rod'",
     )
+
+
+def test_a_crank_driven_past_the_reserved_sections_says_so() -> None:
+    """A constant torque of 5 T_s on the crank overruns the motor: the crank settles at
+    ω₀ (1 + 5) = 6 ω₀, beyond the room reserved for sections (4 × the no-load speed), so
+    the run warns and keeps the first sections, all at 2πk; at the motor's own speed it
+    does not warn (the test suite turns such warnings into errors)."""
+    overrun = motor_crank(flywheel=0.0).replace(
+        {"forces": {"push": {"type": "load", "body": "crank", "point": "O", "torque": 5 * STALL}}}
+    )
+    record = mechanism.SectionsRecord(discard=0.0)
+    with pytest.warns(mechanism.SimulationWarning, match=r"only the first \d+ sections are kept"):
+        ds = mechanism.simulate(overrun, t_end=2.0, record=record)
+    k = ds.drive_cycle.values
+    assert k.size > 0 and np.array_equal(k, np.arange(k[0], k[0] + k.size))
+    assert np.max(np.abs(ds.crank_angle.values - 2.0 * math.pi * k)) < 1e-6
+    mechanism.simulate(motor_crank(flywheel=0.0), t_end=2.0, record=record)

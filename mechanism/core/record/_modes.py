@@ -10,6 +10,7 @@ change to ``simulate``.
 from __future__ import annotations
 
 import math
+import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
 from typing import Any, ClassVar
@@ -19,6 +20,7 @@ import xarray as xr
 
 from chaoskit.contract import check_choice, check_positive
 from mechanism.core._run_checks import (
+    SimulationWarning,
     estimated_run_bytes,
     warn_if_deep_penetration,
     warn_if_large,
@@ -471,6 +473,16 @@ class SectionsRecord(MetricsRecord):
         else:
             metrics = super().dataset(model, run, ideal_model, ideal_run, t_out, times, attrs)
         ds = sections_dataset(model, run, ideal_run, metrics=metrics, phase=self.phase, attrs=attrs)
+        if _free_crank(model) and ds.sizes["crossing"] >= self.sections(times, model):
+            # the crank outran the room reserved for its sections (an overrunning load
+            # drove it far past the motor's no-load speed): say so rather than drop quietly
+            warnings.warn(
+                f"the crank turned faster than {_FREE_CRANK_MARGIN:g} × the motor's no-load "
+                f"speed on average; only the first {ds.sizes['crossing']} sections are kept "
+                "(shorten t_end or raise drive.no_load_speed_rpm).",
+                SimulationWarning,
+                stacklevel=2,
+            )
         return ds.isel(crossing=ds["time"].values <= times.duration * (1.0 + 1e-9))
 
 
