@@ -53,6 +53,14 @@ def paper_command(
     )
     for line in study.unavailable:
         typer.echo(f"not available in this version: {line}")
+    claims = study.transition_claims
+    if not claims.empty:
+        # the wear-life answer first: the paper's claims on the transition to chaos, judged
+        # on the wear paths
+        typer.echo("Wear life against the paper's claims on the transition to chaos:")
+        for short, row in claims.iterrows():
+            typer.echo(f"  {row['agreement']}: {short} — {row['why']}")
+        typer.echo("")
     # the answer, right above the files: the motion verdict of each state
     typer.echo("Motion verdict per state:")
     typer.echo(study.answer.to_string() if study.motions else "  none (no chaos run finished)")

@@ -536,6 +536,30 @@ def test_paper_command_prints_the_answer_before_the_files(tiny_study, monkeypatc
     assert lines[head + 5] == "" and lines[head + 6] == f"report: {tiny_study.report_html}"
 
 
+def test_paper_command_opens_with_the_judged_transition_claims(tiny_study, monkeypatch, tmp_path):
+    """With wear paths, the first lines name each of the paper's transition claims with
+    agree / disagree / cannot tell and why, above the motion verdicts."""
+    claims = pd.DataFrame(
+        {
+            "claim": ["“speeds below 90 rpm …”", "“enlarged clearances …”"],
+            "agreement": ["disagree", "cannot tell"],
+            "why": ["30 rpm turns chaotic after 5 000 cycles", "the 0.5 mm path failed"],
+        },
+        index=pd.Index(["low speeds stabilise", "clearance accelerates"], name="paper's claim"),
+    )
+    study = dataclasses.replace(tiny_study, transition_claims=claims)
+    monkeypatch.setattr(cli_paper, "run_paper_study", lambda *args, **kwargs: study)
+    result = CliRunner().invoke(mechanism.cli.app, ["paper", "--quick", "-o", str(tmp_path)])
+    assert result.exit_code == 0, result.output
+    lines = result.output.splitlines()
+    head = lines.index("Wear life against the paper's claims on the transition to chaos:")
+    assert lines[head + 1 : head + 3] == [
+        "  disagree: low speeds stabilise — 30 rpm turns chaotic after 5 000 cycles",
+        "  cannot tell: clearance accelerates — the 0.5 mm path failed",
+    ]
+    assert lines[head + 3] == "" and lines[head + 4] == "Motion verdict per state:"
+
+
 def test_settings_mapping_replaces_fields_of_the_paper_settings(tiny_study):
     assert tiny_study.settings == dataclasses.replace(StudySettings.paper(), **TINY)
     assert not tiny_study.quick
