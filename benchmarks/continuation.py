@@ -42,6 +42,7 @@ def run(start: float, stop: float, step: float, locate: float, tol: float | None
     settings = mechanism.ContinuationSettings(
         step=step, min_step=step / 64, max_step=4 * step, locate_tolerance=locate,
         shooting_tolerance=tol, max_period=2, easy_iterations=5, max_iterations=8,
+        segments=1,
     )  # fmt: skip
     cpu = time.process_time()
     c = mechanism.continuation(rigid_scene(), parameter=KEY, span=(start, stop), settings=settings)
@@ -74,7 +75,9 @@ def sweep(args: argparse.Namespace) -> None:
         print(f"branch period {b.period} {b.origin}: {b.parameter[0]:.2f}-{b.parameter[-1]:.2f} "
               f"rpm, {len(b.points)} points, end: {b.end}")  # fmt: skip
     for bif in c.bifurcations:
-        print(f"{bif.kind} at {bif.parameter:.3f} rpm {bif.bracket}: {bif.explanation}")
+        where = "end of branch" if bif.branch_end else "on branch"
+        print(f"{bif.kind} ({where} {bif.branch}) at {bif.parameter:.3f} rpm {bif.bracket}: "
+              f"{bif.explanation}")  # fmt: skip
     diagram = xr.open_dataset(DIAGRAM)
     r = mechanism.route(c, diagram)
     print("\n".join(r.lines()))

@@ -12,7 +12,13 @@ kernels (numba dispatchers) and Python between them:
 * Simeon's flexible slider-crank (16 elements) for 0.1 s;
 * ``lyapunov_rosenstein`` on Lorenz x, N = 50 000, all reference points;
 * a fresh install (``--compile``): first calls in a child process whose numba cache is an
-  empty folder (``NUMBA_CACHE_DIR``), minus the same calls warm.
+  empty folder (``NUMBA_CACHE_DIR``), minus the same calls warm;
+* the exponent's cost: ``lyapunov_exponent`` against ``simulate(record="sections")`` of
+  the same revolutions, side by side in one process and alternated ``--repeats`` times
+  (the least CPU time of each kept, so the machine's load falls on both alike), for the
+  rigid paper scene with the directional and the split difference of the deviation, and
+  for the flexible one; with the exponent and its interval (``--exponent-cost-only`` runs
+  this part alone and writes ``docs/benchmarks/exponent-cost.csv``).
 
 Writes ``docs/benchmarks/profiles.csv`` and prints the tables. Run from the repository
 root (about 3 minutes of CPU, plus about 3 for ``--compile``):
@@ -25,6 +31,7 @@ from __future__ import annotations
 import argparse
 import cProfile
 import csv
+import math
 import os
 import pstats
 import subprocess
@@ -38,6 +45,8 @@ from chaoskit import lyapunov_rosenstein, systems
 from chaoskit.contract import atomic_write
 
 OUT = Path(__file__).resolve().parents[1] / "docs" / "benchmarks" / "profiles.csv"
+#: where ``--exponent-cost-only`` writes by default
+OUT_EXPONENT = OUT.with_name("exponent-cost.csv")
 COUNTERS = (
     "steps",
     "rejected_steps",
@@ -141,6 +150,70 @@ def scene_rows(revs_rigid: float, revs_flex: float, exp_revs: float) -> list[dic
                 "revolution",
             )
         )
+    return rows
+
+
+def _exponent_row(name: str, out, cpu: float, revs: float, sections_cpu: float) -> dict:
+    stats = out.stats
+    attempted = stats.steps + stats.rejected_steps
+    row = {
+        "run": name,
+        "unit": "revolution",
+        "cpu_s_per_unit": cpu / revs,
+        "cpu_over_sections": cpu / sections_cpu,
+        "exponent": out.exponent,
+        "ci_low": out.ci[0],
+        "ci_high": out.ci[1],
+        "steps_per_unit": stats.steps / revs,
+        "rejected_steps_per_unit": stats.rejected_steps / revs,
+        "function_evaluations_per_unit": stats.function_evaluations / revs,
+        "function_evaluations_per_attempted_step": stats.function_evaluations / attempted,
+    }
+    print({k: (round(v, 4) if isinstance(v, float) else v) for k, v in row.items()}, flush=True)
+    return row
+
+
+def exponent_cost_rows(revs_rigid: float, revs_flex: float, repeats: int) -> list[dict]:
+    """``lyapunov_exponent`` against a sections run of the same revolutions, in one
+    process: the least CPU time of ``repeats`` alternated runs of each."""
+    rigid = _paper(False)
+    cases = [
+        ("rigid", rigid, revs_rigid, "directional", mechanism.LyapunovSettings()),
+        ("rigid", rigid, revs_rigid, "split", mechanism.LyapunovSettings(difference="split")),
+        ("flexible", _paper(True), revs_flex, "copy", mechanism.LyapunovSettings()),
+    ]
+    rows = []
+    for label in ("rigid", "flexible"):
+        mine = [c for c in cases if c[0] == label]
+        scene, revs = mine[0][1], mine[0][2]
+        mechanism.simulate(scene, revolutions=0.02, record="sections")  # compile / load
+        for case in mine:
+            mechanism.lyapunov_exponent(scene, revolutions=0.02, settings=case[4])
+        best = {"sections": math.inf} | {c[3]: math.inf for c in mine}
+        results = {}
+        for _ in range(repeats):
+            cpu = time.process_time()
+            ds = mechanism.simulate(scene, revolutions=revs, record="sections")
+            best["sections"] = min(best["sections"], time.process_time() - cpu)
+            for case in mine:
+                cpu = time.process_time()
+                results[case[3]] = mechanism.lyapunov_exponent(
+                    scene, revolutions=revs, settings=case[4]
+                )
+                best[case[3]] = min(best[case[3]], time.process_time() - cpu)
+        row = {
+            "run": f"exponent cost: paper {label} simulate record=sections",
+            "unit": "revolution",
+            "cpu_s_per_unit": best["sections"] / revs,
+            "cpu_over_sections": 1.0,
+        }
+        row |= {f"{k}_per_unit": v / revs for k, v in _counters(ds).items() if k in COUNTERS}
+        print(row, flush=True)
+        rows.append(row)
+        for case in mine:
+            name = f"exponent cost: paper {label} lyapunov_exponent difference={case[3]}"
+            rows.append(_exponent_row(name, results[case[3]], best[case[3]], revs,
+                                      best["sections"]))  # fmt: skip
     return rows
 
 
@@ -252,17 +325,31 @@ def main() -> None:
     parser.add_argument("--flexible-revolutions", type=float, default=0.5)
     parser.add_argument("--exponent-revolutions", type=float, default=1.0)
     parser.add_argument("--compile", action="store_true", help="also time a fresh install")
-    parser.add_argument("--out", type=Path, default=OUT, help="CSV to write")
+    parser.add_argument("--repeats", type=int, default=3, help="runs of each in the exponent cost")
+    parser.add_argument(
+        "--exponent-cost-only", action="store_true", help="only the exponent's cost"
+    )
+    parser.add_argument(
+        "--out",
+        type=Path,
+        default=None,
+        help=f"CSV to write (default {OUT.name}, or {OUT_EXPONENT.name} with --exponent-cost-only)",
+    )
     args = parser.parse_args()
     for name in ("revolutions", "flexible_revolutions", "exponent_revolutions"):
         if getattr(args, name) <= 0:
             parser.error(f"--{name.replace('_', '-')} must be > 0")
-    rows = scene_rows(args.revolutions, args.flexible_revolutions, args.exponent_revolutions)
-    rows += other_rows()
+    if args.repeats < 1:
+        parser.error("--repeats must be >= 1")
+    rows = exponent_cost_rows(args.revolutions, args.flexible_revolutions, args.repeats)
+    if not args.exponent_cost_only:
+        rows += scene_rows(args.revolutions, args.flexible_revolutions, args.exponent_revolutions)
+        rows += other_rows()
     if args.compile:
         rows += compile_rows()
-    write_rows(args.out, rows)
-    print(f"wrote {args.out}")
+    out = args.out or (OUT_EXPONENT if args.exponent_cost_only else OUT)
+    write_rows(out, rows)
+    print(f"wrote {out}")
 
 
 if __name__ == "__main__":

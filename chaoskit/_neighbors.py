@@ -10,7 +10,8 @@ so the loop ends after a few rounds. Time O(N log N), memory O(N·m) plus a boun
 
 :func:`grid_nearest_neighbors` finds the same neighbours box-assisted (TISEAN's search):
 faster when the Theiler window is wide, since an excluded point costs one comparison there
-instead of a tree candidate.
+instead of a tree candidate. :func:`radius_grid` buckets the points for the fixed-radius
+neighbourhoods of Kantz's estimator (cells as wide as the radius).
 """
 
 from __future__ import annotations
@@ -27,6 +28,7 @@ __all__ = [
     "grid_nearest_neighbors",
     "mean_period",
     "nearest_neighbors",
+    "radius_grid",
 ]
 
 _CHUNK_ENTRIES = 2_000_000  # candidates held at once (≈ 32 MB of index + distance)
@@ -246,6 +248,43 @@ def grid_nearest_neighbors(
         members,
         p == np.inf,
     )
+
+
+def radius_grid(points: np.ndarray, radius: float) -> tuple:
+    """Points bucketed for a search of every point within ``radius`` (maximum norm).
+
+    Cells at least ``radius`` wide over up to three coordinates (first, last and middle
+    delay coordinate), so that a point's neighbours within ``radius`` lie in the 3^g cells
+    around its own: TISEAN's box-assisted search for fixed-radius neighbourhoods.
+
+    Returns
+    -------
+    members, spts, keys, starts, slot, grid
+        The rows sorted by cell and their coordinates in that order, each occupied cell id
+        and the offset of its first member (``starts`` has one more entry), the position of
+        every cell id in ``keys`` (−1: empty; an empty array when the grid is too large for
+        such a table), and ``(coordinates, lower corner, cell edge, cells per coordinate,
+        strides)``: the arguments of the compiled kernels that read it.
+    """
+    points = np.ascontiguousarray(points, dtype=np.float64)
+    n_points = points.shape[0]
+    cols = _grid_columns(points.shape[1])
+    span = float(np.ptp(points[:, cols], axis=0).max()) if n_points else 0.0
+    # never more cells than the ids hold: a coarser grid only adds candidates
+    # (a hair wider than the radius, so that rounding of the cell index cannot lose one)
+    cell = max(float(radius) * (1.0 + 1e-9), span / (_GRID_MAX_CELLS - 1), np.finfo(float).tiny)
+    lo, ncell, stride = _grid(points, cols, cell)
+    keys = _nk.cell_keys(points, cols, lo, cell, ncell, stride)
+    members = np.argsort(keys, kind="stable").astype(np.int64)
+    sorted_keys = keys[members]
+    first = np.flatnonzero(np.r_[True, sorted_keys[1:] != sorted_keys[:-1]])
+    starts = np.append(first, n_points).astype(np.int64)
+    unique = np.ascontiguousarray(sorted_keys[first])
+    total = int(np.prod(ncell.astype(np.float64)))
+    dense = total <= max(_GRID_TABLE, 8 * n_points)
+    slot = _nk.slot_table(unique, total) if dense else np.empty(0, dtype=np.int32)
+    grid = (cols, lo, float(cell), ncell, stride)
+    return members, np.ascontiguousarray(points[members]), unique, starts, slot, grid
 
 
 def mean_period(x: np.ndarray) -> float:

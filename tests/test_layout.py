@@ -20,7 +20,6 @@ import importlib
 import re
 import subprocess
 import sys
-from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -335,12 +334,6 @@ def layer_problems(root: Path) -> list[str]:
 MAX_MODULE_LINES = 800
 #: Parameters (``self`` included) above which a public function wants an options object.
 MAX_PARAMETERS = 12
-#: Public functions still over ``MAX_PARAMETERS``, with what they take; each must still be
-#: over the limit (``test_signature_exceptions_are_still_needed``), so a fixed one leaves.
-SIGNATURE_EXCEPTIONS = {
-    "integrate_tangent": "the tangent loop's tolerances, step limits and deviation options",
-    "integrate_tangent_flexible": "the flexible tangent loop's tolerances and step limits",
-}
 
 
 def long_module_problems(root: Path, packages: tuple[str, ...] = PACKAGES) -> list[str]:
@@ -403,12 +396,9 @@ def _is_command(func: ast.FunctionDef) -> bool:
     )
 
 
-def long_signature_problems(
-    root: Path, packages: tuple[str, ...] = PACKAGES, exceptions: Sequence[str] = ()
-) -> list[str]:
+def long_signature_problems(root: Path, packages: tuple[str, ...] = PACKAGES) -> list[str]:
     """Public functions and public methods of public classes (a name of some ``__all__``)
-    with more than ``MAX_PARAMETERS`` parameters; command-line commands and the names in
-    ``exceptions`` are left out."""
+    with more than ``MAX_PARAMETERS`` parameters; command-line commands are left out."""
     trees = {
         path: ast.parse(path.read_text(encoding="utf-8"), filename=str(path))
         for path in source_files(root, packages).values()
@@ -419,7 +409,7 @@ def long_signature_problems(
         for node in tree.body:
             if not isinstance(node, ast.FunctionDef | ast.ClassDef) or node.name not in public:
                 continue
-            if node.name in exceptions or (isinstance(node, ast.FunctionDef) and _is_command(node)):
+            if isinstance(node, ast.FunctionDef) and _is_command(node):
                 continue
             funcs = [node] if isinstance(node, ast.FunctionDef) else [
                 f for f in node.body
@@ -464,12 +454,7 @@ def test_modules_stay_small() -> None:
 
 
 def test_public_signatures_stay_short() -> None:
-    assert long_signature_problems(REPO, exceptions=tuple(SIGNATURE_EXCEPTIONS)) == []
-
-
-def test_signature_exceptions_are_still_needed() -> None:
-    over = {p.split(": ", 1)[1].split(" takes")[0] for p in long_signature_problems(REPO)}
-    assert set(SIGNATURE_EXCEPTIONS) <= over
+    assert long_signature_problems(REPO) == []
 
 
 def test_mechanism_is_core_and_studies() -> None:

@@ -8,7 +8,7 @@ from typing import Any, Literal
 import numpy as np
 import xarray as xr
 
-from .._neighbors import nearest_neighbors
+from .._neighbors import grid_nearest_neighbors, radius_grid
 from .._validate import check_choice, check_int
 from . import _kantz_kernels as _kk
 from ._common import batch_means_ci, references, result_fields, with_systematic
@@ -38,7 +38,7 @@ _PLATEAU_PAIRS = 4000
 #: reference points per call of the compiled kernel: each call is a fraction of a second
 #: on 10^6 samples, and between calls Python runs, so Ctrl-C stops the estimate promptly
 #: (the references are independent: the result does not depend on it)
-REF_CHUNK = 64
+REF_CHUNK = 256
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -123,12 +123,13 @@ def _fit_line(k: np.ndarray, y: np.ndarray) -> tuple[float, float]:
 
 def _ref_slopes(logd: np.ndarray, ks: np.ndarray, a: int, b: int) -> np.ndarray:
     """Least-squares slope of each reference point's own curve over ``ks[a:b+1]``."""
-    y = logd[:, a : b + 1]
+    y = np.ascontiguousarray(logd[:, a : b + 1])
     k = ks[a : b + 1].astype(np.float64)
-    ok = np.isfinite(y).all(axis=1)
-    y = y[ok]
     kc = k - k.mean()
-    return (y - y.mean(axis=1, keepdims=True)) @ kc / float(kc @ kc)
+    # the centred abscissae sum to zero, so the curve's own mean need not be removed; a
+    # NaN anywhere in a row (no neighbour at some horizon) makes its slope NaN: dropped
+    slopes = y @ kc / float(kc @ kc)
+    return slopes[np.isfinite(slopes)]
 
 
 def _log_mean_distance(pts: np.ndarray, pairs: np.ndarray, transverse: bool) -> float:
@@ -144,22 +145,24 @@ def _log_mean_distance(pts: np.ndarray, pairs: np.ndarray, transverse: bool) -> 
     return float(np.log(np.sqrt(d2).mean()))
 
 
-def _fit_all(logd, used, ks, fixed, plateau, min_span) -> dict:
-    """Curve and fit of every radius; the smallest radius with a scaling region is chosen."""
+def _fit_all(total, count, used, ks, fixed, plateau, min_span) -> dict:
+    """Curve and fit of every radius; the smallest radius with a scaling region is chosen.
+
+    ``total[e, q]`` and ``count[e, q]``: sum and number of the finite per-reference
+    values of ``S(k_q, ε_e)``.
+    """
     have = (used > 0).sum(axis=0)
     if not have.any():
         raise ValueError(
             "no reference point has a neighbour within the largest epsilon; use larger radii."
         )
     fits: list[dict | None] = []
-    for e in range(logd.shape[1]):
+    for e in range(total.shape[0]):
         if have[e] < 2:
             fits.append(None)
             continue
-        finite = np.isfinite(logd[:, e, :])
-        cnt = finite.sum(axis=0)
-        total = np.where(finite, logd[:, e, :], 0.0).sum(axis=0)
-        curve = np.where(cnt > 0, total / np.maximum(cnt, 1), np.nan)
+        cnt = count[e]
+        curve = np.where(cnt > 0, total[e] / np.maximum(cnt, 1), np.nan)
         if fixed:
             a = int(np.searchsorted(ks, fixed[0]))
             b = int(np.searchsorted(ks, fixed[1], side="right")) - 1
@@ -188,6 +191,172 @@ def _fit_all(logd, used, ks, fixed, plateau, min_span) -> dict:
         "e_star": e_star,
         "slope": fits[e_star]["slope"],  # type: ignore[index]
     }
+
+
+def _check_epsilon(epsilon: Any) -> np.ndarray | None:
+    """Given radii sorted ascending, or None."""
+    if epsilon is None:
+        return None
+    eps = np.sort(np.atleast_1d(np.asarray(epsilon, dtype=np.float64)))
+    if eps.ndim != 1 or not (np.isfinite(eps).all() and (eps > 0).all()):
+        raise ValueError(f"epsilon must be positive finite radii; got {epsilon!r}.")
+    return eps
+
+
+def _radii(given, head, ref, w, sigma, scale) -> tuple[np.ndarray, str]:
+    """Radii in units of the standard deviation and the rule that chose them."""
+    if given is not None:
+        return given / scale, "given"
+    _, d_nn = grid_nearest_neighbors(head, theiler_window=w, query=ref, p=np.inf)
+    eps0 = _NN_FACTOR * float(np.median(d_nn))
+    rule = f"auto: {_NN_FACTOR:g} × median nearest-neighbour distance"
+    if np.isfinite(sigma) and _NOISE_FACTOR * sigma > eps0:
+        eps0 = _NOISE_FACTOR * sigma
+        rule = f"auto: {_NOISE_FACTOR:g} × noise level"
+    eps = eps0 * _EPSILON_RATIO ** np.arange(_N_EPSILON)
+    return eps, rule + f", {_N_EPSILON} radii in ratio √2"
+
+
+class _Search:
+    """The ε-neighbourhoods of the reference points, box-assisted, for either distance."""
+
+    def __init__(self, pts, head, ref, w, eps, ks, max_neighbors) -> None:
+        self.pts, self.ref, self.w, self.eps, self.ks = pts, ref, w, eps, ks
+        self.max_neighbors = max_neighbors
+        self.cols = np.ascontiguousarray(pts.T)
+        self.grid = radius_grid(head, float(eps[-1]))
+        # position of each row in the order of its first coordinate: the neighbours are
+        # taken in that order, so the strided subset does not depend on the grid
+        rank = np.empty(head.shape[0], dtype=np.int64)
+        rank[np.argsort(head[:, 0], kind="stable")] = np.arange(head.shape[0])
+        self.rank = rank
+        n = head.shape[0]
+        self.work = (np.empty(n, dtype=np.int64), np.empty(n), np.empty(n, dtype=np.int64))
+
+    def log_distances(self, transverse: bool, upto: int | None = None, ks=None):
+        """The neighbours used per reference and radius, and the sum and count of the
+        finite ``S(k, ε)`` per radius and horizon; with ``upto``, also the per-reference
+        ``S`` (reference, radius, horizon) of the radii ``0 … upto`` at the horizons
+        ``ks``, else None (it would hold references × radii × horizons values)."""
+        ref = self.ref
+        eps = self.eps if upto is None else self.eps[: upto + 1]
+        ks = self.ks if ks is None else ks
+        n_e, nk = eps.size, ks.size
+        logd = np.empty((ref.size, n_e, nk) if upto is not None else (0, 0, 0))
+        used = np.empty((ref.size, n_e), dtype=np.int64)
+        total = np.zeros((n_e, nk))
+        count = np.zeros((n_e, nk), dtype=np.int64)
+        members, spts, keys, starts, slot, grid = self.grid
+        for r0 in range(0, ref.size, REF_CHUNK):
+            part = slice(r0, min(r0 + REF_CHUNK, ref.size))
+            used[part] = _kk.kantz_log_distances(
+                self.pts,
+                self.cols,
+                spts,
+                members,
+                self.rank,
+                slot,
+                keys,
+                starts,
+                grid,
+                ref[part],
+                self.w,
+                eps,
+                ks,
+                self.max_neighbors,
+                transverse,
+                logd[part] if upto is not None else logd,
+                total,
+                count,
+                *self.work,
+            )
+        return (logd if upto is not None else None), used, total, count
+
+
+def _with_distance(run, distance: str, prep) -> tuple[dict, str, str]:
+    """Fit with the given distance, or (``"auto"``) Euclidean, refitted transverse for a
+    weakly chaotic flow; returns the fit, the distance used and the rule."""
+    if distance != "auto":
+        return run(distance == "transverse"), distance, "given"
+    res = run(False)
+    growth = res["slope"] * prep.period
+    if prep.lag > 1 and growth < WEAK_CHAOS:
+        return (
+            run(True),
+            "transverse",
+            f"auto: euclidean exponent × mean period = {growth:.3g} nats < {WEAK_CHAOS}, "
+            "so the neutral along-flow separation dominates; refitted transverse",
+        )
+    return res, "euclidean", "auto: maps and strongly chaotic flows"
+
+
+def _interval(prep, res, search, ks, fixed, min_span) -> tuple[tuple[float, float], str, dict]:
+    """95 % interval of the exponent, its wording, and its half-widths (per unit of dt)."""
+    fit, e_star, pick = res["fits"][res["e_star"]], res["e_star"], res["pick"]
+    a, b, slope = fit["a"], fit["b"], fit["slope"]
+    # each reference point's own curve of the chosen radius over the fit range, computed
+    # again rather than kept for every radius and horizon (a cheap pass: the smallest
+    # radii have the fewest neighbours)
+    logd = search.log_distances(res["transverse"], e_star, ks[a : b + 1])[0]
+    per_ref = _ref_slopes(logd[:, e_star, :], ks[a : b + 1], 0, b - a)
+    _, half, n_batches = batch_means_ci(per_ref)
+    fit_below = fit_above = 0.0
+    if not fixed and fit["found"]:
+        end = max(b, saturation_index(fit["curve"], res["plateau"]))
+        fit_below, fit_above = window_spread(ks, fit["curve"], a, b, end, slope, min_span)
+    eps_half = 0.5 * float(np.ptp(pick)) if pick.size > 1 else 0.0
+    ci, sys_half, sys_note = with_systematic(
+        slope / prep.dt,
+        (half + fit_below + eps_half) / prep.dt,
+        (half + fit_above + eps_half) / prep.dt,
+        method="kantz",
+        flow=prep.lag > 1,
+    )
+    ci_method = (
+        f"Student-t 95 % interval over {n_batches} contiguous batches of per-reference "
+        f"slopes ({per_ref.size} reference points) in the fit range, widened by the fit-range "
+        f"sensitivity and by half the spread of the slopes over the radii{sys_note}"
+    )
+    if not res["any_found"]:
+        ci = (-np.inf, np.inf)
+        ci_method = "no straight scaling region found for any radius: interval left unbounded"
+    halves = {
+        "ci_sampling_half_width": half / prep.dt,
+        "ci_fit_range_half_width": max(fit_below, fit_above) / prep.dt,
+        "ci_epsilon_half_width": eps_half / prep.dt,
+        "ci_systematic_half_width": sys_half,
+    }
+    return ci, ci_method, halves
+
+
+def _result(prep, res, search, ks, fixed, min_span, sigma, subsampled, params) -> KantzResult:
+    fits, e_star, used = res["fits"], res["e_star"], res["used"]
+    fit = fits[e_star]
+    ci, ci_method, halves = _interval(prep, res, search, ks, fixed, min_span)
+    slopes = np.array([f["slope"] if f and f["found"] else np.nan for f in fits])
+    curves = np.vstack([f["curve"] if f is not None else np.full(ks.size, np.nan) for f in fits])
+    taken = used[:, e_star]
+    return KantzResult(
+        method="kantz",
+        mle=fit["slope"] / prep.dt,
+        mle_bits_per_sample=fit["slope"] / _LN2,
+        ci=ci,
+        ci_method=ci_method,
+        **result_fields(prep),
+        fit_range=(int(ks[fit["a"]]), int(ks[fit["b"]])),
+        fit_found=bool(fit["found"]),
+        r2=float(fit["r2"]),
+        horizon=ks,
+        curve=fit["curve"],
+        n_points=int(res["have"][e_star]),
+        subsampled=bool(subsampled),
+        params=params | {"mean_neighbors": float(taken[taken > 0].mean())} | halves,
+        epsilon=search.eps * prep.scale,
+        curves=curves,
+        slopes=slopes / prep.dt,
+        epsilon_index=e_star,
+        noise_level=sigma * prep.scale,
+    )
 
 
 def lyapunov_kantz(
@@ -248,8 +417,11 @@ def lyapunov_kantz(
     tangent-space exponents on a public corpus (``benchmarks/estimator_corpus.py``): 5 % of
     the estimate for maps, 90 % for flows (``params["ci_systematic_half_width"]``).
 
-    Neighbours are found in a slab of the points sorted by their first coordinate, so
-    memory stays O(N); time is O(``max_points`` × slab size + neighbours × horizons).
+    Neighbours are found box-assisted (TISEAN's search): on a grid of cells as wide as the
+    largest radius over up to three delay coordinates, only the cells around a reference
+    point are read; memory stays O(N), time is O(``max_points`` × points in 3^g cells +
+    neighbours × horizons). When more than ``max_neighbors`` qualify, the subset is taken
+    in the order of the first coordinate, so it does not depend on the grid.
 
     Parameters
     ----------
@@ -302,141 +474,43 @@ def lyapunov_kantz(
     max_points = check_int(max_points, name="max_points", minimum=10)
     max_neighbors = check_int(max_neighbors, name="max_neighbors", minimum=1)
     check_choice(distance, name="distance", choices=("auto", "euclidean", "transverse"))
-    eps_given = None
-    if epsilon is not None:
-        eps_given = np.sort(np.atleast_1d(np.asarray(epsilon, dtype=np.float64)))
-        if eps_given.ndim != 1 or not (np.isfinite(eps_given).all() and (eps_given > 0).all()):
-            raise ValueError(f"epsilon must be positive finite radii; got {epsilon!r}.")
+    eps_given = _check_epsilon(epsilon)
     prep, fixed, max_horizon, min_future = prepare_curve(
         x, embedding_dim, lag, dt, theiler_window, max_horizon, fit_range
     )
     pts, w = prep.pts, prep.theiler_window
-    n_pts = pts.shape[0]
     rng = np.random.default_rng(12345)
     plateau_log = plateau_level(pts, w, rng, False) if max_horizon is None else np.nan
     horizon_max = horizon_for(prep, plateau_log, min_future, max_horizon, fixed)
-    usable = n_pts - horizon_max
+    usable = pts.shape[0] - horizon_max
     ks = _grid(horizon_max)
     if fixed:
         ks = np.union1d(ks, np.arange(fixed[0], fixed[1] + 1))
     ref = references(usable, max_points)
     head = np.ascontiguousarray(pts[:usable])
     sigma = noise_level(prep.arr, prep.lag)
-    if eps_given is None:
-        _, d_nn = nearest_neighbors(head, theiler_window=w, query=ref, p=np.inf)
-        eps0 = _NN_FACTOR * float(np.median(d_nn))
-        eps_rule = f"auto: {_NN_FACTOR:g} × median nearest-neighbour distance"
-        if np.isfinite(sigma) and _NOISE_FACTOR * sigma > eps0:
-            eps0 = _NOISE_FACTOR * sigma
-            eps_rule = f"auto: {_NOISE_FACTOR:g} × noise level"
-        eps = eps0 * _EPSILON_RATIO ** np.arange(_N_EPSILON)
-        eps_rule += f", {_N_EPSILON} radii in ratio √2"
-    else:
-        eps = eps_given / prep.scale
-        eps_rule = "given"
-    cols = np.ascontiguousarray(pts.T)
-    order = np.argsort(head[:, 0], kind="stable").astype(np.int64)
-    key = np.ascontiguousarray(head[order, 0])
-    pairs = rng.integers(0, n_pts, (2, _PLATEAU_PAIRS))
+    eps, eps_rule = _radii(eps_given, head, ref, w, sigma, prep.scale)
+    search = _Search(pts, head, ref, w, eps, ks, max_neighbors)
+    pairs = rng.integers(0, pts.shape[0], (2, _PLATEAU_PAIRS))
     pairs = pairs[:, np.abs(pairs[0] - pairs[1]) > w]
     min_span = max(3.0, SPAN_PERIODS * prep.period)
 
     def run(transverse: bool) -> dict:
-        logd = np.empty((ref.size, eps.size, ks.size))
-        used = np.empty((ref.size, eps.size), dtype=np.int64)
-        for r0 in range(0, ref.size, REF_CHUNK):
-            part = slice(r0, min(r0 + REF_CHUNK, ref.size))
-            used[part] = _kk.kantz_log_distances_cols(
-                pts, order, key, ref[part], w, eps, ks, max_neighbors, transverse, logd[part], cols
-            )
+        _, used, total, count = search.log_distances(transverse)
         plateau = _log_mean_distance(pts, pairs, transverse)
-        return {"logd": logd, "used": used, "plateau": plateau} | _fit_all(
-            logd, used, ks, fixed, plateau, min_span
-        )
+        fit = _fit_all(total, count, used, ks, fixed, plateau, min_span)
+        return {"transverse": transverse, "used": used, "plateau": plateau} | fit
 
-    flow = prep.lag > 1
-    if distance == "auto":
-        res = run(False)
-        used_distance, distance_rule = "euclidean", "auto: maps and strongly chaotic flows"
-        growth = res["slope"] * prep.period
-        if flow and growth < WEAK_CHAOS:
-            res = run(True)
-            used_distance = "transverse"
-            distance_rule = (
-                f"auto: euclidean exponent × mean period = {growth:.3g} nats < {WEAK_CHAOS}, "
-                "so the neutral along-flow separation dominates; refitted transverse"
-            )
-    else:
-        res = run(distance == "transverse")
-        used_distance, distance_rule = distance, "given"
-    logd, used, fits, pick, plateau = (
-        res["logd"],
-        res["used"],
-        res["fits"],
-        res["pick"],
-        res["plateau"],
-    )
-    have, any_found, e_star = res["have"], res["any_found"], res["e_star"]
-    slopes = np.array([f["slope"] if f and f["found"] else np.nan for f in fits])
-    fit = fits[e_star]
-    a, b, slope = fit["a"], fit["b"], fit["slope"]
-    per_ref = _ref_slopes(logd[:, e_star, :], ks, a, b)
-    _, half, n_batches = batch_means_ci(per_ref)
-    fit_below = fit_above = 0.0
-    if not fixed and fit["found"]:
-        end = max(b, saturation_index(fit["curve"], plateau))
-        fit_below, fit_above = window_spread(ks, fit["curve"], a, b, end, slope, min_span)
-    fit_half = max(fit_below, fit_above)
-    eps_half = 0.5 * float(np.ptp(pick)) if pick.size > 1 else 0.0
-    ci, sys_half, sys_note = with_systematic(
-        slope / prep.dt,
-        (half + fit_below + eps_half) / prep.dt,
-        (half + fit_above + eps_half) / prep.dt,
-        method="kantz",
-        flow=flow,
-    )
-    ci_method = (
-        f"Student-t 95 % interval over {n_batches} contiguous batches of per-reference "
-        f"slopes ({per_ref.size} reference points) in the fit range, widened by the fit-range "
-        f"sensitivity and by half the spread of the slopes over the radii{sys_note}"
-    )
-    if not any_found:
-        ci = (-np.inf, np.inf)
-        ci_method = "no straight scaling region found for any radius: interval left unbounded"
-    curves = np.vstack([f["curve"] if f is not None else np.full(ks.size, np.nan) for f in fits])
-    return KantzResult(
-        method="kantz",
-        mle=slope / prep.dt,
-        mle_bits_per_sample=slope / _LN2,
-        ci=ci,
-        ci_method=ci_method,
-        **result_fields(prep),
-        fit_range=(int(ks[a]), int(ks[b])),
-        fit_found=bool(fit["found"]),
-        r2=float(fit["r2"]),
-        horizon=ks,
-        curve=fit["curve"],
-        n_points=int(have[e_star]),
-        subsampled=bool(ref.size < usable),
-        params={
-            "max_horizon": int(horizon_max),
-            "fit_tolerances": str(TOLERANCES),
-            "plateau": plateau,
-            "mean_period": prep.period,
-            "max_points": max_points,
-            "max_neighbors": max_neighbors,
-            "epsilon_rule": eps_rule,
-            "distance": used_distance,
-            "distance_rule": distance_rule,
-            "mean_neighbors": float(used[:, e_star][used[:, e_star] > 0].mean()),
-            "ci_sampling_half_width": half / prep.dt,
-            "ci_fit_range_half_width": fit_half / prep.dt,
-            "ci_epsilon_half_width": eps_half / prep.dt,
-            "ci_systematic_half_width": sys_half,
-        },
-        epsilon=eps * prep.scale,
-        curves=curves,
-        slopes=slopes / prep.dt,
-        epsilon_index=e_star,
-        noise_level=sigma * prep.scale,
-    )
+    res, used_distance, distance_rule = _with_distance(run, distance, prep)
+    params = {
+        "max_horizon": int(horizon_max),
+        "fit_tolerances": str(TOLERANCES),
+        "plateau": res["plateau"],
+        "mean_period": prep.period,
+        "max_points": max_points,
+        "max_neighbors": max_neighbors,
+        "epsilon_rule": eps_rule,
+        "distance": used_distance,
+        "distance_rule": distance_rule,
+    }
+    return _result(prep, res, search, ks, fixed, min_span, sigma, ref.size < usable, params)

@@ -324,6 +324,59 @@ def _euclidean_pair_slopes(pts, ref, nbr, ks, kbar, sxx):
 
 
 @njit(cache=True)
+def _sample_orbit_pair_slopes(pts, ref, nbr, ks, shift, kbar, sxx):
+    """:func:`pair_slopes` for SAMPLE_ORBIT, coordinates transposed: the sample and orbit
+    squared distances of a pair at every horizon are built column by column, with the
+    arithmetic of :func:`sq_distance` and :func:`orbit_sq_distance` (same results)."""
+    n, m = pts.shape
+    cols = np.ascontiguousarray(pts.T)
+    nk = ks.size
+    slope = np.zeros(ref.size)
+    valid = np.zeros(ref.size, dtype=np.bool_)
+    weight = np.empty(nk)
+    for q in range(nk):
+        weight[q] = ks[q] - kbar
+    last = ks[nk - 1]
+    d_sample = np.empty(nk)
+    d_orbit = np.empty(nk)
+    for p in range(ref.size):
+        i = ref[p]
+        j = nbr[p]
+        if i + last >= n or j + last + 1 >= n:
+            continue
+        s = shift[p]
+        d_sample[:] = 0.0
+        d_orbit[:] = 0.0
+        for c in range(m):
+            col = cols[c]
+            for q in range(nk):
+                jk = j + ks[q]
+                yi = col[i + ks[q]]
+                yj = col[jk]
+                diff = yj - yi
+                d_sample[q] += diff * diff
+                if s != 0.0:
+                    vel = 0.5 * (col[jk + 1] - col[jk - 1])
+                    acc = col[jk + 1] - 2.0 * yj + col[jk - 1]
+                    yj = yj + s * vel + 0.5 * s * s * acc
+                diff = yj - yi
+                d_orbit[q] += diff * diff
+        sxy = 0.0
+        ok = True
+        for q in range(nk):
+            # (sq_distance clips a negative rounding to zero; a sum of squares is not)
+            d2 = np.sqrt(d_sample[q] * d_orbit[q])
+            if d2 <= 0.0:
+                ok = False
+                break
+            sxy += weight[q] * 0.5 * np.log(d2)
+        if ok:
+            slope[p] = sxy / sxx
+            valid[p] = True
+    return slope, valid
+
+
+@njit(cache=True)
 def pair_slopes(
     pts: np.ndarray,
     ref: np.ndarray,
@@ -349,6 +402,8 @@ def pair_slopes(
         sxx += (ks[q] - kbar) ** 2
     if mode == EUCLIDEAN:
         return _euclidean_pair_slopes(pts, ref, nbr, ks, kbar, sxx)
+    if mode == SAMPLE_ORBIT:
+        return _sample_orbit_pair_slopes(pts, ref, nbr, ks, shift, kbar, sxx)
     last = ks[ks.size - 1]
     for p in range(ref.size):
         i = ref[p]

@@ -15,7 +15,7 @@ from ..embedding import estimate_delay, estimate_embedding_dim
 from ..lyapunov import lyapunov_kantz, lyapunov_rosenstein, lyapunov_wolf
 from ._clusters import section_structure
 from ._combine import combine
-from ._cycles import cycle_spread
+from ._cycles import cycle_spread, orbit_residual
 from ._evidence import (
     any_rejected,
     clearly_positive,
@@ -115,7 +115,13 @@ def classify(
       :math:`k`) if the section is :math:`k` tight clusters, the spectrum is not a torus's
       and what varies from cycle to cycle beyond white noise (:func:`cycle_spread`) is at
       most ``rule.cluster_tol`` of the standard deviation: a periodic orbit plus noise,
-      whatever the noise does to the spectrum and the exponents;
+      whatever the noise does to the spectrum and the exponents; and *periodic* when the
+      mean cycle carries at least ``1 - rule.max_residual`` of the variance and the
+      departure from it, at most ``rule.max_noise_allowance`` of the standard deviation, is
+      consistent with a linear Gaussian process (its IAAFT surrogate test does not
+      reject) and within ``rule.cluster_tol`` beyond stationary noise: a periodic orbit
+      plus coloured measurement noise, its level and colour (lag-one autocorrelation) in
+      the reason;
     * else *quasi-periodic* if the line spectrum is two or three incommensurate base
       frequencies and their combinations (white residual), or if the section fills a
       closed curve and not both exponents are clearly positive;
@@ -126,7 +132,10 @@ def classify(
       Gaussian noise, neither in the embedding dimension nor (when that is larger) in
       three delay coordinates, nor in three coordinates one sample ahead (a flow whose
       orbits separate within one delay is unpredictable a delay ahead, data and
-      surrogates alike);
+      surrogates alike); for a forced series only if the mean cycle carries less than
+      ``1 - rule.max_residual`` of the variance: else the label must beat a periodic orbit
+      plus coloured noise, and is *periodic* when the departure from the mean cycle is as
+      above (the spread then votes against it when it exceeds ``rule.cluster_tol``);
     * else *chaotic* if two exponent estimates are clearly positive — Rosenstein's and
       Wolf's, or, when exactly one of them is, Kantz's as referee —, the surrogate test
       rejects, the spectrum is broadband or unresolved, and regular motion is ruled out by
@@ -137,7 +146,10 @@ def classify(
       ``rule.min_cycles`` characteristic times; a forced series must in addition reject
       the null hypothesis of a noisy periodic orbit: the cycle-shuffled surrogate test
       (:func:`cycle_surrogate_test`) rejects, or the departure from the mean cycle is not
-      white noise and exceeds ``rule.cluster_tol`` of the standard deviation;
+      white noise and exceeds ``rule.cluster_tol`` of the standard deviation; for it, the
+      IAAFT surrogate test of the departure from a mean cycle carrying at least
+      ``1 - rule.max_residual`` of the variance stands in for the test of the series (the
+      mean cycle dilutes the departure where the chaos lives);
     * else *undetermined*, and ``Verdict.needs`` says what would decide: more drive
       periods or oscillations, more section points, a clearly positive exponent, an
       estimator that failed.
@@ -160,6 +172,9 @@ def classify(
     the correlated spread — for *chaotic*, not rejected for *periodic*); for a periodic
     orbit plus noise the exponents, the 0–1 test and the spectrum are neutral (noise
     fools them), and so is a rejection of the cycle test within the cluster tolerance.
+    Where the mean cycle carries most of the variance, the IAAFT test of the departure
+    from it votes too (``residual``): for *chaotic* when it rejects, for a periodic orbit
+    plus coloured noise when it does not.
 
     Parameters
     ----------
@@ -244,9 +259,10 @@ def classify(
     )
     lines = _lines(x, inp, drive_period, time_scale, rule, errors)
     n_cycles, unit = count_cycles(inp, x.size, time_scale)
-    cycles, spread = _cycle_null(
-        x, inp, lag, structure, lines, time_scale, rule, n_surrogates, gen, errors
-    )
+    cycles, spread, residual = _cycle_null(
+        x, inp, (lag, embedding_dim), structure, lines, time_scale, rule,
+        (n_surrogates, surrogate_max_samples), gen, errors,
+    )  # fmt: skip
     kantz = None
     kantz_positive = None
     if needs_referee(positives, structure, lines, surrogates, n_cycles >= rule.min_cycles):
@@ -269,6 +285,7 @@ def classify(
         driven=inp.kind == "forced",
         noise=noise,
         cycle_spread=spread,
+        orbit_residual=residual,
     )
     return Verdict(
         label=label,
@@ -440,20 +457,23 @@ def _lines(
 def _cycle_null(
     x: np.ndarray,
     inp: SeriesInput,
-    lag: int,
+    embedding: tuple[int, int],
     structure: Any,
     lines: Any,
     time_scale: float,
     rule: VerdictRule,
-    n_surrogates: int,
+    surrogates: tuple[int, int],
     gen: np.random.Generator,
     errors: dict[str, str],
-) -> tuple[Any, float]:
+) -> tuple[Any, float, Any]:
     """For a forced series, the null of a noisy periodic orbit: the cycle-shuffled
-    surrogate test and the correlated departure from the mean cycle (None and NaN
-    otherwise, or when they cannot be computed)."""
-    cycles = None
+    surrogate test, the correlated departure from the mean cycle and that departure read
+    as measurement noise (None, NaN and None otherwise, or when they cannot be computed).
+    ``embedding`` is (lag, dimension), ``surrogates`` (number, most samples)."""
+    cycles = residual = None
     spread = float("nan")
+    lag, embedding_dim = embedding
+    n_surrogates, max_samples = surrogates
     if inp.kind == "forced":
         try:
             # cycles of k drive periods for a section of k clusters or a series that repeats
@@ -465,7 +485,18 @@ def _cycle_null(
             spread = cycle_spread(x, k * time_scale, dt=inp.dt, max_noise=rule.max_noise_allowance)
         except ValueError as exc:
             errors["cycles"] = str(exc)
-    return cycles, spread
+            return cycles, spread, residual
+        try:
+            # drawn after the cycle test: every other result keeps its random numbers
+            residual = orbit_residual(
+                x, dt=inp.dt, period=k * time_scale, cycles=k, lag=lag,
+                embedding_dim=embedding_dim, n_surrogates=n_surrogates,
+                max_samples=max_samples, alpha=rule.alpha,
+                min_effect=rule.min_effect, gen=gen,
+            )  # fmt: skip
+        except ValueError as exc:
+            errors["orbit_residual"] = str(exc)
+    return cycles, spread, residual
 
 
 def _referee(

@@ -2,8 +2,147 @@
 
 from __future__ import annotations
 
+import math
+from dataclasses import dataclass
+
 from ._clusters import SectionStructure
+from ._cycles import OrbitResidual
 from ._rule import LOW_DIM, Label, VerdictRule, Vote
+
+
+@dataclass(frozen=True)
+class _Evidence:
+    """What :func:`combine` is given, and what the rule derives from it before deciding."""
+
+    structure: SectionStructure | None
+    exponents: dict[str, bool | None]  # Rosenstein, Wolf (and Kantz when it ran): positive?
+    zero_one_k: float | None
+    surrogates_rejected: bool | None
+    rule: VerdictRule
+    lines: str | None
+    lines_period: int | None
+    lines_bases: int
+    n_cycles: float
+    cycle_unit: str
+    low_dim_rejected: bool | None
+    kantz_ran: bool
+    cycles_rejected: bool | None
+    driven: bool
+    noise: float
+    cycle_spread: float
+    residual: OrbitResidual | None = None
+
+    @property
+    def n_positive(self) -> int:
+        return sum(pos is True for pos in self.exponents.values())
+
+    @property
+    def both_positive(self) -> bool:
+        # two estimators must agree on a clearly positive exponent
+        return self.n_positive >= 2
+
+    @property
+    def long_enough(self) -> bool:
+        return self.n_cycles >= self.rule.min_cycles
+
+    @property
+    def section(self) -> str:
+        return "none" if self.structure is None else self.structure.kind
+
+    @property
+    def broadband_decides(self) -> bool:
+        # a spectrum that is not lines, over enough cycles, outweighs a regular-looking
+        # section
+        return self.lines == "broadband" and self.long_enough
+
+    @property
+    def zero_one_witness(self) -> bool:
+        # where nothing looks regular (broadband spectrum, scattered section), the 0–1 test
+        # is the second witness of sensitive dependence beside one clearly positive exponent
+        # (the surrogate test, required for chaos, rules out the noise that fools it)
+        return (
+            self.n_positive == 1
+            and self.zero_one_k is not None
+            and self.zero_one_k >= self.rule.zero_one_chaotic
+            and self.broadband_decides
+            and self.section == "scattered"
+        )
+
+    @property
+    def lines_contradict_clusters(self) -> bool:
+        # clusters alone make a period only where the spectrum cannot speak against them: a
+        # spectrum of lines that are not one period's harmonics (unresolved, or a torus's)
+        # contradicts k tight clusters (chaotic flows sampled coarsely show both)
+        return self.lines in ("unresolved", "quasi-periodic")
+
+    @property
+    def coloured_orbit(self) -> bool:
+        # coloured noise scatters the section beyond what the white-noise estimate allows:
+        # a scattered section counts as a noisy orbit's when nothing carries over from one
+        # cycle to the next (the cycle-shuffled test ran and does not reject)
+        return self.section == "scattered" and self.cycles_rejected is False
+
+    @property
+    def noisy_orbit(self) -> bool:
+        # a driven series whose section is k tight clusters and whose departure from its
+        # mean cycle is measurement noise (white, or coloured but the same at every phase of
+        # the cycle), up to the cluster tolerance, is a periodic orbit plus noise, whatever
+        # the noise does to the spectrum and the exponents; chaos carries its departure
+        # over, or makes it depend on the phase (then the spread exceeds the tolerance)
+        return bool(
+            self.driven
+            and (self.section == "clusters" or self.coloured_orbit)
+            and self.lines != "quasi-periodic"
+            and self.cycle_spread <= self.rule.cluster_tol
+        )
+
+    @property
+    def beyond_orbit(self) -> bool:
+        # what a chaotic driven series must show beyond a noisy periodic orbit: its
+        # departure from the mean cycle carries over from one cycle to the next (the
+        # cycle-shuffled surrogates reject), or is not white noise and larger than the
+        # cluster tolerance
+        return self.cycles_rejected is True or bool(self.cycle_spread > self.rule.cluster_tol)
+
+    @property
+    def dominant_cycle(self) -> bool:
+        # the phase-locked mean cycle of a driven series carries most of its variance (as
+        # much as a white residual of a line spectrum may leave): not stationary noise, whose
+        # mean cycle carries about one part in the number of cycles
+        r = self.residual
+        return bool(self.driven and r is not None and r.fraction >= 1.0 - self.rule.max_residual)
+
+    @property
+    def linear_residual(self) -> bool:
+        # ... and the departure from it is consistent with a linear Gaussian process: the
+        # series is a periodic orbit plus coloured measurement noise. Such noise carries
+        # over a cycle boundary by its own short memory, so a rejection of the
+        # cycle-shuffled test does not count against it
+        r = self.residual
+        return bool(
+            self.dominant_cycle
+            and r is not None
+            and not r.test.rejected
+            # a larger departure is not all measurement noise (as for the cycle spread)
+            and r.level <= self.rule.max_noise_allowance
+        )
+
+    @property
+    def residual_rejected(self) -> bool:
+        # the departure from a dominant mean cycle is more predictable than linear
+        # Gaussian noise: determinism where the chaos of a driven series lives, which the
+        # test of the whole series misses when the mean cycle dilutes it
+        r = self.residual
+        return bool(self.dominant_cycle and r is not None and r.test.rejected)
+
+    @property
+    def coloured_noise_orbit(self) -> bool:
+        # ... whose variance is the same at every phase of the cycle, up to the tolerance
+        return (
+            self.linear_residual
+            and self.lines != "quasi-periodic"
+            and self.cycle_spread <= self.rule.cluster_tol
+        )
 
 
 def _votes(
@@ -79,6 +218,258 @@ def _votes(
     return votes
 
 
+def _periodic(ev: _Evidence) -> tuple[int | None, str] | None:
+    """Period and reason when the evidence shows a periodic orbit (with or without noise)."""
+    rule, spread, noise = ev.rule, ev.cycle_spread, ev.noise
+    if ev.lines == "periodic":
+        return ev.lines_period, (
+            "the series repeats: what is left after its period is white noise or nothing"
+        )
+    if ev.section == "clusters" and not ev.broadband_decides and not ev.lines_contradict_clusters:
+        assert ev.structure is not None
+        period = ev.structure.n_clusters
+        return period, (
+            f"the section is {period} tight cluster{'s' * (period != 1)} visited in a fixed "
+            "cyclic order"
+        )
+    if ev.noisy_orbit and ev.coloured_orbit:
+        return 1, (
+            "the departure from the mean cycle is measurement noise: its variance is the "
+            "same at every phase of the cycle, nothing carries over from one cycle to the "
+            "next (the cycle-shuffled surrogate test does not reject) and what varies beyond "
+            f"noise is {spread:.2g} of the standard deviation (at most "
+            f"{rule.cluster_tol:g}): a periodic orbit plus coloured noise (correlated over "
+            "several samples: it scatters the section beyond what white noise of about "
+            f"{noise:.2g} of the standard deviation allows)"
+        )
+    if ev.noisy_orbit:
+        assert ev.structure is not None
+        period = ev.structure.n_clusters
+        return period, (
+            f"the section is {period} tight cluster{'s' * (period != 1)} and what varies from "
+            f"cycle to cycle beyond white noise is {spread:.2g} of the standard "
+            f"deviation (at most {rule.cluster_tol:g}): a periodic orbit plus noise "
+            f"(measurement noise about {noise:.2g} of the standard deviation; the "
+            "cycle-shuffled surrogate test "
+            + ("rejects, within that tolerance)" if ev.cycles_rejected else "does not reject)")
+        )
+    if ev.coloured_noise_orbit:
+        assert ev.residual is not None
+        return ev.residual.cycles, _coloured_orbit_reason(ev)
+    return None
+
+
+def _coloured_orbit_reason(ev: _Evidence) -> str:
+    """Why a driven series is a periodic orbit plus coloured measurement noise: the mean
+    cycle's share, the noise's level and colour, and what varies beyond it."""
+    r = ev.residual
+    assert r is not None
+    if 0.2 <= r.lag_one < 1.0:
+        colour = f"coloured, correlation time {-1.0 / math.log(r.lag_one):.2g} samples"
+    else:
+        colour = "nearly white"
+    head = (
+        f"the mean cycle over the drive carries {100 * r.fraction:.0f} % of the variance "
+        f"and the departure from it ({r.level:.2g} of the standard deviation, lag-one "
+        f"autocorrelation {r.lag_one:.2f}: {colour}) is consistent with a linear Gaussian "
+        "process (its IAAFT surrogate test does not reject)"
+    )
+    tol = ev.rule.cluster_tol
+    if ev.cycle_spread <= tol:
+        return (
+            f"{head} whose variance is the same at every phase of the cycle (what varies "
+            f"beyond it is {ev.cycle_spread:.2g} of the standard deviation, at most {tol:g}): "
+            "a periodic orbit plus coloured measurement noise"
+        )
+    return (
+        f"{head}: a periodic orbit plus coloured measurement noise rather than noise; but "
+        f"what varies from cycle to cycle beyond stationary noise is {ev.cycle_spread:.2g} "
+        f"of the standard deviation (above {tol:g}), which counts against it"
+    )
+
+
+def _quasi_periodic(ev: _Evidence) -> str | None:
+    """The reason when the evidence shows a torus."""
+    if ev.lines == "quasi-periodic":
+        return (
+            "the spectrum is lines at integer combinations of two or three incommensurate "
+            "frequencies, and what is left is white noise or nothing"
+        )
+    if ev.section == "closed-curve" and not ev.both_positive and not ev.broadband_decides:
+        return "the section fills a closed curve and not both exponents are clearly positive"
+    return None
+
+
+def _noise_like(ev: _Evidence) -> str | None:
+    """The reason when the surrogate test cannot reject linear noise (broadband spectrum)."""
+    if (
+        ev.lines == "broadband"
+        and ev.long_enough
+        and ev.surrogates_rejected is False
+        and ev.low_dim_rejected is not True
+    ):
+        return "the spectrum is not lines; the surrogate test cannot reject linear noise"
+    return None
+
+
+def _chaotic(ev: _Evidence) -> str | None:
+    """The reason when the evidence shows chaos."""
+    if not (
+        (ev.both_positive or ev.zero_one_witness)
+        and (ev.surrogates_rejected is True or ev.residual_rejected)
+        and (not ev.driven or ev.beyond_orbit)
+        and ev.lines in ("broadband", "unresolved")
+        # a regular-looking section does not count against a broadband spectrum either
+        and (ev.section not in ("clusters", "closed-curve") or ev.broadband_decides)
+        and (ev.section == "scattered" or (ev.lines == "broadband" and ev.long_enough))
+    ):
+        return None
+    if ev.both_positive:
+        head = (
+            "both exponents are" if not ev.kantz_ran else "two of the three exponents are"
+        ) + " clearly positive"
+    else:
+        (name,) = (n for n, pos in ev.exponents.items() if pos is True)
+        head = (
+            f"the {name} exponent is clearly positive and the 0–1 test finds the motion "
+            f"irregular (K = {ev.zero_one_k:.2f})"
+        )
+    if ev.surrogates_rejected is True:
+        determinism = "the data are more predictable than their IAAFT surrogates"
+    else:
+        assert ev.residual is not None
+        determinism = (
+            "the departure from the mean cycle over the drive (which carries "
+            f"{100 * ev.residual.fraction:.0f} % of the variance) is more predictable than its "
+            "IAAFT surrogates"
+        )
+    return (
+        f"{head}, {determinism}"
+        + (
+            ""
+            if not ev.driven
+            else " and, across a cycle boundary, than their cycle-shuffled ones"
+            if ev.cycles_rejected
+            else f", their departure from the mean cycle is not white noise "
+            f"({ev.cycle_spread:.2g} of the standard deviation)"
+        )
+        + ", and neither the spectrum nor the section is regular"
+    )
+
+
+def _decide(ev: _Evidence) -> tuple[Label, int | None, str | None]:
+    """The label, its period and its reason (None when undetermined), in the rule's order."""
+    periodic = _periodic(ev)
+    if periodic is not None:
+        return "periodic", periodic[0], periodic[1]
+    reason = _quasi_periodic(ev)
+    if reason is not None:
+        return "quasi-periodic", None, reason
+    reason = _noise_like(ev)
+    if reason is not None and not ev.dominant_cycle:
+        return "noise-like", None, reason
+    if reason is not None and ev.linear_residual:
+        # a noise label must beat "a periodic orbit plus coloured measurement noise", and a
+        # series whose mean cycle carries most of its variance is not noise
+        assert ev.residual is not None
+        return "periodic", ev.residual.cycles, _coloured_orbit_reason(ev)
+    reason = _chaotic(ev)
+    if reason is not None:
+        return "chaotic", None, reason
+    return "undetermined", None, None
+
+
+def _blocking_needs(ev: _Evidence) -> list[str] | None:
+    """What would decide when the section, the low-dimensional surrogate tests or the
+    noisy-orbit null stand in the way (None when none does)."""
+    rule, section, structure = ev.rule, ev.section, ev.structure
+    if section in ("clusters", "closed-curve") and ev.broadband_decides:
+        return [
+            f"a longer series: the section looks regular ({section}) but the spectrum is not lines"
+        ]
+    if section == "clusters" and ev.lines_contradict_clusters:
+        assert structure is not None
+        return [
+            f"a longer or cleaner series: the section is {structure.n_clusters} tight "
+            f"cluster{'s' * (structure.n_clusters != 1)} but the spectrum is not the "
+            f"harmonics of one period ({ev.lines})"
+        ]
+    if section == "closed-curve":
+        return [
+            "a longer series to tell a torus from a thin chaotic band (the section "
+            "is a closed curve but both exponents are clearly positive)"
+        ]
+    if ev.dominant_cycle and _noise_like(ev) is not None and not ev.residual_rejected:
+        r = ev.residual
+        assert r is not None
+        return [
+            f"a departure from the mean cycle over the drive that is more predictable than "
+            f"linear Gaussian noise: the mean cycle carries {100 * r.fraction:.0f} % of the "
+            f"variance (not noise), but the departure from it, {r.level:.2g} of the "
+            "standard deviation, is too large for the measurement noise of a periodic orbit "
+            f"(above {rule.max_noise_allowance:g}) and its IAAFT surrogate test does not reject"
+        ]
+    if ev.surrogates_rejected is False and ev.low_dim_rejected is True:
+        return [
+            "a longer or more finely sampled series: the data are more predictable "
+            f"than their surrogates in {LOW_DIM} delay coordinates or one sample "
+            "ahead, but not in the embedding dimension one delay ahead, so neither "
+            "noise nor determinism is shown"
+        ]
+    if ev.driven and not ev.beyond_orbit and ev.surrogates_rejected is True:
+        return [
+            "evidence beyond a noisy periodic orbit: a cycle-shuffled surrogate test "
+            + (
+                "(it could not run; see errors)"
+                if ev.cycles_rejected is None
+                else "that rejects, or a departure from the mean cycle that is not "
+                f"white noise and exceeds {rule.cluster_tol:g} of the standard "
+                f"deviation (it is {ev.cycle_spread:.2g})"
+            )
+        ]
+    return None
+
+
+def _needs(ev: _Evidence) -> list[str]:
+    """What would decide an undetermined series."""
+    rule = ev.rule
+    needs: list[str] = []
+    if not ev.long_enough:
+        # nothing else could decide at this length: say only what would
+        needs.append(f"≥ {rule.min_cycles} {ev.cycle_unit}; the series has {ev.n_cycles:.0f}")
+    else:
+        if ev.section == "too-few-points":
+            assert ev.structure is not None
+            needs.append(
+                f"≥ {rule.min_cycles} section points; the section has {ev.structure.n_points}"
+            )
+        blocking = _blocking_needs(ev)
+        if blocking is not None:
+            needs += blocking
+        elif ev.surrogates_rejected is not False:
+            for name, pos in ev.exponents.items():
+                if pos is False:
+                    needs.append(
+                        f"a clearly positive {name} exponent (λ₁T ≥ {rule.min_growth:g}, "
+                        "95 % interval above 0), or a line spectrum or section that "
+                        "shows the motion regular"
+                    )
+                elif pos is None:
+                    needs.append(f"a {name} exponent (the estimator failed; see errors)")
+            if ev.surrogates_rejected is None:
+                needs.append("a surrogate test (it failed; see errors)")
+    if ev.lines is None:
+        needs.append("a recurrence / line-spectrum analysis (it failed; see errors)")
+    if ev.lines == "unresolved" and not needs:
+        needs.append(
+            "a longer or cleaner series: spectral lines explain all but 0.1 % of the "
+            "variance, yet the rest is not white"
+        )
+    if not needs:
+        needs.append("a longer series")
+    return needs
+
+
 def combine(
     *,
     structure: SectionStructure | None,
@@ -98,6 +489,7 @@ def combine(
     driven: bool = False,
     noise: float = float("nan"),
     cycle_spread: float = float("nan"),
+    orbit_residual: OrbitResidual | None = None,
 ) -> tuple[Label, int | None, float, str, dict[str, Vote], tuple[str, ...]]:
     """Apply the rule of :func:`classify` to the evidence.
 
@@ -111,222 +503,72 @@ def combine(
     the noisy-periodic-orbit test rejected; None: it did not run), ``cycle_spread`` its
     cycle-to-cycle variation that is not white noise (relative to the standard deviation)
     and ``noise`` the estimated measurement-noise level (both stated in the reason of a
-    noisy periodic orbit).
+    noisy periodic orbit); ``orbit_residual`` the departure of a forced series from its
+    mean cycle read as measurement noise (None: not computed).
     Returns label, period, confidence, reason, votes and needs.
     """
-    exponents = {"Rosenstein": rosenstein_positive, "Wolf": wolf_positive}
-    if kantz_positive is not None:
-        exponents["Kantz"] = kantz_positive
-    # two estimators must agree on a clearly positive exponent
-    n_positive = sum(pos is True for pos in exponents.values())
-    both_positive = n_positive >= 2
-    long_enough = n_cycles >= rule.min_cycles
-    section = "none" if structure is None else structure.kind
-    # a spectrum that is not lines, over enough cycles, outweighs a regular-looking section
-    broadband_decides = lines == "broadband" and long_enough
-    # where nothing looks regular (broadband spectrum, scattered section), the 0–1 test is
-    # the second witness of sensitive dependence beside one clearly positive exponent (the
-    # surrogate test, required below, rules out the noise that fools it)
-    zero_one_witness = (
-        n_positive == 1
-        and zero_one_k is not None
-        and zero_one_k >= rule.zero_one_chaotic
-        and broadband_decides
-        and section == "scattered"
+    positives = {
+        "rosenstein": rosenstein_positive,
+        "wolf": wolf_positive,
+        **({} if kantz_positive is None else {"kantz": kantz_positive}),
+    }
+    ev = _Evidence(
+        structure=structure,
+        exponents={name.capitalize(): pos for name, pos in positives.items()},
+        zero_one_k=zero_one_k,
+        surrogates_rejected=surrogates_rejected,
+        rule=rule,
+        lines=lines,
+        lines_period=lines_period,
+        lines_bases=lines_bases,
+        n_cycles=n_cycles,
+        cycle_unit=cycle_unit,
+        low_dim_rejected=low_dim_rejected,
+        kantz_ran=kantz_positive is not None,
+        cycles_rejected=cycles_rejected,
+        driven=driven,
+        noise=noise,
+        cycle_spread=cycle_spread,
+        residual=orbit_residual,
     )
-    # clusters alone make a period only where the spectrum cannot speak against them: a
-    # spectrum of lines that are not one period's harmonics (unresolved, or a torus's)
-    # contradicts k tight clusters (chaotic flows sampled coarsely show both)
-    lines_contradict_clusters = lines in ("unresolved", "quasi-periodic")
-    # a driven series whose section is k tight clusters and whose departure from its mean
-    # cycle is measurement noise (white, or coloured but the same at every phase of the
-    # cycle), up to the cluster tolerance, is a periodic orbit plus noise, whatever the
-    # noise does to the spectrum and the exponents. Coloured noise also scatters the
-    # section beyond what the white-noise estimate allows: a scattered section counts too
-    # when nothing carries over from one cycle to the next (the cycle-shuffled test ran
-    # and does not reject); chaos carries its departure over, or makes it depend on the
-    # phase (then the spread exceeds the tolerance)
-    coloured_orbit = section == "scattered" and cycles_rejected is False
-    noisy_orbit = bool(
-        driven
-        and (section == "clusters" or coloured_orbit)
-        and lines != "quasi-periodic"
-        and cycle_spread <= rule.cluster_tol
-    )
-    # what a chaotic driven series must show beyond a noisy periodic orbit: its departure
-    # from the mean cycle carries over from one cycle to the next (the cycle-shuffled
-    # surrogates reject), or is not white noise and larger than the cluster tolerance
-    beyond_orbit = cycles_rejected is True or bool(cycle_spread > rule.cluster_tol)
-    period: int | None = None
-    label: Label
+    label, period, reason = _decide(ev)
     needs: list[str] = []
-    if lines == "periodic":
-        label, period = "periodic", lines_period
-        reason = "the series repeats: what is left after its period is white noise or nothing"
-    elif section == "clusters" and not broadband_decides and not lines_contradict_clusters:
-        assert structure is not None
-        label, period = "periodic", structure.n_clusters
-        reason = (
-            f"the section is {period} tight cluster{'s' * (period != 1)} visited in a fixed "
-            "cyclic order"
-        )
-    elif noisy_orbit and coloured_orbit:
-        label, period = "periodic", 1
-        reason = (
-            "the departure from the mean cycle is measurement noise: its variance is the "
-            "same at every phase of the cycle, nothing carries over from one cycle to the "
-            "next (the cycle-shuffled surrogate test does not reject) and what varies beyond "
-            f"noise is {cycle_spread:.2g} of the standard deviation (at most "
-            f"{rule.cluster_tol:g}): a periodic orbit plus coloured noise (correlated over "
-            "several samples: it scatters the section beyond what white noise of about "
-            f"{noise:.2g} of the standard deviation allows)"
-        )
-    elif noisy_orbit:
-        assert structure is not None
-        label, period = "periodic", structure.n_clusters
-        reason = (
-            f"the section is {period} tight cluster{'s' * (period != 1)} and what varies from "
-            f"cycle to cycle beyond white noise is {cycle_spread:.2g} of the standard "
-            f"deviation (at most {rule.cluster_tol:g}): a periodic orbit plus noise "
-            f"(measurement noise about {noise:.2g} of the standard deviation; the "
-            "cycle-shuffled surrogate test "
-            + ("rejects, within that tolerance)" if cycles_rejected else "does not reject)")
-        )
-    elif lines == "quasi-periodic":
-        label = "quasi-periodic"
-        reason = (
-            "the spectrum is lines at integer combinations of two or three incommensurate "
-            "frequencies, and what is left is white noise or nothing"
-        )
-    elif section == "closed-curve" and not both_positive and not broadband_decides:
-        label = "quasi-periodic"
-        reason = "the section fills a closed curve and not both exponents are clearly positive"
-    elif (
-        lines == "broadband"
-        and long_enough
-        and surrogates_rejected is False
-        and low_dim_rejected is not True
-    ):
-        label = "noise-like"
-        reason = "the spectrum is not lines; the surrogate test cannot reject linear noise"
-    elif (
-        (both_positive or zero_one_witness)
-        and surrogates_rejected is True
-        and (not driven or beyond_orbit)
-        and lines in ("broadband", "unresolved")
-        # a regular-looking section does not count against a broadband spectrum either
-        and (section not in ("clusters", "closed-curve") or broadband_decides)
-        and (section == "scattered" or (lines == "broadband" and long_enough))
-    ):
-        label = "chaotic"
-        if both_positive:
-            head = (
-                "both exponents are" if kantz_positive is None else "two of the three exponents are"
-            ) + " clearly positive"
-        else:
-            (name,) = (n for n, pos in exponents.items() if pos is True)
-            head = (
-                f"the {name} exponent is clearly positive and the 0–1 test finds the motion "
-                f"irregular (K = {zero_one_k:.2f})"
-            )
-        reason = (
-            f"{head}, the data are more predictable than their "
-            "IAAFT surrogates"
-            + (
-                ""
-                if not driven
-                else " and, across a cycle boundary, than their cycle-shuffled ones"
-                if cycles_rejected
-                else f", their departure from the mean cycle is not white noise "
-                f"({cycle_spread:.2g} of the standard deviation)"
-            )
-            + ", and neither the spectrum nor the section is regular"
-        )
-    else:
-        label = "undetermined"
-        if not long_enough:
-            # nothing else could decide at this length: say only what would
-            needs.append(f"≥ {rule.min_cycles} {cycle_unit}; the series has {n_cycles:.0f}")
-        else:
-            if section == "too-few-points":
-                assert structure is not None
-                needs.append(
-                    f"≥ {rule.min_cycles} section points; the section has {structure.n_points}"
-                )
-            if section in ("clusters", "closed-curve") and broadband_decides:
-                needs.append(
-                    f"a longer series: the section looks regular ({section}) but the "
-                    "spectrum is not lines"
-                )
-            elif section == "clusters" and lines_contradict_clusters:
-                assert structure is not None
-                needs.append(
-                    f"a longer or cleaner series: the section is {structure.n_clusters} tight "
-                    f"cluster{'s' * (structure.n_clusters != 1)} but the spectrum is not the "
-                    f"harmonics of one period ({lines})"
-                )
-            elif section == "closed-curve":
-                needs.append(
-                    "a longer series to tell a torus from a thin chaotic band (the section "
-                    "is a closed curve but both exponents are clearly positive)"
-                )
-            elif surrogates_rejected is False and low_dim_rejected is True:
-                needs.append(
-                    "a longer or more finely sampled series: the data are more predictable "
-                    f"than their surrogates in {LOW_DIM} delay coordinates or one sample "
-                    "ahead, but not in the embedding dimension one delay ahead, so neither "
-                    "noise nor determinism is shown"
-                )
-            elif driven and not beyond_orbit and surrogates_rejected is True:
-                needs.append(
-                    "evidence beyond a noisy periodic orbit: a cycle-shuffled surrogate test "
-                    + (
-                        "(it could not run; see errors)"
-                        if cycles_rejected is None
-                        else "that rejects, or a departure from the mean cycle that is not "
-                        f"white noise and exceeds {rule.cluster_tol:g} of the standard "
-                        f"deviation (it is {cycle_spread:.2g})"
-                    )
-                )
-            elif surrogates_rejected is not False:
-                for name, pos in exponents.items():
-                    if pos is False:
-                        needs.append(
-                            f"a clearly positive {name} exponent (λ₁T ≥ {rule.min_growth:g}, "
-                            "95 % interval above 0), or a line spectrum or section that "
-                            "shows the motion regular"
-                        )
-                    elif pos is None:
-                        needs.append(f"a {name} exponent (the estimator failed; see errors)")
-                if surrogates_rejected is None:
-                    needs.append("a surrogate test (it failed; see errors)")
-        if lines is None:
-            needs.append("a recurrence / line-spectrum analysis (it failed; see errors)")
-        if lines == "unresolved" and not needs:
-            needs.append(
-                "a longer or cleaner series: spectral lines explain all but 0.1 % of the "
-                "variance, yet the rest is not white"
-            )
-        if not needs:
-            needs.append("a longer series")
+    if reason is None:
+        needs = _needs(ev)
         reason = "the evidence cannot decide: needs " + "; ".join(needs)
+    # a periodic orbit plus coloured noise found by its departure from the mean cycle alone
+    coloured = (
+        label == "periodic"
+        and lines != "periodic"
+        and ev.linear_residual
+        and not ev.noisy_orbit
+        and not (
+            ev.section == "clusters"
+            and not ev.broadband_decides
+            and not ev.lines_contradict_clusters
+        )
+    )
     votes = _votes(
         label,
         structure=structure,
         lines=lines,
-        positives={
-            "rosenstein": rosenstein_positive,
-            "wolf": wolf_positive,
-            **({} if kantz_positive is None else {"kantz": kantz_positive}),
-        },
+        positives=positives,
         k=zero_one_k,
         rejected=surrogates_rejected,
-        long_enough=long_enough,
+        long_enough=ev.long_enough,
         n_bases=lines_bases,
         rule=rule,
-        cycles=None if not driven or cycles_rejected is None else beyond_orbit,
-        noisy_orbit=noisy_orbit and label == "periodic" and lines != "periodic",
+        cycles=None if not driven or cycles_rejected is None else ev.beyond_orbit,
+        noisy_orbit=(ev.noisy_orbit or coloured) and label == "periodic" and lines != "periodic",
     )
+    if label == "chaotic" and ev.dominant_cycle:
+        votes["residual"] = "supports" if ev.residual_rejected else "opposes"
+    if coloured:
+        # the departure from the mean cycle is linear noise; a phase-dependent spread
+        # beyond the tolerance counts against the orbit
+        votes["residual"] = "supports"
+        if cycle_spread > rule.cluster_tol:
+            votes["cycles"] = "opposes"
     if label == "undetermined":
         confidence = float("nan")
     else:

@@ -19,7 +19,7 @@ from scipy.spatial import cKDTree
 from .._progress import stage
 from .._validate import as_series, check_int, check_positive, check_probability
 from ._rng import as_generator
-from ._surrogates import SurrogateResult, check_surrogates
+from ._surrogates import SurrogateResult, check_surrogates, surrogate_test
 
 __all__ = [
     "CycleForecast",
@@ -663,4 +663,62 @@ def cycle_surrogate_test(
         horizon=horizon,
         theiler_window=theiler_window,
         null="noisy periodic orbit",
+    )
+
+
+@dataclass(frozen=True)
+class OrbitResidual:
+    """The departure of a driven series from its phase-locked mean cycle, read as
+    measurement noise: the alternative a noise-like verdict must beat.
+
+    ``fraction`` is the share of the variance the mean cycle carries, ``level`` the RMS of
+    the departure over the standard deviation, ``lag_one`` its lag-one autocorrelation at
+    the series' own sampling (0 for white noise, near 1 for noise correlated over many
+    samples), ``cycles`` the drive periods per cycle and ``test`` the IAAFT surrogate test
+    of the departure (does it reject a linear Gaussian process?)."""
+
+    fraction: float
+    level: float
+    lag_one: float
+    cycles: int
+    test: SurrogateResult
+
+
+def orbit_residual(
+    x: np.ndarray,
+    *,
+    dt: float,
+    period: float,
+    cycles: int,
+    lag: int,
+    embedding_dim: int,
+    n_surrogates: int,
+    max_samples: int,
+    alpha: float,
+    min_effect: float,
+    gen: np.random.Generator,
+) -> OrbitResidual:
+    """The departure of ``x`` from its mean cycle over ``period`` (``cycles`` drive
+    periods) and the IAAFT surrogate test of that departure, thinned and embedded as the
+    test of the series itself."""
+    residual = x - _mean_cycle_at_samples(x, period / dt)
+    sigma = float(np.std(x))
+    power = float(np.mean(residual * residual))
+    lag_one = float(np.mean(residual[:-1] * residual[1:]) / power) if power > 0 else 0.0
+    step = max(1, lag // 4)
+    test = surrogate_test(
+        residual[::step][-max_samples:],
+        embedding_dim=embedding_dim,
+        lag=max(1, round(lag / step)),
+        n_surrogates=n_surrogates,
+        alpha=alpha,
+        min_effect=min_effect,
+        rng=gen,
+    )
+    return OrbitResidual(
+        fraction=1.0 - power / sigma**2 if sigma > 0 else 0.0,
+        level=float(np.sqrt(power)) / sigma if sigma > 0 else 0.0,
+        lag_one=lag_one,
+        cycles=int(cycles),
+        test=test,
     )

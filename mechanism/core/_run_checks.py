@@ -67,7 +67,8 @@ def warn_if_deep_penetration(ds: Any, scene: Any, *, stacklevel: int = 3) -> Non
     names = [str(name) for name in ds["joint"].values]
     deepest = np.asarray(ds["penetration"].max("time").values, dtype=np.float64)
     for name, depth in zip(names, deepest, strict=True):
-        clearance = float(scene.joints[str(name)].clearance)
+        # a slider corner's row is named JOINT.corner (a joint name holds no dot)
+        clearance = float(scene.joints[str(name).split(".", 1)[0]].clearance)
         if np.isfinite(depth) and depth > PENETRATION_WARNING_FRACTION * clearance:
             warnings.warn(
                 f"joint {name}: the largest penetration, {depth:.3g} m, is "

@@ -26,6 +26,8 @@ from chaoskit.contract import __version__, stamp
 from mechanism.core import default_step, drive_period, simulate, step_limits
 from mechanism.core.integrate import (
     Dopri5,
+    StepSettings,
+    TangentSettings,
     clearance_kinematics,
     integrate_tangent,
     project_state,
@@ -33,6 +35,7 @@ from mechanism.core.integrate import (
 )
 from mechanism.core.model import assemble, initial_state
 from mechanism.core.record import SectionsRecord
+from mechanism.core.scene import MotorDrive
 
 from ._lyapunov import lyapunov_exponent
 from .sweep import Analysis, resolve_scene, sweep
@@ -62,9 +65,27 @@ def _scene_exponent(
 ) -> tuple[float, float, float]:
     """λ₁ of one value from the equations of motion (:func:`lyapunov_exponent` at its own
     default tolerances), with its 95 % interval, in 1/s."""
-    result = lyapunov_exponent(scene, revolutions=revolutions, discard=discard)
+    free = free_crank_period(scene)
+    if free is None:
+        result = lyapunov_exponent(scene, revolutions=revolutions, discard=discard)
+    else:
+        result = lyapunov_exponent(scene, t_end=revolutions * free, discard=discard * free)
     low, high = result.ci
     return float(result.exponent), float(low), float(high)
+
+
+def free_crank_period(scene: Any) -> float | None:
+    """The time scale of a revolution of a motor-driven crank, whose motion has no
+    prescribed period: 2π/ω₀ at the motor's no-load speed ω₀ (s); None for a scene with a
+    periodic drive or without a motor.
+
+    A crank turns at most about once per such period (slower under load), so a value run
+    for ``revolutions`` of them reaches at most that many crank-angle crossings."""
+    drive = scene.drive
+    if not isinstance(drive, MotorDrive) or drive_period(scene) is not None:
+        return None
+    speed = drive.no_load_speed
+    return 2.0 * math.pi / speed if speed > 0.0 else None
 
 
 # Hook for the exponent of one value: (scene, revolutions=, discard=) -> (λ, low, high) in
@@ -95,7 +116,11 @@ class _SectionPoint:
         # the diagram needs no ideal mechanism: at 1e-8 it cost a third (150 rpm) to
         # two thirds (30 rpm) more than the run itself
         record = SectionsRecord(phase=self.phase, discard=self.discard, companion=False)
-        ds = simulate(scene, revolutions=revolutions, record=record, throw=False, **tolerance)
+        # a motor-driven crank has no period: run for as many no-load periods; its
+        # sections are crank-angle crossings and ``discard`` counts crank revolutions
+        free = free_crank_period(scene)
+        span = {"revolutions": revolutions} if free is None else {"t_end": revolutions * free}
+        ds = simulate(scene, record=record, throw=False, **span, **tolerance)
         if self.exponent and ds.attrs.get("solver_status") == 0:
             cpu = time.process_time()
             discard = self.discard if self.exponent_discard is None else self.exponent_discard
@@ -660,10 +685,13 @@ def _continued_value(
     keep = (t_sec > discard * big_t - 1e-12 * big_t) & (t_sec <= revolutions * big_t)
     cycles, t_sec = cycles[keep], t_sec[keep]
     stops = np.unique(np.concatenate([[0.0], t_sec, [revolutions * big_t]]))
+    steps = StepSettings(rtol=rtol, atol=atol, max_step=max_step, approach_floor=floor)
+    tangent = TangentSettings(
+        steps=steps, time_scale=1.0 / omega, renormalize_every=_NO_RENORMALIZATION
+    )
     run = integrate_tangent(
-        model, y_start, np.zeros_like(y_start), stops, rtol=rtol, atol=atol,
-        max_step=max_step, approach_floor=floor, renormalize_every=_NO_RENORMALIZATION,
-        time_scale=1.0 / omega, latch=latch, record_states=True, label="bifurcation",
+        model, y_start, np.zeros_like(y_start), stops, settings=tangent, latch=latch,
+        record_states=True, label="bifurcation",
     )  # fmt: skip
     joints = tuple(model.clearance_joints)
     if not run.stats.success:

@@ -10,8 +10,7 @@ import xarray as xr
 from numpy.testing import assert_allclose
 
 from chaoskit import KantzResult, LyapunovResult, lyapunov_kantz, lyapunov_rosenstein, systems
-from chaoskit.lyapunov import _kantz_kernels as _kk
-from chaoskit.lyapunov._kantz import noise_level
+from chaoskit.lyapunov._kantz import _Search, noise_level
 
 LOGISTIC = math.log(2.0)
 HENON = 0.4192
@@ -146,23 +145,22 @@ def test_kernel_matches_brute_force(transverse: bool) -> None:
     usable = pts.shape[0] - ks[-1]
     ref = np.arange(0, usable, 17, dtype=np.int64)
     eps = np.array([0.4, 0.6, 0.9])
-    order = np.argsort(pts[:usable, 0], kind="stable").astype(np.int64)
-    key = np.ascontiguousarray(pts[order, 0])
-    out = np.empty((ref.size, eps.size, ks.size))
-    used = _kk.kantz_log_distances(pts, order, key, ref, 5, eps, ks, 10_000, transverse, out)
+    search = _Search(pts, pts[:usable], ref, 5, eps, ks, 10_000)
+    out, used, total, count = search.log_distances(transverse, eps.size - 1)
     expect = _brute(pts, ref, 5, eps, ks, transverse)
     assert_allclose(out, expect, rtol=1e-12, equal_nan=True)
     assert ((used > 0) == np.isfinite(expect[:, :, 0])).all()
+    finite = np.isfinite(expect)
+    assert_allclose(total, np.where(finite, expect, 0.0).sum(axis=0), rtol=1e-12)
+    assert (count == finite.sum(axis=0)).all()
 
 
 def test_neighbour_cap_takes_a_strided_subset() -> None:
     pts = np.ascontiguousarray(np.random.default_rng(4).standard_normal((2000, 2)))
     ks = np.array([0, 2], dtype=np.int64)
     ref = np.array([100, 900], dtype=np.int64)
-    order = np.argsort(pts[:-2, 0], kind="stable").astype(np.int64)
-    key = np.ascontiguousarray(pts[order, 0])
-    out = np.empty((2, 1, 2))
-    used = _kk.kantz_log_distances(pts, order, key, ref, 0, np.array([1.0]), ks, 7, False, out)
+    search = _Search(pts, pts[:-2], ref, 0, np.array([1.0]), ks, 7)
+    used = search.log_distances(False)[1]
     assert (used <= 7).all() and (used >= 4).all()
 
 

@@ -52,7 +52,7 @@ def test_clearance_joint_becomes_a_force_element() -> None:
         ),
     ):
         assert m.clearance_joints == () and m.n_rows == 9
-        assert m.kernel.cj_i.shape == (0, 4)
+        assert m.kernel.cj_i.shape == (0, 5)  # [bearing, journal, law, friction, kind]
 
 
 def test_rigid_bar_replaces_an_ancf_beam_when_flexibility_is_off() -> None:

@@ -23,6 +23,8 @@ from mechanism.core import default_step, drive_period, step_limits
 from mechanism.core.integrate import (
     Dopri5,
     GeneralizedAlpha,
+    StepSettings,
+    TangentSettings,
     initial_deviation,
     integrate_tangent,
     integrate_tangent_flexible,
@@ -98,12 +100,11 @@ def test_rigid_tangent_integration_returning_every_few_steps_is_bit_identical() 
     scene, model, y0, d0, tau, stops = _tangent_start("slider-crank-clearance", 0.5)
     max_step, floor = step_limits(model, Dopri5(), default_step(scene, stops[-1]))
 
+    steps = StepSettings(rtol=1e-8, atol=1e-8, max_step=max_step, approach_floor=floor)
+
     def run(**budget: int):
-        return integrate_tangent(
-            model, y0, d0, stops, rtol=1e-8, atol=1e-8, max_step=max_step,
-            renormalize_every=1, time_scale=tau, approach_floor=floor, deviation_rtol=1e-4,
-            **budget,
-        )  # fmt: skip
+        settings = TangentSettings(steps=steps, time_scale=tau, deviation_rtol=1e-4, **budget)
+        return integrate_tangent(model, y0, d0, stops, settings=settings)
 
     whole, chunked = run(), run(chunk_steps=TINY_BUDGET)
     assert whole.stats.success and whole.stats.rejected_steps >= 1
@@ -116,11 +117,13 @@ def test_flexible_tangent_integration_returning_every_few_steps_is_bit_identical
     method = resolve_method(scene.solver.method, model)
     max_step, floor = step_limits(model, method, default_step(scene, stops[-1]))
 
+    steps = StepSettings(
+        rtol=scene.solver.rtol, atol=scene.solver.atol, max_step=max_step, approach_floor=floor
+    )
+    settings = TangentSettings(steps=steps, time_scale=tau)
+
     def run(m: GeneralizedAlpha):
-        return integrate_tangent_flexible(
-            model, y0, d0, stops, method=m, rtol=scene.solver.rtol, atol=scene.solver.atol,
-            max_step=max_step, renormalize_every=1, time_scale=tau, approach_floor=floor,
-        )  # fmt: skip
+        return integrate_tangent_flexible(model, y0, d0, stops, method=m, settings=settings)
 
     whole, chunked = run(method), run(dataclasses.replace(method, chunk_steps=TINY_BUDGET))
     assert whole.stats.success and whole.stats.steps > 20 * TINY_BUDGET

@@ -19,6 +19,7 @@ import mechanism
 from mechanism.core import default_step, step_limits
 from mechanism.core.integrate import (
     StepSettings,
+    TangentSettings,
     initial_deviation,
     integrate_tangent_flexible,
     length_scale,
@@ -114,10 +115,12 @@ def _paper_reference(t_end: float, perturbation: float = 1e-9):
     size = perturbation * length_scale(model, y0)
     tau = mechanism.core.drive_period(scene) / (2.0 * math.pi)
     d0 = initial_deviation(model, y0, t0=0.0, size=size, time_scale=tau)
+    steps = StepSettings(
+        rtol=scene.solver.rtol, atol=scene.solver.atol, max_step=max_step, approach_floor=floor
+    )
     run = integrate_tangent_flexible(
-        model, y0, d0, np.linspace(0.0, t_end, 5), method=method, rtol=scene.solver.rtol,
-        atol=scene.solver.atol, max_step=max_step, renormalize_every=1, time_scale=tau,
-        approach_floor=floor,
+        model, y0, d0, np.linspace(0.0, t_end, 5), method=method,
+        settings=TangentSettings(steps=steps, time_scale=tau),
     )  # fmt: skip
     return scene, model, run
 

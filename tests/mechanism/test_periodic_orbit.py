@@ -17,7 +17,13 @@ import pytest
 
 import chaoskit
 import mechanism
-from mechanism.core.integrate import integrate_tangent, state_derivative, tangent_basis
+from mechanism.core.integrate import (
+    StepSettings,
+    TangentSettings,
+    integrate_tangent,
+    state_derivative,
+    tangent_basis,
+)
 from mechanism.core.model import assemble
 
 
@@ -59,13 +65,16 @@ def test_residual_is_below_1e_9_of_the_clearance_and_closes_the_recorded_orbit(o
 
 def test_guess_moved_by_1e_12_finds_the_same_orbit(orbit30):
     """From the orbit's state moved by 1e-12 of itself the shooting returns to it within
-    its tolerance, with the same largest multiplier to 1 %."""
+    its tolerance, with the same largest multiplier to 3 %: the steps are frozen where
+    the residual first falls below 1e-5 of the clearance, which differs between the two
+    starts, and the ill-conditioned largest multiplier moves with the steps by about 2 %
+    (-1.835e-3 against -1.875e-3; docs/periodic-orbits.md, Accuracy and limits)."""
     moved = dataclasses.replace(orbit30, section_state=orbit30.section_state * (1.0 + 1e-12))
     again = mechanism.periodic_orbit(_rigid(30.0), guess=moved, max_iterations=4)
     assert again.converged
     ecc = again.section_eccentricity - orbit30.section_eccentricity
     assert np.max(np.abs(ecc)) < 1e-6 * orbit30.clearance
-    assert abs(again.largest_multiplier) == pytest.approx(abs(orbit30.largest_multiplier), rel=0.01)
+    assert abs(again.largest_multiplier) == pytest.approx(abs(orbit30.largest_multiplier), rel=0.03)
 
 
 def _reduced_trace(model, y: np.ndarray, t: float, latch: np.ndarray, tau: float) -> float:
@@ -109,12 +118,13 @@ def test_volume_growth_along_the_orbit_obeys_liouville(orbit30):
     scale2 = np.concatenate([np.ones(n), np.full(n, tau**2)])
     size = 1e-7 * orbit30.clearance
     piece = np.empty((start_basis.shape[1],) * 2)
+    steps = StepSettings(rtol=1e-10, atol=1e-10, max_step=np.inf)
+    settings = TangentSettings(steps=steps, time_scale=tau)
     for i in range(piece.shape[1]):
         d0 = start_basis[:, i] * size
         run = integrate_tangent(
-            model, states[0], d0, t[: end + 1], rtol=1e-10, atol=1e-10, max_step=np.inf,
-            renormalize_every=1, time_scale=tau, latch=(latch, orbit30.in_contact[0]),
-            step_schedule=t,
+            model, states[0], d0, t[: end + 1], settings=settings,
+            latch=(latch, orbit30.in_contact[0]), step_schedule=t,
         )  # fmt: skip
         image = run.final_deviation * math.exp(run.log_growth[-1]) / size
         piece[:, i] = end_basis.T @ (scale2 * image)
@@ -222,9 +232,10 @@ def test_bad_arguments_are_refused():
 
 @pytest.mark.slow
 @pytest.mark.xfail(
-    reason="from the closest period-1 return at 150 rpm single shooting stalls (residual "
-    "0.37 of the clearance, |mu_max| about 700) and multiple shooting over 16 segments too "
-    "(0.1 of the clearance): the segment maps are linear over only 1e-3 of the Newton step",
+    reason="the 150 rpm map is not smooth at the clearance's scale: a start moved by 1e-12 "
+    "of the clearance moves the one-period image by 0.19 of it (adaptive steps), and on a "
+    "frozen schedule the map is linear only up to 1e-6 of it; the latched impact velocity "
+    "depends on where the steps fall before each impact",
     strict=False,
 )
 def test_unstable_period_one_orbit_inside_the_chaotic_motion_at_150_rpm():

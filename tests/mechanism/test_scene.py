@@ -342,7 +342,10 @@ BAD_CHANGES = [
     ({"drive.joint": "B"}, ["drive.joint", "'clearance_revolute'", "'revolute'"]),
     ({"drive.joint": "P"}, ["drive.joint", "'prismatic'", "must be a 'revolute' joint"]),
     ({"drive.joint": "Q"}, ["drive.joint", "no joint 'Q'", "O, A, B, P"]),
-    ({"outputs.slider_joint": "O"}, ["outputs.slider_joint", "must be a 'prismatic' joint"]),
+    (
+        {"outputs.slider_joint": "O"},
+        ["outputs.slider_joint", "must be a 'prismatic' or 'clearance_prismatic' joint"],
+    ),
     ({"outputs.crank_joint": "P"}, ["outputs.crank_joint", "'revolute' or 'clearance_revolute'"]),
     (
         {

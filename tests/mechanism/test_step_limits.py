@@ -18,7 +18,12 @@ import numpy as np
 import pytest
 
 import mechanism
-from mechanism.core.integrate import initial_deviation, integrate_tangent
+from mechanism.core.integrate import (
+    StepSettings,
+    TangentSettings,
+    initial_deviation,
+    integrate_tangent,
+)
 from mechanism.core.integrate._driver import APPROACH_FRACTION
 from mechanism.core.model import _kernels as k
 from mechanism.core.model import assemble, initial_state
@@ -112,11 +117,12 @@ def test_exponent_reference_takes_the_steps_of_simulate() -> None:
     q0, v0 = initial_state(model)
     y0 = np.concatenate([q0, v0])
     d0 = initial_deviation(model, y0, t0=0.0, size=1e-12, time_scale=1e-3)
-    run = integrate_tangent(
-        model, y0, d0, np.array([0.0, t_end]), rtol=scene.solver.rtol, atol=scene.solver.atol,
-        max_step=math.inf, renormalize_every=1, time_scale=1e-3,
+    steps = StepSettings(
+        rtol=scene.solver.rtol, atol=scene.solver.atol, max_step=math.inf,
         approach_floor=ds.attrs["approach_floor"],
     )  # fmt: skip
+    settings = TangentSettings(steps=steps, time_scale=1e-3)
+    run = integrate_tangent(model, y0, d0, np.array([0.0, t_end]), settings=settings)
     assert run.stats.success and ds.attrs["solver_contact_events"] > 1
     assert run.stats.steps == ds.attrs["solver_steps"]
     n = model.n_dof

@@ -1,4 +1,4 @@
-"""Contact and friction laws of clearance revolute joints.
+"""Contact and friction laws of clearance joints (revolute and translational).
 
 Normal force laws (Lankarani–Nikravesh, Hertz, Flores et al. 2011, Hu–Guo 2015), the Hertz
 stiffness in its conformal and sum-of-radii forms, and the Coulomb and Ambrósio friction
@@ -6,6 +6,9 @@ laws. The compiled laws (imported from here by the model and the integrators) ar
 the time loop; the functions here resolve and validate a scene's settings once. See
 ``docs/contact-and-wear.md``.
 """
+
+# the settings of a translational clearance joint, for the model's tables; not public API
+from ._guide import corner_stiffness, guide_contact_parameters
 
 # compiled laws and their codes, for the model, wear and integrator kernels; not public API
 from ._kernels import (
@@ -41,3 +44,6 @@ from ._laws import (
 
 # the public names are those of ``_laws``, listed once there
 from ._laws import __all__ as __all__
+
+# the oil film of a lubricated revolute clearance joint, for the model; not public API
+from ._lubrication import film_factor, positive_film_force, short_bearing_force

@@ -7,7 +7,8 @@ Tables (built by ``mechanism.core.forces._tables.force_tables``):
     kind (``FE_SPRING``, ``FE_TORSION``, ``FE_LOAD``); the point-table rows ``FI_A`` and
     ``FI_B`` (spring ends, the joint's two points of a torsional spring, the load point in
     ``FI_A``); the offsets and lengths in ``fe_t`` of the force–deflection
-    (``FI_TK_*``) and force–velocity (``FI_TC_*``) tables of a spring; the time profile
+    (``FI_TK_*``) and force–velocity (``FI_TC_*``) tables of a spring, and at ``FI_TC_*``
+    the torque–speed table (rad/s, N m) of a motor's torsional element; the time profile
     of a load (``FI_TIME``: ``PROFILE_NONE``, ``PROFILE_FOURIER``, ``PROFILE_TABLE``, its
     data at ``FI_TT_*``); its joint-coordinate profile (``FI_COORD``: ``COORD_NONE``,
     ``COORD_SLIDE``, ``COORD_ANGLE``; the joint's points ``FI_CA``, ``FI_CB``; its table at
@@ -213,12 +214,15 @@ def _spring_add(fe_i, fe_f, fe_t, e, pci, pcf, gen, out):
 
 
 @njit_noalloc()
-def _torsion_add(fe_i, fe_f, e, pci, pcf, gen, out):
+def _torsion_add(fe_i, fe_f, fe_t, e, pci, pcf, gen, out):
     a = fe_i[e, FI_A]
     b = fe_i[e, FI_B]
     angle = pcf[b, PC_ANG] - pcf[a, PC_ANG] - fe_f[e, FF_REF]
     rate = pcf[b, PC_RATE] - pcf[a, PC_RATE]
     moment = -fe_f[e, FF_K] * angle - fe_f[e, FF_C] * rate + fe_f[e, FF_ACT]
+    if fe_i[e, FI_TC_N] > 0:
+        # a motor's tabulated torque–speed curve (the rate in rad/s)
+        moment += table_value(fe_t, fe_i[e, FI_TC_OFF], fe_i[e, FI_TC_N], rate)
     apply_point_force(gen, 0.0, 0.0, moment, pci, pcf, b)
     apply_point_force(gen, 0.0, 0.0, -moment, pci, pcf, a)
     if out.shape[0] > 0:
@@ -273,7 +277,7 @@ def force_elements_add(fe_i, fe_f, fe_t, t, pci, pcf, gen, out):
         if kind == FE_SPRING:
             _spring_add(fe_i, fe_f, fe_t, e, pci, pcf, gen, out)
         elif kind == FE_TORSION:
-            _torsion_add(fe_i, fe_f, e, pci, pcf, gen, out)
+            _torsion_add(fe_i, fe_f, fe_t, e, pci, pcf, gen, out)
         else:
             _load_add(fe_i, fe_f, fe_t, e, t, pci, pcf, gen, out)
 

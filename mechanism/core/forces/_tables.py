@@ -112,13 +112,19 @@ def force_tables(scene: Scene, point: PointRow) -> ForceTables:
     drive = scene.drive
     if isinstance(drive, MotorDrive):
         # the linear torque–speed curve T_s (1 − ω/ω₀) is a torsional damper of
-        # c = T_s/ω₀ with the actuator torque T_s; reported as the element "drive"
+        # c = T_s/ω₀ with the actuator torque T_s; a tabulated curve is the element's
+        # torque–rate table (rpm → rad/s); reported as the element "drive"
         ri = [0] * k.FI_COLUMNS
         rf = [0.0] * k.FF_COLUMNS
         ri[k.FI_KIND] = k.FE_TORSION
         ri[k.FI_A], ri[k.FI_B], _ = _joint_points(scene, drive.joint, point, "drive")
-        rf[k.FF_C] = drive.damping
-        rf[k.FF_ACT] = drive.stall_torque
+        table = drive.torque_speed
+        if table is None:
+            rf[k.FF_C] = drive.damping
+            rf[k.FF_ACT] = float(drive.stall_torque or 0.0)
+        else:
+            speeds = tuple(w * (2.0 * math.pi / 60.0) for w in table.speed_rpm)
+            ri[k.FI_TC_OFF], ri[k.FI_TC_N] = store(speeds, table.torque)
         rows_i.append(ri)
         rows_f.append(rf)
         names = (*names, MOTOR_ELEMENT)

@@ -2,7 +2,8 @@
 implicit generalized-α method for stiff contact. Pass a name or a strategy object as
 ``method=`` to :func:`mechanism.simulate`. :func:`integrate_tangent` advances a state and
 a renormalised deviation on one step sequence (the largest Lyapunov exponent), and
-:func:`integrate_tangent_flexible` does so on generalized-α steps (flexible models).
+:func:`integrate_tangent_flexible` does so on generalized-α steps (flexible models);
+both take their step control and deviation options as one :class:`TangentSettings`.
 The compiled loops return to Python every ``chunk_steps`` attempted steps, so Ctrl-C
 stops a run promptly; :func:`interrupt_integrations` stops the runs of other threads."""
 
@@ -22,6 +23,7 @@ from ._methods import METHODS, Dopri5, GeneralizedAlpha, resolve_method
 from ._scipy_ivp import ScipyIVP
 from ._tangent import (
     TangentIntegration,
+    TangentSettings,
     clearance_kinematics,
     deviation_size,
     initial_deviation,
@@ -46,6 +48,7 @@ __all__ = [
     "SolverStats",
     "StepSettings",
     "TangentIntegration",
+    "TangentSettings",
     "clearance_kinematics",
     "deviation_size",
     "initial_deviation",

@@ -135,7 +135,9 @@ def genalpha_advance(model, ws, loop, out, ctl, jac, t_stop, dev):
     Parameters αm = (2ρ∞ − 1)/(ρ∞ + 1), αf = ρ∞/(ρ∞ + 1), γ = ½ + αf − αm,
     β = ¼(γ + ½)² (Arnold & Brüls 2007 form with pseudo-accelerations ``apse``). Each step
     solves R(x) = x − a(t + h, q(x), q̇(x)) for x = q̈ₙ₊₁ by modified Newton on
-    J = I − c_q ∂a/∂q − c_v ∂a/∂q̇ (:func:`hybrid_jacobian`; refreshed when Newton stalls,
+    J = I − c_q ∂a/∂q − c_v ∂a/∂q̇ (:func:`hybrid_jacobian`, taken at the step's predicted
+    end q̈ₙ₊₁ = q̈ₙ in models without clearance joints and at its start otherwise;
+    refreshed when Newton stalls,
     when the Newton iterations beyond two per step since the last refresh exceed
     ``REFRESH_AFTER``, and — in models
     without contact columns — when a clearance joint changes between contact and
@@ -264,7 +266,21 @@ def genalpha_advance(model, ws, loop, out, ctl, jac, t_stop, dev):
             status = STATUS_SINGULAR if singular_iterate else STATUS_STEP_TOO_SMALL
             break
         if not jac_valid:
-            hybrid_jacobian(model, ws, t, q, v, vimp, kq, cv, fd_cols, an_cols, counters, not stale)
+            if nc == 0:
+                # Taken at the step's predicted end (x = q̈ₙ), where Newton converges, not at
+                # its start: a rotating beam's axial stiffness turns with it, and its leak
+                # into the far softer bending directions over one step made the start's
+                # Jacobian contract only by θ ≈ 0.01–0.09 per iteration, against
+                # θ ≈ 0.002 at the predicted end (S6, h = 1e-4 s; docs/ancf.md §8)
+                for i in range(n):
+                    anew[i] = (acc[i] - am * apse[i]) / (1.0 - am)
+                    qn[i] = q[i] + h * v[i] + h * h * ((0.5 - bt) * apse[i] + bt * anew[i])
+                    vn[i] = v[i] + h * ((1.0 - gm) * apse[i] + gm * anew[i])
+                hybrid_jacobian(model, ws, t + h, qn, vn, vimp, kq, cv, fd_cols, an_cols, counters,
+                                not stale)  # fmt: skip
+            else:
+                hybrid_jacobian(model, ws, t, q, v, vimp, kq, cv, fd_cols, an_cols, counters,
+                                not stale)  # fmt: skip
             if nc > 0:
                 accelerations(model, ws, t, q, v, vimp, f, counters)
                 base_contact = contact_derivatives(model, ws, q, v, vimp, cc, dq0, dv0, gt, cs)

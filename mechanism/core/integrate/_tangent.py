@@ -16,12 +16,14 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from chaoskit.contract import check_int, check_positive
 from mechanism.core._status import STATUS_RUNNING
 from mechanism.core.joints import PC_X, PC_Y, update_points
 from mechanism.core.model import kernels as k
 
 from . import _dopri_kernels as dk
 from . import _tangent_kernels as tk
+from ._interface import StepSettings
 from ._methods import (
     APPROACH_FRACTION,
     CHUNK_STEPS,
@@ -39,6 +41,7 @@ if TYPE_CHECKING:
 
 __all__ = [
     "TangentIntegration",
+    "TangentSettings",
     "clearance_kinematics",
     "deviation_size",
     "initial_deviation",
@@ -49,6 +52,115 @@ __all__ = [
     "state_derivative",
     "tangent_basis",
 ]
+
+
+#: how :class:`TangentSettings` differences the deviation's rate
+DIFFERENCES = ("split", "directional")
+
+
+@dataclass(frozen=True, kw_only=True)
+class TangentSettings:
+    """How :func:`integrate_tangent` and :func:`integrate_tangent_flexible` advance a
+    reference and its deviation: the reference's step control and the deviation's options,
+    built once per run and checked on construction (a ValueError names the field and its
+    accepted range).
+
+    Parameters
+    ----------
+    steps : StepSettings
+        Step control of the reference (``rtol``, ``atol``, ``max_step``,
+        ``approach_floor``, ``projection``), as for :func:`mechanism.simulate`;
+        ``step_budget`` bounds the generalized-α reference only (``max_steps`` bounds
+        the Dormand–Prince tangent loop).
+    time_scale : float
+        τ (s, > 0) of the deviation norm ``√((δqᵀMδq + τ²δq̇ᵀMδq̇)/m_total)``.
+    renormalize_every : int
+        Accepted steps between renormalisations (≥ 1; also done at every stop). The
+        dynamics are linear in the deviation, so ``final_deviation`` × exp of the last
+        ``log_growth`` is the deviation carried without renormalisation.
+    deviation_rtol : float
+        In [0, 1]. > 0: a step is also rejected when the deviation's error estimate
+        exceeds this fraction of its size (mass-weighted norm); 0: the reference's error
+        alone decides, and the steps are those of ``simulate`` at the same settings (and
+        the same for every deviation of one reference). Dormand–Prince only.
+    neutral_latch_after : float, optional
+        Duration (s, > 0) of uninterrupted contact after which a clearance joint's latch
+        deviation is zeroed (None: never). A latch frozen by a lasting contact is a
+        neutral direction of the linearised flow (while the contact lasts its multiplier
+        is exactly 1, the latch feeding the motion but nothing feeding it): left in, it
+        holds the renormalised deviation at zero growth once every other direction
+        contracts. Zeroing it keeps the deviation in the invariant subspace without the
+        latch, whose growth is the exponent of the motion. Contact is checked whenever
+        the compiled loop returns (every ``chunk_steps`` attempted steps and at the
+        stops), which does not change the integration; impacts and contacts shorter than
+        the duration are untouched. Dormand–Prince only.
+    max_steps : int
+        Upper bound on attempted steps (≥ 1). Dormand–Prince only (the generalized-α
+        loop takes its method's).
+    chunk_steps : int
+        Attempted steps per call of the compiled loop (≥ 1): between calls Python runs, so
+        Ctrl-C stops even a run held at tiny steps. The results do not depend on it.
+        Dormand–Prince only (the generalized-α loop takes its method's).
+    difference : {"split", "directional"}
+        How the deviation's rate is differenced at every stage: ``"split"``, one
+        difference along its position part and one along its velocity part, each scaled
+        to the deviation's size (two right-hand sides per stage); ``"directional"``, one
+        difference along the whole deviation, scaled so that its smaller part moves by the
+        deviation's size unless its larger one would move by more than ten times that (one
+        right-hand side per stage; the rate at the start of a step is the last stage's of
+        the step before unless a renormalisation or a projection moved the deviation).
+        Dormand–Prince only.
+
+    Examples
+    --------
+    >>> from mechanism.core.integrate import StepSettings, TangentSettings
+    >>> steps = StepSettings(rtol=1e-8, atol=1e-8, max_step=1e-4)
+    >>> TangentSettings(steps=steps, time_scale=0.0637).renormalize_every
+    1
+    >>> TangentSettings(steps=steps, time_scale=0.0637, deviation_rtol=2.0)
+    Traceback (most recent call last):
+    ...
+    ValueError: deviation_rtol must be in [0, 1]; got 2.0.
+    """
+
+    steps: StepSettings
+    time_scale: float
+    renormalize_every: int = 1
+    deviation_rtol: float = 0.0
+    neutral_latch_after: float | None = None
+    max_steps: int = 200_000_000
+    chunk_steps: int = CHUNK_STEPS["tangent"]
+    difference: str = "split"
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.steps, StepSettings):
+            raise TypeError(
+                f"steps must be a mechanism.core.integrate.StepSettings; got "
+                f"{type(self.steps).__name__}."
+            )
+        deviation_rtol = check_positive(self.deviation_rtol, name="deviation_rtol", allow_zero=True)
+        if deviation_rtol > 1.0:
+            raise ValueError(f"deviation_rtol must be in [0, 1]; got {deviation_rtol!r}.")
+        after = self.neutral_latch_after
+        check_chunk_steps(self.chunk_steps)
+        if self.difference not in DIFFERENCES:
+            raise ValueError(
+                f"difference must be one of {', '.join(DIFFERENCES)}; got {self.difference!r}."
+            )
+        checked = {
+            "time_scale": check_positive(self.time_scale, name="time_scale"),
+            "renormalize_every": check_int(
+                self.renormalize_every, name="renormalize_every", minimum=1
+            ),
+            "deviation_rtol": deviation_rtol,
+            "neutral_latch_after": (
+                None if after is None else check_positive(after, name="neutral_latch_after")
+            ),
+            "max_steps": check_int(self.max_steps, name="max_steps", minimum=1),
+            "chunk_steps": int(self.chunk_steps),
+        }
+        for name, value in checked.items():
+            object.__setattr__(self, name, value)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -201,24 +313,14 @@ def integrate_tangent(
     d0: np.ndarray,
     t_stops: np.ndarray,
     *,
-    rtol: float,
-    atol: float,
-    max_step: float,
-    renormalize_every: int,
-    time_scale: float,
-    approach_floor: float = 0.0,
-    projection: bool = False,
-    deviation_rtol: float = 0.0,
-    max_steps: int = 200_000_000,
-    chunk_steps: int = CHUNK_STEPS["tangent"],
-    progress: bool = False,
-    label: str = "lyapunov",
+    settings: TangentSettings,
     latch: tuple[np.ndarray, np.ndarray] | None = None,
     latch_deviation: np.ndarray | None = None,
+    step_schedule: np.ndarray | None = None,
     record_states: bool = False,
     record_steps: bool = False,
-    step_schedule: np.ndarray | None = None,
-    neutral_latch_after: float | None = None,
+    progress: bool = False,
+    label: str = "lyapunov",
 ) -> TangentIntegration:
     """Integrate ``y0`` from ``t_stops[0]`` and its deviation ``d0`` to ``t_stops[-1]``.
 
@@ -232,32 +334,20 @@ def integrate_tangent(
         of the cost (its growth stays 0).
     t_stops
         Increasing times (s); the first is the start. The growth is read at each.
-    rtol, atol, max_step, approach_floor
-        Step control of the reference, as :class:`~mechanism.integrate.Dopri5`
-        (``approach_floor`` > 0: the clearance joints' approach bounds the step, never
-        below it).
-    renormalize_every
-        Accepted steps between renormalisations (also done at every stop). The
-        dynamics are linear in the deviation, so ``final_deviation`` × exp of the last
-        ``log_growth`` is the deviation carried without renormalisation.
-    deviation_rtol
-        > 0: a step is also rejected when the deviation's error estimate exceeds this
-        fraction of its size (mass-weighted norm); 0: the reference's error alone decides,
-        and the steps are those of ``simulate`` at the same settings (and the same for
-        every deviation of one reference).
-    time_scale
-        τ (s) of the deviation norm.
-    max_steps
-        Upper bound on attempted steps.
-    chunk_steps
-        Attempted steps per call of the compiled loop (≥ 1): between calls Python runs, so
-        Ctrl-C stops even a run held at tiny steps. The results do not depend on it.
+    settings
+        The reference's step control (``settings.steps``, as
+        :class:`~mechanism.integrate.Dopri5`; ``approach_floor`` > 0: the clearance
+        joints' approach bounds the step, never below it) and the deviation's options
+        (:class:`TangentSettings`).
     latch
         (impact velocities (m/s), contact flags) of the clearance joints at the start;
         default: those :func:`mechanism.simulate` starts from (a journal in contact holds
         the floor). A state taken from inside a run needs the run's latch.
     latch_deviation
         Initial deviation (m/s) of the latched impact velocities; default 0.
+    step_schedule
+        Increasing times holding ``t_stops`` (e.g. ``step_times`` of a run from a nearby
+        state): step exactly from one to the next, accepting every step.
     record_states
         Keep the reference state, the contact flags and the count of contact entries at
         every stop (``states``, ``contact``, ``contact_events``).
@@ -267,28 +357,38 @@ def integrate_tangent(
         ``step_schedule`` they freeze the steps, so the end state is a smooth function
         of the start (the adaptive choice of steps, otherwise a source of jumps at the
         tolerance's level, is frozen).
-    step_schedule
-        Increasing times holding ``t_stops`` (e.g. ``step_times`` of a run from a nearby
-        state): step exactly from one to the next, accepting every step.
-    neutral_latch_after
-        Duration (s) of uninterrupted contact after which a clearance joint's latch
-        deviation is zeroed (None: never). A latch frozen by a lasting contact is a
-        neutral direction of the linearised flow (while the contact lasts its multiplier
-        is exactly 1, the latch feeding the motion but nothing feeding it): left in, it
-        holds the renormalised deviation at zero growth once every other direction
-        contracts. Zeroing it keeps the deviation in the invariant subspace without the
-        latch, whose growth is the exponent of the motion. Contact is checked whenever
-        the compiled loop returns (every ``chunk_steps`` attempted steps and at the
-        stops), which does not change the integration; impacts and contacts shorter than
-        the duration are untouched.
+    progress, label
+        Show a progress bar with this label.
 
     Returns
     -------
     TangentIntegration
         Fewer rows than ``t_stops`` when the run failed (``stats.status`` < 0).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import mechanism
+    >>> from mechanism.core.integrate import StepSettings, TangentSettings, integrate_tangent
+    >>> from mechanism.core.model import assemble, initial_state
+    >>> scene = mechanism.load_scene("paper").replace({"effects.flexibility": False})
+    >>> model = assemble(scene)
+    >>> y0 = np.concatenate(initial_state(model))
+    >>> steps = StepSettings(rtol=1e-8, atol=1e-8, max_step=4e-5)
+    >>> settings = TangentSettings(steps=steps, time_scale=0.0637)
+    >>> run = integrate_tangent(model, y0, np.zeros_like(y0), np.array([0.0, 1e-3]),
+    ...                         settings=settings)
+    >>> run.stats.success
+    True
     """
     _check_rigid(model)
-    check_chunk_steps(chunk_steps)
+    if not isinstance(settings, TangentSettings):
+        raise TypeError(f"settings must be a TangentSettings; got {type(settings).__name__}.")
+    steps_in = settings.steps
+    rtol, atol, max_step = steps_in.rtol, steps_in.atol, steps_in.max_step
+    time_scale = settings.time_scale
+    chunk_steps = settings.chunk_steps
+    directional = settings.difference == "directional"
     km = model.kernel
     ws, ws2 = model.workspace(), model.workspace()
     stops = np.ascontiguousarray(t_stops, dtype=np.float64)
@@ -322,12 +422,12 @@ def integrate_tangent(
     def rate() -> int:
         return int(tk.tangent_start(
             km, ws, float(state[0]), y, d, k1, kd1, vimp, dvimp, counters, counters_p,
-            size, float(time_scale), inv_mass,
+            size, float(time_scale), inv_mass, directional,
         ))  # fmt: skip
 
     if status == STATUS_RUNNING:
         status = rate()
-    hold = _ContactHold(neutral_latch_after, t0, contact, counters)
+    hold = _ContactHold(settings.neutral_latch_after, t0, contact, counters)
     steps = [t0]
     schedule = (
         np.zeros(0)
@@ -340,10 +440,10 @@ def integrate_tangent(
     def advance(stop: float) -> int:
         st = int(tk.tangent_advance(
             km, ws, ws2, y, d, k1, kd1, state, vimp, dvimp, contact, counters,
-            counters_p, growth, stop, t_end, rtol, atol, max_step, projection,
-            max_steps, int(renormalize_every), size, tau2, inv_mass,
-            float(approach_floor), APPROACH_FRACTION, float(deviation_rtol),
-            int(chunk_steps), schedule,
+            counters_p, growth, stop, t_end, rtol, atol, max_step, steps_in.projection,
+            settings.max_steps, settings.renormalize_every, size, tau2, inv_mass,
+            float(steps_in.approach_floor), APPROACH_FRACTION, settings.deviation_rtol,
+            chunk_steps, schedule, directional,
         ))  # fmt: skip
         if hold.drop(float(state[0]), contact, counters, dvimp) and st == STATUS_RUNNING:
             st = rate()  # the deviation's rate without the dropped latch

@@ -17,13 +17,13 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from chaoskit.contract import check_int, check_positive
 from mechanism.core.bodies import beams_force_add
 from mechanism.core.model import kernels as k
 
 from . import _tangent_kernels as tk
-from ._interface import StepSettings
 from ._methods import GeneralizedAlpha, RecordPlan, initial_latch
-from ._tangent import TangentIntegration, inverse_total_mass
+from ._tangent import TangentIntegration, TangentSettings, inverse_total_mass
 
 if TYPE_CHECKING:
     from mechanism.core.model import Model
@@ -40,6 +40,35 @@ NEWTON_TOLERANCE = 1e-6
 MAX_NEWTON = 12
 
 
+def _check_flexible_settings(
+    settings: TangentSettings, newton_tolerance: float, max_newton: int
+) -> None:
+    """Raise unless ``settings`` and the Newton options suit the generalized-α copy."""
+    if not isinstance(settings, TangentSettings):
+        raise TypeError(f"settings must be a TangentSettings; got {type(settings).__name__}.")
+    if settings.steps.projection:
+        raise ValueError(
+            "settings.steps.projection must be False: the generalized-alpha copy is not projected."
+        )
+    if settings.deviation_rtol != 0.0:
+        raise ValueError(
+            "settings.deviation_rtol must be 0 on generalized-alpha steps (the reference "
+            f"alone controls them); got {settings.deviation_rtol!r}."
+        )
+    if settings.difference != "split":
+        raise ValueError(
+            "settings.difference must be 'split' on generalized-alpha steps (the copy takes "
+            f"its own implicit step); got {settings.difference!r}."
+        )
+    if settings.neutral_latch_after is not None:
+        raise ValueError(
+            "settings.neutral_latch_after must be None on generalized-alpha steps; got "
+            f"{settings.neutral_latch_after!r}."
+        )
+    check_positive(newton_tolerance, name="newton_tolerance")
+    check_int(max_newton, name="max_newton", minimum=1)
+
+
 def integrate_tangent_flexible(
     model: Model,
     y0: np.ndarray,
@@ -47,12 +76,7 @@ def integrate_tangent_flexible(
     t_stops: np.ndarray,
     *,
     method: GeneralizedAlpha,
-    rtol: float,
-    atol: float,
-    max_step: float,
-    renormalize_every: int,
-    time_scale: float,
-    approach_floor: float = 0.0,
+    settings: TangentSettings,
     newton_tolerance: float = NEWTON_TOLERANCE,
     max_newton: int = MAX_NEWTON,
     progress: bool = False,
@@ -75,21 +99,30 @@ def integrate_tangent_flexible(
     method
         The generalized-α integrator of the reference (as :func:`mechanism.simulate`
         resolves it).
-    rtol, atol, max_step, approach_floor
-        As for ``method.integrate``: the reference's step control.
-    renormalize_every
-        Accepted steps between renormalisations (also at every stop).
-    time_scale
-        τ (s) of the deviation norm.
+    settings
+        ``settings.steps``: the reference's step control, as for ``method.integrate``
+        (without projection); ``time_scale`` and ``renormalize_every`` of the deviation.
+        The Dormand–Prince-only options (``deviation_rtol``, ``neutral_latch_after``,
+        ``difference``) must be left at their defaults.
     newton_tolerance, max_newton
-        The copy's Newton test (relative to the deviation's size) and iteration limit.
+        The copy's Newton test (relative to the deviation's size, > 0) and iteration
+        limit (≥ 1).
+    progress, label
+        Show a progress bar with this label.
 
     Returns
     -------
     TangentIntegration
         ``t`` holds the times reached at the stops; ``stats`` are the reference's (its
         ``function_evaluations`` count both copies); fewer rows when the run failed.
+
+    Raises
+    ------
+    ValueError
+        On projection, a Dormand–Prince-only option or a bad Newton setting.
     """
+    _check_flexible_settings(settings, newton_tolerance, max_newton)
+    renormalize_every, time_scale = settings.renormalize_every, settings.time_scale
     km = model.kernel
     n = model.n_dof
     stops = np.ascontiguousarray(t_stops, dtype=np.float64)
@@ -126,11 +159,8 @@ def integrate_tangent_flexible(
         logs.append(float(dev.growth[tk.DEV_LOG]))
 
     start = time.perf_counter()
-    steps = StepSettings(
-        rtol=rtol, atol=atol, max_step=max_step, approach_floor=approach_floor, projection=False
-    )
     run = method._advance(
-        model, y, stops, steps=steps, progress=progress, label=label,
+        model, y, stops, steps=settings.steps, progress=progress, label=label,
         record=RecordPlan(grid="light"), deviation=dev, stops=stops[1:], on_stop=read,
     )  # fmt: skip
     wall = time.perf_counter() - start

@@ -17,6 +17,14 @@ force, bounded approach speed): when it lies on another one, the
 difference is taken on the reference's side, f(y) − f(y − c·part), the one-sided
 derivative of the reference's piece.
 
+With ``directional`` the two parts are taken as one difference along the whole deviation,
+f(t, y + c d) − f(t, y), one evaluation per stage instead of two: c scales the smaller
+part to ``size`` as long as the larger one stays within ``DIRECTIONAL_REACH`` × ``size``
+(inside the linear regime measured in docs/mechanism-lyapunov.md §3), so both parts move
+the coordinates far above round-off, and the deviation's rate at the start of a step is
+the last stage's of the step before (first same as last) unless a renormalisation or a
+projection moved it.
+
 The contact state (the impact-velocity latch and the in-contact flags) is decided by the
 reference at the accepted steps; the latched impact velocity has its own deviation
 (its derivative along d when latched, frozen in contact), part of the linearised state:
@@ -150,6 +158,11 @@ from ._step_kernels import (
 _EPS = 2.220446049250313e-16
 # largest coordinate change (m or rad) of the finite difference of Φq q̇ + Φt along δq
 _G_STEP = 1e-7
+
+#: directional difference (``directional``): the larger of the deviation's two parts (position,
+#: velocity; mass-weighted sizes) is shifted by at most this multiple of ``size``, so that
+#: the smaller one still moves the coordinates far above their round-off
+DIRECTIONAL_REACH = 10.0
 
 # ``growth`` (float64[GROWTH_COLUMNS]) accumulated by :func:`tangent_advance`
 GROWTH_LOG = 0  # Σ ln(|d| / size) over the renormalisations
@@ -369,9 +382,28 @@ def _half_rate(model, ws, t, ys, ds, lo, hi, c, f_ref, vimp, dvimp, latch, vimp_
 
 
 @njit_noalloc()
+def _directional_scale(a, b, size):
+    """c such that c·d has the mass-weighted size ``size`` in its smaller part (sizes a and
+    b of the position and the velocity part, m), the larger part capped at
+    ``DIRECTIONAL_REACH`` × size; 0 for a zero deviation."""
+    big = max(a, b)
+    small = min(a, b)
+    if not big > 0.0:
+        return 0.0
+    if not small > 0.0:
+        return size / big
+    return size / max(small, big / DIRECTIONAL_REACH)
+
+
+@njit_noalloc()
 def _deviation_rate(model, ws, t, ys, ds, f_ref, vimp, dvimp, vimp_p, yp, fp, kd, ref,
-                    fresh, size, tau, inv_mass, counters_p):  # fmt: skip
+                    fresh, size, tau, inv_mass, counters_p, directional):  # fmt: skip
     """kd = (∂f/∂y)(t, ys)·ds + (∂f/∂δ̇⁻)·dvimp, f_ref = f(t, ys), by finite differences.
+
+    With ``directional`` one difference along the whole of ``ds`` (and ``dvimp``): one
+    evaluation instead of two, the shift scaled so that the smaller part moves by
+    ``size`` unless the larger one would then move by more than ``DIRECTIONAL_REACH`` ×
+    ``size`` (:func:`_directional_scale`). Otherwise the two parts separately:
 
     The position rows are exact (kd_q = ds_q̇). The acceleration rows are the sum of two
     one-sided directional differences, one along the position part of ``ds`` and one
@@ -400,6 +432,14 @@ def _deviation_rate(model, ws, t, ys, ds, f_ref, vimp, dvimp, vimp_p, yp, fp, kd
         kd[n + i] = 0.0
     pq, pv = part_norms(model, ds, inv_mass)
     st = STATUS_OK
+    if directional:
+        c = _directional_scale(pq, tau * pv, size)
+        if c > 0.0:
+            st |= _half_rate(
+                model, ws, t, ys, ds, 0, n2, c, f_ref, vimp, dvimp, True, vimp_p, yp, fp, kd,
+                ref, counters_p,
+            )  # fmt: skip
+        return st
     if pq > 0.0:
         st |= _half_rate(
             model, ws, t, ys, ds, 0, n, size / pq, f_ref, vimp, dvimp, False, vimp_p, yp, fp,
@@ -415,7 +455,7 @@ def _deviation_rate(model, ws, t, ys, ds, f_ref, vimp, dvimp, vimp_p, yp, fp, kd
 
 @njit(cache=True)
 def tangent_start(model, ws, t, y, d, k1, kd1, vimp, dvimp, counters, counters_p, size, tau,
-                  inv_mass):  # fmt: skip
+                  inv_mass, directional):  # fmt: skip
     """k1 = f(t, y) and kd1 = the deviation's rate (:func:`_deviation_rate`); returns a
     status."""
     st = rhs(model, ws, t, y, vimp, k1, counters)
@@ -427,7 +467,7 @@ def tangent_start(model, ws, t, y, d, k1, kd1, vimp, dvimp, counters, counters_p
     vimp_p = np.empty_like(vimp)
     st = _deviation_rate(
         model, ws, t, y, d, k1, vimp, dvimp, vimp_p, yp, fp, kd1, ref, True,
-        size, tau, inv_mass, counters_p,
+        size, tau, inv_mass, counters_p, directional,
     )  # fmt: skip
     return STATUS_RUNNING if st == STATUS_OK else st
 
@@ -489,6 +529,7 @@ def tangent_advance(
     deviation_rtol,
     chunk_steps,
     schedule,
+    directional,
 ):
     """Advance reference and deviation to ``t_stop`` (≤ ``t_end``), landing on it, and
     renormalise there.
@@ -570,7 +611,7 @@ def tangent_advance(
         st |= rhs(model, ws, t + C2 * h, ytmp, vimp, k2, counters)
         st |= _deviation_rate(
             model, ws, t + C2 * h, ytmp, dtmp, k2, vimp, dvimp, vimp_p, yp, fp, kd2,
-            ref, True, size, tau, inv_mass, counters_p,
+            ref, True, size, tau, inv_mass, counters_p, directional,
         )  # fmt: skip
         for i in range(n2):
             ytmp[i] = y[i] + h * (A31 * k1[i] + A32 * k2[i])
@@ -578,7 +619,7 @@ def tangent_advance(
         st |= rhs(model, ws, t + C3 * h, ytmp, vimp, k3, counters)
         st |= _deviation_rate(
             model, ws, t + C3 * h, ytmp, dtmp, k3, vimp, dvimp, vimp_p, yp, fp, kd3,
-            ref, True, size, tau, inv_mass, counters_p,
+            ref, True, size, tau, inv_mass, counters_p, directional,
         )  # fmt: skip
         for i in range(n2):
             ytmp[i] = y[i] + h * (A41 * k1[i] + A42 * k2[i] + A43 * k3[i])
@@ -586,7 +627,7 @@ def tangent_advance(
         st |= rhs(model, ws, t + C4 * h, ytmp, vimp, k4, counters)
         st |= _deviation_rate(
             model, ws, t + C4 * h, ytmp, dtmp, k4, vimp, dvimp, vimp_p, yp, fp, kd4,
-            ref, True, size, tau, inv_mass, counters_p,
+            ref, True, size, tau, inv_mass, counters_p, directional,
         )  # fmt: skip
         for i in range(n2):
             ytmp[i] = y[i] + h * (A51 * k1[i] + A52 * k2[i] + A53 * k3[i] + A54 * k4[i])
@@ -594,7 +635,7 @@ def tangent_advance(
         st |= rhs(model, ws, t + C5 * h, ytmp, vimp, k5, counters)
         st |= _deviation_rate(
             model, ws, t + C5 * h, ytmp, dtmp, k5, vimp, dvimp, vimp_p, yp, fp, kd5,
-            ref, True, size, tau, inv_mass, counters_p,
+            ref, True, size, tau, inv_mass, counters_p, directional,
         )  # fmt: skip
         for i in range(n2):
             ytmp[i] = y[i] + h * (
@@ -606,7 +647,7 @@ def tangent_advance(
         st |= rhs(model, ws, t + h, ytmp, vimp, k6, counters)
         st |= _deviation_rate(
             model, ws, t + h, ytmp, dtmp, k6, vimp, dvimp, vimp_p, yp, fp, kd6,
-            ref, True, size, tau, inv_mass, counters_p,
+            ref, True, size, tau, inv_mass, counters_p, directional,
         )  # fmt: skip
         for i in range(n2):
             ynew[i] = y[i] + h * (
@@ -618,7 +659,7 @@ def tangent_advance(
         st |= rhs(model, ws, t + h, ynew, vimp, k7, counters)
         st |= _deviation_rate(
             model, ws, t + h, ynew, dnew, k7, vimp, dvimp, vimp_p, yp, fp, kd7,
-            ref, True, size, tau, inv_mass, counters_p,
+            ref, True, size, tau, inv_mass, counters_p, directional,
         )  # fmt: skip
         if st != STATUS_OK:
             status = STATUS_SINGULAR
@@ -670,22 +711,32 @@ def tangent_advance(
                     break
                 rhs(model, ws, t, y, vimp, k1, counters)
             since += 1
+            # the split difference recomputes the rate after every step (as it always
+            # has: the periodic orbits' monodromy matrices are those numbers)
+            changed = projection or not directional
             if since >= every or t >= t_stop or t >= t_end:
                 if not renormalize(model, ws, ws2, t, y, d, dvimp, scratch, size, tau2,
                                    inv_mass, growth):  # fmt: skip
                     status = STATUS_NONFINITE
                     break
                 since = 0
-            # the latch's deviation (or the projection) may have changed the rate; ref
-            # holds the reference's branches at y from the last stage (or from the
-            # evaluation after a projection)
-            st = _deviation_rate(
-                model, ws, t, y, d, k1, vimp, dvimp, vimp_p, yp, fp, kd1, ref, projection,
-                size, tau, inv_mass, counters_p,
-            )  # fmt: skip
-            if st != STATUS_OK:
-                status = STATUS_SINGULAR
-                break
+                changed = True
+            if changed:
+                # the projection moved d (or y): its rate anew; ref holds the reference's
+                # branches at y from the last stage (or from the evaluation after a
+                # projection)
+                st = _deviation_rate(
+                    model, ws, t, y, d, k1, vimp, dvimp, vimp_p, yp, fp, kd1, ref,
+                    projection, size, tau, inv_mass, counters_p, directional,
+                )  # fmt: skip
+                if st != STATUS_OK:
+                    status = STATUS_SINGULAR
+                    break
+            else:
+                # first same as last: the rate at the new point is the last stage's (the
+                # latch the step may have changed acts only in contact, where it is frozen)
+                for i in range(n2):
+                    kd1[i] = kd7[i]
             h, facold, last_rejected = next_step_size(
                 True, e, h, fac11, facold, beta, last_rejected
             )

@@ -1,9 +1,11 @@
 """Joints of a mechanism: ideal revolute, prismatic and fixed joints and drivers as
-constraint rows, and the kinematics of revolute clearance joints (journal in a bearing).
+constraint rows, and the kinematics of clearance joints (a journal in a bearing, the
+corners of a slider in a guide).
 The compiled kernels live in ``_kernels.py``; scenes describe joints as data."""
 
 # compiled kernels and their table layouts, for the other folders of the core (assembly,
 # bodies, integrators); not part of the public API
+from ._guide_kernels import guide_acceleration, guide_force_add, guide_kinematics
 from ._kernels import (
     ANGLE_NONE,
     ANGLE_RIGID,

@@ -37,7 +37,9 @@ class KernelModel(NamedTuple):
     drive_f: np.ndarray  # [θ₀, ω, period, ramp per period]
     spline_x: np.ndarray
     spline_c: np.ndarray
-    cj_i: np.ndarray  # (n_cj, 4) [bearing point, journal point, law code, friction code]
+    # (n_cj, CI_COLUMNS) [bearing point, journal point, law code, friction code, kind]; a
+    # slider corner (kind CONTACT_GUIDE) has the guide point and the corner point
+    cj_i: np.ndarray
     cj_f: np.ndarray  # (n_cj, CF_COLUMNS)
     cw_i: np.ndarray  # (n_cj, CW_COLUMNS) worn-profile layout
     cw_f: np.ndarray  # (n_cj, 2) [E*, radius ratio limit]
@@ -127,8 +129,10 @@ class Model:
     ideal_joints
         Reaction layout of every ideal joint (including clearance joints made ideal).
     clearance_joints
-        Names of the clearance joints that act through contact forces (empty when
-        ``effects.clearance`` is off).
+        Names of the rows of the clearance table, which act through contact forces (empty
+        when ``effects.clearance`` is off): a revolute clearance joint's name, and
+        ``NAME.upper_front``, ``NAME.upper_rear``, ``NAME.lower_front``,
+        ``NAME.lower_rear`` for the four slider corners of a translational one.
     force_elements
         Names of the scene's force elements in the row order of the kernel tables.
     drive_row

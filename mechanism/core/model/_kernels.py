@@ -35,8 +35,11 @@ from mechanism.core.contact import (
     APPROACH_RATIO,
     FRICTION_NONE,
     contact_potential,
+    film_factor,
     friction_force,
     normal_force,
+    positive_film_force,
+    short_bearing_force,
 )
 from mechanism.core.forces import force_elements_add, force_elements_potential
 from mechanism.core.joints import (
@@ -47,9 +50,13 @@ from mechanism.core.joints import (
     PC_X,
     PC_Y,
     angle_acceleration,
+    apply_point_force,
     clearance_force_add,
     clearance_kinematics,
     constraint_rows,
+    guide_acceleration,
+    guide_force_add,
+    guide_kinematics,
     point_acceleration,
     update_point_rows,
     update_points,
@@ -82,7 +89,26 @@ CF_MU = 6
 CF_V0 = 7
 CF_V1 = 8
 CF_FLOOR = 9
-CF_COLUMNS = 10
+# a corner of a translational clearance joint (CI_KIND = CONTACT_GUIDE) holds the distance
+# h of its guide surface from the guide point in CF_RB (CF_RJ = 0) and the surface's
+# outward normal in the guide body's frame here
+CF_NX = 10
+CF_NY = 11
+# oil film of a lubricated revolute clearance joint (CF_VISC = 0: a dry joint): viscosity
+# (Pa s), bearing length (m), film breakdown thickness (m) and the cavitation condition
+# (0: the Pinkus–Sternlicht π-film, 1: the positive-pressure film)
+CF_VISC = 12
+CF_LUB_L = 13
+CF_FILM = 14
+CF_CAV = 15
+CF_COLUMNS = 16
+
+# columns of the clearance index table ``model.cj_i``: [bearing point, journal point, law
+# code, friction code, kind]; a corner row has the guide point and the corner point
+CI_KIND = 4
+CI_COLUMNS = 5
+CONTACT_JOURNAL = 0  # a journal in a bearing (revolute clearance joint)
+CONTACT_GUIDE = 1  # a slider corner against a guide surface (translational clearance joint)
 
 # counters (int64 array shared by the kernels and the integrators)
 CNT_STEPS = 0
@@ -200,6 +226,49 @@ def worn_clearance_rate(cw_i, cw_h, j, pcf, bearing, journal, ex, ey, phi_b, phi
 
 
 @njit_noalloc()
+def contact_kinematics(cj_i, cj_f, pcf, j):
+    """``clearance_kinematics`` of row ``j`` of the clearance table: a journal in its
+    bearing, or a slider corner against its guide surface (``guide_kinematics``)."""
+    if cj_i[j, CI_KIND] == CONTACT_GUIDE:
+        return guide_kinematics(
+            pcf, cj_i[j, 0], cj_i[j, 1], cj_f[j, CF_NX], cj_f[j, CF_NY], cj_f[j, CF_RB]
+        )
+    return clearance_kinematics(
+        pcf, cj_i[j, 0], cj_i[j, 1], cj_f[j, CF_RB], cj_f[j, CF_RJ], cj_f[j, CF_C]
+    )
+
+
+@njit_noalloc()
+def film_force_add(cj_f, j, pci, pcf, b, jn, ex, ey, nx, ny, e_dot, gen):
+    """gen += the oil-film force of lubricated clearance joint ``j``: the short-bearing
+    force (``mechanism.core.contact._lubrication``) on the journal centre, its opposite on
+    the bearing centre, faded out as the film thins to its breakdown thickness. ``e_dot``
+    is d|e|/dt of the nominal geometry."""
+    c = cj_f[j, CF_C]
+    ne = math.sqrt(ex * ex + ey * ey)
+    eps = ne / c
+    w = film_factor(c, cj_f[j, CF_FILM], eps)
+    if w == 0.0:
+        return
+    # ε W = ε (ω_j + ω_b) − 2 ε γ̇ with ε γ̇ = (e × ė)/(c |e|), finite at e = 0
+    eps_w = eps * (pcf[jn, PC_RATE] + pcf[b, PC_RATE])
+    if ne > 0.0:
+        dvx = pcf[jn, PC_VX] - pcf[b, PC_VX]
+        dvy = pcf[jn, PC_VY] - pcf[b, PC_VY]
+        eps_w -= 2.0 * (ex * dvy - ey * dvx) / (c * ne)
+    mu = cj_f[j, CF_VISC]
+    length = cj_f[j, CF_LUB_L]
+    if cj_f[j, CF_CAV] > 0.0:
+        f_r, f_t = positive_film_force(mu, cj_f[j, CF_RJ], length, c, eps, e_dot / c, eps_w)
+    else:
+        f_r, f_t = short_bearing_force(mu, cj_f[j, CF_RJ], length, c, eps, e_dot / c, eps_w)
+    fx = w * (f_r * nx - f_t * ny)
+    fy = w * (f_r * ny + f_t * nx)
+    apply_point_force(gen, fx, fy, 0.0, pci, pcf, jn)
+    apply_point_force(gen, -fx, -fy, 0.0, pci, pcf, b)
+
+
+@njit_noalloc()
 def clearance_forces(model, pci, pcf, vimp, gen, cj, counters):
     cj_i = model.cj_i
     cj_f = model.cj_f
@@ -210,7 +279,9 @@ def clearance_forces(model, pci, pcf, vimp, gen, cj, counters):
         rb = cj_f[j, CF_RB]
         rj = cj_f[j, CF_RJ]
         c0 = cj_f[j, CF_C]
-        ex, ey, nx, ny, delta, ddot, vt, phib, phij = clearance_kinematics(pcf, b, jn, rb, rj, c0)
+        ex, ey, nx, ny, delta, ddot, vt, phib, phij = contact_kinematics(cj_i, cj_f, pcf, j)
+        if cj_f[j, CF_VISC] > 0.0:
+            film_force_add(cj_f, j, pci, pcf, b, jn, ex, ey, nx, ny, ddot, gen)
         kn = cj_f[j, CF_K]
         if cw_i[j, CW_WORN] != 0:
             counters[CNT_WORN_EVALS] += 1
@@ -228,7 +299,10 @@ def clearance_forces(model, pci, pcf, vimp, gen, cj, counters):
                 ft = friction_force(
                     cj_i[j, 3], cj_f[j, CF_MU], cj_f[j, CF_V0], cj_f[j, CF_V1], fn, vt
                 )
-            clearance_force_add(gen, pci, pcf, b, jn, rb, rj, nx, ny, fn, ft)
+            if cj_i[j, CI_KIND] == CONTACT_GUIDE:
+                guide_force_add(gen, pci, pcf, b, jn, ex, ey, nx, ny, fn, ft)
+            else:
+                clearance_force_add(gen, pci, pcf, b, jn, rb, rj, nx, ny, fn, ft)
         cj[j, CJ_EX] = ex
         cj[j, CJ_EY] = ey
         cj[j, CJ_DELTA] = delta
@@ -429,7 +503,7 @@ def clearance_state(model, ws, y, j):
     rb = model.cj_f[j, CF_RB]
     rj = model.cj_f[j, CF_RJ]
     c0 = model.cj_f[j, CF_C]
-    res = clearance_kinematics(ws.pcf, model.cj_i[j, 0], model.cj_i[j, 1], rb, rj, c0)
+    res = contact_kinematics(model.cj_i, model.cj_f, ws.pcf, j)
     c, kn = worn_contact(
         model.cw_i, model.cw_f, model.cw_h, model.cw_k, j, rb, rj, c0, model.cj_f[j, CF_K],
         res[7], res[8],
@@ -534,6 +608,9 @@ def approach_step(model, ws, y, acc, fraction):
             continue
         b = model.cj_i[j, 0]
         jn = model.cj_i[j, 1]
+        if model.cj_i[j, CI_KIND] == CONTACT_GUIDE:
+            limit = min(limit, _corner_approach(model, ws, acc, j, delta, fraction))
+            continue
         ex = pcf[jn, PC_X] - pcf[b, PC_X]
         ey = pcf[jn, PC_Y] - pcf[b, PC_Y]
         gap = fraction * (model.cj_f[j, CF_C] - math.sqrt(ex * ex + ey * ey))
@@ -552,6 +629,23 @@ def approach_step(model, ws, y, acc, fraction):
 
 
 @njit_noalloc()
+def _corner_approach(model, ws, acc, j, delta, fraction):
+    """The step of :func:`approach_step` for a separated slider corner (row ``j``, at
+    penetration ``delta`` ≤ 0): the gap is its distance −δ to the guide surface, the speed
+    and acceleration those of δ (normal to the surface; sliding along it closes no gap)."""
+    gap = -fraction * delta
+    if not gap > 0.0:
+        return 0.0
+    ex, ey, nx, ny, _, ddot, _, _, _ = contact_kinematics(model.cj_i, model.cj_f, ws.pcf, j)
+    speed = abs(ddot)
+    accel = abs(
+        guide_acceleration(acc, ws.pci, ws.pcf, model.cj_i[j, 0], model.cj_i[j, 1], ex, ey, nx, ny)
+    )
+    denom = speed + math.sqrt(speed * speed + 2.0 * accel * gap)
+    return 2.0 * gap / denom if denom > 0.0 else np.inf
+
+
+@njit_noalloc()
 def journal_travel_ratio(model, ws, y0, y1):
     """Largest |e(y1) − e(y0)|/c₀ over the clearance joints: how far, in nominal radial
     clearances, a journal centre moved relative to its bearing between two states (0
@@ -564,6 +658,15 @@ def journal_travel_ratio(model, ws, y0, y1):
         jn = model.cj_i[j, 1]
         rows = model.cj_i[j, :2]
         update_point_rows(y0[:n], y0[n:], model.pt_i, model.pt_f, ws.pci, pcf, rows)
+        if model.cj_i[j, CI_KIND] == CONTACT_GUIDE:
+            # a corner's travel towards or away from its surface: sliding along it is free
+            d0 = contact_kinematics(model.cj_i, model.cj_f, pcf, j)[4]
+            update_point_rows(y1[:n], y1[n:], model.pt_i, model.pt_f, ws.pci, pcf, rows)
+            d1 = contact_kinematics(model.cj_i, model.cj_f, pcf, j)[4]
+            r = abs(d1 - d0) / model.cj_f[j, CF_C]
+            if r > worst:
+                worst = r
+            continue
         ex = pcf[jn, PC_X] - pcf[b, PC_X]
         ey = pcf[jn, PC_Y] - pcf[b, PC_Y]
         update_point_rows(y1[:n], y1[n:], model.pt_i, model.pt_f, ws.pci, pcf, rows)

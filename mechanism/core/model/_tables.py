@@ -31,10 +31,11 @@ from mechanism.core.bodies import (
     RigidLayout,
     rigid_bar_from_beam,
 )
-from mechanism.core.contact import contact_parameters
+from mechanism.core.contact import contact_parameters, guide_contact_parameters
 from mechanism.core.forces import ForceTables
 from mechanism.core.joints import (
     ANGLE_NONE,
+    ANGLE_RIGID,
     CON_ANGLE,
     CON_COINCIDE,
     CON_DRIVE,
@@ -44,11 +45,13 @@ from mechanism.core.joints import (
     DRIVE_NONE,
     DRIVE_PROFILE,
     POINT_GROUND,
+    POINT_RIGID,
 )
 from mechanism.core.scene import (
     GROUND,
     AncfBeam,
     AngleProfileDrive,
+    ClearancePrismatic,
     ClearanceRevolute,
     ConstantSpeedDrive,
     FixedJoint,
@@ -63,6 +66,7 @@ from mechanism.core.wear import kernels as wk
 
 from . import _kernels as k
 from ._compiled import IdealJointRows, KernelModel, SliderMap
+from ._guide_tables import corner_rows, guide_frame
 
 __all__ = [
     "DriveRows",
@@ -148,6 +152,14 @@ class TableBuilder:
         self.pt_i.append(list(row_i))
         self.pt_f.append(list(row_f))
         return self.point_index[key]
+
+    def rigid_point(self, body: str, local: tuple[float, float]) -> int:
+        """Add an unnamed point of the rigid body ``body`` at ``local`` (body frame, m) and
+        return its row (a slider's corner, which no joint names)."""
+        row = len(self.pt_i)
+        self.pt_i.append([POINT_RIGID, self.offsets[body], ANGLE_RIGID, -1, -1, -1, -1, -1])
+        self.pt_f.append([float(local[0]), float(local[1]), 0.0, 0.0, 0.0, 0.0])
+        return row
 
     def add(self, typ: int, a: int, b: int, floats: tuple[float, ...] = ()) -> int:
         row = self.rows
@@ -361,7 +373,7 @@ def joint_tables(
             if use_clearance:
                 p = contact_parameters(joint)
                 friction = p.friction_code if scene.effects.friction else 0
-                t.cj_i.append([pb, pj, p.law_code, friction])
+                t.cj_i.append([pb, pj, p.law_code, friction, k.CONTACT_JOURNAL])
                 t.cj_f.append(_clearance_row(joint, p))
                 t.worn.append(_worn_tables(joint, p, t.cw_h))
                 t.clearance_names.append(name)
@@ -370,6 +382,12 @@ def joint_tables(
                 # Φ = r_b − r_j + e₀ keeps r_j − r_b = e₀
                 row = b.add(CON_COINCIDE, pb, pj, (-ex, -ey))
                 t.ideal_rows.append(IdealJointRows(name=name, kind="revolute", row=row))
+            continue
+        if isinstance(joint, ClearancePrismatic):
+            _guide_joint_tables(
+                scene, name, joint, b, layout_map, t,
+                use_clearance=use_clearance, eccentricity_offsets=eccentricity_offsets,
+            )  # fmt: skip
             continue
         if not isinstance(joint, RevoluteJoint | PrismaticJoint | FixedJoint):
             raise TypeError(f"{where}: unsupported joint type {type(joint).__name__}.")
@@ -400,6 +418,54 @@ def joint_tables(
     return t
 
 
+def _guide_joint_tables(
+    scene: Scene,
+    name: str,
+    joint: ClearancePrismatic,
+    b: TableBuilder,
+    layout_map: dict[str, Any],
+    t: JointTables,
+    *,
+    use_clearance: bool,
+    eccentricity_offsets: bool,
+) -> None:
+    """A translational clearance joint: four corner rows of the clearance table, or, with
+    clearance off, an ideal prismatic joint (holding ``initial_offset`` with
+    ``eccentricity_offsets``)."""
+    where = f"joints.{name}"
+    pg = b.point(joint.guide[0], joint.guide[1], where)
+    ps = b.point(joint.slider[0], joint.slider[1], where)
+    rel = _angle_guess(layout_map, joint.slider[0]) - _angle_guess(layout_map, joint.guide[0])
+    if not use_clearance:
+        _, _, nx, ny = guide_frame(joint)
+        offset = joint.initial_offset if eccentricity_offsets else 0.0
+        row = b.add(CON_ANGLE, pg, ps, (rel,))
+        b.add(CON_NORMAL, pg, ps, (nx, ny, offset))
+        t.ideal_rows.append(
+            IdealJointRows(name=name, kind="prismatic", row=row, normal=(nx, ny), guide_point=pg)
+        )
+        return
+    layout = layout_map.get(joint.slider[0])
+    if not isinstance(layout, RigidLayout):
+        raise ValueError(f"{where}.slider[0]: the slider must be a rigid body.")
+    p = guide_contact_parameters(joint)
+    rows = corner_rows(
+        name,
+        joint,
+        p,
+        slider_point=tuple(float(x) for x in layout.body.points[joint.slider[1]]),
+        relative_angle=rel,
+        friction_code=p.friction_code if scene.effects.friction else 0,
+        guide_point=pg,
+        add_point=lambda local: b.rigid_point(joint.slider[0], local),
+    )
+    for corner in rows:
+        t.cj_i.append(corner.row_i)
+        t.cj_f.append(corner.row_f)
+        t.worn.append((corner.worn_i, corner.worn_f))
+        t.clearance_names.append(corner.name)
+
+
 def _clearance_row(joint: ClearanceRevolute, p: Any) -> list[float]:
     """The ``CF_*`` row of a clearance joint: geometry and its contact and friction laws."""
     row_f = [0.0] * k.CF_COLUMNS
@@ -413,6 +479,12 @@ def _clearance_row(joint: ClearanceRevolute, p: Any) -> list[float]:
     row_f[k.CF_V0] = p.v0
     row_f[k.CF_V1] = p.v1
     row_f[k.CF_FLOOR] = p.impact_velocity_floor
+    lub = joint.lubrication
+    if lub is not None:
+        row_f[k.CF_VISC] = lub.viscosity
+        row_f[k.CF_LUB_L] = joint.length if lub.length is None else lub.length
+        row_f[k.CF_FILM] = lub.film_breakdown
+        row_f[k.CF_CAV] = 1.0 if lub.cavitation == "positive-pressure" else 0.0
     return row_f
 
 
@@ -516,7 +588,7 @@ def kernel_model(
         drive_f=np.ascontiguousarray(drive.f, dtype=np.float64),
         spline_x=drive.spline_x,
         spline_c=drive.spline_c,
-        cj_i=_arr_i(joints.cj_i, 4),
+        cj_i=_arr_i(joints.cj_i, k.CI_COLUMNS),
         cj_f=_arr_f(joints.cj_f, k.CF_COLUMNS),
         cw_i=_arr_i([w[0] for w in joints.worn], k.CW_COLUMNS),
         cw_f=_arr_f([w[1] for w in joints.worn], 2),
@@ -550,19 +622,25 @@ def kernel_model(
 
 def slider_map(scene: Scene, b: TableBuilder) -> SliderMap | None:
     name = scene.outputs.slider_joint
+    sliding = PrismaticJoint | ClearancePrismatic
     if name is None:
-        prismatic = [n for n, j in scene.joints.items() if isinstance(j, PrismaticJoint)]
+        prismatic = [n for n, j in scene.joints.items() if isinstance(j, sliding)]
         if len(prismatic) != 1:
             return None
         name = prismatic[0]
     joint = scene.joints.get(name)
-    if not isinstance(joint, PrismaticJoint):
+    if not isinstance(joint, sliding):
         raise ValueError(f"outputs.slider_joint must name a prismatic joint; got {name!r}.")
     ux, uy = (float(c) for c in joint.axis)
     norm = math.hypot(ux, uy)
+    guide, slider = (
+        (joint.guide, joint.slider)
+        if isinstance(joint, ClearancePrismatic)
+        else ((joint.bodies[0], joint.points[0]), (joint.bodies[1], joint.points[1]))
+    )
     return SliderMap(
         joint=name,
-        guide_point=b.point(joint.bodies[0], joint.points[0], "outputs.slider_joint"),
-        slider_point=b.point(joint.bodies[1], joint.points[1], "outputs.slider_joint"),
+        guide_point=b.point(guide[0], guide[1], "outputs.slider_joint"),
+        slider_point=b.point(slider[0], slider[1], "outputs.slider_joint"),
         axis=(ux / norm, uy / norm),
     )

@@ -13,6 +13,7 @@ from ._model import (
     ClearanceRevolute,
     JointCoordinateProfile,
     Load,
+    MotorDrive,
     PrismaticJoint,
     RevoluteJoint,
     RotationalSpringDamper,
@@ -114,4 +115,46 @@ def force_problems(scene: Any, body_points: Callable[[str], tuple[str, ...] | No
                     "'prismatic' or 'revolute'",
                 )  # fmt: skip
                 _table(add, path, profile.coordinate, profile.factor, "coordinate", "factor")
+    problems.extend(_motor_problems(scene.drive))
+    problems.extend(_lubrication_problems(scene))
+    return problems
+
+
+def _motor_problems(drive: Any) -> list[str]:
+    """A motor gives either its linear curve (both keys) or a torque–speed table."""
+    if not isinstance(drive, MotorDrive):
+        return []
+    problems: list[str] = []
+    linear = (drive.stall_torque is not None, drive.no_load_speed_rpm is not None)
+    if drive.torque_speed is not None:
+        if any(linear):
+            problems.append(
+                "drive.torque_speed: give either the table or stall_torque and "
+                "no_load_speed_rpm, not both"
+            )
+        table = drive.torque_speed
+        _table(problems.append, "drive.torque_speed", table.speed_rpm, table.torque,
+               "speed_rpm", "torque")  # fmt: skip
+    elif not all(linear):
+        missing = "stall_torque" if not linear[0] else "no_load_speed_rpm"
+        problems.append(
+            f"drive.{missing}: a motor needs stall_torque and no_load_speed_rpm "
+            "(the linear curve) or a torque_speed table"
+        )
+    return problems
+
+
+def _lubrication_problems(scene: Any) -> list[str]:
+    """The film breakdown thickness of a lubricated joint lies inside its clearance."""
+    problems: list[str] = []
+    for name, joint in scene.joints.items():
+        lub = getattr(joint, "lubrication", None)
+        if not isinstance(joint, ClearanceRevolute) or lub is None:
+            continue
+        if not lub.film_breakdown < 0.5 * joint.clearance:
+            problems.append(
+                f"joints.{name}.lubrication.film_breakdown: must be < clearance/2 = "
+                f"{format_number(0.5 * joint.clearance)} (m); "
+                f"got {format_number(lub.film_breakdown)}"
+            )
     return problems

@@ -16,10 +16,11 @@ The TOML keys are exactly the dataclass field names, so a TOML file, the JSON fo
     [ground_points]                  # NAME = [x, y] on the frame ("ground"), m
     [bodies.NAME]                    # type = "rigid" (default) or "ancf_beam", ...
     [joints.NAME]                    # type = "revolute" | "prismatic" | "fixed"
-                                     #      | "clearance_revolute"
+                                     #      | "clearance_revolute" | "clearance_prismatic"
     [joints.NAME.contact]            # clearance joints: normal force law
     [joints.NAME.friction]           #                   tangential force law
     [joints.NAME.wear]               #                   Archard wear settings
+    [joints.NAME.lubrication]        #                   oil film (absent: dry)
     [forces.NAME]                    # type = "spring_damper" | "rotational_spring_damper"
                                      #      | "load"
     [drive]                          # type = "constant_speed" (default), "angle_profile"
@@ -36,8 +37,9 @@ does not validate; pass the result through :func:`mechanism.core.scene.validate_
 
 from __future__ import annotations
 
+import itertools
 import math
-from dataclasses import dataclass, field
+from dataclasses import astuple, dataclass, field
 from typing import Annotated, Any, Literal
 
 from annotated_types import Ge, Gt, Le, Lt, MaxLen, MinLen
@@ -55,6 +57,7 @@ __all__ = [
     "GROUND",
     "AncfBeam",
     "AngleProfileDrive",
+    "ClearancePrismatic",
     "ClearanceRevolute",
     "ConstantSpeedDrive",
     "ContactLaw",
@@ -66,8 +69,10 @@ __all__ = [
     "FrictionLaw",
     "JointCoordinateProfile",
     "Load",
+    "Lubrication",
     "Material",
     "MotorDrive",
+    "MotorTorqueTable",
     "Outputs",
     "PrismaticJoint",
     "RevoluteJoint",
@@ -375,6 +380,24 @@ class WearSettings:
     radius_ratio_limit: Annotated[Real, Ge(1), Le(1e6), Unit("1")] = 10.0
 
 
+VISCOSITY_RANGE = (1e-6, 100.0)  # Pa s: from gases (1.8e-5) to the heaviest gear oils
+
+
+@with_config(MODEL_CONFIG)
+@dataclass(frozen=True, kw_only=True)
+class Lubrication:
+    """Oil film of a clearance joint: the short-bearing force while the minimum film
+    thickness c(1 − ε) is above ``film_breakdown`` (faded out linearly from twice it), the
+    dry contact law below. ``length``: the bearing's (None: the joint's ``length``);
+    ``cavitation``: ``"pi-film"`` (the Pinkus–Sternlicht form, as Flores et al. 2006) or
+    ``"positive-pressure"`` (``docs/contact-and-wear.md``, "Lubricated joints")."""
+
+    viscosity: Annotated[Real, Ge(VISCOSITY_RANGE[0]), Le(VISCOSITY_RANGE[1]), Unit("Pa s")]
+    length: Annotated[Real, Ge(1e-6), Le(10.0), Unit("m")] | None = None
+    film_breakdown: Annotated[Real, Ge(0), Le(1.0), Unit("m")] = 1e-6  # < clearance
+    cavitation: Literal["pi-film", "positive-pressure"] = "pi-film"
+
+
 @with_config(MODEL_CONFIG)
 @dataclass(frozen=True, kw_only=True)
 class ClearanceRevolute:
@@ -398,10 +421,34 @@ class ClearanceRevolute:
     wear: WearSettings = field(default_factory=WearSettings)
     # journal centre − bearing centre at t = 0, global frame; |.| <= clearance
     initial_eccentricity: Annotated[Vec2, Unit("m")] = (0.0, 0.0)
+    lubrication: Lubrication | None = None  # None: a dry joint
 
     @property
     def journal_radius(self) -> float:
         return self.bearing_radius - self.clearance
+
+
+@with_config(MODEL_CONFIG)
+@dataclass(frozen=True, kw_only=True)
+class ClearancePrismatic:
+    """Translational joint with clearance: a ``slider_length`` × ``slider_width`` slider on
+    ``slider`` in a guide through ``guide`` along ``axis``, ``clearance`` wider on each side;
+    no constraint, contact at its four corners (``docs/contact-and-wear.md`` §9)."""
+
+    type: Literal["clearance_prismatic"] = "clearance_prismatic"
+    guide: tuple[Name, Name]  # (body, point on the guide's centre line)
+    slider: tuple[Name, Name]  # (body, point at the centre of the slider)
+    axis: Annotated[Vec2, Unit("1")] = (1.0, 0.0)
+    slider_length: Annotated[Real, Ge(1e-6), Le(10.0), Unit("m")]
+    slider_width: Annotated[Real, Ge(1e-6), Le(10.0), Unit("m")]
+    clearance: Annotated[Real, Ge(1e-8), Le(1.0), Unit("m")]  # per side
+    guide_material: Material
+    slider_material: Material
+    corner_radius: Annotated[Real, Ge(1e-6), Le(10.0), Unit("m")] | None = None
+    restitution: Annotated[Real, Ge(0.01), Le(1), Unit("1")] = 0.9
+    contact: ContactLaw = field(default_factory=ContactLaw)
+    friction: FrictionLaw = field(default_factory=FrictionLaw)
+    initial_offset: Annotated[Real, Ge(-1.0), Le(1.0), Unit("m")] = 0.0
 
 
 @with_config(MODEL_CONFIG)
@@ -640,30 +687,60 @@ class Load:
     coordinate_profile: JointCoordinateProfile | None = None
 
 
+RpmValue = Annotated[Real, Ge(-SPEED_RPM_RANGE[1]), Le(SPEED_RPM_RANGE[1])]
+MotorSpeeds = Annotated[tuple[RpmValue, ...], MaxLen(MAX_SAMPLES), Unit("rpm")]
+Torques = Annotated[tuple[Torque, ...], MaxLen(MAX_SAMPLES), Unit("N m")]
+
+
+@with_config(MODEL_CONFIG)
+@dataclass(frozen=True, kw_only=True)
+class MotorTorqueTable:
+    """Tabulated torque–speed curve of a motor: ``torque`` (N m) at each ``speed_rpm``
+    (the joint's relative rate, rpm, counter-clockwise positive), interpolated linearly;
+    outside the table the end values hold (clamped). ``speed_rpm`` strictly increasing,
+    one ``torque`` per speed, at least 2 entries."""
+
+    speed_rpm: MotorSpeeds
+    torque: Torques
+
+
 @with_config(MODEL_CONFIG)
 @dataclass(frozen=True, kw_only=True)
 class MotorDrive:
-    """A motor at a revolute ``joint``: the torque on bodies[1] (its opposite on
-    bodies[0]) follows the linear torque–speed curve T(ω) = ``stall_torque`` (1 − ω/ω₀),
-    ω the joint's relative rate and ω₀ the ``no_load_speed_rpm`` (counter-clockwise
-    positive). ``flywheel_inertia`` (kg m²) adds to the moment of inertia of the rigid
-    bodies[1]. The joint's angle is a free coordinate: no angle is prescribed, the
+    """A motor at a revolute ``joint``: the torque T(ω) on bodies[1] (its opposite on
+    bodies[0]), ω the joint's relative rate (counter-clockwise positive), either the
+    linear curve T(ω) = ``stall_torque`` (1 − ω/ω₀), ω₀ the ``no_load_speed_rpm``, or a
+    measured ``torque_speed`` (:class:`MotorTorqueTable`). ``flywheel_inertia`` (kg m²)
+    adds to the moment of inertia of the rigid bodies[1]. The joint's angle is free: the
     motion is autonomous and starts from the scene's pose at rest."""
 
     type: Literal["motor"] = "motor"
     joint: Name
-    stall_torque: Annotated[Real, Gt(0), Le(TORQUE_LIMIT), Unit("N m")]
-    no_load_speed_rpm: Annotated[Real, Ge(SPEED_RPM_RANGE[0]), Le(SPEED_RPM_RANGE[1]), Unit("rpm")]
+    stall_torque: Annotated[Real, Gt(0), Le(TORQUE_LIMIT), Unit("N m")] | None = None
+    no_load_speed_rpm: (
+        Annotated[Real, Ge(SPEED_RPM_RANGE[0]), Le(SPEED_RPM_RANGE[1]), Unit("rpm")] | None
+    ) = None
+    torque_speed: MotorTorqueTable | None = None
     flywheel_inertia: Annotated[Real, Ge(0), Le(INERTIA_RANGE[1]), Unit("kg m2")] = 0.0
 
     @property
     def no_load_speed(self) -> float:
-        """ω₀ in rad/s."""
-        return self.no_load_speed_rpm * 2.0 * math.pi / 60.0
+        """ω₀ in rad/s: of the linear curve, or the lowest positive speed at which the
+        tabulated torque falls to 0 (the highest tabulated speed if it never does)."""
+        rpm = 2.0 * math.pi / 60.0
+        table = self.torque_speed
+        if table is None:
+            return float(self.no_load_speed_rpm or 0.0) * rpm
+        for (w0, t0), (w1, t1) in itertools.pairwise(zip(*astuple(table), strict=True)):
+            if w1 > 0.0 and t1 <= 0.0 < t0:
+                return max(w0 + (w1 - w0) * t0 / (t0 - t1), 0.0) * rpm
+        return max(table.speed_rpm, default=0.0) * rpm
 
     @property
     def damping(self) -> float:
-        """−dT/dω = stall torque / ω₀ (N m s/rad)."""
+        """−dT/dω = stall torque / ω₀ (N m s/rad) of the linear curve (0 for a table)."""
+        if self.torque_speed is not None or not self.stall_torque:
+            return 0.0
         return self.stall_torque / self.no_load_speed
 
 
@@ -694,7 +771,8 @@ Joint = Annotated[
     Annotated[RevoluteJoint, Tag("revolute")]
     | Annotated[PrismaticJoint, Tag("prismatic")]
     | Annotated[FixedJoint, Tag("fixed")]
-    | Annotated[ClearanceRevolute, Tag("clearance_revolute")],
+    | Annotated[ClearanceRevolute, Tag("clearance_revolute")]
+    | Annotated[ClearancePrismatic, Tag("clearance_prismatic")],
     Discriminator(_joint_tag),
 ]
 Drive = Annotated[

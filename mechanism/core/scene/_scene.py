@@ -38,6 +38,7 @@ from ._model import (
     AncfBeam,
     AngleProfileDrive,
     Body,
+    ClearancePrismatic,
     ClearanceRevolute,
     Drive,
     Effects,
@@ -263,174 +264,301 @@ def _adapter() -> TypeAdapter[Scene]:
 
 
 def _cross_check(scene: Scene) -> list[str]:
-    problems: list[str] = []
-    add = problems.append
-
-    def names(table: str, mapping: Mapping[str, Any]) -> None:
-        for name in mapping:
-            if not _NAME.match(name):
-                add(
-                    f"{table}.{name}: a name may use only letters, digits, '_' and '-' "
-                    "(so that dotted keys stay unambiguous)"
-                )
-
-    names("ground_points", scene.ground_points)
-    names("bodies", scene.bodies)
-    names("joints", scene.joints)
+    """Every problem that one field cannot know, in the order of the scene's tables."""
+    problems = [
+        *_bad_names("ground_points", scene.ground_points),
+        *_bad_names("bodies", scene.bodies),
+        *_bad_names("joints", scene.joints),
+    ]
     if GROUND in scene.bodies:
-        add(f"bodies.{GROUND}: {GROUND!r} is the frame; use [ground_points] for its points")
-
-    def check_gyration(body_name: str, body: RigidBody) -> None:
-        # the constraint matrix Φq M⁻¹ Φqᵀ holds 1/m and r²/J side by side: their ratio,
-        # (r/k)² with k = sqrt(J/m), must leave double precision digits to spare
-        reach = max((math.hypot(*p) for p in body.points.values()), default=0.0)
-        if reach == 0.0 or body.inertia is None:
-            return
-        ratio = math.sqrt(body.inertia / body.mass) / reach
-        if not 1.0 / GYRATION_RATIO <= ratio <= GYRATION_RATIO:
-            add(
-                f"bodies.{body_name}.inertia: the radius of gyration sqrt(inertia / mass) = "
-                f"{format_number(ratio * reach)} m must be within a factor "
-                f"{GYRATION_RATIO:g} of the farthest point from the centre of mass "
-                f"({format_number(reach)} m); got inertia {format_number(body.inertia)} "
-                f"(kg m2) with mass {format_number(body.mass)} (kg)"
+        problems.append(
+            f"bodies.{GROUND}: {GROUND!r} is the frame; use [ground_points] for its points"
+        )
+    problems.extend(_body_problems(scene))
+    for joint_name, joint in scene.joints.items():
+        problems.extend(_joint_problems(scene, f"joints.{joint_name}", joint))
+    if scene.drive is not None:
+        problems.extend(_drive_problems(scene, scene.drive))
+    problems.extend(_bad_names("forces", scene.forces))
+    problems.extend(force_problems(scene, functools.partial(_body_points, scene)))
+    outputs = scene.outputs
+    if outputs.slider_joint is not None:
+        problems.extend(
+            _joint_ref_problems(
+                scene,
+                "outputs.slider_joint",
+                outputs.slider_joint,
+                (PrismaticJoint, ClearancePrismatic),
             )
+        )
+    if outputs.crank_joint is not None:
+        kinds = (RevoluteJoint, ClearanceRevolute)
+        problems.extend(
+            _joint_ref_problems(scene, "outputs.crank_joint", outputs.crank_joint, kinds)
+        )
+    return problems
 
+
+def _bad_names(table: str, mapping: Mapping[str, Any]) -> list[str]:
+    """Names that would make dotted keys ambiguous."""
+    return [
+        f"{table}.{name}: a name may use only letters, digits, '_' and '-' "
+        "(so that dotted keys stay unambiguous)"
+        for name in mapping
+        if not _NAME.match(name)
+    ]
+
+
+def _body_points(scene: Scene, body_name: str) -> tuple[str, ...] | None:
+    """The point names of a body (the ground's are ``ground_points``); None if no such body."""
+    if body_name == GROUND:
+        return tuple(scene.ground_points)
+    body = scene.bodies.get(body_name)
+    return None if body is None else body.point_names
+
+
+def _end_problems(
+    scene: Scene, path: str, point_path: str, body_name: str, point: str
+) -> list[str]:
+    """A joint end (body, point) that names no body or no point of that body."""
+    points = _body_points(scene, body_name)
+    if points is None:
+        known = ", ".join([GROUND, *scene.bodies])
+        return [f"{path}: no body {body_name!r}; bodies: {known}"]
+    if point not in points:
+        return [
+            f"{point_path}: body {body_name!r} has no point {point!r}; "
+            f"its points: {', '.join(points) or '(none)'}"
+        ]
+    return []
+
+
+def _body_problems(scene: Scene) -> list[str]:
+    """Point names, missing inertias and gyration radii of rigid bodies; mass and chord of
+    ANCF beams."""
+    problems: list[str] = []
     held = _held_bodies(scene)
     for body_name, body in scene.bodies.items():
         if isinstance(body, RigidBody):
-            names(f"bodies.{body_name}.points", body.points)
+            problems.extend(_bad_names(f"bodies.{body_name}.points", body.points))
             if body.inertia is None and body_name not in held:
                 low, high = INERTIA_RANGE
-                add(
+                problems.append(
                     f"bodies.{body_name}.inertia: required key is missing (expected a number "
                     f"in [{low:g}, {high:g}] (kg m2)); only a body held to the ground by a "
                     "prismatic or fixed joint, which cannot rotate, may leave it out"
                 )
             elif body.inertia is not None and body_name not in held:
-                check_gyration(body_name, body)
+                problems.extend(_gyration_problems(body_name, body))
         elif isinstance(body, AncfBeam):
-            low, high = MASS_RANGE
-            if body.mass is None and not low <= body.total_mass <= high:
-                add(
-                    f"bodies.{body_name}.mass: density × area × length = "
-                    f"{format_number(body.total_mass)} kg is outside [{low:g}, {high:g}] (kg); "
-                    "change them or give mass"
-                )
-            chord = math.dist(body.start, body.end)
-            if abs(chord - body.length) > _BEAM_LENGTH_RTOL * body.length:
-                add(
-                    f"bodies.{body_name}.length: {format_number(body.length)} m differs from "
-                    f"|end − start| = {format_number(chord)} m by more than "
-                    f"{_BEAM_LENGTH_RTOL:.1%}"
-                )
+            problems.extend(_beam_problems(body_name, body))
+    return problems
 
-    def body_points(body_name: str) -> tuple[str, ...] | None:
-        if body_name == GROUND:
-            return tuple(scene.ground_points)
-        body = scene.bodies.get(body_name)
-        return None if body is None else body.point_names
 
-    def check_end(path: str, point_path: str, body_name: str, point: str) -> None:
-        points = body_points(body_name)
-        if points is None:
-            known = ", ".join([GROUND, *scene.bodies])
-            add(f"{path}: no body {body_name!r}; bodies: {known}")
-        elif point not in points:
+def _gyration_problems(body_name: str, body: RigidBody) -> list[str]:
+    """The radius of gyration of a body that can rotate, against its farthest point."""
+    # the constraint matrix Φq M⁻¹ Φqᵀ holds 1/m and r²/J side by side: their ratio,
+    # (r/k)² with k = sqrt(J/m), must leave double precision digits to spare
+    reach = max((math.hypot(*p) for p in body.points.values()), default=0.0)
+    if reach == 0.0 or body.inertia is None:
+        return []
+    ratio = math.sqrt(body.inertia / body.mass) / reach
+    if 1.0 / GYRATION_RATIO <= ratio <= GYRATION_RATIO:
+        return []
+    return [
+        f"bodies.{body_name}.inertia: the radius of gyration sqrt(inertia / mass) = "
+        f"{format_number(ratio * reach)} m must be within a factor "
+        f"{GYRATION_RATIO:g} of the farthest point from the centre of mass "
+        f"({format_number(reach)} m); got inertia {format_number(body.inertia)} "
+        f"(kg m2) with mass {format_number(body.mass)} (kg)"
+    ]
+
+
+def _beam_problems(body_name: str, body: AncfBeam) -> list[str]:
+    """An ANCF beam's derived mass within the mass range and its chord matching its length."""
+    problems: list[str] = []
+    low, high = MASS_RANGE
+    if body.mass is None and not low <= body.total_mass <= high:
+        problems.append(
+            f"bodies.{body_name}.mass: density × area × length = "
+            f"{format_number(body.total_mass)} kg is outside [{low:g}, {high:g}] (kg); "
+            "change them or give mass"
+        )
+    chord = math.dist(body.start, body.end)
+    if abs(chord - body.length) > _BEAM_LENGTH_RTOL * body.length:
+        problems.append(
+            f"bodies.{body_name}.length: {format_number(body.length)} m differs from "
+            f"|end − start| = {format_number(chord)} m by more than "
+            f"{_BEAM_LENGTH_RTOL:.1%}"
+        )
+    return problems
+
+
+def _joint_problems(scene: Scene, base: str, joint: Joint) -> list[str]:
+    """The ends of one joint exist and its geometry is consistent."""
+    if isinstance(joint, ClearanceRevolute):
+        return _clearance_revolute_problems(scene, base, joint)
+    if isinstance(joint, ClearancePrismatic):
+        return _clearance_prismatic_problems(scene, base, joint)
+    problems: list[str] = []
+    for i in (0, 1):
+        path, point_path = f"{base}.bodies[{i}]", f"{base}.points[{i}]"
+        problems.extend(_end_problems(scene, path, point_path, joint.bodies[i], joint.points[i]))
+    if joint.bodies[0] == joint.bodies[1]:
+        problems.append(
+            f"{base}.bodies: a joint needs two different bodies; got {list(joint.bodies)}"
+        )
+    if isinstance(joint, PrismaticJoint):
+        norm = math.hypot(*joint.axis)
+        if abs(norm - 1.0) > _AXIS_TOL:
+            problems.append(f"{base}.axis: must be a unit vector; got length {format_number(norm)}")
+    return problems
+
+
+def _clearance_revolute_problems(scene: Scene, base: str, joint: ClearanceRevolute) -> list[str]:
+    """Ends, clearance, initial eccentricity and friction speeds of a clearance joint."""
+    problems: list[str] = []
+    add = problems.append
+    ends = [(f"{base}.bearing", joint.bearing), (f"{base}.journal", joint.journal)]
+    for path, (body_name, point) in ends:
+        problems.extend(_end_problems(scene, f"{path}[0]", f"{path}[1]", body_name, point))
+    if joint.bearing[0] == joint.journal[0]:
+        add(f"{base}.journal[0]: bearing and journal must be on different bodies")
+    if joint.clearance >= joint.bearing_radius:
+        add(
+            f"{base}.clearance: must be < bearing_radius = "
+            f"{format_number(joint.bearing_radius)} (m); "
+            f"got {format_number(joint.clearance)}"
+        )
+    ecc = math.hypot(*joint.initial_eccentricity)
+    if ecc > joint.clearance:
+        add(
+            f"{base}.initial_eccentricity: |e| must be <= clearance = "
+            f"{format_number(joint.clearance)} (m); got |e| = {format_number(ecc)}"
+        )
+    friction = joint.friction
+    if friction.law == "ambrosio" and friction.v1 <= friction.v0:
+        add(
+            f"{base}.friction.v1: must be > v0 = {format_number(friction.v0)} "
+            f"(m s-1); got {format_number(friction.v1)}"
+        )
+    problems.extend(_wear_problems(base, joint))
+    return problems
+
+
+def _clearance_prismatic_problems(scene: Scene, base: str, joint: ClearancePrismatic) -> list[str]:
+    """Ends, bodies, axis, initial offset, stiffness and friction speeds of a translational
+    clearance joint."""
+    problems: list[str] = []
+    add = problems.append
+    for part in ("guide", "slider"):
+        body_name, point = getattr(joint, part)
+        problems.extend(
+            _end_problems(scene, f"{base}.{part}[0]", f"{base}.{part}[1]", body_name, point)
+        )
+    guide_body, slider_body = joint.guide[0], joint.slider[0]
+    if guide_body == slider_body:
+        add(f"{base}.slider[0]: guide and slider must be on different bodies")
+    if slider_body in scene.bodies and not isinstance(scene.bodies[slider_body], RigidBody):
+        add(f"{base}.slider[0]: the slider must be a rigid body; {slider_body!r} is not")
+    if slider_body == GROUND:
+        add(f"{base}.slider[0]: the slider must be a rigid body, not the ground")
+    if guide_body in scene.bodies and not isinstance(scene.bodies[guide_body], RigidBody):
+        add(
+            f"{base}.guide[0]: the guide must be on a rigid body or the ground; "
+            f"{guide_body!r} is not rigid"
+        )
+    norm = math.hypot(*joint.axis)
+    if abs(norm - 1.0) > _AXIS_TOL:
+        add(f"{base}.axis: must be a unit vector; got length {format_number(norm)}")
+    if abs(joint.initial_offset) > joint.clearance:
+        add(
+            f"{base}.initial_offset: |offset| must be <= clearance = "
+            f"{format_number(joint.clearance)} (m); got {format_number(joint.initial_offset)}"
+        )
+    if isinstance(joint.contact.stiffness, str) and joint.corner_radius is None:
+        add(
+            f"{base}.corner_radius: required with contact.stiffness = "
+            f"{joint.contact.stiffness!r} (K = (4/3) E* sqrt(corner_radius)); give a radius "
+            "in [1e-06, 10] (m) or contact.stiffness as a number in [1000, 1e+16] (N m^-n)"
+        )
+    friction = joint.friction
+    if friction.law == "ambrosio" and friction.v1 <= friction.v0:
+        add(
+            f"{base}.friction.v1: must be > v0 = {format_number(friction.v0)} "
+            f"(m s-1); got {format_number(friction.v1)}"
+        )
+    if scene.effects.wear:
+        add(
+            f"{base}.type: wear is modelled in clearance_revolute joints only; set "
+            "effects.wear = false for a scene with a clearance_prismatic joint"
+        )
+    return problems
+
+
+def _wear_problems(base: str, joint: ClearanceRevolute) -> list[str]:
+    """Profiles sized to the regions, the smoothing window, worn depths within the journal."""
+    problems: list[str] = []
+    wear = joint.wear
+    for part in ("bearing_profile", "journal_profile"):
+        n = len(getattr(wear, part))
+        if n not in (0, wear.regions):
+            problems.append(
+                f"{base}.wear.{part}: must be empty or hold one depth per region "
+                f"({wear.regions}) (m); got {n} values"
+            )
+    if wear.smoothing_regions > wear.regions // 2:
+        # the smoothing window spans at most half the circumference
+        problems.append(
+            f"{base}.wear.smoothing_regions: must be <= regions // 2 "
+            f"({wear.regions // 2}); got {wear.smoothing_regions}"
+        )
+    journal_radius = joint.bearing_radius - joint.clearance
+    deepest = max(wear.journal_profile, default=0.0)
+    if wear.journal_profile and 0.0 < journal_radius <= deepest:
+        problems.append(
+            f"{base}.wear.journal_profile: every depth must be < the journal radius "
+            f"(bearing_radius - clearance = {format_number(journal_radius)} m); got "
+            f"{format_number(deepest)}"
+        )
+    return problems
+
+
+def _joint_ref_problems(
+    scene: Scene, path: str, joint_name: str, kinds: tuple[type, ...]
+) -> list[str]:
+    """A reference to a joint that does not exist or is of the wrong type."""
+    joint = scene.joints.get(joint_name)
+    if joint is None:
+        return [f"{path}: no joint {joint_name!r}; joints: {', '.join(scene.joints) or '(none)'}"]
+    if not isinstance(joint, kinds):
+        wanted = " or ".join(repr(_joint_type(kind)) for kind in kinds)
+        return [f"{path}: joint {joint_name!r} is {joint.type!r}; it must be a {wanted} joint"]
+    return []
+
+
+def _drive_problems(scene: Scene, drive: Drive) -> list[str]:
+    """The driven joint, an angle profile's samples and a motor's flywheel and name."""
+    problems = _joint_ref_problems(scene, "drive.joint", drive.joint, (RevoluteJoint,))
+    add = problems.append
+    if isinstance(drive, AngleProfileDrive):
+        t, a = drive.time, drive.angle
+        if len(t) < 2 or len(t) != len(a):
             add(
-                f"{point_path}: body {body_name!r} has no point {point!r}; "
-                f"its points: {', '.join(points) or '(none)'}"
+                f"drive.time: needs at least 2 samples and one angle per time; "
+                f"got {len(t)} times and {len(a)} angles"
             )
-
-    for joint_name, joint in scene.joints.items():
-        base = f"joints.{joint_name}"
-        if isinstance(joint, ClearanceRevolute):
-            ends = [(f"{base}.bearing", joint.bearing), (f"{base}.journal", joint.journal)]
-            for path, (body_name, point) in ends:
-                check_end(f"{path}[0]", f"{path}[1]", body_name, point)
-            if joint.bearing[0] == joint.journal[0]:
-                add(f"{base}.journal[0]: bearing and journal must be on different bodies")
-            if joint.clearance >= joint.bearing_radius:
-                add(
-                    f"{base}.clearance: must be < bearing_radius = "
-                    f"{format_number(joint.bearing_radius)} (m); "
-                    f"got {format_number(joint.clearance)}"
-                )
-            ecc = math.hypot(*joint.initial_eccentricity)
-            if ecc > joint.clearance:
-                add(
-                    f"{base}.initial_eccentricity: |e| must be <= clearance = "
-                    f"{format_number(joint.clearance)} (m); got |e| = {format_number(ecc)}"
-                )
-            friction = joint.friction
-            if friction.law == "ambrosio" and friction.v1 <= friction.v0:
-                add(
-                    f"{base}.friction.v1: must be > v0 = {format_number(friction.v0)} "
-                    f"(m s-1); got {format_number(friction.v1)}"
-                )
-            wear = joint.wear
-            for part in ("bearing_profile", "journal_profile"):
-                n = len(getattr(wear, part))
-                if n not in (0, wear.regions):
-                    add(
-                        f"{base}.wear.{part}: must be empty or hold one depth per region "
-                        f"({wear.regions}) (m); got {n} values"
-                    )
-            if wear.smoothing_regions > wear.regions // 2:
-                # the smoothing window spans at most half the circumference
-                add(
-                    f"{base}.wear.smoothing_regions: must be <= regions // 2 "
-                    f"({wear.regions // 2}); got {wear.smoothing_regions}"
-                )
-            journal_radius = joint.bearing_radius - joint.clearance
-            deepest = max(wear.journal_profile, default=0.0)
-            if wear.journal_profile and 0.0 < journal_radius <= deepest:
-                add(
-                    f"{base}.wear.journal_profile: every depth must be < the journal radius "
-                    f"(bearing_radius - clearance = {format_number(journal_radius)} m); got "
-                    f"{format_number(deepest)}"
-                )
-            continue
-        for i in (0, 1):
-            check_end(
-                f"{base}.bodies[{i}]", f"{base}.points[{i}]", joint.bodies[i], joint.points[i]
+        elif any(t1 <= t0 for t0, t1 in itertools.pairwise(t)):
+            add("drive.time: must be strictly increasing")
+        elif t[-1] - t[0] > drive.period:
+            add(
+                f"drive.time: the samples must span at most one period "
+                f"({format_number(drive.period)} s); got {format_number(t[-1] - t[0])} s"
             )
-        if joint.bodies[0] == joint.bodies[1]:
-            add(f"{base}.bodies: a joint needs two different bodies; got {list(joint.bodies)}")
-        if isinstance(joint, PrismaticJoint):
-            norm = math.hypot(*joint.axis)
-            if abs(norm - 1.0) > _AXIS_TOL:
-                add(f"{base}.axis: must be a unit vector; got length {format_number(norm)}")
-
-    def check_joint_ref(path: str, joint_name: str, kinds: tuple[type, ...]) -> None:
-        joint = scene.joints.get(joint_name)
-        if joint is None:
-            add(f"{path}: no joint {joint_name!r}; joints: {', '.join(scene.joints) or '(none)'}")
-        elif not isinstance(joint, kinds):
-            wanted = " or ".join(repr(_joint_type(kind)) for kind in kinds)
-            add(f"{path}: joint {joint_name!r} is {joint.type!r}; it must be a {wanted} joint")
-
-    drive = scene.drive
-    if drive is not None:
-        check_joint_ref("drive.joint", drive.joint, (RevoluteJoint,))
-        if isinstance(drive, AngleProfileDrive):
-            t, a = drive.time, drive.angle
-            if len(t) < 2 or len(t) != len(a):
-                add(
-                    f"drive.time: needs at least 2 samples and one angle per time; "
-                    f"got {len(t)} times and {len(a)} angles"
-                )
-            elif any(t1 <= t0 for t0, t1 in itertools.pairwise(t)):
-                add("drive.time: must be strictly increasing")
-            elif t[-1] - t[0] > drive.period:
-                add(
-                    f"drive.time: the samples must span at most one period "
-                    f"({format_number(drive.period)} s); got {format_number(t[-1] - t[0])} s"
-                )
+    if isinstance(drive, MotorDrive):
         driven = scene.joints.get(drive.joint)
         if (
-            isinstance(drive, MotorDrive)
-            and drive.flywheel_inertia > 0.0
+            drive.flywheel_inertia > 0.0
             and isinstance(driven, RevoluteJoint)
             and not isinstance(scene.bodies.get(driven.bodies[1]), RigidBody)
         ):
@@ -438,19 +566,11 @@ def _cross_check(scene: Scene) -> list[str]:
                 f"drive.flywheel_inertia: the flywheel needs a rigid second body of joint "
                 f"{drive.joint!r}; got {driven.bodies[1]!r}"
             )
-        if isinstance(drive, MotorDrive) and _MOTOR_ELEMENT in scene.forces:
+        if _MOTOR_ELEMENT in scene.forces:
             add(
                 f"forces.{_MOTOR_ELEMENT}: the name is taken by the motor drive's torque; "
                 "rename the element"
             )
-    names("forces", scene.forces)
-    problems.extend(force_problems(scene, body_points))
-    outputs = scene.outputs
-    if outputs.slider_joint is not None:
-        check_joint_ref("outputs.slider_joint", outputs.slider_joint, (PrismaticJoint,))
-    if outputs.crank_joint is not None:
-        kinds = (RevoluteJoint, ClearanceRevolute)
-        check_joint_ref("outputs.crank_joint", outputs.crank_joint, kinds)
     return problems
 
 

@@ -33,7 +33,10 @@ __all__ = [
 ]
 
 #: the labels a bifurcation point can carry
-BIFURCATION_KINDS = ("period-doubling", "fold", "neimark-sacker", "grazing")
+BIFURCATION_KINDS = ("period-doubling", "fold", "neimark-sacker", "grazing", "end")
+#: at the end of a branch, a multiplier within this distance of +1 (−1) names a fold
+#: (period doubling) that the corrector could not pass
+END_CRITICAL = 0.2
 
 MapFunction = Callable[[np.ndarray, float], tuple[np.ndarray, np.ndarray, np.ndarray | None]]
 
@@ -82,6 +85,10 @@ class ContinuationSettings:
         Scene continuations: when a period-1 branch ends before the end of the span,
         start a new one further on (every ``max_step``) from a run of the scene settled
         for 40 periods, and follow it.
+    segments : int or None
+        Scene continuations: ``segments`` of :func:`mechanism.periodic_orbit` (1: single
+        shooting only, so a value where the branch has ended fails after
+        ``max_iterations`` instead of going on to multiple shooting; default its own).
     """
 
     step: float = 0.01
@@ -99,6 +106,7 @@ class ContinuationSettings:
     switch_offset: float | None = None
     shooting_tolerance: float | None = None
     reseed: bool = True
+    segments: int | None = None
 
     def __post_init__(self) -> None:
         for name in ("step", "min_step", "max_step", "locate_tolerance", "newton_tolerance"):
@@ -113,6 +121,8 @@ class ContinuationSettings:
         check_int(self.max_iterations, name="max_iterations", minimum=1)
         check_int(self.max_points, name="max_points", minimum=2)
         check_int(self.max_period, name="max_period", minimum=1)
+        if self.segments is not None:
+            check_int(self.segments, name="segments", minimum=1, maximum=64)
         for name in ("switch_offset", "shooting_tolerance"):
             if getattr(self, name) is not None:
                 check_positive(getattr(self, name), name=name)
@@ -141,6 +151,12 @@ class ContinuationPoint:
     eccentricity : numpy.ndarray
         (k, joints): ``|e|`` of each clearance joint at the orbit's k section times (m), the
         orbit diagram's variable; empty for a map given as a callable.
+    margin : float
+        Grazing margin of a scene's orbit, 0 at a grazing: for a journal in contact the
+        whole period its smallest contact force over the mean, otherwise the smallest
+        interior extreme of the penetration inside a phase (a free flight closest to
+        touching) over the clearance (``mechanism.studies.orbits`` ``grazing_margin``).
+        NaN without one, and for a map given as a callable.
     """
 
     parameter: float
@@ -150,6 +166,7 @@ class ContinuationPoint:
     residual: float
     signature: tuple[str, ...] = ()
     eccentricity: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
+    margin: float = math.nan
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -200,9 +217,10 @@ class BifurcationPoint:
     ----------
     kind : str
         ``"period-doubling"`` (a real multiplier crosses −1), ``"fold"`` (+1),
-        ``"neimark-sacker"`` (a complex pair crosses the unit circle) or ``"grazing"``
+        ``"neimark-sacker"`` (a complex pair crosses the unit circle), ``"grazing"``
         (the orbit's contact-mode signature changes: a contact phase appears or
-        vanishes).
+        vanishes) or, at the end of a branch that the corrector cannot continue,
+        ``"end"`` when none of these is recognised there.
     parameter : float
         Located value (zero of the test function in the final bracket; its middle for a
         grazing).
@@ -220,7 +238,14 @@ class BifurcationPoint:
     explanation : str
         One line on what happens there.
     state : numpy.ndarray
-        The fixed point at ``parameter`` (interpolated in the final bracket).
+        The fixed point at ``parameter`` (interpolated in the final bracket; at a branch
+        end, the last converged one).
+    branch_end : bool
+        The branch ends here: the corrector failed past the last converged point at every
+        step down to the smallest, so ``bracket`` is (last converged value, first failed
+        one), ``multipliers_after`` is empty and ``kind`` is read from the trend of the
+        last points (the grazing margin extrapolated to 0 inside twice the bracket, or a
+        multiplier within 0.2 of +1 or −1).
     """
 
     kind: str
@@ -234,6 +259,7 @@ class BifurcationPoint:
     signature_after: tuple[str, ...] = ()
     explanation: str = ""
     state: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    branch_end: bool = False
 
 
 @dataclass
@@ -358,6 +384,7 @@ class Follower:
         h = min(s.step, s.max_step)
         arclength = False
         end = "reached the end of the span"
+        failed = math.nan
         while len(points) < s.max_points:
             last = points[-1]
             if not arclength:
@@ -372,12 +399,16 @@ class Follower:
             else:
                 new = self._arclength_step(points, h, direction)
             if new is None:
+                if not arclength:
+                    failed = p_next
                 h *= 0.5
                 if h < s.min_step:
                     if self.chord is not None and s.arclength and not arclength:
                         arclength, h = True, max(4.0 * s.min_step, s.step * 0.25)
                         continue
                     end = "the corrector failed below the smallest step"
+                    if not arclength and math.isfinite(failed):
+                        found.append(branch_end(points, failed, branch=branch, period=period))
                     break
                 continue
             points.append(new)
@@ -549,6 +580,61 @@ class Follower:
             state=0.5 * (lo.point.state + hi.point.state),
         )
         return located, lo, hi
+
+
+def branch_end(
+    points: list[Solved], failed: float, *, branch: int, period: int
+) -> BifurcationPoint:
+    """The end of a branch between its last converged point and the first value the
+    corrector failed at, named from the trend of the last points (``BifurcationPoint``,
+    ``branch_end``)."""
+    last = points[-1].point
+    pl = float(last.parameter)
+    kind, why = _end_kind([x.point for x in points[-3:]], failed, period)
+    return BifurcationPoint(
+        kind=kind, parameter=0.5 * (pl + failed), bracket=(min(pl, failed), max(pl, failed)),
+        branch=branch, period=period, multipliers_before=last.multipliers,
+        multipliers_after=np.zeros(0, dtype=np.complex128),
+        signature_before=last.signature, explanation=why, state=last.state.copy(),
+        branch_end=True,
+    )  # fmt: skip
+
+
+def _end_kind(last: list[ContinuationPoint], failed: float, period: int) -> tuple[str, str]:
+    """(kind, one line) of a branch end from its last points (oldest first)."""
+    point = last[-1]
+    p = point.parameter
+    orbit = f"period-{period} orbit"
+    past = f"nothing converges from {p:.6g} to {failed:.6g}"
+    if len(last) >= 2 and math.isfinite(point.margin) and math.isfinite(last[-2].margin):
+        m0, m1 = last[-2].margin, point.margin
+        p0 = last[-2].parameter
+        if m1 < m0:
+            zero = p + (p - p0) * m1 / (m0 - m1)
+            if (zero - p) * (failed - p) > 0 and abs(zero - p) <= 2.0 * abs(failed - p):
+                return "grazing", (
+                    f"the {orbit} grazes: its grazing margin falls from {m0:.3g} to "
+                    f"{m1:.3g} ({p0:.6g} -> {p:.6g}) and reaches 0 near "
+                    f"{zero:.6g}; {past}"
+                )
+    mu = np.asarray(point.multipliers, dtype=np.complex128)
+    if mu.size:
+        near_one = complex(mu[np.argmin(np.abs(mu - 1.0))])
+        near_minus = complex(mu[np.argmin(np.abs(mu + 1.0))])
+        if abs(near_one - 1.0) < END_CRITICAL:
+            return "fold", (
+                f"a real multiplier approaches +1 ({_fmt(near_one)}): the {orbit} meets "
+                f"another and turns back (saddle-node); {past}"
+            )
+        if abs(near_minus + 1.0) < END_CRITICAL:
+            return "period-doubling", (
+                f"a real multiplier approaches -1 ({_fmt(near_minus)}): the {orbit} doubles; {past}"
+            )
+    top = float(np.abs(mu[0])) if mu.size else 0.0
+    return "end", (
+        f"the {orbit} ends abruptly (|mu_max| {top:.3g}, no multiplier near +-1, no "
+        f"grazing margin closing): {past}"
+    )
 
 
 def _changes(f0: float, f1: float) -> bool:

@@ -27,10 +27,11 @@ from mechanism.core.integrate import (
 
 from ._shooting import Section, StroboscopicMap, wrapped_difference
 
-#: residual (share of the clearance) above which the step schedule is taken anew from
-#: every accepted iterate (so its steps follow the iterate's impacts); below it the
-#: schedule stays, and the map is a smooth function of the nodes
-REFREEZE_ABOVE = 1e-4
+#: residual (share of the clearance) above which every run chooses its own steps (so
+#: its steps follow its impacts: a schedule frozen from another start misplaces them and
+#: the latched impact velocity jumps); below it the steps of the nodes' runs are frozen,
+#: and the map is a smooth function of the nodes
+REFREEZE_ABOVE = 1e-5
 #: first trust radius per segment (share of the clearance): a journal moves within it
 TRUST_RADIUS = 0.1
 
@@ -238,12 +239,11 @@ def solve(
 ) -> MultipleResult:
     """Newton on the continuity defects of ``segments`` segments in a trust region
     (Levenberg–Marquardt steps of at most ``radius``, widened after good steps and
-    narrowed after refused ones). The step schedule is that of the current nodes, taken
-    anew after every accepted step while the defect is above 1e-4 of the clearance and
-    then kept. The segment Jacobians are reused while the defect falls fourfold."""
+    narrowed after refused ones). While the defect is above ``REFREEZE_ABOVE`` every run
+    takes its own adaptive steps; below it the steps of the nodes' runs are frozen. The
+    segment Jacobians are reused while the defect falls fourfold."""
     smap.schedule = None
     nodes = initial_nodes(smap, start, segments)
-    _freeze(smap, nodes)
     rhs, bases, rho, mass = defects(smap, nodes)
     iterations = 0
     jacs: list[np.ndarray] | None = None
@@ -251,6 +251,10 @@ def solve(
     radius = TRUST_RADIUS * smap.clearance * math.sqrt(segments)
     fresh = False
     while iterations < max_iterations and mass > tol:
+        if smap.schedule is None and mass <= REFREEZE_ABOVE:
+            _freeze(smap, nodes)
+            rhs, bases, rho, mass = defects(smap, nodes)
+            jacs = None
         if jacs is None or _pattern(nodes) != pattern:
             jacs, _ = _jacobians(smap, nodes)
             pattern, fresh = _pattern(nodes), True
@@ -280,9 +284,6 @@ def solve(
         slow = new_rho > max(0.25 * rho, 100.0 * tol)
         rho = new_rho
         fresh = False
-        if mass > REFREEZE_ABOVE:
-            _freeze(smap, nodes)
-            rhs, bases, rho, mass = defects(smap, nodes)
         if slow:
             jacs = None
     jacs, bases = _jacobians(smap, nodes)

@@ -13,18 +13,22 @@ import xarray as xr
 
 import chaoskit
 from chaoskit.contract import check_int, check_positive
-from mechanism.core import SimulationError, default_step, drive_period, step_limits
-from mechanism.core.integrate import Dopri5, clearance_kinematics, length_scale, section_latch
+from mechanism.core import default_step, drive_period, step_limits
+from mechanism.core.integrate import (
+    Dopri5,
+    clearance_kinematics,
+    length_scale,
+    section_latch,
+)
 from mechanism.core.model import assemble, initial_state
 from mechanism.core.scene import Scene
 
 from ._modes import ContactPhase, contact_phases
-from ._multiple import solve as multiple_shooting
+from ._newton import NewtonState, multiple, newton, refresh, run_ok
 from ._shooting import (
     Section,
     StroboscopicMap,
     frozen_latches,
-    newton_step,
     sorted_by_modulus,
 )
 
@@ -43,8 +47,6 @@ DEFAULT_APPROACH_TOLERANCE = 1e-3
 #: the monodromy matrix is recomputed at the converged state when the state it was
 #: computed at lies farther than this share of the clearance from it
 MONODROMY_OFFSET = 1e-5
-#: pieces of the period whose Jacobians make the final monodromy matrix (no renewed latch)
-SEGMENTS = 8
 #: segments of the multiple shooting that follows a stalled single shooting
 AUTOMATIC_SEGMENTS = 8
 #: most segments accepted (each costs a tangent run per unknown and Newton iteration)
@@ -378,6 +380,10 @@ def periodic_orbit(
     unstable orbits converge as well as stable ones; the matrix is reused while the
     residual falls at least fourfold per iteration and recomputed at the converged
     state when it was computed farther than 1e-5 of the clearance from it.
+    Before the first matrix the map itself is iterated while each iteration cuts the
+    residual tenfold, so a strongly attracting orbit needs one matrix, at the converged
+    state. Above 1e-5 of the clearance every run takes its own adaptive steps; below it
+    the steps of a run from the current state are frozen, so the map is smooth.
 
     A latch that the orbit never renews (the journal stays in contact the whole period)
     is frozen: its multiplier is exactly 1 with the latch as eigenvector. It is held at
@@ -485,10 +491,10 @@ def periodic_orbit(
     shooting, used = "single", 1
     solved = None
     if segments in (None, 1):
-        solved = _newton(smap, start, tol, max_iterations)
+        solved = newton(smap, start, tol, max_iterations)
     if segments not in (None, 1) or (segments is None and solved.residual > tol):
         used = AUTOMATIC_SEGMENTS if segments is None else segments
-        solved = _multiple(
+        solved = multiple(
             smap,
             solved.section if solved else start,
             used,
@@ -504,47 +510,6 @@ def periodic_orbit(
          "guess": "given" if guess is not None else "settled", "shooting": shooting,
          "segments": used},
     )  # fmt: skip
-
-
-def _multiple(
-    smap: StroboscopicMap,
-    start: Section,
-    segments: int,
-    tol: float,
-    max_iterations: int,
-    done: int,
-) -> _Solved:
-    """Multiple shooting from ``start`` (after ``done`` single-shooting iterations)."""
-    result = multiple_shooting(smap, start, segments, tol, max_iterations)
-    first = result.nodes.states[0]
-    return _Solved(
-        section=first, residual=result.residual, iterations=done + result.iterations,
-        jacobian=result.monodromy, jacobian_at=first, latches=result.latches,
-        n_free=result.n_free,
-    )  # fmt: skip
-
-
-@dataclass
-class _Solved:
-    """State of the Newton iteration."""
-
-    section: Section
-    residual: float
-    iterations: int
-    jacobian: np.ndarray | None = None
-    jacobian_at: Section | None = None
-    latches: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
-    n_free: int = 0
-
-
-def _run_ok(smap: StroboscopicMap, section: Section, stops: np.ndarray, **kw: Any) -> Any:
-    run = smap.run(section, stops, **kw)
-    if not run.stats.success:
-        raise SimulationError(
-            f"periodic orbit: the integration failed after t = {run.t[-1]:.6g} s: "
-            f"{run.stats.message}"
-        )
-    return run
 
 
 def _start(
@@ -576,7 +541,7 @@ def _start(
     total = settle + (search if search > k else 0)
     if total == 0:
         return first
-    run = _run_ok(
+    run = run_ok(
         smap, first, smap.drive_period * np.arange(total + 1, dtype=np.float64), record=True
     )
     pick = settle
@@ -590,80 +555,6 @@ def _start(
     turns = np.round((y - y_init)[smap.angles] / (2.0 * math.pi))
     y[smap.angles] -= 2.0 * math.pi * turns
     return Section(y=y, latch=run.latches[pick].copy(), contact=run.contact[pick].copy())
-
-
-def _refresh(smap: StroboscopicMap, state: _Solved, end: Any) -> np.ndarray:
-    """Recompute the monodromy matrix at the current section (``end``: the map's run from
-    it); returns the basis."""
-    sec = state.section
-    basis = smap.basis(sec)
-    state.latches = np.flatnonzero(sec.contact != 0)
-    state.n_free = basis.shape[1]
-    frozen = end.stats.contact_events == 0 and bool(np.all(end.final_contact[state.latches]))
-    if frozen:
-        # no latch renewed: the tangent block piece by piece (well conditioned), and the
-        # latches' unit rows and columns
-        block = smap.segmented(sec, SEGMENTS)
-        jac = np.eye(state.n_free + state.latches.size)
-        jac[: state.n_free, : state.n_free] = block
-    else:
-        jac = smap.monodromy(sec, basis, state.latches)
-    state.jacobian = jac
-    state.jacobian_at = sec
-    return basis
-
-
-def _newton(smap: StroboscopicMap, start: Section, tol: float, max_iterations: int) -> _Solved:
-    """Damped Newton on P(z) − z = 0 with the monodromy matrix reused while the residual
-    falls fourfold per step."""
-    smap.freeze_steps(start, smap.basis(start))
-    stops = smap.stops
-    end = _run_ok(smap, start, stops)
-    state = _Solved(section=start, residual=smap.residual(start, end, start.contact != 0),
-                    iterations=0)  # fmt: skip
-    basis: np.ndarray | None = None
-    fresh = False
-    while state.residual > tol and state.iterations < max_iterations:
-        sec = state.section
-        if basis is None or not np.array_equal(sec.contact != 0, state.jacobian_at.contact != 0):
-            if state.jacobian_at is not None and state.residual > 1e3 * tol:
-                # far from the orbit the first schedule may miss where impacts now are
-                smap.freeze_steps(sec, smap.basis(sec))
-                end = _run_ok(smap, sec, stops)
-                state.residual = smap.residual(sec, end, sec.contact != 0)
-            basis, fresh = _refresh(smap, state, end), True
-        jac = state.jacobian
-        frozen = frozen_latches(jac, state.n_free)
-        keep = np.setdiff1d(np.arange(jac.shape[0]), state.n_free + frozen)
-        r = smap.reduced_residual(sec, end, basis, state.latches)
-        dz = np.zeros_like(r)
-        dz[keep] = newton_step(jac[np.ix_(keep, keep)], r[keep])
-        step = 1.0
-        accepted = None
-        # near the map's round-off floor halving only samples its noise
-        near_floor = state.residual < 100.0 * tol
-        for _ in range(3 if near_floor else 12):
-            trial = smap.corrected(sec, basis, state.latches, step * dz)
-            tend = smap.run(trial, stops)
-            if tend.stats.success:
-                trho = smap.residual(trial, tend, trial.contact != 0)
-                if trho < (1.0 - 0.1 * step) * state.residual:
-                    accepted = (trial, tend, trho)
-                    break
-            step *= 0.5
-        state.iterations += 1
-        if accepted is None:
-            if fresh or near_floor:
-                break  # no damped step helps: a fresh matrix, or the round-off floor
-            basis = None  # retry with the matrix at this state
-            continue
-        # a fresh matrix only while far from the round-off floor of the map
-        slow = accepted[2] > max(0.25 * state.residual, 100.0 * tol)
-        state.section, end, state.residual = accepted
-        fresh = False
-        if slow:
-            basis = None
-    return state
 
 
 def _multipliers(
@@ -688,7 +579,7 @@ def _multipliers(
 
 
 def _floquet_vectors(
-    smap: StroboscopicMap, state: _Solved, vectors: np.ndarray
+    smap: StroboscopicMap, state: NewtonState, vectors: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray]:
     """Eigenvectors of the monodromy's coordinates as section-state differences
     [δq; δq̇] (SI) and latch differences (m/s per joint), each of unit size in the tangent
@@ -711,15 +602,18 @@ def _floquet_vectors(
 def _assemble_orbit(
     smap: StroboscopicMap,
     scene: Scene,
-    state: _Solved,
+    state: NewtonState,
     tol: float,
     cpu0: float,
     settings: dict[str, Any],
 ) -> PeriodicOrbit:
     model = smap.model
     sec = state.section
+    if smap.schedule is None:
+        # not converged to where the steps are frozen: the recording's own steps
+        smap.freeze_steps(sec, smap.basis(sec))
     if state.jacobian is None or smap.distance(state.jacobian_at.y, sec.y) > MONODROMY_OFFSET:
-        _refresh(smap, state, _run_ok(smap, sec, smap.stops))
+        refresh(smap, state, run_ok(smap, sec, smap.stops))
     offset = smap.distance(state.jacobian_at.y, sec.y)
     joints = tuple(model.clearance_joints)
     mult, vectors, neutral, what = _multipliers(state.jacobian, state.n_free, state.latches, joints)
@@ -727,7 +621,7 @@ def _assemble_orbit(
     k, big_t = smap.period, smap.drive_period
     n = model.n_dof
     # the orbit on the map's own steps: it ends at the section state to the residual
-    rec = _run_ok(smap, sec, smap.schedule, record=True)
+    rec = run_ok(smap, sec, smap.schedule, record=True)
     kin = clearance_kinematics(model, rec.states, t=rec.t, latch=rec.latches)
     strobe = kin[np.searchsorted(rec.t, smap.sections[:-1])]
     phases = contact_phases(rec.t, rec.contact, rec.contact_events, joints, big_t)

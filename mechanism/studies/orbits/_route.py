@@ -178,7 +178,7 @@ def _losses(c: Continuation, branch: int, direction: float) -> list[BifurcationP
             continue
         before = bool(np.all(np.abs(bif.multipliers_before) < 1.0))
         after = bool(np.all(np.abs(bif.multipliers_after) < 1.0))
-        if before and not after:
+        if before and (bif.branch_end or not after):
             out.append(bif)
     return sorted(out, key=lambda b: direction * b.parameter)
 

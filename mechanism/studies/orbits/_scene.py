@@ -30,7 +30,13 @@ from ._continuation import (
 )
 from ._orbit import PeriodicOrbit, periodic_orbit
 
-__all__ = ["Continuation", "contact_signature", "continuation"]
+__all__ = [
+    "Continuation",
+    "contact_signature",
+    "continuation",
+    "damping_coefficients",
+    "grazing_margin",
+]
 
 _LOG = logging.getLogger(__name__)
 
@@ -57,6 +63,59 @@ def contact_signature(orbit: PeriodicOrbit) -> tuple[str, ...]:
             modes = list(min(rotations))
         out.extend(f"{joint}:{m}" for m in modes)
     return tuple(out)
+
+
+def damping_coefficients(scene: Scene, joints: tuple[str, ...]) -> np.ndarray:
+    """χ of each clearance joint's contact law, F = Kδⁿ(1 + χ δ̇/δ̇⁻): 3(1 − e²)/4
+    (Lankarani–Nikravesh), 8(1 − e)/(5e) (Flores), else 0 (the elastic part alone)."""
+    out = np.zeros(len(joints))
+    for i, name in enumerate(joints):
+        joint = scene.joints.get(name)
+        contact = getattr(joint, "contact", None)
+        e = float(getattr(joint, "restitution", 1.0))
+        law = getattr(contact, "law", "hertz")
+        if law == "lankarani-nikravesh":
+            out[i] = 0.75 * (1.0 - e * e)
+        elif law == "flores" and e > 0.0:
+            out[i] = 8.0 * (1.0 - e) / (5.0 * e)
+    return out
+
+
+def grazing_margin(orbit: PeriodicOrbit, damping: np.ndarray | None = None) -> float:
+    """How far the orbit is from a grazing (0 at one), the smallest over its joints.
+
+    A joint in contact the whole period: its smallest contact force over the mean along
+    the orbit, F ∝ δ^1.5 max(0, 1 + χ δ̇/δ̇⁻) with ``damping`` χ per joint (default 0)
+    and δ̇⁻ its latched impact velocity (the exponent moves the ratio, not where F
+    vanishes). The journal lifts off where F reaches 0, through
+    the penetration or through the damping factor (a journal pulled away faster than
+    1/χ times its latched speed is released while still pressed in). Any other joint:
+    the smallest interior extreme of the penetration inside a phase over the clearance
+    (a free flight closest to touching, a contact closest to lifting off); only samples
+    whose neighbours along the periodic orbit are in the same contact state count, so
+    the entries and exits of contacts, where the penetration passes 0 by definition, do
+    not. NaN when no joint has such an extreme.
+    """
+    flags = np.asarray(orbit.in_contact[:-1]) != 0
+    pen = np.asarray(orbit.penetration[:-1], dtype=np.float64)
+    chi = np.zeros(pen.shape[1]) if damping is None else np.asarray(damping, dtype=np.float64)
+    rate = np.gradient(np.asarray(orbit.penetration, dtype=np.float64), orbit.time, axis=0)[:-1]
+    best = math.inf
+    for j in range(pen.shape[1]):
+        f, a = flags[:, j], np.abs(pen[:, j])
+        if np.all(f):
+            latch = max(abs(float(orbit.section_latch[j])), 1e-12)
+            factor = np.maximum(1.0 + chi[j] * rate[:, j] / latch, 0.0)
+            force = np.maximum(pen[:, j], 0.0) ** 1.5 * factor
+            mean = float(np.mean(force))
+            if mean > 0.0:
+                best = min(best, float(np.min(force)) / mean)
+            continue
+        fp, fn = np.roll(f, 1), np.roll(f, -1)
+        extreme = (f == fp) & (f == fn) & (a <= np.roll(a, 1)) & (a <= np.roll(a, -1))
+        if np.any(extreme):
+            best = min(best, float(np.min(a[extreme])) / orbit.clearance)
+    return best if math.isfinite(best) else math.nan
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -93,13 +152,14 @@ class Continuation:
     cpu_time: float = 0.0
 
     def first_loss_of_stability(self, branch: int = 0) -> BifurcationPoint | None:
-        """The first located point on ``branch`` past which its orbit is unstable."""
+        """The first located point on ``branch`` past which its orbit is unstable, or
+        the branch's end when it ends stable (no stable orbit followed past it)."""
         for bif in self.bifurcations:
             if bif.branch != branch:
                 continue
             before = bool(np.all(np.abs(bif.multipliers_before) < 1.0))
             after = bool(np.all(np.abs(bif.multipliers_after) < 1.0))
-            if before and not after:
+            if before and (bif.branch_end or not after):
                 return bif
         return None
 
@@ -133,6 +193,11 @@ def continuation(
     it is started from the orbit displaced along the Floquet vector of the multiplier
     nearest −1 (else from a run of the scene settled for 40 periods) and followed too,
     up to ``settings.max_period``.
+    When shooting fails at every step down to ``settings.min_step``, the branch ends
+    there: the end is reported among the bifurcations with ``branch_end`` set, bracketed
+    by the last converged value and the first failed one, and named a grazing (the
+    orbit's grazing margin extrapolates to 0 inside twice that bracket), a fold or a
+    period doubling (a multiplier within 0.2 of +1 or −1), else ``"end"``.
 
     Parameters
     ----------
@@ -286,6 +351,7 @@ class _SceneCorrector:
             stable=orbit.stable, residual=float(orbit.residual),
             signature=contact_signature(orbit),
             eccentricity=np.linalg.norm(orbit.section_eccentricity, axis=-1),
+            margin=grazing_margin(orbit, damping_coefficients(self.scene, orbit.joint_names)),
         )  # fmt: skip
         return Solved(point=point, iterations=orbit.iterations, payload=orbit)
 
@@ -300,7 +366,7 @@ class _SceneCorrector:
             self.solves += 1
             orbit = periodic_orbit(
                 scene, period=self.period, guess=start,
-                max_iterations=self.settings.max_iterations,
+                max_iterations=self.settings.max_iterations, segments=self.settings.segments,
                 **({} if self.settings.shooting_tolerance is None
                    else {"tol": self.settings.shooting_tolerance}),
             )  # fmt: skip
@@ -442,6 +508,8 @@ def _dataset(c: Continuation) -> xr.Dataset:
             "units": "1", "long_name": "modulus of the Floquet multiplier"}),
         "section_eccentricity": (("point", "section", "joint"), _eccentricities(pts), {
             "units": "m", "long_name": "journal eccentricity |e| at the orbit's section times"}),
+        "grazing_margin": (("point",), np.array([p.margin for _, _, p in pts]), {
+            "units": "1", "long_name": "grazing margin of the orbit over the clearance"}),
         "signature": (("point",), np.array([" | ".join(p.signature) for _, _, p in pts],
                                            dtype=object), {
             "units": "1", "long_name": "contact-mode signature of the orbit"}),
@@ -452,7 +520,11 @@ def _dataset(c: Continuation) -> xr.Dataset:
         "bifurcation_high": (("bifurcation",), np.array([b.bracket[1] for b in bifs]), {
             "units": units, "long_name": "upper end of the bifurcation's last bracket"}),
         "bifurcation_kind": (("bifurcation",), np.array([b.kind for b in bifs], dtype=object), {
-            "units": "1", "long_name": "period-doubling, fold, neimark-sacker or grazing"}),
+            "units": "1",
+            "long_name": "period-doubling, fold, neimark-sacker, grazing or end (unnamed)"}),
+        "bifurcation_branch_end": (("bifurcation",), np.array([b.branch_end for b in bifs],
+                                                              dtype=np.int8), {
+            "units": "1", "long_name": "the branch ends there (nothing converged past it)"}),
         "bifurcation_branch": (("bifurcation",), np.array([b.branch for b in bifs],
                                                           dtype=np.int64), {
             "units": "1", "long_name": "index of the branch it lies on"}),

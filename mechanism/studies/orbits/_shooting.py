@@ -14,13 +14,15 @@ friction ramp and for the latch are those of :func:`mechanism.lyapunov_exponent`
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from mechanism.core import SimulationError
 from mechanism.core.integrate import (
+    StepSettings,
     TangentIntegration,
+    TangentSettings,
     deviation_size,
     integrate_tangent,
     project_state,
@@ -99,15 +101,10 @@ class StroboscopicMap:
         self.size = perturbation * clearance
         self.deviation_rtol = deviation_rtol
         self.angles = angle_rows(model.dof_names)
-        self.options = {
-            "rtol": rtol,
-            "atol": atol,
-            "max_step": max_step,
-            "approach_floor": approach_floor,
-            "time_scale": self.tau,
-            "deviation_rtol": 0.0,
-            "renormalize_every": _NO_RENORMALIZATION,
-        }
+        steps = StepSettings(rtol=rtol, atol=atol, max_step=max_step, approach_floor=approach_floor)
+        self.settings = TangentSettings(
+            steps=steps, time_scale=self.tau, renormalize_every=_NO_RENORMALIZATION
+        )
         self.evaluations = 0
         self.function_evaluations = 0
         self.schedule: np.ndarray | None = None
@@ -132,11 +129,10 @@ class StroboscopicMap:
         self.schedule = None
         d0 = basis.sum(axis=1)
         d0 *= self.size / deviation_size(self.model, d0, time_scale=self.tau)
-        options = dict(self.options, deviation_rtol=self.deviation_rtol)
+        settings = replace(self.settings, deviation_rtol=self.deviation_rtol)
         run = integrate_tangent(
-            self.model, section.y, d0, self.sections,
+            self.model, section.y, d0, self.sections, settings=settings,
             latch=(section.latch, section.contact), record_steps=True, label="orbit",
-            **options,
         )  # fmt: skip
         self.evaluations += 1
         self.function_evaluations += run.stats.function_evaluations
@@ -151,15 +147,14 @@ class StroboscopicMap:
         run from ``starts[i]`` over ``times[i:i + 2]`` (with a deviation along all the
         tangent directions of ``bases[i]``), joined into one schedule."""
         self.schedule = None
-        options = dict(self.options, deviation_rtol=self.deviation_rtol)
+        settings = replace(self.settings, deviation_rtol=self.deviation_rtol)
         pieces = []
         for i, (section, basis) in enumerate(zip(starts, bases, strict=True)):
             d0 = basis.sum(axis=1)
             d0 *= self.size / deviation_size(self.model, d0, time_scale=self.tau)
             run = integrate_tangent(
-                self.model, section.y, d0, times[i : i + 2],
+                self.model, section.y, d0, times[i : i + 2], settings=settings,
                 latch=(section.latch, section.contact), record_steps=True, label="orbit",
-                **options,
             )  # fmt: skip
             self.evaluations += 1
             self.function_evaluations += run.stats.function_evaluations
@@ -181,13 +176,13 @@ class StroboscopicMap:
         """Integrate from ``section`` over ``stops`` (with a deviation ``d0``, else the
         reference alone); ``tangent``: the deviation's error also controls the steps."""
         d = np.zeros_like(section.y) if d0 is None else d0
-        options = dict(self.options, step_schedule=self.schedule)
+        settings = self.settings
         if tangent and self.schedule is None:
-            options["deviation_rtol"] = self.deviation_rtol
+            settings = replace(settings, deviation_rtol=self.deviation_rtol)
         run = integrate_tangent(
-            self.model, section.y, d, stops, latch=(section.latch, section.contact),
-            latch_deviation=latch_deviation, record_states=record, label="orbit",
-            **options,
+            self.model, section.y, d, stops, settings=settings,
+            latch=(section.latch, section.contact), latch_deviation=latch_deviation,
+            step_schedule=self.schedule, record_states=record, label="orbit",
         )  # fmt: skip
         self.evaluations += 1
         self.function_evaluations += run.stats.function_evaluations

@@ -93,12 +93,12 @@ def wear_path_cost(rpm: float, settings: StudySettings, *, flexible: bool | None
 
     Per analysed state (unworn, every checkpoint and the end): the settled and analysed
     revolutions, the exponent's revolutions and the motion verdict; per checkpoint
-    interval: the increments (one per 700 cycles at 150 rpm, fewer at a slower speed,
+    interval: the increments (one per 500 cycles at 150 rpm, fewer at a slower speed,
     which wears less per cycle), each its settled and averaged revolutions. Calibrated on
-    the rigid paper scene at 150 rpm (178 s of CPU for 10 000 cycles, analysed unworn and
-    at 5 000 and 10 000, 8 averaged revolutions) and at 30 rpm (269 s for the same path);
-    flexible rods take the study's fixed step
-    in time, so a slower speed costs more per revolution (1.2 s per revolution at 150 rpm,
+    the stages of a profiled rigid path (docs/wear.md §7: 150 rpm, unworn and 5 000
+    cycles, 8 averaged revolutions, 66.9 s of CPU; the prior gives 0.95 of it, and 0.96 of
+    the 98.1 s of the same path at 30 rpm); flexible rods take the study's fixed step in
+    time, so a slower speed costs more per revolution (1.2 s per revolution at 150 rpm,
     2.8 for the exponent).
     """
     flexible = settings.wear_path_flexible_rods if flexible is None else flexible
@@ -110,12 +110,12 @@ def wear_path_cost(rpm: float, settings: StudySettings, *, flexible: bool | None
         revolution, exponent = 1.2 * slower, 2.8 * slower
     else:
         # the error control's steps follow the impacts, whose number per revolution grows
-        # less than the revolution's length (30 rpm: 269 s against 178 s)
+        # less than the revolution's length (30 rpm: 98 s against 67 s for the same path)
         revolution = _RIGID_REVOLUTION * slower**0.75
         exponent = _RIGID_EXPONENT * slower**0.25
     analysed = (2.0 + settings.wear_path_analysis_revolutions) * revolution
     per_state = analysed + settings.wear_path_lyapunov_revolutions * exponent + _VERDICT
-    increments = sum(max(1.0, (b - a) / 700.0 / slower) for a, b in itertools.pairwise(points))
+    increments = sum(max(1.0, (b - a) / 500.0 / slower) for a, b in itertools.pairwise(points))
     return (
         len(points) * per_state
         + increments * (2.0 + settings.wear_path_averaged_revolutions) * revolution
@@ -123,8 +123,9 @@ def wear_path_cost(rpm: float, settings: StudySettings, *, flexible: bool | None
 
 
 #: CPU seconds of the rigid paper scene at 150 rpm: one worn revolution with the default
-#: tolerances, one revolution of the exponent, one motion verdict
-_RIGID_REVOLUTION, _RIGID_EXPONENT, _VERDICT = 0.5, 2.0, 3.0
+#: tolerances and the full record, one revolution of the exponent, one motion verdict
+#: (measured stage by stage on one path, docs/wear.md §7)
+_RIGID_REVOLUTION, _RIGID_EXPONENT, _VERDICT = 0.24, 0.77, 5.7
 
 
 def stage_weights(settings: StudySettings, n_conv: int) -> dict[str, float]:

@@ -75,18 +75,9 @@ def _sub(p, q):
     return (p[0] - q[0], p[1] - q[1])
 
 
-def scene_toml(*, name: str, variant: str, clearance_at: str, description: str) -> str:
-    pts = geometry(variant)
-    variant_text = (
-        "reconstructed geometry" if variant == "reconstructed" else "alternative plate reading"
-    )
-    o, a, b, c, d, e = (pts[k] for k in "OABCDE")
-    crank_cm = (L1 / 2, 0.0)
-    j1 = round(J1_ABOUT_O - M1 * (L1 / 2) ** 2, 15)  # drop float noise: 9.391875e-4
-    plate_cm = ((a[0] + b[0] + d[0]) / 3, (a[1] + b[1] + d[1]) / 3)
-    guide = (HX, 0.0)
-
-    clearance_joint = f"""[joints.{clearance_at}]
+def _clearance_joint(clearance_at: str) -> str:
+    """The clearance joint's tables at C (bearing in the frame) or B (in the plate)."""
+    return f"""[joints.{clearance_at}]
 type = "clearance_revolute"
 {
         'bearing = ["ground", "C"]      # bearing in the frame ("Clearance joint location")'
@@ -124,14 +115,28 @@ surfaces = "both"               # bearing and journal wear ("Worn surfaces")
 spread_over_contact_width = true
 smoothing_regions = 5           # moving average before the curvature (§6)
 """
+
+
+def _joints_b_c(clearance_at: str) -> tuple[str, str]:
+    """The tables of joints B and C in file order: one ideal, one with clearance."""
     ideal_joint = (
         '[joints.C]\ntype = "revolute"\nbodies = ["ground", "rod3"]\npoints = ["C", "start"]\n'
         if clearance_at == "B"
         else '[joints.B]\ntype = "revolute"\nbodies = ["plate", "rod3"]\npoints = ["B", "end"]\n'
     )
-    joints_bc = (
-        (ideal_joint, clearance_joint) if clearance_at == "C" else (clearance_joint, ideal_joint)
+    return (
+        (ideal_joint, _clearance_joint(clearance_at))
+        if clearance_at == "C"
+        else (_clearance_joint(clearance_at), ideal_joint)
     )
+
+
+def _header(*, name: str, variant: str, clearance_at: str, description: str, pts) -> str:
+    """The file comment, top-level keys, effects and ground points."""
+    variant_text = (
+        "reconstructed geometry" if variant == "reconstructed" else "alternative plate reading"
+    )
+    o, c, guide = pts["O"], pts["C"], (HX, 0.0)
     return f"""# Built-in scene "{name}": the six-bar press mechanism of Jia, Meng, Jiang, Kang,
 # "Wear Prediction and Chaos Identification of Rigid Flexible Coupling Multi-Link
 # Mechanisms with Clearance", Lubricants 2025, 13(3), 130, as reconstructed in
@@ -160,7 +165,16 @@ O = {_v(o)}
 C = {_v(c)}
 guide = {_v(guide)}
 
-[bodies.crank]                  # crank 1, L1 = 75 mm [S]
+"""
+
+
+def _bodies(pts) -> str:
+    """The crank, plate, the two ANCF rods and the slider at crank angle 0."""
+    o, a, b, c, d, e = (pts[k] for k in "OABCDE")
+    crank_cm = (L1 / 2, 0.0)
+    j1 = round(J1_ABOUT_O - M1 * (L1 / 2) ** 2, 15)  # drop float noise: 9.391875e-4
+    plate_cm = ((a[0] + b[0] + d[0]) / 3, (a[1] + b[1] + d[1]) / 3)
+    return f"""[bodies.crank]                  # crank 1, L1 = 75 mm [S]
 type = "rigid"
 # CoM at mid-length [A]; inertia = 1.977e-3 kg m2 about O minus m (L1/2)^2
 # ("Units of the printed inertias")
@@ -218,7 +232,13 @@ position = {_v(e)}
 angle = 0.0
 points = {{ E = [0.0, 0.0] }}
 
-[joints.O]
+"""
+
+
+def _joints(clearance_at: str) -> str:
+    """The joint tables O, A, B, C, D, E and the prismatic guide P."""
+    joints_bc = _joints_b_c(clearance_at)
+    return f"""[joints.O]
 type = "revolute"
 bodies = ["ground", "crank"]
 points = ["O", "O"]
@@ -246,6 +266,11 @@ bodies = ["ground", "slider"]
 points = ["guide", "E"]
 axis = [0.0, 1.0]
 
+"""
+
+
+# The drive, solver and outputs tables; identical in every paper scene.
+_DRIVE_SOLVER_OUTPUTS = """\
 [drive]                         # crank at constant speed, counter-clockwise from 0 (§4)
 type = "constant_speed"
 joint = "O"
@@ -273,6 +298,23 @@ rho_inf = 0.5                   # [A] generalized-alpha damping: at 0.8 the fric
 slider_joint = "P"
 crank_joint = "O"
 """
+
+
+def scene_toml(*, name: str, variant: str, clearance_at: str, description: str) -> str:
+    """The TOML text of one paper scene (see SCENES for the arguments)."""
+    pts = geometry(variant)
+    return (
+        _header(
+            name=name,
+            variant=variant,
+            clearance_at=clearance_at,
+            description=description,
+            pts=pts,
+        )
+        + _bodies(pts)
+        + _joints(clearance_at)
+        + _DRIVE_SOLVER_OUTPUTS
+    )
 
 
 SCENES = {
