@@ -127,7 +127,7 @@ def main() -> None:
         return
     from distributed import Client, LocalCluster
 
-    from mechanism.studies._bifurcation import parse_values
+    from mechanism.studies._orbit_diagram import parse_values
 
     values = parse_values(args.values or DEFAULT_VALUES[args.sweep])
     store = args.store or Path(f"{name}-store")

@@ -16,9 +16,9 @@ refresh_jit_cache(__file__)
 from . import contract as contract
 from . import plot as plot
 from . import systems as systems
-from ._bifurcation import bifurcation_diagram
 from ._contract import sampling_interval, validate_trajectory
 from ._io import load_trajectory, save_trajectory
+from ._orbit_diagram import bifurcation_diagram
 from ._portraits import phase_portrait
 from ._samples import sample_path
 from ._selection import select_series
@@ -68,6 +68,8 @@ from .verdict import (
     CycleForecast,
     MotionVerdict,
     PeriodicOrbitEvidence,
+    RuleEvidence,
+    RuleOutcome,
     SectionStructure,
     SurrogateResult,
     Verdict,
@@ -77,6 +79,7 @@ from .verdict import (
     classify,
     classify_motion,
     classify_variables,
+    combine,
     cycle_boundaries,
     cycle_shuffled_surrogates,
     cycle_spread,
@@ -142,6 +145,9 @@ __all__ = [  # noqa: RUF022
     "classify",
     "Verdict",
     "VerdictRule",
+    "RuleEvidence",
+    "combine",
+    "RuleOutcome",
     "classify_motion",
     "MotionVerdict",
     "PeriodicOrbitEvidence",

@@ -9,7 +9,7 @@ from __future__ import annotations
 # for the command line and the report, not part of the public API
 from ._analyze import analyze, classify_variables, series_dataset, verdict_table
 from ._classify import classify
-from ._clusters import SectionStructure, section_structure
+from ._combine import RuleEvidence, RuleOutcome, combine
 from ._cycles import (
     CycleForecast,
     cycle_boundaries,
@@ -24,6 +24,7 @@ from ._orbit import PeriodicOrbitEvidence
 from ._result import Verdict
 from ._rng import as_generator
 from ._rule import LABELS, VerdictRule
+from ._section_structure import SectionStructure, section_structure
 from ._surrogates import SurrogateResult, iaaft_surrogates, prediction_error, surrogate_test
 from ._zero_one import ZeroOneResult, zero_one_test
 
@@ -32,6 +33,8 @@ __all__ = [
     "CycleForecast",
     "MotionVerdict",
     "PeriodicOrbitEvidence",
+    "RuleEvidence",
+    "RuleOutcome",
     "SectionStructure",
     "SurrogateResult",
     "Verdict",
@@ -41,6 +44,7 @@ __all__ = [
     "classify",
     "classify_motion",
     "classify_variables",
+    "combine",
     "cycle_boundaries",
     "cycle_shuffled_surrogates",
     "cycle_spread",

@@ -13,8 +13,7 @@ from .._validate import (
 )
 from ..embedding import estimate_delay, estimate_embedding_dim
 from ..lyapunov import lyapunov_kantz, lyapunov_rosenstein, lyapunov_wolf
-from ._clusters import section_structure
-from ._combine import combine
+from ._combine import RuleEvidence, combine
 from ._cycles import cycle_spread, orbit_residual
 from ._evidence import (
     any_rejected,
@@ -28,10 +27,11 @@ from ._evidence import (
     surrogate_evidence,
 )
 from ._inputs import SeriesInput, is_equilibrium, noise_level, read_input, scaled_to_unit_peak
-from ._lines import line_spectrum
+from ._line_spectrum import line_spectrum
 from ._result import Verdict
 from ._rng import as_generator
 from ._rule import DIMENSION_POINTS, MIN_SAMPLES, VerdictRule
+from ._section_structure import section_structure
 from ._surrogates import check_surrogates
 from ._zero_one import zero_one_test
 
@@ -267,13 +267,12 @@ def classify(
     kantz_positive = None
     if needs_referee(positives, structure, lines, surrogates, n_cycles >= rule.min_cycles):
         kantz, kantz_positive = _referee(x, embedding_dim, lag, inp.dt, time_scale, rule, errors)
-    label, period, confidence, reason, votes, needs = combine(
+    evidence = RuleEvidence(
         structure=structure,
         rosenstein_positive=positives["rosenstein"],
         wolf_positive=positives["wolf"],
         zero_one_k=None if zero_one is None else zero_one.k,
         surrogates_rejected=None if surrogates is None else surrogates.rejected,
-        rule=rule,
         lines=None if lines is None else lines.kind,
         lines_period=None if lines is None else line_period(lines, inp, time_scale),
         lines_bases=0 if lines is None else int(lines.base_frequencies.size),
@@ -287,15 +286,17 @@ def classify(
         cycle_spread=spread,
         orbit_residual=residual,
     )
+    outcome = combine(evidence, rule)
+    reason = outcome.reason
     return Verdict(
-        label=label,
-        period=period,
-        confidence=confidence,
+        label=outcome.label,
+        period=outcome.period,
+        confidence=outcome.confidence,
         reason=reason if exponent == 0 else f"{reason} (analysed as x * 2**{-exponent})",
-        votes=votes,
+        votes=outcome.votes,
         errors=errors,
         n_samples=int(x.size),
-        needs=needs,
+        needs=outcome.needs,
         n_cycles=float(n_cycles),
         lines=lines,
         lag=int(lag),

@@ -1,13 +1,129 @@
-"""The rule: :func:`combine` turns the votes of the evidence into a label."""
+"""The rule: :func:`combine` turns the votes of a :class:`RuleEvidence` into a
+:class:`RuleOutcome`."""
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
 
-from ._clusters import SectionStructure
 from ._cycles import OrbitResidual
 from ._rule import LOW_DIM, Label, VerdictRule, Vote
+from ._section_structure import SectionStructure
+
+_LINE_KINDS = (None, "periodic", "quasi-periodic", "broadband", "unresolved")
+
+
+@dataclass(frozen=True, kw_only=True)
+class RuleEvidence:
+    """The evidence on one series that the rule of :func:`~chaoskit.classify` weighs.
+
+    :func:`combine` turns it into a label; :func:`~chaoskit.classify` builds it from the
+    estimators, and a caller may build one by hand to see how the rule reads a given
+    combination of evidence.
+
+    Attributes
+    ----------
+    structure
+        The structure of the Poincaré or stroboscopic section (None: no section).
+    rosenstein_positive, wolf_positive
+        Whether each exponent estimate is clearly positive (None: the estimator failed).
+    zero_one_k
+        The 0–1 test's K (None: it failed).
+    surrogates_rejected
+        Whether the IAAFT surrogate test rejects linear noise (None: it failed).
+    lines
+        The kind of the recurrence / line-spectrum analysis: ``"periodic"``,
+        ``"quasi-periodic"``, ``"broadband"`` or ``"unresolved"`` (None: it failed).
+    lines_period
+        The period of a periodic line spectrum, in the unit of the verdict's period.
+    lines_bases
+        The number of base frequencies of the line spectrum (≥ 0).
+    n_cycles
+        The characteristic times the series spans (≥ 0); ``cycle_unit`` names them.
+    cycle_unit
+        The name of those times ("drive periods", "samples", ...), stated in the needs.
+    low_dim_rejected
+        Whether a surrogate test repeated in a few delay coordinates, a delay or one
+        sample ahead rejected (None: none ran).
+    kantz_positive
+        Whether the referee (Kantz) exponent is clearly positive (None: it did not run).
+    cycles_rejected
+        Whether the noisy-periodic-orbit (cycle-shuffled surrogate) test of a forced
+        series rejects (None: it did not run).
+    driven
+        Whether the series is forced; its chaos then needs evidence beyond a noisy
+        periodic orbit.
+    noise
+        The estimated measurement-noise level, relative to the standard deviation
+        (stated in the reason of a noisy periodic orbit).
+    cycle_spread
+        The cycle-to-cycle variation that is not white noise, relative to the standard
+        deviation.
+    orbit_residual
+        The departure of a forced series from its mean cycle read as measurement noise
+        (None: not computed).
+    """
+
+    structure: SectionStructure | None
+    rosenstein_positive: bool | None
+    wolf_positive: bool | None
+    zero_one_k: float | None
+    surrogates_rejected: bool | None
+    lines: str | None = "broadband"
+    lines_period: int | None = None
+    lines_bases: int = 0
+    n_cycles: float = float("inf")
+    cycle_unit: str = "characteristic times"
+    low_dim_rejected: bool | None = None
+    kantz_positive: bool | None = None
+    cycles_rejected: bool | None = None
+    driven: bool = False
+    noise: float = float("nan")
+    cycle_spread: float = float("nan")
+    orbit_residual: OrbitResidual | None = None
+
+    def __post_init__(self) -> None:
+        if self.lines not in _LINE_KINDS:
+            raise ValueError(
+                "lines must be one of 'periodic', 'quasi-periodic', 'broadband', "
+                f"'unresolved' or None, got {self.lines!r}"
+            )
+        if self.lines_period is not None and not self.lines_period >= 1:
+            raise ValueError(f"lines_period must be None or ≥ 1, got {self.lines_period!r}")
+        if not self.lines_bases >= 0:
+            raise ValueError(f"lines_bases must be ≥ 0, got {self.lines_bases!r}")
+        if not self.n_cycles >= 0:
+            raise ValueError(f"n_cycles must be ≥ 0, got {self.n_cycles!r}")
+
+
+@dataclass(frozen=True)
+class RuleOutcome:
+    """What :func:`combine` decides on a :class:`RuleEvidence`.
+
+    Attributes
+    ----------
+    label
+        ``"periodic"``, ``"quasi-periodic"``, ``"chaotic"``, ``"noise-like"`` or
+        ``"undetermined"``.
+    period
+        The period of a periodic label (None otherwise).
+    confidence
+        The fraction of the deciding votes that support the label (NaN when undetermined).
+    reason
+        One sentence: why the label, or what the evidence lacks.
+    votes
+        Each piece of evidence: ``"supports"``, ``"opposes"``, ``"neutral"`` or
+        ``"missing"``.
+    needs
+        What would decide an undetermined series (empty otherwise).
+    """
+
+    label: Label
+    period: int | None
+    confidence: float
+    reason: str
+    votes: dict[str, Vote]
+    needs: tuple[str, ...]
 
 
 @dataclass(frozen=True)
@@ -470,66 +586,57 @@ def _needs(ev: _Evidence) -> list[str]:
     return needs
 
 
-def combine(
-    *,
-    structure: SectionStructure | None,
-    rosenstein_positive: bool | None,
-    wolf_positive: bool | None,
-    zero_one_k: float | None,
-    surrogates_rejected: bool | None,
-    rule: VerdictRule,
-    lines: str | None = "broadband",
-    lines_period: int | None = None,
-    lines_bases: int = 0,
-    n_cycles: float = float("inf"),
-    cycle_unit: str = "characteristic times",
-    low_dim_rejected: bool | None = None,
-    kantz_positive: bool | None = None,
-    cycles_rejected: bool | None = None,
-    driven: bool = False,
-    noise: float = float("nan"),
-    cycle_spread: float = float("nan"),
-    orbit_residual: OrbitResidual | None = None,
-) -> tuple[Label, int | None, float, str, dict[str, Vote], tuple[str, ...]]:
-    """Apply the rule of :func:`classify` to the evidence.
+def combine(evidence: RuleEvidence, rule: VerdictRule) -> RuleOutcome:
+    """Apply the rule of :func:`~chaoskit.classify` to one series' evidence.
 
-    ``lines`` is the kind of the recurrence / line-spectrum analysis (None if it failed),
-    ``lines_period`` its period, ``lines_bases`` its number of base frequencies,
-    ``n_cycles`` the characteristic times the series spans
-    (``cycle_unit`` names them), ``low_dim_rejected`` whether a surrogate test repeated
-    in a few delay coordinates, a delay or one sample ahead, rejected (None: none ran),
-    ``kantz_positive`` whether the referee exponent is clearly positive (None: not run),
-    ``driven`` whether the series is forced (its chaos then needs ``cycles_rejected``:
-    the noisy-periodic-orbit test rejected; None: it did not run), ``cycle_spread`` its
-    cycle-to-cycle variation that is not white noise (relative to the standard deviation)
-    and ``noise`` the estimated measurement-noise level (both stated in the reason of a
-    noisy periodic orbit); ``orbit_residual`` the departure of a forced series from its
-    mean cycle read as measurement noise (None: not computed).
-    Returns label, period, confidence, reason, votes and needs.
+    Parameters
+    ----------
+    evidence
+        What the estimators found (see :class:`RuleEvidence`).
+    rule
+        The thresholds of the rule.
+
+    Returns
+    -------
+    RuleOutcome
+        Label, period, confidence, reason, votes and needs.
+
+    Examples
+    --------
+    >>> from chaoskit import RuleEvidence, VerdictRule, combine
+    >>> ev = RuleEvidence(structure=None, rosenstein_positive=False, wolf_positive=False,
+    ...                   zero_one_k=0.9, surrogates_rejected=False)
+    >>> combine(ev, VerdictRule()).label
+    'noise-like'
     """
+    if not isinstance(evidence, RuleEvidence):
+        raise TypeError(f"evidence must be a RuleEvidence, got {type(evidence).__name__}")
+    if not isinstance(rule, VerdictRule):
+        raise TypeError(f"rule must be a VerdictRule, got {type(rule).__name__}")
+    e = evidence
     positives = {
-        "rosenstein": rosenstein_positive,
-        "wolf": wolf_positive,
-        **({} if kantz_positive is None else {"kantz": kantz_positive}),
+        "rosenstein": e.rosenstein_positive,
+        "wolf": e.wolf_positive,
+        **({} if e.kantz_positive is None else {"kantz": e.kantz_positive}),
     }
     ev = _Evidence(
-        structure=structure,
+        structure=e.structure,
         exponents={name.capitalize(): pos for name, pos in positives.items()},
-        zero_one_k=zero_one_k,
-        surrogates_rejected=surrogates_rejected,
+        zero_one_k=e.zero_one_k,
+        surrogates_rejected=e.surrogates_rejected,
         rule=rule,
-        lines=lines,
-        lines_period=lines_period,
-        lines_bases=lines_bases,
-        n_cycles=n_cycles,
-        cycle_unit=cycle_unit,
-        low_dim_rejected=low_dim_rejected,
-        kantz_ran=kantz_positive is not None,
-        cycles_rejected=cycles_rejected,
-        driven=driven,
-        noise=noise,
-        cycle_spread=cycle_spread,
-        residual=orbit_residual,
+        lines=e.lines,
+        lines_period=e.lines_period,
+        lines_bases=e.lines_bases,
+        n_cycles=e.n_cycles,
+        cycle_unit=e.cycle_unit,
+        low_dim_rejected=e.low_dim_rejected,
+        kantz_ran=e.kantz_positive is not None,
+        cycles_rejected=e.cycles_rejected,
+        driven=e.driven,
+        noise=e.noise,
+        cycle_spread=e.cycle_spread,
+        residual=e.orbit_residual,
     )
     label, period, reason = _decide(ev)
     needs: list[str] = []
@@ -539,7 +646,7 @@ def combine(
     # a periodic orbit plus coloured noise found by its departure from the mean cycle alone
     coloured = (
         label == "periodic"
-        and lines != "periodic"
+        and e.lines != "periodic"
         and ev.linear_residual
         and not ev.noisy_orbit
         and not (
@@ -550,16 +657,16 @@ def combine(
     )
     votes = _votes(
         label,
-        structure=structure,
-        lines=lines,
+        structure=e.structure,
+        lines=e.lines,
         positives=positives,
-        k=zero_one_k,
-        rejected=surrogates_rejected,
+        k=e.zero_one_k,
+        rejected=e.surrogates_rejected,
         long_enough=ev.long_enough,
-        n_bases=lines_bases,
+        n_bases=e.lines_bases,
         rule=rule,
-        cycles=None if not driven or cycles_rejected is None else ev.beyond_orbit,
-        noisy_orbit=(ev.noisy_orbit or coloured) and label == "periodic" and lines != "periodic",
+        cycles=None if not e.driven or e.cycles_rejected is None else ev.beyond_orbit,
+        noisy_orbit=(ev.noisy_orbit or coloured) and label == "periodic" and e.lines != "periodic",
     )
     if label == "chaotic" and ev.dominant_cycle:
         votes["residual"] = "supports" if ev.residual_rejected else "opposes"
@@ -567,11 +674,18 @@ def combine(
         # the departure from the mean cycle is linear noise; a phase-dependent spread
         # beyond the tolerance counts against the orbit
         votes["residual"] = "supports"
-        if cycle_spread > rule.cluster_tol:
+        if e.cycle_spread > rule.cluster_tol:
             votes["cycles"] = "opposes"
     if label == "undetermined":
         confidence = float("nan")
     else:
         counted = [v for v in votes.values() if v in ("supports", "opposes")]
         confidence = sum(v == "supports" for v in counted) / len(counted) if counted else 0.0
-    return label, period, confidence, reason, votes, tuple(needs)
+    return RuleOutcome(
+        label=label,
+        period=period,
+        confidence=confidence,
+        reason=reason,
+        votes=votes,
+        needs=tuple(needs),
+    )

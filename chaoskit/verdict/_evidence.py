@@ -11,11 +11,11 @@ from scipy.signal import find_peaks, savgol_filter
 from .._contract import stamp
 from .._portraits import savgol_derivative
 from ..sections import poincare_section, stroboscopic_map
-from ._clusters import SectionStructure
 from ._cycles import CycleForecast, cycle_surrogate_test
 from ._inputs import SeriesInput
-from ._lines import LineSpectrum
+from ._line_spectrum import LineSpectrum
 from ._rule import CYCLE_MIN_GAIN, LOW_DIM, VerdictRule
+from ._section_structure import SectionStructure
 from ._surrogates import SurrogateResult, surrogate_test
 
 # ---------------------------------------------------------------- sections

@@ -21,7 +21,6 @@ from .._io import load_trajectory
 from .._tables import has_time_index
 from ..lyapunov import lyapunov_rosenstein
 from ._analyze import classify_variables, series_dataset
-from ._clusters import section_structure
 from ._evidence import clearly_positive, describe_error
 from ._motion_arbiters import equations_arbiter
 from ._motion_combine import combine_motion
@@ -34,6 +33,7 @@ from ._motion_evidence import (
 from ._motion_result import MotionVerdict
 from ._orbit import PeriodicOrbitEvidence
 from ._rule import Label, VerdictRule, Vote
+from ._section_structure import section_structure
 
 __all__ = ["MotionVerdict", "classify_motion"]
 
@@ -254,7 +254,7 @@ def classify_motion(
         )
     unit = {"map": "samples", "forced": "drive periods"}.get(kind, "oscillations (maxima)")
     section_need = _section_need(section, voters, rule, reasons)
-    label, period, confidence, reason, votes, needs = combine_motion(
+    outcome = combine_motion(
         voters,
         structure=None if section_need else structure,
         section_need=section_need,
@@ -265,7 +265,7 @@ def classify_motion(
         rule=rule,
         orbit=orbit,
     )
-    reasons.insert(0, reason)
+    reasons.insert(0, outcome.reason)
     _add_evidence_reasons(reasons, verdicts, voters, orbit, kind, res, positive)
     if say is None and say_text:
         reasons.append(say_text)
@@ -273,23 +273,23 @@ def classify_motion(
         reasons.append(say_text)
         data_chaotic = positive is True
         if (say == "chaotic") != data_chaotic or (
-            label not in ("undetermined",) and votes.get("equations") == "opposes"
+            outcome.label != "undetermined" and outcome.votes.get("equations") == "opposes"
         ):
             reasons.append(
                 f"the equations and the data disagree: the equations say {say}, the joint "
                 "exponent of the data is "
                 + ("clearly positive" if data_chaotic else "not clearly positive")
-                + f", the motion verdict is {label}"
+                + f", the motion verdict is {outcome.label}"
             )
     reasons.extend(f"joint {k} failed: {msg}" for k, msg in errors.items())
     return MotionVerdict(
-        label=label,
-        period=period,
-        confidence=confidence,
-        reason=reason,
+        label=outcome.label,
+        period=outcome.period,
+        confidence=outcome.confidence,
+        reason=outcome.reason,
         reasons=tuple(reasons),
-        needs=needs,
-        votes=votes,
+        needs=outcome.needs,
+        votes=outcome.votes,
         characteristic_time=float(time_scale),
         n_cycles=float(ref_v.n_cycles),
         structure=structure,

@@ -6,12 +6,13 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 
-from ._clusters import SectionStructure
+from ._combine import RuleOutcome
 from ._motion_arbiters import Arbiter
 from ._motion_evidence import count_bases
 from ._orbit import PeriodicOrbitEvidence
 from ._result import Verdict
 from ._rule import Label, VerdictRule, Vote
+from ._section_structure import SectionStructure
 
 
 def _section_vote(label: str, structure: SectionStructure | None, n_bases: int) -> Vote:
@@ -292,9 +293,9 @@ def combine_motion(
     rule: VerdictRule,
     section_need: str | None = None,
     orbit: PeriodicOrbitEvidence | None = None,
-) -> tuple[Label, int | None, float, str, dict[str, Vote], tuple[str, ...]]:
+) -> RuleOutcome:
     """The motion rule of :func:`classify_motion` on the voters' verdicts and the joint
-    evidence; returns label, period, confidence, reason, votes and needs. ``section_need``
+    evidence; returns its label, period, confidence, reason, votes and needs. ``section_need``
     says what the joint section lacks when it is not used (``structure`` None); ``orbit``
     is the equations' periodic orbit (used only when it is converged, stable and
     attracting)."""
@@ -354,4 +355,11 @@ def combine_motion(
     else:
         confidence = float("nan")
         reason += ": needs " + "; ".join(dict.fromkeys(needs))
-    return label, period, confidence, reason, votes, tuple(dict.fromkeys(needs))
+    return RuleOutcome(
+        label=label,
+        period=period,
+        confidence=confidence,
+        reason=reason,
+        votes=votes,
+        needs=tuple(dict.fromkeys(needs)),
+    )

@@ -9,11 +9,11 @@ import numpy as np
 import xarray as xr
 
 from .._contract import stamp
-from ._clusters import SectionStructure
 from ._motion_arbiters import Arbiter, arbiter_values
 from ._orbit import PeriodicOrbitEvidence
 from ._result import Verdict
 from ._rule import LABELS, Label, VerdictRule, Vote
+from ._section_structure import SectionStructure
 from ._table import stack_verdicts
 
 __all__ = ["MotionVerdict"]

@@ -7,9 +7,9 @@ from typing import Any
 
 import xarray as xr
 
-from ._clusters import SectionStructure
-from ._lines import LineSpectrum
+from ._line_spectrum import LineSpectrum
 from ._rule import LABELS, Kind, Label, VerdictRule, Vote
+from ._section_structure import SectionStructure
 from ._surrogates import SurrogateResult
 from ._table import stack_verdicts
 from ._zero_one import ZeroOneResult

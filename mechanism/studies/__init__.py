@@ -10,7 +10,6 @@ packages of one concern per module.
 
 from __future__ import annotations
 
-from ._bifurcation import BifurcationSettings, bifurcation, parse_values
 from ._convergence import ElementConvergence, element_convergence
 from ._lyapunov import (
     DEFAULT_DEVIATION_RTOL,
@@ -18,6 +17,7 @@ from ._lyapunov import (
     SceneLyapunov,
     lyapunov_exponent,
 )
+from ._orbit_diagram import BifurcationSettings, bifurcation, parse_values
 from ._plot import plot_bifurcation
 from ._wear_compare import WearComparison, compare_wear
 from ._wear_life import (

@@ -8,7 +8,7 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from ._bifurcation import EXPONENT_VARIABLES
+from ._orbit_diagram import EXPONENT_VARIABLES
 
 __all__ = ["plot_bifurcation"]
 

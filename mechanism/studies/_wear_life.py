@@ -23,7 +23,7 @@ import chaoskit
 from chaoskit.contract import __version__, check_int, check_positive, stamp, variable
 from mechanism.core import Scene, SimulationError, drive_period, scene_from_json, simulate
 from mechanism.core.record import window_start
-from mechanism.core.scene import ClearanceRevolute
+from mechanism.core.scene import ClearanceRevolute, MotorDrive
 from mechanism.core.wear import SURFACES, WornProfile, surface_angle
 
 from ._lyapunov import SceneLyapunov, lyapunov_exponent
@@ -295,6 +295,14 @@ def _checked_path(cycles: Any, checkpoints: Any) -> tuple[float, list[float]]:
 def _checked_scene(scene: Any) -> Scene:
     if not isinstance(scene, Scene):
         raise TypeError(f"scene must be a mechanism Scene; got {type(scene).__name__}.")
+    if isinstance(scene.drive, MotorDrive):
+        # a cycle of wear is a drive period, and the settle, analysis and exponent spans
+        # are whole periods; a motor-driven crank's turns take no fixed time
+        raise ValueError(
+            "wear_life needs a periodic drive: a motor-driven crank has no drive period, so "
+            "its wear cycles cannot be counted; use a constant_speed drive at the speed "
+            "the motor reaches."
+        )
     if drive_period(scene) is None:
         raise ValueError("wear_life needs a scene with a periodic drive (cycles are crank turns).")
     for name, joint in scene.joints.items():
@@ -468,7 +476,8 @@ def wear_life(
     Parameters
     ----------
     scene : Scene
-        A driven mechanism with at least one active clearance joint with a positive wear
+        A mechanism with a periodic drive (a motor-driven scene is refused: its cycles
+        take no fixed time) and at least one active clearance joint with a positive wear
         coefficient (``effects.wear`` is switched on).
     cycles : float
         Crank cycles of wear (> 0).

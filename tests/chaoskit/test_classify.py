@@ -11,9 +11,22 @@ import xarray as xr
 
 import chaoskit
 from chaoskit import SectionStructure, Verdict, VerdictRule, classify, systems
-from chaoskit.verdict._combine import combine
+from chaoskit.verdict import RuleEvidence, RuleOutcome, combine
 from tests.chaoskit.test_sections import duffing_dataset
 from tests.chaoskit.test_surrogates import ar1
+
+
+def _combine(**kwargs) -> RuleOutcome:
+    """The rule on evidence given as keywords (``rule`` among them)."""
+    rule = kwargs.pop("rule")
+    return combine(RuleEvidence(**kwargs), rule)
+
+
+def _fields(outcome: RuleOutcome) -> tuple:
+    """The outcome's label, period, confidence, reason, votes and needs, in that order."""
+    o = outcome
+    return o.label, o.period, o.confidence, o.reason, o.votes, o.needs
+
 
 DRIVE = 2 * np.pi / 1.2  # forced Duffing drive period, s
 
@@ -142,9 +155,9 @@ RULE = VerdictRule()
 
 
 def test_rule_noise_beats_positive_exponents() -> None:
-    label, *_ = combine(structure=_structure("scattered"), rosenstein_positive=True,
+    label, *_ = _fields(_combine(structure=_structure("scattered"), rosenstein_positive=True,
                         wolf_positive=True, zero_one_k=1.0, surrogates_rejected=False,
-                        rule=RULE)  # fmt: skip
+                        rule=RULE))  # fmt: skip
     assert label == "noise-like"
 
 
@@ -153,47 +166,47 @@ def test_rule_chaos_needs_every_piece() -> None:
     # test_verdict_evidence.py)
     full = {"structure": _structure("scattered"), "rosenstein_positive": True,
             "wolf_positive": True, "zero_one_k": 0.5, "surrogates_rejected": True}  # fmt: skip
-    assert combine(**full, rule=RULE)[0] == "chaotic"
-    assert combine(**full, rule=RULE)[2] == 1.0
+    assert _combine(**full, rule=RULE).label == "chaotic"
+    assert _combine(**full, rule=RULE).confidence == 1.0
     for key, value in (("rosenstein_positive", False), ("wolf_positive", None),
                        ("surrogates_rejected", None)):  # fmt: skip
-        label, _, confidence, reason, _, needs = combine(**{**full, key: value}, rule=RULE)
+        label, _, confidence, reason, _, needs = _fields(
+            _combine(**{**full, key: value}, rule=RULE)
+        )
         assert label == "undetermined" and np.isnan(confidence) and needs
         assert reason.startswith("the evidence cannot decide: needs")
     # a regular-looking section counts unless the spectrum speaks against it: broadband
     # over enough cycles, or lines that are not one period's harmonics
     near = {**full, "lines": "unresolved"}
-    label, period, _, _, _, needs = combine(
-        **{**near, "structure": _structure("clusters", 3)}, rule=RULE
+    label, period, _, _, _, needs = _fields(
+        _combine(**{**near, "structure": _structure("clusters", 3)}, rule=RULE)
     )
     assert (label, period) == ("undetermined", None)
     assert any("3 tight clusters but the spectrum is not the harmonics" in n for n in needs)
     short = {**full, "lines": "broadband", "n_cycles": 8.0}
-    assert combine(**{**short, "structure": _structure("clusters", 3)}, rule=RULE)[:2] == (
-        "periodic",
-        3,
-    )
+    clusters = _combine(**{**short, "structure": _structure("clusters", 3)}, rule=RULE)
+    assert (clusters.label, clusters.period) == ("periodic", 3)
     torus = {**full, "lines": "quasi-periodic", "structure": _structure("clusters", 1)}
-    assert combine(**torus, rule=RULE)[0] == "quasi-periodic"
-    assert combine(**{**near, "structure": _structure("closed-curve")}, rule=RULE)[0] == (
+    assert _combine(**torus, rule=RULE).label == "quasi-periodic"
+    assert _combine(**{**near, "structure": _structure("closed-curve")}, rule=RULE).label == (
         "undetermined"
     )
 
 
 def test_rule_confidence_counts_disagreement() -> None:
-    label, period, confidence, _, votes, _ = combine(
+    label, period, confidence, _, votes, _ = _fields(_combine(
         structure=_structure("clusters", 2), rosenstein_positive=False, wolf_positive=True,
         zero_one_k=0.5, surrogates_rejected=True, rule=RULE, lines=None,
-    )  # fmt: skip
+    ))  # fmt: skip
     assert (label, period) == ("periodic", 2)
     assert votes == {"lines": "missing", "section": "supports", "rosenstein": "supports",
                      "wolf": "opposes", "zero_one": "neutral",
                      "surrogates": "neutral"}  # fmt: skip
     assert confidence == pytest.approx(2 / 3)
-    label, _, confidence, _, _, _ = combine(
+    label, _, confidence, _, _, _ = _fields(_combine(
         structure=_structure("closed-curve"), rosenstein_positive=False, wolf_positive=False,
         zero_one_k=0.05, surrogates_rejected=True, rule=RULE, lines="quasi-periodic",
-    )  # fmt: skip
+    ))  # fmt: skip
     assert label == "quasi-periodic" and confidence == 1.0
 
 
@@ -249,14 +262,14 @@ def test_rule_noise_needs_the_low_dimensional_test_to_fail_too() -> None:
     noise = {"structure": _structure("scattered"), "rosenstein_positive": False,
              "wolf_positive": False, "zero_one_k": 1.0, "surrogates_rejected": False,
              "lines": "broadband", "n_cycles": 100.0}  # fmt: skip
-    assert combine(**noise, rule=RULE)[0] == "noise-like"
-    assert combine(**noise, low_dim_rejected=False, rule=RULE)[0] == "noise-like"
-    label, _, confidence, _, _, needs = combine(**noise, low_dim_rejected=True, rule=RULE)
+    assert _combine(**noise, rule=RULE).label == "noise-like"
+    assert _combine(**noise, low_dim_rejected=False, rule=RULE).label == "noise-like"
+    label, _, confidence, _, _, needs = _fields(_combine(**noise, low_dim_rejected=True, rule=RULE))
     assert label == "undetermined" and np.isnan(confidence)
     assert any("3 delay coordinates" in n for n in needs)
     # it never makes chaos: that still needs the first test to reject
     chaos = {**noise, "rosenstein_positive": True, "wolf_positive": True}
-    assert combine(**chaos, low_dim_rejected=True, rule=RULE)[0] == "undetermined"
+    assert _combine(**chaos, low_dim_rejected=True, rule=RULE).label == "undetermined"
 
 
 def test_white_noise_fails_the_low_dimensional_test_as_well() -> None:
@@ -330,10 +343,10 @@ NOISY_ORBIT = {"rosenstein_positive": True, "wolf_positive": True, "zero_one_k":
 
 
 def test_rule_a_driven_orbit_plus_white_noise_is_periodic_with_its_noise_stated() -> None:
-    label, period, confidence, reason, votes, needs = combine(
+    label, period, confidence, reason, votes, needs = _fields(_combine(
         structure=_clusters(1, 0.24), cycles_rejected=False, cycle_spread=0.0, rule=RULE,
         **NOISY_ORBIT,
-    )  # fmt: skip
+    ))  # fmt: skip
     assert (label, period, confidence, needs) == ("periodic", 1, 1.0, ())
     assert "a periodic orbit plus noise (measurement noise about 0.1 of the standard" in reason
     assert votes["cycles"] == "supports" and votes["section"] == "supports"
@@ -341,15 +354,15 @@ def test_rule_a_driven_orbit_plus_white_noise_is_periodic_with_its_noise_stated(
     assert {votes[k] for k in ("rosenstein", "wolf", "zero_one", "lines")} == {"neutral"}
     # before this rule the same evidence was called chaotic: without a drive it still is
     undriven = {**NOISY_ORBIT, "driven": False}
-    assert combine(structure=_clusters(1, 0.24), rule=RULE, **undriven)[0] == "chaotic"
+    assert _combine(structure=_clusters(1, 0.24), rule=RULE, **undriven).label == "chaotic"
 
 
 def test_rule_cycle_to_cycle_determinism_within_the_cluster_tolerance_is_periodic() -> None:
     # the cycle test rejects, but what varies beyond white noise is within cluster_tol
-    label, period, _, reason, votes, _ = combine(
+    label, period, _, reason, votes, _ = _fields(_combine(
         structure=_clusters(2, 0.02), cycles_rejected=True, cycle_spread=0.02, rule=RULE,
         **NOISY_ORBIT,
-    )  # fmt: skip
+    ))  # fmt: skip
     assert (label, period) == ("periodic", 2)
     assert "the cycle-shuffled surrogate test rejects, within that tolerance" in reason
     assert votes["cycles"] == "neutral"
@@ -357,26 +370,26 @@ def test_rule_cycle_to_cycle_determinism_within_the_cluster_tolerance_is_periodi
 
 def test_rule_a_driven_chaotic_label_needs_the_noisy_orbit_null_rejected() -> None:
     chaos = {**NOISY_ORBIT, "structure": _structure("scattered")}
-    label, _, _, reason, votes, _ = combine(
-        cycles_rejected=True, cycle_spread=0.01, rule=RULE, **chaos
+    label, _, _, reason, votes, _ = _fields(
+        _combine(cycles_rejected=True, cycle_spread=0.01, rule=RULE, **chaos)
     )
     assert label == "chaotic" and votes["cycles"] == "supports"
     assert "than their cycle-shuffled ones" in reason
     # a departure from the mean cycle that is not white and exceeds cluster_tol also rejects
-    label, _, _, reason, votes, _ = combine(
-        cycles_rejected=False, cycle_spread=0.15, rule=RULE, **chaos
+    label, _, _, reason, votes, _ = _fields(
+        _combine(cycles_rejected=False, cycle_spread=0.15, rule=RULE, **chaos)
     )
     assert label == "chaotic" and votes["cycles"] == "supports"  # the spread rejects the null
     assert "departure from the mean cycle is not white noise (0.15 of" in reason
-    label, _, confidence, _, _, needs = combine(
-        cycles_rejected=None, cycle_spread=0.01, rule=RULE, **chaos
+    label, _, confidence, _, _, needs = _fields(
+        _combine(cycles_rejected=None, cycle_spread=0.01, rule=RULE, **chaos)
     )
     assert label == "undetermined" and np.isnan(confidence)
     assert needs[0].startswith("evidence beyond a noisy periodic orbit")
     # the cycle test ran and does not reject, the spread is within cluster_tol: a section
     # scattered by coloured noise about a periodic orbit
-    label, period, _, reason, _, _ = combine(
-        cycles_rejected=False, cycle_spread=0.01, rule=RULE, **chaos
+    label, period, _, reason, _, _ = _fields(
+        _combine(cycles_rejected=False, cycle_spread=0.01, rule=RULE, **chaos)
     )
     assert (label, period) == ("periodic", 1)
     assert "a periodic orbit plus coloured noise" in reason
@@ -385,16 +398,16 @@ def test_rule_a_driven_chaotic_label_needs_the_noisy_orbit_null_rejected() -> No
 def test_rule_a_wandering_beyond_the_tolerance_is_not_a_noisy_orbit() -> None:
     # tight clusters (noise allowance) but a correlated spread above cluster_tol: chaos if
     # the rest says so, never a noisy periodic orbit
-    label, *_ = combine(
+    label, *_ = _fields(_combine(
         structure=_clusters(1, 0.17), cycles_rejected=False, cycle_spread=0.15, rule=RULE,
         **NOISY_ORBIT,
-    )  # fmt: skip
+    ))  # fmt: skip
     assert label == "chaotic"
     weak = {**NOISY_ORBIT, "wolf_positive": False, "zero_one_k": 0.5}
-    label, *_ = combine(
+    label, *_ = _fields(_combine(
         structure=_clusters(1, 0.17), cycles_rejected=False, cycle_spread=0.15, rule=RULE,
         **weak,
-    )  # fmt: skip
+    ))  # fmt: skip
     assert label == "undetermined"
 
 

@@ -16,8 +16,21 @@ import numpy as np
 import pytest
 
 from chaoskit import SectionStructure, VerdictRule, classify, systems
-from chaoskit.verdict._combine import combine
+from chaoskit.verdict import RuleEvidence, RuleOutcome, combine
 from chaoskit.verdict._cycles import OrbitResidual
+
+
+def _combine(**kwargs) -> RuleOutcome:
+    """The rule on evidence given as keywords (``rule`` among them)."""
+    rule = kwargs.pop("rule")
+    return combine(RuleEvidence(**kwargs), rule)
+
+
+def _fields(outcome: RuleOutcome) -> tuple:
+    """The outcome's label, period, confidence, reason, votes and needs, in that order."""
+    o = outcome
+    return o.label, o.period, o.confidence, o.reason, o.votes, o.needs
+
 
 RULE = VerdictRule()
 PER_PERIOD = 100
@@ -99,13 +112,13 @@ NOISE_LIKE = {
 
 def test_noise_like_must_beat_a_periodic_orbit_plus_coloured_noise() -> None:
     # without the residual, or a mean cycle carrying little: noise-like, as before
-    assert combine(**NOISE_LIKE, cycle_spread=0.08)[0] == "noise-like"
+    assert _combine(**NOISE_LIKE, cycle_spread=0.08).label == "noise-like"
     small = _residual(0.2, rejected=False)
-    assert combine(**NOISE_LIKE, cycle_spread=0.08, orbit_residual=small)[0] == "noise-like"
+    assert _combine(**NOISE_LIKE, cycle_spread=0.08, orbit_residual=small).label == "noise-like"
     # a dominant mean cycle and a linear departure: periodic; a phase-dependent spread
     # beyond the tolerance counts against it
-    label, period, confidence, reason, votes, needs = combine(
-        **NOISE_LIKE, cycle_spread=0.08, orbit_residual=_residual(0.99, rejected=False)
+    label, period, confidence, reason, votes, needs = _fields(
+        _combine(**NOISE_LIKE, cycle_spread=0.08, orbit_residual=_residual(0.99, rejected=False))
     )
     assert (label, period, needs) == ("periodic", 1, ())
     assert votes["residual"] == "supports" and votes["cycles"] == "opposes"
@@ -113,17 +126,19 @@ def test_noise_like_must_beat_a_periodic_orbit_plus_coloured_noise() -> None:
     assert "carries 99 % of the variance" in reason
     assert "correlation time 9.5 samples" in reason
     # within the tolerance the orbit needs no noise-like candidate at all
-    label, _, confidence, *_ = combine(
-        **{**NOISE_LIKE, "surrogates_rejected": True, "cycles_rejected": True},
-        cycle_spread=0.02,
-        orbit_residual=_residual(0.99, rejected=False),
+    label, _, confidence, *_ = _fields(
+        _combine(
+            **{**NOISE_LIKE, "surrogates_rejected": True, "cycles_rejected": True},
+            cycle_spread=0.02,
+            orbit_residual=_residual(0.99, rejected=False),
+        )
     )
     assert (label, confidence) == ("periodic", 1.0)
 
 
 def test_a_departure_too_large_for_noise_is_not_read_as_noise() -> None:
-    label, *_, needs = combine(
-        **NOISE_LIKE, cycle_spread=0.6, orbit_residual=_residual(0.64, False, level=0.6)
+    label, *_, needs = _fields(
+        _combine(**NOISE_LIKE, cycle_spread=0.6, orbit_residual=_residual(0.64, False, level=0.6))
     )
     assert label == "undetermined"
     assert needs[0].startswith("a departure from the mean cycle over the drive that is more")
@@ -132,13 +147,13 @@ def test_a_departure_too_large_for_noise_is_not_read_as_noise() -> None:
 
 def test_a_nonlinear_departure_is_the_surrogate_evidence_of_driven_chaos() -> None:
     args = {**NOISE_LIKE, "zero_one_k": 1.0, "cycle_spread": 0.59}
-    label, _, confidence, reason, votes, _ = combine(
-        **args, orbit_residual=_residual(0.65, rejected=True, level=0.6)
+    label, _, confidence, reason, votes, _ = _fields(
+        _combine(**args, orbit_residual=_residual(0.65, rejected=True, level=0.6))
     )
     assert label == "chaotic"
     assert votes["surrogates"] == "opposes" and votes["residual"] == "supports"
     assert confidence == pytest.approx(7 / 8, abs=1e-12)
     assert "the departure from the mean cycle over the drive (which carries 65 % of" in reason
     # the same departure without a dominant mean cycle is no such evidence
-    label = combine(**args, orbit_residual=_residual(0.3, rejected=True, level=0.8))[0]
+    label = _combine(**args, orbit_residual=_residual(0.3, rejected=True, level=0.8)).label
     assert label == "noise-like"

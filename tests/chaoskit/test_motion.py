@@ -18,6 +18,7 @@ from chaoskit import (
     lyapunov_rosenstein,
     systems,
 )
+from chaoskit.verdict import RuleOutcome
 from chaoskit.verdict._motion_combine import combine_motion
 
 OMEGA = 1.2
@@ -134,15 +135,24 @@ def _structure(kind: str, n_clusters: int = 0, n_points: int = 100) -> SectionSt
     )  # fmt: skip
 
 
+def _fields(outcome: RuleOutcome) -> tuple:
+    """The outcome's label, period, confidence, reason, votes and needs, in that order."""
+    assert isinstance(outcome, RuleOutcome)
+    o = outcome
+    return o.label, o.period, o.confidence, o.reason, o.votes, o.needs
+
+
 def _combine(voters, structure, positive, say, n_cycles=100.0):
-    return combine_motion(
-        voters,
-        structure=structure,
-        positive=positive,
-        say=say,
-        n_cycles=n_cycles,
-        cycle_unit="drive periods",
-        rule=VerdictRule(),
+    return _fields(
+        combine_motion(
+            voters,
+            structure=structure,
+            positive=positive,
+            say=say,
+            n_cycles=n_cycles,
+            cycle_unit="drive periods",
+            rule=VerdictRule(),
+        )
     )
 
 
@@ -331,10 +341,10 @@ def _orbit(period: int = 1, multiplier: complex = 0.4 + 0.3j, approach: float = 
 
 
 def _with_orbit(voters, structure, orbit, say=None, positive=True):
-    return combine_motion(
+    return _fields(combine_motion(
         voters, structure=structure, positive=positive, say=say, n_cycles=100.0,
         cycle_unit="drive periods", rule=VerdictRule(), orbit=orbit,
-    )  # fmt: skip
+    ))  # fmt: skip
 
 
 def test_a_stable_attracting_orbit_says_periodic_like_the_equations_exponent() -> None:

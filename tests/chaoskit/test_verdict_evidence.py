@@ -7,10 +7,23 @@ import numpy as np
 import pytest
 
 from chaoskit import VerdictRule, analyze, classify, load_trajectory, surrogate_test, systems
-from chaoskit.verdict._combine import combine
-from chaoskit.verdict._lines import line_spectrum, ljung_box_p
+from chaoskit.verdict import RuleEvidence, RuleOutcome, combine
+from chaoskit.verdict._line_spectrum import line_spectrum, ljung_box_p
 from chaoskit.verdict._surrogates import min_surrogates
 from tests.chaoskit.test_classify import DRIVE, _structure, duffing_x
+
+
+def _combine(**kwargs) -> RuleOutcome:
+    """The rule on evidence given as keywords (``rule`` among them)."""
+    rule = kwargs.pop("rule")
+    return combine(RuleEvidence(**kwargs), rule)
+
+
+def _fields(outcome: RuleOutcome) -> tuple:
+    """The outcome's label, period, confidence, reason, votes and needs, in that order."""
+    o = outcome
+    return o.label, o.period, o.confidence, o.reason, o.votes, o.needs
+
 
 RULE = VerdictRule()
 
@@ -64,11 +77,11 @@ def test_a_surrogate_test_on_too_short_a_series_cannot_call_noise() -> None:
     args = {"structure": _structure("too-few-points"), "rosenstein_positive": False,
             "wolf_positive": False, "zero_one_k": 1.0, "surrogates_rejected": False,
             "rule": RULE, "lines": "broadband"}  # fmt: skip
-    label, _, _, _, votes, needs = combine(**args, n_cycles=6, cycle_unit="drive periods")
+    label, _, _, _, votes, needs = _fields(_combine(**args, n_cycles=6, cycle_unit="drive periods"))
     assert label == "undetermined"
     assert votes["surrogates"] == "neutral" and votes["lines"] == "neutral"
     assert needs[0] == "≥ 20 drive periods; the series has 6"
-    label, _, confidence, _, votes, needs = combine(**args, n_cycles=40)
+    label, _, confidence, _, votes, needs = _fields(_combine(**args, n_cycles=40))
     assert label == "noise-like" and needs == ()
     # only the surrogate test and the spectrum could decide; the 0-1 test agrees
     assert votes["surrogates"] == "supports" and votes["lines"] == "supports"
@@ -79,33 +92,35 @@ def test_noise_needs_a_spectrum_that_is_not_lines() -> None:
     args = {"structure": _structure("scattered"), "rosenstein_positive": False,
             "wolf_positive": False, "zero_one_k": 0.5, "surrogates_rejected": False,
             "rule": RULE}  # fmt: skip
-    assert combine(**args, lines="unresolved")[0] == "undetermined"
-    assert combine(**args, lines=None)[0] == "undetermined"
-    assert combine(**args, lines="broadband")[0] == "noise-like"
+    assert _combine(**args, lines="unresolved").label == "undetermined"
+    assert _combine(**args, lines=None).label == "undetermined"
+    assert _combine(**args, lines="broadband").label == "noise-like"
 
 
 def test_chaos_needs_regularity_ruled_out() -> None:
     args = {"rosenstein_positive": True, "wolf_positive": True, "zero_one_k": 1.0,
             "surrogates_rejected": True, "rule": RULE}  # fmt: skip
-    assert combine(structure=_structure("scattered"), lines="broadband", **args)[0] == "chaotic"
+    assert _combine(structure=_structure("scattered"), lines="broadband", **args).label == "chaotic"
     # a broadband spectrum over enough cycles rules regular motion out without a section
     few = _structure("too-few-points")
-    assert combine(structure=few, lines="broadband", **args)[0] == "chaotic"
+    assert _combine(structure=few, lines="broadband", **args).label == "chaotic"
     # ... over too few, it does not
-    label, *_, needs = combine(structure=few, lines="broadband", n_cycles=12, **args)
+    label, *_, needs = _fields(_combine(structure=few, lines="broadband", n_cycles=12, **args))
     assert label == "undetermined" and needs == ("≥ 20 characteristic times; the series has 12",)
     # an unresolved spectrum needs the section
-    label, *_, needs = combine(structure=few, lines="unresolved", **args)
+    label, *_, needs = _fields(_combine(structure=few, lines="unresolved", **args))
     assert label == "undetermined" and needs == ("≥ 20 section points; the section has 50",)
-    assert combine(structure=_structure("scattered"), lines="unresolved", **args)[0] == "chaotic"
-    assert combine(structure=_structure("scattered"), lines="periodic", **args)[0] == "periodic"
+    assert (
+        _combine(structure=_structure("scattered"), lines="unresolved", **args).label == "chaotic"
+    )
+    assert _combine(structure=_structure("scattered"), lines="periodic", **args).label == "periodic"
 
 
 def test_needs_name_the_estimates_that_fell_short() -> None:
-    label, *_, needs = combine(
+    label, *_, needs = _fields(_combine(
         structure=_structure("scattered"), rosenstein_positive=False, wolf_positive=None,
         zero_one_k=1.0, surrogates_rejected=True, rule=RULE, lines="broadband",
-    )  # fmt: skip
+    ))  # fmt: skip
     assert label == "undetermined"
     assert any("clearly positive Rosenstein exponent" in s for s in needs)
     assert any("Wolf exponent (the estimator failed" in s for s in needs)
@@ -222,23 +237,25 @@ def test_a_broadband_spectrum_outweighs_a_regular_looking_section() -> None:
     args = {"rosenstein_positive": False, "wolf_positive": True, "zero_one_k": 0.5,
             "surrogates_rejected": True, "rule": RULE}  # fmt: skip
     # an unresolved spectrum (lines, yet not one period's harmonics) speaks against clusters
-    unresolved = combine(structure=_structure("clusters", 1), lines="unresolved", **args)
-    assert unresolved[0] == "undetermined"
-    assert combine(structure=_structure("closed-curve", 1), lines="unresolved",
-                   **args)[0] == "quasi-periodic"  # fmt: skip
+    unresolved = _combine(structure=_structure("clusters", 1), lines="unresolved", **args)
+    assert unresolved.label == "undetermined"
+    assert _combine(structure=_structure("closed-curve", 1), lines="unresolved",
+                   **args).label == "quasi-periodic"  # fmt: skip
     for kind, label in (("clusters", "periodic"), ("closed-curve", "quasi-periodic")):
-        assert combine(structure=_structure(kind, 1), lines="broadband", n_cycles=8,
-                       **args)[0] == label  # fmt: skip
-        out, *_, needs = combine(structure=_structure(kind, 1), lines="broadband", **args)
+        assert _combine(structure=_structure(kind, 1), lines="broadband", n_cycles=8,
+                       **args).label == label  # fmt: skip
+        out, *_, needs = _fields(_combine(structure=_structure(kind, 1), lines="broadband", **args))
         assert out == "undetermined"
         assert needs[0] == (f"a longer series: the section looks regular ({kind}) but the "
                             "spectrum is not lines")  # fmt: skip
         # ... nor against chaos, when two exponents and the surrogate test say chaotic;
         # the section's vote lowers the confidence
-        label, _, conf, _, votes, _ = combine(
-            structure=_structure(kind, 1),
-            lines="broadband",
-            **{**args, "rosenstein_positive": True},
+        label, _, conf, _, votes, _ = _fields(
+            _combine(
+                structure=_structure(kind, 1),
+                lines="broadband",
+                **{**args, "rosenstein_positive": True},
+            )
         )
         assert label == "chaotic" and votes["section"] == "opposes" and conf < 1.0
 
@@ -277,7 +294,7 @@ def test_drive_recurrence_takes_white_measurement_noise_but_not_drift() -> None:
     assert res.kind == "periodic" and res.fundamental_period == pytest.approx(2.0)
     # a drive period that is not a whole number of samples over the record is not folded
     # (its phase would slip by more than 1 % of a sample by the end)
-    from chaoskit.verdict._lines import samples_per_drive_period
+    from chaoskit.verdict._line_spectrum import samples_per_drive_period
 
     assert samples_per_drive_period(1.0, 0.01, 6000) == 100
     assert samples_per_drive_period(1.0 + 1e-5, 0.01, 6000) is None
@@ -301,15 +318,15 @@ def test_kantz_referees_when_only_one_exponent_is_clearly_positive() -> None:
             "structure": _structure("scattered"), "lines": "broadband"}  # fmt: skip
     one = {"rosenstein_positive": True, "wolf_positive": False}
     # without the referee one exponent is not enough
-    label, *_, needs = combine(**one, **args)
+    label, *_, needs = _fields(_combine(**one, **args))
     assert label == "undetermined" and any("Wolf" in n for n in needs)
     # the referee agreeing makes two: chaotic, and its vote counts
-    label, _, conf, reason, votes, _ = combine(**one, kantz_positive=True, **args)
+    label, _, conf, reason, votes, _ = _fields(_combine(**one, kantz_positive=True, **args))
     assert label == "chaotic" and reason.startswith("two of the three exponents")
     assert votes["kantz"] == "supports" and votes["wolf"] == "opposes"
     assert conf == pytest.approx(5 / 6)  # all but Wolf of: lines, section, 3 exponents, surr.
     # the referee disagreeing: undetermined, and both shortfalls are named
-    label, *_, needs = combine(**one, kantz_positive=False, **args)
+    label, *_, needs = _fields(_combine(**one, kantz_positive=False, **args))
     assert label == "undetermined"
     assert any("Wolf" in n for n in needs) and any("Kantz" in n for n in needs)
 
@@ -322,7 +339,7 @@ def test_the_zero_one_test_is_the_second_witness_only_where_nothing_looks_regula
             "zero_one_k": 0.95, "surrogates_rejected": True, "rule": RULE,
             "structure": _structure("scattered"), "lines": "broadband",
             "n_cycles": 100.0}  # fmt: skip
-    label, _, conf, reason, votes, needs = combine(**base)
+    label, _, conf, reason, votes, needs = _fields(_combine(**base))
     assert label == "chaotic" and needs == ()
     assert reason.startswith("the Wolf exponent is clearly positive and the 0–1 test")
     assert "K = 0.95" in reason
@@ -338,7 +355,7 @@ def test_the_zero_one_test_is_the_second_witness_only_where_nothing_looks_regula
         {"lines": "unresolved"},  # the spectrum is not clearly broadband
         {"n_cycles": 19.0},  # too few cycles for the spectrum to rule out regularity
     ):
-        label = combine(**{**base, **change})[0]
+        label = _combine(**{**base, **change}).label
         assert label != "chaotic", change
 
 
@@ -362,3 +379,58 @@ def test_the_referee_is_not_run_when_it_cannot_decide() -> None:
     assert v.label == "chaotic" and v.kantz is None and "kantz" not in v.votes
     v = classify(np.random.default_rng(2).standard_normal(2000), rng=1)  # noise
     assert v.kantz is None
+
+
+# ----------------------------------------------------------------- the rule's input and output
+
+
+def test_rule_takes_an_evidence_object_and_returns_a_frozen_outcome() -> None:
+    """The rule reads one evidence object and returns a frozen outcome, not a tuple."""
+    evidence = RuleEvidence(
+        structure=_structure("scattered"),
+        rosenstein_positive=True,
+        wolf_positive=True,
+        zero_one_k=0.95,
+        surrogates_rejected=True,
+    )
+    outcome = combine(evidence, RULE)
+    assert isinstance(outcome, RuleOutcome)
+    assert (outcome.label, outcome.period, outcome.needs) == ("chaotic", None, ())
+    assert outcome.confidence == pytest.approx(1.0, abs=1e-12)
+    assert outcome.votes["rosenstein"] == "supports"
+    with pytest.raises(AttributeError):
+        outcome.label = "periodic"  # type: ignore[misc]
+    with pytest.raises(AttributeError):
+        evidence.lines = "periodic"  # type: ignore[misc]
+    with pytest.raises(TypeError, match="positional"):
+        RuleEvidence(None, True, True, 0.9, True)  # type: ignore[misc]
+
+
+@pytest.mark.parametrize(
+    ("change", "message"),
+    [
+        (
+            {"lines": "lines"},
+            "lines must be one of 'periodic', 'quasi-periodic', 'broadband', 'unresolved' "
+            "or None, got 'lines'",
+        ),
+        ({"lines_period": 0}, "lines_period must be None or ≥ 1, got 0"),
+        ({"lines_bases": -1}, "lines_bases must be ≥ 0, got -1"),
+        ({"n_cycles": float("nan")}, "n_cycles must be ≥ 0, got nan"),
+    ],
+)
+def test_rule_evidence_rejects_what_the_rule_cannot_read(change: dict, message: str) -> None:
+    base = {"structure": None, "rosenstein_positive": None, "wolf_positive": None,
+            "zero_one_k": None, "surrogates_rejected": None}  # fmt: skip
+    with pytest.raises(ValueError) as info:
+        RuleEvidence(**base, **change)
+    assert str(info.value) == message
+
+
+def test_combine_names_a_wrong_argument() -> None:
+    evidence = RuleEvidence(structure=None, rosenstein_positive=None, wolf_positive=None,
+                            zero_one_k=None, surrogates_rejected=None)  # fmt: skip
+    with pytest.raises(TypeError, match=r"^rule must be a VerdictRule, got dict$"):
+        combine(evidence, {})  # type: ignore[arg-type]
+    with pytest.raises(TypeError, match=r"^evidence must be a RuleEvidence, got dict$"):
+        combine({}, RULE)  # type: ignore[arg-type]

@@ -11,7 +11,7 @@ import xarray as xr
 from typer.testing import CliRunner
 
 import mechanism
-import mechanism.studies._bifurcation as bif
+import mechanism.studies._orbit_diagram as bif
 from mechanism.cli import app
 
 matplotlib.use("Agg")

@@ -19,7 +19,7 @@ from typing import TYPE_CHECKING, Any
 
 from chaoskit.contract import check_positive
 
-from . import _kernels as k
+from . import _kernels as contact_kernels
 from ._laws import (
     ContactParameters,
     approach_speed_code,
@@ -116,7 +116,7 @@ def guide_contact_parameters(joint: ClearancePrismatic) -> ContactParameters:
         approach_speed=contact.approach_speed,
         stiffness=stiffness,
         form=form,
-        stiffness_form_code=k.FORM_SUM_OF_RADII,
+        stiffness_form_code=contact_kernels.FORM_SUM_OF_RADII,
         exponent=check_positive(contact.exponent, name="contact.exponent"),
         restitution=float(joint.restitution),
         impact_velocity_floor=check_positive(

@@ -28,7 +28,7 @@ from typing import TYPE_CHECKING, Any, Literal
 
 from chaoskit.contract import check_choice, check_positive
 
-from . import _kernels as k
+from . import _kernels as contact_kernels
 
 if TYPE_CHECKING:
     from mechanism.core.scene import ClearanceRevolute
@@ -58,26 +58,26 @@ StiffnessForm = Literal["conformal", "sum-of-radii"]
 ApproachSpeed = Literal["latched", "bounded"]
 
 CONTACT_LAWS: dict[str, int] = {
-    "lankarani-nikravesh": k.LAW_LANKARANI_NIKRAVESH,
-    "hertz": k.LAW_HERTZ,
-    "flores": k.LAW_FLORES,
-    "hu-guo": k.LAW_HU_GUO,
+    "lankarani-nikravesh": contact_kernels.LAW_LANKARANI_NIKRAVESH,
+    "hertz": contact_kernels.LAW_HERTZ,
+    "flores": contact_kernels.LAW_FLORES,
+    "hu-guo": contact_kernels.LAW_HU_GUO,
 }
 FRICTION_LAWS: dict[str, int] = {
-    "none": k.FRICTION_NONE,
-    "coulomb": k.FRICTION_COULOMB,
-    "ambrosio": k.FRICTION_AMBROSIO,
+    "none": contact_kernels.FRICTION_NONE,
+    "coulomb": contact_kernels.FRICTION_COULOMB,
+    "ambrosio": contact_kernels.FRICTION_AMBROSIO,
 }
 STIFFNESS_FORMS: dict[str, int] = {
-    "conformal": k.FORM_CONFORMAL,
-    "sum-of-radii": k.FORM_SUM_OF_RADII,
+    "conformal": contact_kernels.FORM_CONFORMAL,
+    "sum-of-radii": contact_kernels.FORM_SUM_OF_RADII,
 }
 #: Approach-speed rules of the damping term (``ContactLaw.approach_speed``) → the flag added
 #: to the kernel law code. ``"latched"``: δ̇⁻ is the speed latched at contact entry (floored
 #: at ``impact_velocity_floor``); ``"bounded"``: δ̇⁻ = max(latched, δ̇/2) while compressing.
 APPROACH_SPEEDS: dict[str, int] = {
     "latched": 0,
-    "bounded": k.APPROACH_BOUNDED,
+    "bounded": contact_kernels.APPROACH_BOUNDED,
 }
 
 #: Below this restitution the Lankarani–Nikravesh law dissipates far too little (it is a
@@ -197,7 +197,7 @@ def effective_radius(
     """
     rb, rj = _radii(bearing_radius, journal_radius)
     code = form_code(form)
-    return 1.0 / k.effective_curvature(code, 1.0 / rb, 1.0 / rj)
+    return 1.0 / contact_kernels.effective_curvature(code, 1.0 / rb, 1.0 / rj)
 
 
 def hertz_stiffness(
@@ -320,7 +320,7 @@ class ContactParameters:
     ----------
     law, friction : str
         Law names; ``law_code`` and ``friction_code`` are their kernel codes. ``law_code``
-        carries the approach-speed flag (``law_code & k.LAW_MASK`` is the law itself).
+        carries the approach-speed flag (``law_code & contact_kernels.LAW_MASK`` is the law itself).
     approach_speed : {"latched", "bounded"}
         Rule for the approach speed δ̇⁻ that divides the damping term (see
         ``mechanism.core.scene.ContactLaw``).
@@ -418,7 +418,7 @@ def contact_parameters(joint: ClearanceRevolute) -> ContactParameters:
     else:
         form = None
         r_star = (3.0 * stiffness / (4.0 * e_star)) ** 2
-        code = k.FORM_SUM_OF_RADII
+        code = contact_kernels.FORM_SUM_OF_RADII
     name, mu, v0, v1 = _friction(joint.friction)
     return ContactParameters(
         law=contact.law,

@@ -21,7 +21,7 @@ from mechanism.core.scene import (
     TimeTableProfile,
 )
 
-from . import _kernels as k
+from . import _kernels as force_kernels
 
 __all__ = ["MOTOR_ELEMENT", "ForceTables", "force_tables"]
 
@@ -31,9 +31,9 @@ MOTOR_ELEMENT = "drive"
 #: point-table row of (body, point), with the scene key path for its error message
 PointRow = Callable[[str, str, str], int]
 _ACTIVE = {
-    "always": k.ACTIVE_ALWAYS,
-    "increasing": k.ACTIVE_INCREASING,
-    "decreasing": k.ACTIVE_DECREASING,
+    "always": force_kernels.ACTIVE_ALWAYS,
+    "increasing": force_kernels.ACTIVE_INCREASING,
+    "decreasing": force_kernels.ACTIVE_DECREASING,
 }
 
 
@@ -64,46 +64,58 @@ def force_tables(scene: Scene, point: PointRow) -> ForceTables:
 
     for name, element in scene.forces.items():
         where = f"forces.{name}"
-        ri = [0] * k.FI_COLUMNS
-        rf = [0.0] * k.FF_COLUMNS
+        ri = [0] * force_kernels.FI_COLUMNS
+        rf = [0.0] * force_kernels.FF_COLUMNS
         if isinstance(element, SpringDamper):
-            ri[k.FI_KIND] = k.FE_SPRING
-            ri[k.FI_A] = point(element.bodies[0], element.points[0], where)
-            ri[k.FI_B] = point(element.bodies[1], element.points[1], where)
-            rf[k.FF_K] = element.stiffness
-            rf[k.FF_C] = element.damping
-            rf[k.FF_REF] = element.free_length
-            rf[k.FF_ACT] = element.actuator_force
+            ri[force_kernels.FI_KIND] = force_kernels.FE_SPRING
+            ri[force_kernels.FI_A] = point(element.bodies[0], element.points[0], where)
+            ri[force_kernels.FI_B] = point(element.bodies[1], element.points[1], where)
+            rf[force_kernels.FF_K] = element.stiffness
+            rf[force_kernels.FF_C] = element.damping
+            rf[force_kernels.FF_REF] = element.free_length
+            rf[force_kernels.FF_ACT] = element.actuator_force
             if element.force_deflection is not None:
                 table = element.force_deflection
-                ri[k.FI_TK_OFF], ri[k.FI_TK_N] = store(table.deflection, table.force)
+                ri[force_kernels.FI_TK_OFF], ri[force_kernels.FI_TK_N] = store(
+                    table.deflection, table.force
+                )
             if element.force_velocity is not None:
                 table = element.force_velocity
-                ri[k.FI_TC_OFF], ri[k.FI_TC_N] = store(table.velocity, table.force)
+                ri[force_kernels.FI_TC_OFF], ri[force_kernels.FI_TC_N] = store(
+                    table.velocity, table.force
+                )
         elif isinstance(element, RotationalSpringDamper):
-            ri[k.FI_KIND] = k.FE_TORSION
-            ri[k.FI_A], ri[k.FI_B], _ = _joint_points(scene, element.joint, point, where)
-            rf[k.FF_K] = element.stiffness
-            rf[k.FF_C] = element.damping
-            rf[k.FF_REF] = element.reference_angle
-            rf[k.FF_ACT] = element.actuator_torque
+            ri[force_kernels.FI_KIND] = force_kernels.FE_TORSION
+            ri[force_kernels.FI_A], ri[force_kernels.FI_B], _ = _joint_points(
+                scene, element.joint, point, where
+            )
+            rf[force_kernels.FF_K] = element.stiffness
+            rf[force_kernels.FF_C] = element.damping
+            rf[force_kernels.FF_REF] = element.reference_angle
+            rf[force_kernels.FF_ACT] = element.actuator_torque
         elif isinstance(element, Load):
-            ri[k.FI_KIND] = k.FE_LOAD
-            ri[k.FI_A] = point(element.body, element.point, where)
-            ri[k.FI_FRAME] = 1 if element.frame == "body" else 0
-            rf[k.FF_FX], rf[k.FF_FY] = element.force
-            rf[k.FF_TORQUE] = element.torque
+            ri[force_kernels.FI_KIND] = force_kernels.FE_LOAD
+            ri[force_kernels.FI_A] = point(element.body, element.point, where)
+            ri[force_kernels.FI_FRAME] = 1 if element.frame == "body" else 0
+            rf[force_kernels.FF_FX], rf[force_kernels.FF_FY] = element.force
+            rf[force_kernels.FF_TORQUE] = element.torque
             _time_profile(element, ri, rf, store)
             profile = element.coordinate_profile
             if profile is not None:
                 a, b, axis = _joint_points(
                     scene, profile.joint, point, f"{where}.coordinate_profile"
                 )
-                ri[k.FI_COORD] = k.COORD_ANGLE if axis is None else k.COORD_SLIDE
-                ri[k.FI_CA], ri[k.FI_CB] = a, b
-                rf[k.FF_UX], rf[k.FF_UY] = axis if axis is not None else (0.0, 0.0)
-                ri[k.FI_CT_OFF], ri[k.FI_CT_N] = store(profile.coordinate, profile.factor)
-                ri[k.FI_ACTIVE] = _ACTIVE[profile.active]
+                ri[force_kernels.FI_COORD] = (
+                    force_kernels.COORD_ANGLE if axis is None else force_kernels.COORD_SLIDE
+                )
+                ri[force_kernels.FI_CA], ri[force_kernels.FI_CB] = a, b
+                rf[force_kernels.FF_UX], rf[force_kernels.FF_UY] = (
+                    axis if axis is not None else (0.0, 0.0)
+                )
+                ri[force_kernels.FI_CT_OFF], ri[force_kernels.FI_CT_N] = store(
+                    profile.coordinate, profile.factor
+                )
+                ri[force_kernels.FI_ACTIVE] = _ACTIVE[profile.active]
         else:
             raise TypeError(f"{where}: unsupported force element {type(element).__name__}.")
         rows_i.append(ri)
@@ -114,24 +126,30 @@ def force_tables(scene: Scene, point: PointRow) -> ForceTables:
         # the linear torque–speed curve T_s (1 − ω/ω₀) is a torsional damper of
         # c = T_s/ω₀ with the actuator torque T_s; a tabulated curve is the element's
         # torque–rate table (rpm → rad/s); reported as the element "drive"
-        ri = [0] * k.FI_COLUMNS
-        rf = [0.0] * k.FF_COLUMNS
-        ri[k.FI_KIND] = k.FE_TORSION
-        ri[k.FI_A], ri[k.FI_B], _ = _joint_points(scene, drive.joint, point, "drive")
+        ri = [0] * force_kernels.FI_COLUMNS
+        rf = [0.0] * force_kernels.FF_COLUMNS
+        ri[force_kernels.FI_KIND] = force_kernels.FE_TORSION
+        ri[force_kernels.FI_A], ri[force_kernels.FI_B], _ = _joint_points(
+            scene, drive.joint, point, "drive"
+        )
         table = drive.torque_speed
         if table is None:
-            rf[k.FF_C] = drive.damping
-            rf[k.FF_ACT] = float(drive.stall_torque or 0.0)
+            rf[force_kernels.FF_C] = drive.damping
+            rf[force_kernels.FF_ACT] = float(drive.stall_torque or 0.0)
         else:
             speeds = tuple(w * (2.0 * math.pi / 60.0) for w in table.speed_rpm)
-            ri[k.FI_TC_OFF], ri[k.FI_TC_N] = store(speeds, table.torque)
+            ri[force_kernels.FI_TC_OFF], ri[force_kernels.FI_TC_N] = store(speeds, table.torque)
         rows_i.append(ri)
         rows_f.append(rf)
         names = (*names, MOTOR_ELEMENT)
     return ForceTables(
         names=names,
-        fe_i=np.ascontiguousarray(np.array(rows_i, dtype=np.int64).reshape(-1, k.FI_COLUMNS)),
-        fe_f=np.ascontiguousarray(np.array(rows_f, dtype=np.float64).reshape(-1, k.FF_COLUMNS)),
+        fe_i=np.ascontiguousarray(
+            np.array(rows_i, dtype=np.int64).reshape(-1, force_kernels.FI_COLUMNS)
+        ),
+        fe_f=np.ascontiguousarray(
+            np.array(rows_f, dtype=np.float64).reshape(-1, force_kernels.FF_COLUMNS)
+        ),
         fe_t=np.ascontiguousarray(np.array(flat, dtype=np.float64)),
     )
 
@@ -144,14 +162,14 @@ def _time_profile(
         n = max(len(profile.cosine), len(profile.sine))
         cosine = [*profile.cosine, *[0.0] * (n - len(profile.cosine))]
         sine = [*profile.sine, *[0.0] * (n - len(profile.sine))]
-        ri[k.FI_TIME] = k.PROFILE_FOURIER
-        ri[k.FI_TT_OFF], _ = store((profile.mean, *cosine, *sine))
-        ri[k.FI_TT_N] = n
-        rf[k.FF_PERIOD] = profile.period
+        ri[force_kernels.FI_TIME] = force_kernels.PROFILE_FOURIER
+        ri[force_kernels.FI_TT_OFF], _ = store((profile.mean, *cosine, *sine))
+        ri[force_kernels.FI_TT_N] = n
+        rf[force_kernels.FF_PERIOD] = profile.period
     elif isinstance(profile, TimeTableProfile):
-        ri[k.FI_TIME] = k.PROFILE_TABLE
-        ri[k.FI_TT_OFF], ri[k.FI_TT_N] = store(profile.time, profile.factor)
-        rf[k.FF_PERIOD] = profile.period
+        ri[force_kernels.FI_TIME] = force_kernels.PROFILE_TABLE
+        ri[force_kernels.FI_TT_OFF], ri[force_kernels.FI_TT_N] = store(profile.time, profile.factor)
+        rf[force_kernels.FF_PERIOD] = profile.period
 
 
 def _joint_points(

@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from mechanism.core._status import STATUS_MAX_STEPS, STATUS_RUNNING
-from mechanism.core.model import kernels as k
+from mechanism.core.model import kernels as model_kernels
 
 from . import _step_kernels as sk
 from ._interface import Integration, Recording, RecordPlan, StepSettings, solver_stats
@@ -59,7 +59,9 @@ def loop_output(
         mode |= sk.REC_SECTIONS
     if plan.metrics_from is not None:
         mode |= sk.REC_METRICS
-    light = np.zeros((0 if full else t_out.size, k.LIGHT_COLUMNS + 2 * model.kernel.cj_i.shape[0]))
+    light = np.zeros(
+        (0 if full else t_out.size, model_kernels.LIGHT_COLUMNS + 2 * model.kernel.cj_i.shape[0])
+    )
     strobe = np.zeros(sk.STROBE_COLUMNS)
     metrics = np.array([-np.inf, -np.inf, -np.inf, np.inf])
     drive_row = -1 if model.drive_row is None else int(model.drive_row)
@@ -81,13 +83,13 @@ def loop_output(
     t0 = float(t_out[0])
     if full:
         sk.record_sample(model.kernel, ws, out.rec, 0, t0, y, vimp, scratch,
-                         np.zeros(k.CNT_COLUMNS, dtype=np.int64))  # fmt: skip
+                         np.zeros(model_kernels.CNT_COLUMNS, dtype=np.int64))  # fmt: skip
     else:
-        k.light_outputs(model.kernel, ws, y, light[0])
+        model_kernels.light_outputs(model.kernel, ws, y, light[0])
     out.cursor[0] = 1
     if plan.sections:
         start = np.empty(3)
-        k.light_outputs(model.kernel, ws, y, start)
+        model_kernels.light_outputs(model.kernel, ws, y, start)
         sense = -1.0 if getattr(model.scene.drive, "speed_rpm", 1.0) < 0 else 1.0
         two_pi = 2.0 * math.pi
         first = start[0] + sense * two_pi * plan.discard - plan.phase
@@ -95,7 +97,7 @@ def loop_output(
         target = plan.phase + two_pi * turns
         if abs(target - start[0]) <= 1e-9:
             sk.record_sample(model.kernel, ws, out.sections, 0, t0, y, vimp, scratch,
-                             np.zeros(k.CNT_COLUMNS, dtype=np.int64))  # fmt: skip
+                             np.zeros(model_kernels.CNT_COLUMNS, dtype=np.int64))  # fmt: skip
             out.cursor[1] = 1
             target += sense * two_pi
         strobe[sk.STROBE_TARGET] = target
@@ -218,7 +220,9 @@ class StepForecast:
     def exceeded(self, t: float) -> bool:
         """True (and ``message`` set) when the forecast at time ``t`` exceeds the cap or
         the budget."""
-        attempted = int(self.counters[k.CNT_STEPS] + self.counters[k.CNT_REJECTED])
+        attempted = int(
+            self.counters[model_kernels.CNT_STEPS] + self.counters[model_kernels.CNT_REJECTED]
+        )
         done = t - self.t0
         span = self.t_end - self.t0
         if attempted < FORECAST_AFTER or not done < span:
@@ -287,10 +291,10 @@ def initial_latch(model: Model, y0: np.ndarray) -> tuple[np.ndarray, np.ndarray]
     (a joint already in contact latches the velocity floor and counts as no event)."""
     n_cj = model.kernel.cj_i.shape[0]
     # a journal that starts in contact keeps the floor as its impact velocity
-    vimp = model.kernel.cj_f[:, k.CF_FLOOR].copy()
+    vimp = model.kernel.cj_f[:, model_kernels.CF_FLOOR].copy()
     contact = np.zeros(n_cj, dtype=np.int64)
-    counters = np.zeros(k.CNT_COLUMNS, dtype=np.int64)
-    k.update_latch(model.kernel, model.workspace(), y0, vimp, contact, counters)
+    counters = np.zeros(model_kernels.CNT_COLUMNS, dtype=np.int64)
+    model_kernels.update_latch(model.kernel, model.workspace(), y0, vimp, contact, counters)
     # an initial state in contact counts as no event
     return vimp, contact
 

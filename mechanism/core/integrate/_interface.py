@@ -11,7 +11,7 @@ from typing import TYPE_CHECKING, Any, Literal, NamedTuple
 import numpy as np
 
 from mechanism.core._status import MESSAGES
-from mechanism.core.model import kernels as k
+from mechanism.core.model import kernels as model_kernels
 
 if TYPE_CHECKING:
     from mechanism.core.model import Model
@@ -49,8 +49,8 @@ class Recording(NamedTuple):
             v=np.zeros((n_out, n)),
             a=np.zeros((n_out, n)),
             lam=np.zeros((n_out, model.n_rows)),
-            cj=np.zeros((n_out, model.kernel.cj_i.shape[0], k.CJ_COLUMNS)),
-            out=np.zeros((n_out, k.OUT_COLUMNS)),
+            cj=np.zeros((n_out, model.kernel.cj_i.shape[0], model_kernels.CJ_COLUMNS)),
+            out=np.zeros((n_out, model_kernels.OUT_COLUMNS)),
             jf=np.zeros((n_out, model.kernel.jt_i.shape[0], 2)),
         )
 
@@ -238,13 +238,13 @@ def solver_stats(
         method=method,
         status=int(status),
         message=msg or MESSAGES.get(int(status), f"status {status}"),
-        steps=int(counters[k.CNT_STEPS]),
-        rejected_steps=int(counters[k.CNT_REJECTED]),
-        function_evaluations=int(counters[k.CNT_FEV]),
-        jacobian_evaluations=int(counters[k.CNT_JAC]),
-        newton_iterations=int(counters[k.CNT_NEWTON]),
-        contact_events=int(counters[k.CNT_CONTACT_EVENTS]),
-        contact_evaluations=int(counters[k.CNT_CONTACT_EVALS]),
+        steps=int(counters[model_kernels.CNT_STEPS]),
+        rejected_steps=int(counters[model_kernels.CNT_REJECTED]),
+        function_evaluations=int(counters[model_kernels.CNT_FEV]),
+        jacobian_evaluations=int(counters[model_kernels.CNT_JAC]),
+        newton_iterations=int(counters[model_kernels.CNT_NEWTON]),
+        contact_events=int(counters[model_kernels.CNT_CONTACT_EVENTS]),
+        contact_evaluations=int(counters[model_kernels.CNT_CONTACT_EVALS]),
         wall_time=wall,
     )
 

@@ -30,7 +30,7 @@ import numpy as np
 
 from mechanism.core._status import STATUS_OK, STATUS_RUNNING
 from mechanism.core.joints import ANGLE_RIGID, ANGLE_SLOPE, POINT_LINEAR, POINT_RIGID
-from mechanism.core.model import kernels as k
+from mechanism.core.model import kernels as model_kernels
 
 from . import _dopri_kernels as dk
 from . import _genalpha_kernels as gk
@@ -122,7 +122,7 @@ class Dopri5(Integrator):
         km = model.kernel
         ws = model.workspace()
         y = np.ascontiguousarray(y0, dtype=np.float64).copy()
-        counters = np.zeros(k.CNT_COLUMNS, dtype=np.int64)
+        counters = np.zeros(model_kernels.CNT_COLUMNS, dtype=np.int64)
         vimp, contact = initial_latch(model, y)
         loop = sk.LoopState(
             y=y, f=np.zeros_like(y), apse=np.zeros(0), step=np.zeros(4), vimp=vimp,
@@ -303,7 +303,7 @@ class GeneralizedAlpha(Integrator):
         n = model.n_dof
         ws = model.workspace()
         y = np.ascontiguousarray(y0, dtype=np.float64).copy()
-        counters = np.zeros(k.CNT_COLUMNS, dtype=np.int64)
+        counters = np.zeros(model_kernels.CNT_COLUMNS, dtype=np.int64)
         vimp, contact = initial_latch(model, y)
         t0 = float(t_out[0])
         t_end = float(t_out[-1])
@@ -318,7 +318,7 @@ class GeneralizedAlpha(Integrator):
             budget=steps.step_budget,
         )  # fmt: skip
         max_step = steps.max_step
-        status = k.accelerations(km, ws, t0, y[:n], y[n:], vimp, acc, counters)
+        status = model_kernels.accelerations(km, ws, t0, y[:n], y[n:], vimp, acc, counters)
         if status == STATUS_OK:
             status = STATUS_RUNNING
             fd_cols, an_cols = _jacobian_columns(model)

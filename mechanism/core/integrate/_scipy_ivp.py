@@ -11,7 +11,7 @@ from typing import TYPE_CHECKING, Any, Literal
 import numpy as np
 
 from mechanism.core._status import STATUS_SINGULAR, STATUS_STEP_TOO_SMALL
-from mechanism.core.model import kernels as k
+from mechanism.core.model import kernels as model_kernels
 
 from . import _step_kernels as sk
 from ._driver import ProgressBar, initial_latch
@@ -77,14 +77,16 @@ class ScipyIVP(Integrator):
         km = model.kernel
         ws = model.workspace()
         rec = Recording.empty(model, t_out.size)
-        counters = np.zeros(k.CNT_COLUMNS, dtype=np.int64)
+        counters = np.zeros(model_kernels.CNT_COLUMNS, dtype=np.int64)
         y = np.ascontiguousarray(y0, dtype=np.float64).copy()
         vimp, contact = initial_latch(model, y)
         status_box = [0]
 
         def fun(t: float, yy: np.ndarray) -> np.ndarray:
             out = np.empty_like(yy)
-            st = k.rhs(km, ws, t, np.ascontiguousarray(yy, dtype=np.float64), vimp, out, counters)
+            st = model_kernels.rhs(
+                km, ws, t, np.ascontiguousarray(yy, dtype=np.float64), vimp, out, counters
+            )
             if st != 0:
                 status_box[0] = int(st)
             return out
@@ -117,7 +119,7 @@ class ScipyIVP(Integrator):
                 if status_box[0] != 0:
                     status = STATUS_SINGULAR
                     break
-                counters[k.CNT_STEPS] += 1
+                counters[model_kernels.CNT_STEPS] += 1
                 stop = int(np.searchsorted(t_out, solver.t, side="right"))
                 if stop > cursor:
                     dense = solver.dense_output()
@@ -126,12 +128,12 @@ class ScipyIVP(Integrator):
                     sk.record_batch(km, ws, rec, cursor, times, states, vimp, out_counters)
                     cursor = stop
                 yy = np.ascontiguousarray(solver.y, dtype=np.float64)
-                k.update_latch(km, ws, yy, vimp, contact, counters)
+                model_kernels.update_latch(km, ws, yy, vimp, contact, counters)
                 bar.update(solver.t)
         finally:
             bar.close()
         wall = time.perf_counter() - start
-        counters[k.CNT_JAC] += int(getattr(solver, "njev", 0))
+        counters[model_kernels.CNT_JAC] += int(getattr(solver, "njev", 0))
         return Integration(
             recording=rec.head(cursor) if status != 0 else rec,
             stats=solver_stats(self.name, status, counters, wall, message),

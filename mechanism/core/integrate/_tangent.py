@@ -19,7 +19,7 @@ import numpy as np
 from chaoskit.contract import check_int, check_positive
 from mechanism.core._status import STATUS_RUNNING
 from mechanism.core.joints import PC_X, PC_Y, update_points
-from mechanism.core.model import kernels as k
+from mechanism.core.model import kernels as model_kernels
 
 from . import _dopri_kernels as dk
 from . import _tangent_kernels as tk
@@ -244,7 +244,7 @@ def length_scale(model: Model, y0: np.ndarray) -> float:
     active clearance joints, else the mechanism's size (largest extent of its points at
     state ``y0``)."""
     if model.clearance_joints:
-        return float(np.min(model.kernel.cj_f[:, k.CF_C]))
+        return float(np.min(model.kernel.cj_f[:, model_kernels.CF_C]))
     ws = model.workspace()
     n = model.n_dof
     y = np.ascontiguousarray(y0, dtype=np.float64)
@@ -400,8 +400,8 @@ def integrate_tangent(
     k1 = np.zeros_like(y)
     kd1 = np.zeros_like(y)
     state = np.zeros(5)
-    counters = np.zeros(k.CNT_COLUMNS, dtype=np.int64)
-    counters_p = np.zeros(k.CNT_COLUMNS, dtype=np.int64)
+    counters = np.zeros(model_kernels.CNT_COLUMNS, dtype=np.int64)
+    counters_p = np.zeros(model_kernels.CNT_COLUMNS, dtype=np.int64)
     growth = np.zeros(tk.GROWTH_COLUMNS)
     vimp, contact = _start_latch(model, y, latch)
     dvimp = np.zeros_like(vimp)  # deviation of the latched impact velocities (m/s)
@@ -412,8 +412,8 @@ def integrate_tangent(
     record = _StopRecord(record_states, y, contact, vimp)
     since = interruptions()
     start = time.perf_counter()
-    status = k.rhs(km, ws, t0, y, vimp, k1, counters)
-    if status == k.STATUS_OK:
+    status = model_kernels.rhs(km, ws, t0, y, vimp, k1, counters)
+    if status == model_kernels.STATUS_OK:
         state[0] = t0
         state[1] = dk.initial_step(km, ws, t0, y, k1, vimp, counters, rtol, atol, max_step)
         state[2] = 1e-4
@@ -466,7 +466,7 @@ def integrate_tangent(
     wall = time.perf_counter() - start
     if status == STATUS_RUNNING:
         status = 0
-    counters[k.CNT_FEV] += counters_p[k.CNT_FEV]
+    counters[model_kernels.CNT_FEV] += counters_p[model_kernels.CNT_FEV]
     stats = solver_stats("dopri5", status, counters, wall)
     return TangentIntegration(
         t=np.array(times),
@@ -495,14 +495,14 @@ class _ContactHold:
         self.drops = 0
         self.t = t0
         self.contact = contact.copy()
-        self.events = int(counters[k.CNT_CONTACT_EVENTS])
+        self.events = int(counters[model_kernels.CNT_CONTACT_EVENTS])
         self.since = np.where(contact != 0, t0, np.nan)
 
     def drop(self, t: float, contact: np.ndarray, counters: np.ndarray, dvimp: np.ndarray) -> bool:
         """Update at time ``t``; True when a latch deviation was zeroed."""
         if self.after is None:
             return False
-        events = int(counters[k.CNT_CONTACT_EVENTS])
+        events = int(counters[model_kernels.CNT_CONTACT_EVENTS])
         # in contact at both checks with no entry between: in contact all along
         held = (self.contact != 0) & (contact != 0) & (events == self.events)
         self.since = np.where(held, np.fmin(self.since, self.t), np.nan)
@@ -528,7 +528,7 @@ class _StopRecord:
         self, y: np.ndarray, contact: np.ndarray, vimp: np.ndarray, counters: np.ndarray
     ) -> None:
         if self.on:
-            events = int(counters[k.CNT_CONTACT_EVENTS])
+            events = int(counters[model_kernels.CNT_CONTACT_EVENTS])
             self.rows.append((y.copy(), contact.copy(), events, vimp.copy()))
 
     def arrays(self) -> dict[str, np.ndarray]:
@@ -605,7 +605,7 @@ def project_state(model: Model, y: np.ndarray, *, t: float, tol: float = 1e-14) 
         On a singular constraint Jacobian.
     """
     out = np.ascontiguousarray(y, dtype=np.float64).copy()
-    if not k.project(model.kernel, model.workspace(), float(t), out, float(tol), 20):
+    if not model_kernels.project(model.kernel, model.workspace(), float(t), out, float(tol), 20):
         raise ValueError("the constraint Jacobian is singular at the state.")
     return out
 
@@ -637,11 +637,16 @@ def clearance_kinematics(
     latch = np.ascontiguousarray(np.atleast_2d(latch), dtype=np.float64)
     times = np.broadcast_to(np.asarray(t, dtype=np.float64), (states.shape[0],))
     f = np.zeros(states.shape[1])
-    counters = np.zeros(k.CNT_COLUMNS, dtype=np.int64)
-    columns = [k.CJ_EX, k.CJ_EY, k.CJ_DELTA, k.CJ_DELTA_DOT]
+    counters = np.zeros(model_kernels.CNT_COLUMNS, dtype=np.int64)
+    columns = [
+        model_kernels.CJ_EX,
+        model_kernels.CJ_EY,
+        model_kernels.CJ_DELTA,
+        model_kernels.CJ_DELTA_DOT,
+    ]
     out = np.empty((states.shape[0], km.cj_i.shape[0], 4))
     for i in range(states.shape[0]):
-        k.rhs(km, ws, float(times[i]), states[i], latch[i], f, counters)
+        model_kernels.rhs(km, ws, float(times[i]), states[i], latch[i], f, counters)
         out[i] = ws.cj[:, columns]
     return out
 
@@ -657,8 +662,11 @@ def state_derivative(model: Model, y: np.ndarray, *, t: float, latch: np.ndarray
     """
     y = np.ascontiguousarray(y, dtype=np.float64)
     out = np.zeros_like(y)
-    counters = np.zeros(k.CNT_COLUMNS, dtype=np.int64)
+    counters = np.zeros(model_kernels.CNT_COLUMNS, dtype=np.int64)
     vimp = np.ascontiguousarray(latch, dtype=np.float64)
-    if k.rhs(model.kernel, model.workspace(), float(t), y, vimp, out, counters) != k.STATUS_OK:
+    if (
+        model_kernels.rhs(model.kernel, model.workspace(), float(t), y, vimp, out, counters)
+        != model_kernels.STATUS_OK
+    ):
         raise ValueError("the constraint matrix is singular at the state.")
     return out

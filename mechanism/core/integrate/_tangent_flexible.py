@@ -19,7 +19,7 @@ import numpy as np
 
 from chaoskit.contract import check_int, check_positive
 from mechanism.core.bodies import beams_force_add
-from mechanism.core.model import kernels as k
+from mechanism.core.model import kernels as model_kernels
 
 from . import _tangent_kernels as tk
 from ._methods import GeneralizedAlpha, RecordPlan, initial_latch
@@ -131,7 +131,7 @@ def integrate_tangent_flexible(
     tau2 = float(time_scale) ** 2
     inv_mass = inverse_total_mass(model)
     size = float(tk.deviation_size(km, d, tau2, inv_mass))
-    counters_d = np.zeros(k.CNT_COLUMNS, dtype=np.int64)
+    counters_d = np.zeros(model_kernels.CNT_COLUMNS, dtype=np.int64)
     vimp, _ = initial_latch(model, y)
     t0 = float(stops[0])
     dev = tk.Deviation(
@@ -166,7 +166,8 @@ def integrate_tangent_flexible(
     wall = time.perf_counter() - start
     stats = dataclasses.replace(
         run.stats,
-        function_evaluations=run.stats.function_evaluations + int(counters_d[k.CNT_FEV]),
+        function_evaluations=run.stats.function_evaluations
+        + int(counters_d[model_kernels.CNT_FEV]),
         wall_time=wall,
     )
     return TangentIntegration(

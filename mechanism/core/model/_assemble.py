@@ -29,7 +29,7 @@ from mechanism.core.bodies import AncfLayout, RigidLayout
 from mechanism.core.forces import force_tables
 from mechanism.core.scene import Scene
 
-from . import _kernels as k
+from . import _kernels as model_kernels
 
 # numba's cache index names the types of compiled arguments by the module that defined
 # them, and is unpickled whole before its freshness is checked: these tables were defined
@@ -174,14 +174,14 @@ def initial_state(
         return q, v
     err = np.inf
     for _ in range(max_iter):
-        k.evaluate_constraints(km, ws, t0, q, v)
+        model_kernels.evaluate_constraints(km, ws, t0, q, v)
         err = float(np.max(np.abs(ws.phi)))
         if err < tol:
             break
         dq = np.linalg.lstsq(ws.phiq, -ws.phi, rcond=None)[0]
         q += dq
     else:
-        k.evaluate_constraints(km, ws, t0, q, v)
+        model_kernels.evaluate_constraints(km, ws, t0, q, v)
         err = float(np.max(np.abs(ws.phi)))
     if not err < max(tol, 1e-9):
         raise ValueError(
@@ -189,7 +189,7 @@ def initial_state(
             f"violation {err:.3g} after {max_iter} Newton iterations); check the body "
             "positions, angles and joint points."
         )
-    k.evaluate_constraints(km, ws, t0, q, v)
+    model_kernels.evaluate_constraints(km, ws, t0, q, v)
     phiq = ws.phiq.copy()
     w = km.minv @ phiq.T
     s = phiq @ w

@@ -14,7 +14,7 @@ from mechanism.core.forces import FO_COLUMNS, force_elements_add
 from mechanism.core.joints import PCF_COLUMNS, PCI_COLUMNS, update_points
 from mechanism.core.scene import Scene
 
-from . import _kernels as k
+from . import _kernels as model_kernels
 
 __all__ = ["IdealJointRows", "KernelModel", "Model", "SliderMap", "Workspace"]
 
@@ -214,7 +214,7 @@ class Model:
             w=np.zeros((n, m)),
             s=np.zeros((m, m)),
             lam=np.zeros(m),
-            cj=np.zeros((self.kernel.cj_i.shape[0], k.CJ_COLUMNS)),
+            cj=np.zeros((self.kernel.cj_i.shape[0], model_kernels.CJ_COLUMNS)),
             pci=np.zeros((n_points, PCI_COLUMNS), dtype=np.int64),
             pcf=np.zeros((n_points, PCF_COLUMNS)),
             nz_n=np.zeros(m, dtype=np.int64),

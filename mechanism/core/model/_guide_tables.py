@@ -18,7 +18,7 @@ from dataclasses import dataclass
 from mechanism.core.contact import ContactParameters
 from mechanism.core.scene import ClearancePrismatic
 
-from . import _kernels as k
+from . import _kernels as model_kernels
 
 __all__ = ["CORNERS", "CornerRow", "corner_rows", "guide_frame"]
 
@@ -38,6 +38,26 @@ class CornerRow:
     row_f: list[float]
     worn_i: list[int]
     worn_f: list[float]
+
+
+def contact_row(
+    p: ContactParameters, *, outer: float, inner: float, clearance: float
+) -> list[float]:
+    """A ``CF_*`` row of a clearance contact: its geometry (the outer surface's radius or
+    distance, the inner body's radius, the clearance, m) and its contact and friction
+    laws; the other columns are 0."""
+    row_f = [0.0] * model_kernels.CF_COLUMNS
+    row_f[model_kernels.CF_RB] = outer
+    row_f[model_kernels.CF_RJ] = inner
+    row_f[model_kernels.CF_C] = clearance
+    row_f[model_kernels.CF_K] = p.stiffness
+    row_f[model_kernels.CF_EXP] = p.exponent
+    row_f[model_kernels.CF_CE] = p.restitution
+    row_f[model_kernels.CF_MU] = p.friction_coefficient
+    row_f[model_kernels.CF_V0] = p.v0
+    row_f[model_kernels.CF_V1] = p.v1
+    row_f[model_kernels.CF_FLOOR] = p.impact_velocity_floor
+    return row_f
 
 
 def guide_frame(joint: ClearancePrismatic) -> tuple[float, float, float, float]:
@@ -80,27 +100,24 @@ def corner_rows(
             slider_point[0] + end * half_l * ax - side * half_w * ay,
             slider_point[1] + end * half_l * ay + side * half_w * ax,
         )
-        row_f = [0.0] * k.CF_COLUMNS
-        row_f[k.CF_RB] = half_w + joint.clearance  # the surface's distance from the centre line
-        row_f[k.CF_RJ] = 0.0
-        row_f[k.CF_C] = joint.clearance
-        row_f[k.CF_K] = p.stiffness
-        row_f[k.CF_EXP] = p.exponent
-        row_f[k.CF_CE] = p.restitution
-        row_f[k.CF_MU] = p.friction_coefficient
-        row_f[k.CF_V0] = p.v0
-        row_f[k.CF_V1] = p.v1
-        row_f[k.CF_FLOOR] = p.impact_velocity_floor
-        row_f[k.CF_NX] = side * nx
-        row_f[k.CF_NY] = side * ny
-        row_i = [guide_point, add_point(local), p.law_code, friction_code, k.CONTACT_GUIDE]
+        # the surface's distance from the centre line
+        row_f = contact_row(p, outer=half_w + joint.clearance, inner=0.0, clearance=joint.clearance)
+        row_f[model_kernels.CF_NX] = side * nx
+        row_f[model_kernels.CF_NY] = side * ny
+        row_i = [
+            guide_point,
+            add_point(local),
+            p.law_code,
+            friction_code,
+            model_kernels.CONTACT_GUIDE,
+        ]
         rows.append(
             CornerRow(
                 name=f"{name}.{corner}",
                 local=local,
                 row_i=row_i,
                 row_f=row_f,
-                worn_i=[0] * k.CW_COLUMNS,  # never worn: the unworn contact path
+                worn_i=[0] * model_kernels.CW_COLUMNS,  # never worn: the unworn contact path
                 worn_f=[p.effective_modulus, 1.0],
             )
         )

@@ -64,9 +64,9 @@ from mechanism.core.scene import (
 from mechanism.core.wear import WornProfile
 from mechanism.core.wear import kernels as wk
 
-from . import _kernels as k
+from . import _kernels as model_kernels
 from ._compiled import IdealJointRows, KernelModel, SliderMap
-from ._guide_tables import corner_rows, guide_frame
+from ._guide_tables import contact_row, corner_rows, guide_frame
 
 __all__ = [
     "DriveRows",
@@ -262,17 +262,17 @@ def _worn_tables(
     An unworn joint (both profiles empty) gets ``CW_WORN = 0`` and no arrays, so its
     contact runs the unworn code path.
     """
-    row_i = [0] * k.CW_COLUMNS
+    row_i = [0] * model_kernels.CW_COLUMNS
     row_f = [p.effective_modulus, float(joint.wear.radius_ratio_limit)]
     if not (joint.wear.bearing_profile or joint.wear.journal_profile):
         return row_i, row_f
     profile = WornProfile.from_joint(joint)
     offset = sum(a.size for a in flat[0::2])
-    row_i[k.CW_WORN] = 1
-    row_i[k.CW_FORM] = p.stiffness_form_code if p.form is not None else -1
+    row_i[model_kernels.CW_WORN] = 1
+    row_i[model_kernels.CW_FORM] = p.stiffness_form_code if p.form is not None else -1
     for depth, radius, outward, col in (
-        (profile.bearing_depth, joint.bearing_radius, True, k.CW_B_OFF),
-        (profile.journal_depth, joint.journal_radius, False, k.CW_J_OFF),
+        (profile.bearing_depth, joint.bearing_radius, True, model_kernels.CW_B_OFF),
+        (profile.journal_depth, joint.journal_radius, False, model_kernels.CW_J_OFF),
     ):
         depth = np.ascontiguousarray(depth, dtype=np.float64)
         if not depth.any():
@@ -373,7 +373,7 @@ def joint_tables(
             if use_clearance:
                 p = contact_parameters(joint)
                 friction = p.friction_code if scene.effects.friction else 0
-                t.cj_i.append([pb, pj, p.law_code, friction, k.CONTACT_JOURNAL])
+                t.cj_i.append([pb, pj, p.law_code, friction, model_kernels.CONTACT_JOURNAL])
                 t.cj_f.append(_clearance_row(joint, p))
                 t.worn.append(_worn_tables(joint, p, t.cw_h))
                 t.clearance_names.append(name)
@@ -468,23 +468,15 @@ def _guide_joint_tables(
 
 def _clearance_row(joint: ClearanceRevolute, p: Any) -> list[float]:
     """The ``CF_*`` row of a clearance joint: geometry and its contact and friction laws."""
-    row_f = [0.0] * k.CF_COLUMNS
-    row_f[k.CF_RB] = joint.bearing_radius
-    row_f[k.CF_RJ] = joint.journal_radius
-    row_f[k.CF_C] = joint.clearance
-    row_f[k.CF_K] = p.stiffness
-    row_f[k.CF_EXP] = p.exponent
-    row_f[k.CF_CE] = p.restitution
-    row_f[k.CF_MU] = p.friction_coefficient
-    row_f[k.CF_V0] = p.v0
-    row_f[k.CF_V1] = p.v1
-    row_f[k.CF_FLOOR] = p.impact_velocity_floor
+    row_f = contact_row(
+        p, outer=joint.bearing_radius, inner=joint.journal_radius, clearance=joint.clearance
+    )
     lub = joint.lubrication
     if lub is not None:
-        row_f[k.CF_VISC] = lub.viscosity
-        row_f[k.CF_LUB_L] = joint.length if lub.length is None else lub.length
-        row_f[k.CF_FILM] = lub.film_breakdown
-        row_f[k.CF_CAV] = 1.0 if lub.cavitation == "positive-pressure" else 0.0
+        row_f[model_kernels.CF_VISC] = lub.viscosity
+        row_f[model_kernels.CF_LUB_L] = joint.length if lub.length is None else lub.length
+        row_f[model_kernels.CF_FILM] = lub.film_breakdown
+        row_f[model_kernels.CF_CAV] = 1.0 if lub.cavitation == "positive-pressure" else 0.0
     return row_f
 
 
@@ -588,9 +580,9 @@ def kernel_model(
         drive_f=np.ascontiguousarray(drive.f, dtype=np.float64),
         spline_x=drive.spline_x,
         spline_c=drive.spline_c,
-        cj_i=_arr_i(joints.cj_i, k.CI_COLUMNS),
-        cj_f=_arr_f(joints.cj_f, k.CF_COLUMNS),
-        cw_i=_arr_i([w[0] for w in joints.worn], k.CW_COLUMNS),
+        cj_i=_arr_i(joints.cj_i, model_kernels.CI_COLUMNS),
+        cj_f=_arr_f(joints.cj_f, model_kernels.CF_COLUMNS),
+        cw_i=_arr_i([w[0] for w in joints.worn], model_kernels.CW_COLUMNS),
         cw_f=_arr_f([w[1] for w in joints.worn], 2),
         cw_h=np.ascontiguousarray(np.concatenate([np.zeros(0), *cw_h[0::2]])),
         cw_k=np.ascontiguousarray(np.concatenate([np.zeros(0), *cw_h[1::2]])),
@@ -604,7 +596,13 @@ def kernel_model(
         out_f=np.array(slider.axis if slider is not None else (1.0, 0.0), dtype=np.float64),
         jt_i=_arr_i(
             [
-                [k.JOINT_PRISMATIC if j.kind == "prismatic" else k.JOINT_PIN, j.row, j.guide_point]
+                [
+                    model_kernels.JOINT_PRISMATIC
+                    if j.kind == "prismatic"
+                    else model_kernels.JOINT_PIN,
+                    j.row,
+                    j.guide_point,
+                ]
                 for j in joints.ideal_rows
             ],
             3,

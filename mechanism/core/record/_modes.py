@@ -27,7 +27,7 @@ from mechanism.core._run_checks import (
 )
 from mechanism.core.integrate import Integration, Recording, RecordPlan
 from mechanism.core.model import Model
-from mechanism.core.model import kernels as k
+from mechanism.core.model import kernels as model_kernels
 from mechanism.core.scene import MotorDrive
 from mechanism.core.wear import add_run_wear
 
@@ -196,7 +196,7 @@ _FREE_CRANK_MARGIN = 4.0
 
 def _light_row(model: Model) -> int:
     """Bytes of one light sample of ``model``."""
-    return 8 * (k.LIGHT_COLUMNS + 2 * len(model.clearance_joints))
+    return 8 * (model_kernels.LIGHT_COLUMNS + 2 * len(model.clearance_joints))
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -219,7 +219,10 @@ class FullRecord(RecordMode):
     ``slider_position``/``_velocity``/``_acceleration`` and their ``*_ideal`` twins,
     ``displacement_error``, ``speed_error``, per clearance joint (dim ``joint``)
     ``eccentricity_x``/``_y``, ``penetration``, ``contact_force``, ``friction_force``,
-    ``contact_angle``, ``in_contact``; ``driving_torque``; ``joint_force`` (time,
+    ``contact_angle``, ``in_contact``; per lubricated joint (dim ``lubricated_joint``,
+    only when the scene has one) the oil-film force ``film_force_radial``,
+    ``film_force_tangential``, ``film_force_x``, ``film_force_y`` and the minimum film
+    thickness ``film_thickness``; ``driving_torque``; ``joint_force`` (time,
     ideal_joint); ``mechanical_energy``; ``constraint_violation``; with
     ``effects.wear`` on, the wear of the run. The default output grid is the scene's
     (``solver.output_step``, else the drive period / 10000).

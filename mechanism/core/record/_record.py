@@ -20,8 +20,9 @@ from chaoskit.contract import __version__, stamp, variable
 from mechanism.core.integrate import Integration, Recording
 from mechanism.core.integrate import kernels as ik
 from mechanism.core.model import Model
-from mechanism.core.model import kernels as k
+from mechanism.core.model import kernels as model_kernels
 
+from ._film import film_variables
 from ._metrics import METRICS
 
 __all__ = ["LIGHT_VARIABLES", "light_dataset", "metrics_dataset", "sections_dataset", "to_dataset"]
@@ -63,14 +64,20 @@ def _common(model: Model, rec: Recording, suffix: str, label: str) -> dict[str, 
         )
     if model.slider is not None:
         out[f"slider_position{suffix}"] = variable(
-            ("time",), rec.out[:, k.OUT_S], "m", f"slider position along its guide{label}"
+            ("time",),
+            rec.out[:, model_kernels.OUT_S],
+            "m",
+            f"slider position along its guide{label}",
         )
         out[f"slider_velocity{suffix}"] = variable(
-            ("time",), rec.out[:, k.OUT_SD], "m s-1", f"slider velocity along its guide{label}"
+            ("time",),
+            rec.out[:, model_kernels.OUT_SD],
+            "m s-1",
+            f"slider velocity along its guide{label}",
         )
         out[f"slider_acceleration{suffix}"] = variable(
             ("time",),
-            rec.out[:, k.OUT_SDD],
+            rec.out[:, model_kernels.OUT_SDD],
             "m s-2",
             f"slider acceleration along its guide{label}",
         )
@@ -171,7 +178,7 @@ def to_dataset(
     if model.crank_points is not None:
         data["crank_angle"] = variable(
             ("time",),
-            rec.out[:, k.OUT_CRANK],
+            rec.out[:, model_kernels.OUT_CRANK],
             "rad",
             "crank angle (relative angle of the crank joint, unwrapped)",
         )
@@ -207,31 +214,48 @@ def to_dataset(
     if model.clearance_joints:
         cj = rec.cj
         dims = ("time", "joint")
-        delta = cj[:, :, k.CJ_DELTA]
+        delta = cj[:, :, model_kernels.CJ_DELTA]
         data["eccentricity_x"] = variable(
-            dims, cj[:, :, k.CJ_EX], "m", "journal centre minus bearing centre, x"
+            dims, cj[:, :, model_kernels.CJ_EX], "m", "journal centre minus bearing centre, x"
         )
         data["eccentricity_y"] = variable(
-            dims, cj[:, :, k.CJ_EY], "m", "journal centre minus bearing centre, y"
+            dims, cj[:, :, model_kernels.CJ_EY], "m", "journal centre minus bearing centre, y"
         )
         data["penetration"] = variable(
             dims, np.maximum(delta, 0.0), "m", "penetration depth max(|e| - c, 0)"
         )
-        data["contact_force"] = variable(dims, cj[:, :, k.CJ_FN], "N", "normal contact force")
+        data["contact_force"] = variable(
+            dims, cj[:, :, model_kernels.CJ_FN], "N", "normal contact force"
+        )
         data["friction_force"] = variable(
-            dims, cj[:, :, k.CJ_FT], "N", "friction force on the journal along the tangent"
+            dims,
+            cj[:, :, model_kernels.CJ_FT],
+            "N",
+            "friction force on the journal along the tangent",
         )
         data["contact_angle"] = variable(
-            dims, cj[:, :, k.CJ_PHI_B], "rad", "direction of the eccentricity in the bearing frame"
+            dims,
+            cj[:, :, model_kernels.CJ_PHI_B],
+            "rad",
+            "direction of the eccentricity in the bearing frame",
         )
         data["contact_angle_journal"] = variable(
-            dims, cj[:, :, k.CJ_PHI_J], "rad", "direction of the eccentricity in the journal frame"
+            dims,
+            cj[:, :, model_kernels.CJ_PHI_J],
+            "rad",
+            "direction of the eccentricity in the journal frame",
         )
         data["penetration_velocity"] = variable(
-            dims, cj[:, :, k.CJ_DELTA_DOT], "m s-1", "rate of |e| - c (positive approaching)"
+            dims,
+            cj[:, :, model_kernels.CJ_DELTA_DOT],
+            "m s-1",
+            "rate of |e| - c (positive approaching)",
         )
         data["sliding_velocity"] = variable(
-            dims, cj[:, :, k.CJ_VT], "m s-1", "tangential velocity of the journal contact point"
+            dims,
+            cj[:, :, model_kernels.CJ_VT],
+            "m s-1",
+            "tangential velocity of the journal contact point",
         )
         data["in_contact"] = variable(
             dims, (delta > 0.0).astype(np.int8), "1", "journal touches the bearing (1) or not (0)"
@@ -239,16 +263,19 @@ def to_dataset(
     if model.beams:
         strain_vars, strain_coords = _beam_outputs(model, rec)
         data.update(strain_vars)
+    # the oil film of the lubricated joints (nothing for a dry scene)
+    film_vars, film_coords = film_variables(model, rec.q, rec.v)
+    data.update(film_vars)
     data["mechanical_energy"] = variable(
         ("time",),
-        rec.out[:, k.OUT_ENERGY],
+        rec.out[:, model_kernels.OUT_ENERGY],
         "J",
         "kinetic + gravity + contact potential + beam strain energy + energy stored by "
         "the force elements",
     )
     data["constraint_violation"] = variable(
         ("time",),
-        rec.out[:, k.OUT_VIOLATION],
+        rec.out[:, model_kernels.OUT_VIOLATION],
         "m",
         "largest constraint residual |Phi| (angle rows in rad)",
     )
@@ -266,6 +293,7 @@ def to_dataset(
         )
     if model.beams:
         coords.update(strain_coords)
+    coords.update(film_coords)
     return _finish(xr.Dataset(data, coords=coords), model, run, ideal_run, attrs)
 
 
@@ -283,7 +311,7 @@ def light_dataset(
     assert light is not None
     n = light.shape[0]
     n_cj = len(model.clearance_joints)
-    ecc = light[:, k.LIGHT_COLUMNS : k.LIGHT_COLUMNS + 2 * n_cj]
+    ecc = light[:, model_kernels.LIGHT_COLUMNS : model_kernels.LIGHT_COLUMNS + 2 * n_cj]
     made = {
         "crank_angle": lambda: variable(
             ("time",),

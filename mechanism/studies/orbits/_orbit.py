@@ -21,7 +21,7 @@ from mechanism.core.integrate import (
     section_latch,
 )
 from mechanism.core.model import assemble, initial_state
-from mechanism.core.scene import Scene
+from mechanism.core.scene import MotorDrive, Scene
 
 from ._modes import ContactPhase, contact_phases
 from ._newton import NewtonState, multiple, newton, refresh, run_ok
@@ -51,6 +51,15 @@ MONODROMY_OFFSET = 1e-5
 AUTOMATIC_SEGMENTS = 8
 #: most segments accepted (each costs a tangent run per unknown and Newton iteration)
 MAX_SEGMENTS = 64
+
+#: The refusal of a motor-driven scene: its motion is autonomous (no prescribed period),
+#: so a periodic orbit's period is an unknown, and the shooting here integrates over a
+#: fixed number of drive periods.
+MOTOR_REFUSAL = (
+    "{caller} needs a periodic drive: a motor-driven crank moves autonomously, so a "
+    "periodic orbit's period is an unknown, which shooting over fixed drive periods "
+    "does not solve for; use a constant_speed drive at the speed the motor reaches."
+)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -462,6 +471,8 @@ def periodic_orbit(
     perturbation = check_positive(perturbation, name="perturbation")
     if perturbation > 1e-4:
         raise ValueError(f"perturbation must be in (0, 1e-4]; got {perturbation!r}.")
+    if isinstance(scene.drive, MotorDrive):
+        raise ValueError(MOTOR_REFUSAL.format(caller="periodic_orbit"))
     big_t = drive_period(scene)
     if big_t is None:
         raise ValueError(

@@ -18,7 +18,7 @@ import xarray as xr
 from mechanism.core import SimulationError
 from mechanism.core.integrate import project_state
 from mechanism.core.model import assemble
-from mechanism.core.scene import Scene, SceneError
+from mechanism.core.scene import MotorDrive, Scene, SceneError
 
 from ._continuation import (
     BifurcationPoint,
@@ -28,7 +28,7 @@ from ._continuation import (
     Follower,
     Solved,
 )
-from ._orbit import PeriodicOrbit, periodic_orbit
+from ._orbit import MOTOR_REFUSAL, PeriodicOrbit, periodic_orbit
 
 __all__ = [
     "Continuation",
@@ -229,6 +229,8 @@ def continuation(
     cpu0 = time.process_time()
     if not isinstance(scene, Scene):
         raise TypeError(f"scene must be a mechanism Scene; got {type(scene).__name__}.")
+    if isinstance(scene.drive, MotorDrive):
+        raise ValueError(MOTOR_REFUSAL.format(caller="continuation"))
     targets = _targets(values, span)
     try:
         first_scene = scene.replace({parameter: targets[0]})

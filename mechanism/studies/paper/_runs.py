@@ -16,9 +16,9 @@ from chaoskit.reporting import plural
 from mechanism.core import FullRecord, SimulationError, WornProfile, load_scene, simulate
 from mechanism.core.scene import ClearanceRevolute
 
-from .._bifurcation import ORBIT_TOLERANCE
 from .._convergence import element_convergence
 from .._lyapunov import lyapunov_exponent
+from .._orbit_diagram import ORBIT_TOLERANCE
 from .._wear_life import WearLife, WearLifeSettings, wear_life
 from .._wear_prediction import predict_wear
 from ._published import (

@@ -23,7 +23,7 @@ import xarray as xr
 import chaoskit
 from mechanism.core import load_scene
 
-from .._bifurcation import bifurcation
+from .._orbit_diagram import bifurcation
 from .._wear_report import wear_profile_section
 from ..sweep import Analysis, sweep
 from ._claims import judge_claims, path_label

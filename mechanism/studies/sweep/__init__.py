@@ -25,6 +25,7 @@ from ._backends import dask_client
 from ._driver import resolve_scene, sweep
 from ._gather import key_attrs, load_sweep
 from ._point import STATUSES
+from ._revolution import revolution_time, simulated_span
 from ._store import (
     MANIFEST_FORMAT,
     SweepStoreBusy,
@@ -60,6 +61,8 @@ __all__ = [
     "register_grid_transform",
     "remove_stale_temporaries",
     "resolve_scene",
+    "revolution_time",
+    "simulated_span",
     "stroboscopic_points",
     "sweep",
     "wear_transform",

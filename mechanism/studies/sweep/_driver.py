@@ -180,7 +180,10 @@ def sweep(
         ``"drive.speed_rpm"``) or special keys (``"wear": ["before", "after"]``). The key
         order is the dimension order of the result.
     revolutions
-        Crank revolutions simulated per point (> ``analysis.discard_revolutions``).
+        Crank revolutions simulated per point (> ``analysis.discard_revolutions``). A
+        motor-driven crank has no drive period: its points run for ``revolutions``
+        periods 2π/ω₀ of the motor's no-load speed ω₀ (at most about as many crank turns),
+        and ``analysis.discard_revolutions`` counts turns of its crank angle.
     analysis
         What to analyse (:class:`Analysis`; default ``Analysis()``).
     client

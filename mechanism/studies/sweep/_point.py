@@ -27,6 +27,7 @@ from mechanism.core.record import response_metrics, window_start
 
 from . import _store
 from ._analysis import Analysis
+from ._revolution import simulated_span
 from ._transforms import GridTransform
 
 STATUSES: tuple[str, ...] = ("ok", "failed", "diverged")
@@ -49,8 +50,9 @@ class PointTask:
 
 def simulate_point(scene: Any, *, revolutions: float) -> xr.Dataset:
     """The simulation of one grid point (the one place a test stand-in replaces)."""
-    # failure as data: a failed integration returns its samples so far and solver_status < 0
-    return simulate(scene, revolutions=revolutions, throw=False)
+    # failure as data: a failed integration returns its samples so far and solver_status < 0;
+    # a motor-driven crank has no period: it runs for as many no-load periods
+    return simulate(scene, throw=False, **simulated_span(scene, revolutions))
 
 
 def _build_scene(task: PointTask) -> Any:

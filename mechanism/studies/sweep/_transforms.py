@@ -14,6 +14,7 @@ from types import MappingProxyType
 from typing import Any
 
 from .._wear_prediction import predict_wear
+from ._revolution import revolution_time
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -107,8 +108,14 @@ def wear_transform(scene: Any, value: Any, **settings: Any) -> Any:
 
 
 def _output_step_transform(scene: Any, samples: Any) -> Any:
-    """``samples_per_revolution``: output step T/samples at the point's own crank speed."""
-    period = 60.0 / abs(float(scene.drive.speed_rpm))
+    """``samples_per_revolution``: output step T/samples at the point's own crank speed
+    (T the drive period, or 2π/ω₀ at a motor's no-load speed ω₀)."""
+    period = revolution_time(scene)
+    if period is None:
+        raise ValueError(
+            "samples_per_revolution needs a periodic drive or a motor drive (a revolution "
+            "to divide); set solver.output_step instead."
+        )
     return scene.replace({"solver.output_step": period / int(samples)})
 
 

@@ -35,10 +35,9 @@ from mechanism.core.integrate import (
 )
 from mechanism.core.model import assemble, initial_state
 from mechanism.core.record import SectionsRecord
-from mechanism.core.scene import MotorDrive
 
 from ._lyapunov import lyapunov_exponent
-from .sweep import Analysis, resolve_scene, sweep
+from .sweep import Analysis, resolve_scene, revolution_time, simulated_span, sweep
 
 __all__ = ["EXPONENT_VARIABLES", "BifurcationSettings", "bifurcation", "parse_values"]
 
@@ -81,11 +80,7 @@ def free_crank_period(scene: Any) -> float | None:
 
     A crank turns at most about once per such period (slower under load), so a value run
     for ``revolutions`` of them reaches at most that many crank-angle crossings."""
-    drive = scene.drive
-    if not isinstance(drive, MotorDrive) or drive_period(scene) is not None:
-        return None
-    speed = drive.no_load_speed
-    return 2.0 * math.pi / speed if speed > 0.0 else None
+    return None if drive_period(scene) is not None else revolution_time(scene)
 
 
 # Hook for the exponent of one value: (scene, revolutions=, discard=) -> (λ, low, high) in
@@ -118,9 +113,9 @@ class _SectionPoint:
         record = SectionsRecord(phase=self.phase, discard=self.discard, companion=False)
         # a motor-driven crank has no period: run for as many no-load periods; its
         # sections are crank-angle crossings and ``discard`` counts crank revolutions
-        free = free_crank_period(scene)
-        span = {"revolutions": revolutions} if free is None else {"t_end": revolutions * free}
-        ds = simulate(scene, record=record, throw=False, **span, **tolerance)
+        ds = simulate(
+            scene, record=record, throw=False, **simulated_span(scene, revolutions), **tolerance
+        )
         if self.exponent and ds.attrs.get("solver_status") == 0:
             cpu = time.process_time()
             discard = self.discard if self.exponent_discard is None else self.exponent_discard
