@@ -15,7 +15,7 @@ References
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from chaoskit.contract import check_positive
 
@@ -26,6 +26,7 @@ from ._laws import (
     check_contact_law,
     effective_modulus,
     friction_code,
+    friction_settings,
     law_code,
 )
 
@@ -57,21 +58,6 @@ def corner_stiffness(
     radius = check_positive(corner_radius, name="corner_radius")
     e_star = effective_modulus(guide_material, slider_material)
     return 4.0 / 3.0 * e_star * math.sqrt(radius)
-
-
-def _friction_settings(friction: Any) -> tuple[str, float, float, float]:
-    """(law, μ, v0, v1) of a friction table, checked as for a revolute clearance joint."""
-    name = friction.law
-    friction_code(name)
-    mu = check_positive(friction.coefficient, name="friction.coefficient", allow_zero=True)
-    v0 = check_positive(friction.v0, name="friction.v0", allow_zero=name != "coulomb")
-    v1 = check_positive(friction.v1, name="friction.v1")
-    if name == "ambrosio" and not v1 > v0:
-        raise ValueError(
-            f"friction.v1 must be larger than friction.v0 for the Ambrosio law; "
-            f"got v0={v0!r} m/s, v1={v1!r} m/s."
-        )
-    return name, mu, v0, v1
 
 
 def guide_contact_parameters(joint: ClearancePrismatic) -> ContactParameters:
@@ -109,7 +95,7 @@ def guide_contact_parameters(joint: ClearancePrismatic) -> ContactParameters:
         form = None
         stiffness = check_positive(contact.stiffness, name="contact.stiffness")
         r_star = (3.0 * stiffness / (4.0 * e_star)) ** 2
-    name, mu, v0, v1 = _friction_settings(joint.friction)
+    name, mu, v0, v1 = friction_settings(joint.friction)
     return ContactParameters(
         law=contact.law,
         law_code=law_code(contact.law) | approach_speed_code(contact.approach_speed),

@@ -48,6 +48,7 @@ __all__ = [
     "effective_radius",
     "form_code",
     "friction_code",
+    "friction_settings",
     "hertz_stiffness",
     "law_code",
 ]
@@ -361,7 +362,8 @@ class ContactParameters:
     effective_radius: float
 
 
-def _friction(friction: Any) -> tuple[str, float, float, float]:
+def friction_settings(friction: Any) -> tuple[str, float, float, float]:
+    """(law, μ, v0, v1) of a clearance joint's friction table, checked."""
     name = friction.law
     friction_code(name)
     mu = check_positive(friction.coefficient, name="friction.coefficient", allow_zero=True)
@@ -419,7 +421,7 @@ def contact_parameters(joint: ClearanceRevolute) -> ContactParameters:
         form = None
         r_star = (3.0 * stiffness / (4.0 * e_star)) ** 2
         code = contact_kernels.FORM_SUM_OF_RADII
-    name, mu, v0, v1 = _friction(joint.friction)
+    name, mu, v0, v1 = friction_settings(joint.friction)
     return ContactParameters(
         law=contact.law,
         law_code=law_code(contact.law) | flag,
