@@ -14,7 +14,7 @@ import numpy as np
 from mechanism.core._status import STATUS_MAX_STEPS, STATUS_RUNNING
 from mechanism.core.model import kernels as model_kernels
 
-from . import _step_kernels as sk
+from . import _step_kernels as step_kernels
 from ._interface import Integration, Recording, RecordPlan, StepSettings, solver_stats
 
 if TYPE_CHECKING:
@@ -50,22 +50,22 @@ APPROACH_FRACTION = 1.0
 
 def loop_output(
     model: Model, ws: Any, y0: np.ndarray, vimp: np.ndarray, t_out: np.ndarray, plan: RecordPlan
-) -> sk.Output:
+) -> step_kernels.Output:
     """The kernels' Output tuple for ``plan``, with the first grid sample (and a section
     at the start when the initial crank angle is a strobe angle) recorded."""
     full = plan.grid == "full"
-    mode = sk.REC_FULL if full else sk.REC_LIGHT
+    mode = step_kernels.REC_FULL if full else step_kernels.REC_LIGHT
     if plan.sections:
-        mode |= sk.REC_SECTIONS
+        mode |= step_kernels.REC_SECTIONS
     if plan.metrics_from is not None:
-        mode |= sk.REC_METRICS
+        mode |= step_kernels.REC_METRICS
     light = np.zeros(
         (0 if full else t_out.size, model_kernels.LIGHT_COLUMNS + 2 * model.kernel.cj_i.shape[0])
     )
-    strobe = np.zeros(sk.STROBE_COLUMNS)
+    strobe = np.zeros(step_kernels.STROBE_COLUMNS)
     metrics = np.array([-np.inf, -np.inf, -np.inf, np.inf])
     drive_row = -1 if model.drive_row is None else int(model.drive_row)
-    out = sk.Output(
+    out = step_kernels.Output(
         mode=mode,
         t_out=t_out,
         cursor=np.zeros(2, dtype=np.int64),
@@ -82,7 +82,7 @@ def loop_output(
     scratch = np.empty_like(y)
     t0 = float(t_out[0])
     if full:
-        sk.record_sample(model.kernel, ws, out.rec, 0, t0, y, vimp, scratch,
+        step_kernels.record_sample(model.kernel, ws, out.rec, 0, t0, y, vimp, scratch,
                          np.zeros(model_kernels.CNT_COLUMNS, dtype=np.int64))  # fmt: skip
     else:
         model_kernels.light_outputs(model.kernel, ws, y, light[0])
@@ -96,40 +96,42 @@ def loop_output(
         turns = math.ceil(first / two_pi - 1e-9) if sense > 0 else math.floor(first / two_pi + 1e-9)
         target = plan.phase + two_pi * turns
         if abs(target - start[0]) <= 1e-9:
-            sk.record_sample(model.kernel, ws, out.sections, 0, t0, y, vimp, scratch,
+            step_kernels.record_sample(model.kernel, ws, out.sections, 0, t0, y, vimp, scratch,
                              np.zeros(model_kernels.CNT_COLUMNS, dtype=np.int64))  # fmt: skip
             out.cursor[1] = 1
             target += sense * two_pi
-        strobe[sk.STROBE_TARGET] = target
-        strobe[sk.STROBE_DIRECTION] = sense
-        strobe[sk.STROBE_ANGLE] = start[0]
+        strobe[step_kernels.STROBE_TARGET] = target
+        strobe[step_kernels.STROBE_DIRECTION] = sense
+        strobe[step_kernels.STROBE_ANGLE] = start[0]
     return out
 
 
 def loop_result(
     name: str,
-    out: sk.Output,
+    out: step_kernels.Output,
     status: int,
     counters: np.ndarray,
     wall: float,
     y: np.ndarray,
     t: float,
-    loop: sk.LoopState | None = None,
+    loop: step_kernels.LoopState | None = None,
     message: str = "",
 ) -> Integration:
     """Package a compiled loop's outputs (truncated to what was recorded)."""
     if status == STATUS_RUNNING:
         status = 0
     n_grid = int(out.cursor[0])
-    full = bool(out.mode & sk.REC_FULL)
+    full = bool(out.mode & step_kernels.REC_FULL)
     return Integration(
         recording=out.rec.head(n_grid) if status != 0 else out.rec,
         stats=solver_stats(name, status, counters, wall, message),
         final_state=y,
         final_time=float(t),
         light=None if full else (out.light[:n_grid] if status != 0 else out.light),
-        sections=out.sections.head(int(out.cursor[1])) if out.mode & sk.REC_SECTIONS else None,
-        metrics=out.metrics.copy() if out.mode & sk.REC_METRICS else None,
+        sections=out.sections.head(int(out.cursor[1]))
+        if out.mode & step_kernels.REC_SECTIONS
+        else None,
+        metrics=out.metrics.copy() if out.mode & step_kernels.REC_METRICS else None,
         final_step=math.nan if loop is None else float(loop.step[1]),
         final_contact=None if loop is None else loop.contact.copy(),
     )
@@ -307,14 +309,14 @@ def step_control(
     *,
     max_step: float | None = None,
     fixed_step: float = 0.0,
-) -> sk.StepControl:
+) -> step_kernels.StepControl:
     """The kernels' StepControl of ``method`` (a Dopri5 or GeneralizedAlpha) for a run
     with ``steps``; ``max_step`` replaces ``steps.max_step`` (a fixed step's bound)."""
     max_step = steps.max_step if max_step is None else max_step
     entry = float(getattr(method, "contact_entry_depth", 0.0))
     # below this step an entry is accepted (a worn profile can make the penetration jump)
     floor = 1e-6 * max_step if math.isfinite(max_step) else 1e-10 * (t_end - t0)
-    return sk.StepControl(
+    return step_kernels.StepControl(
         t_end=t_end,
         rtol=float(steps.rtol),
         atol=float(steps.atol),

@@ -32,10 +32,10 @@ from mechanism.core._status import STATUS_OK, STATUS_RUNNING
 from mechanism.core.joints import ANGLE_RIGID, ANGLE_SLOPE, POINT_LINEAR, POINT_RIGID
 from mechanism.core.model import kernels as model_kernels
 
-from . import _dopri_kernels as dk
-from . import _genalpha_kernels as gk
-from . import _step_kernels as sk
-from . import _tangent_kernels as tk
+from . import _dopri_kernels as dopri_kernels
+from . import _genalpha_kernels as genalpha_kernels
+from . import _step_kernels as step_kernels
+from . import _tangent_kernels as tangent_kernels
 
 # the ``name as name`` imports: the tangent loops (``_tangent``, ``_tangent_flexible``)
 # import these from here; and numba's cache index names the types of compiled arguments
@@ -124,7 +124,7 @@ class Dopri5(Integrator):
         y = np.ascontiguousarray(y0, dtype=np.float64).copy()
         counters = np.zeros(model_kernels.CNT_COLUMNS, dtype=np.int64)
         vimp, contact = initial_latch(model, y)
-        loop = sk.LoopState(
+        loop = step_kernels.LoopState(
             y=y, f=np.zeros_like(y), apse=np.zeros(0), step=np.zeros(4), vimp=vimp,
             contact=contact, counters=counters,
         )  # fmt: skip
@@ -134,8 +134,8 @@ class Dopri5(Integrator):
         out = loop_output(model, ws, y, vimp, t_out, record)
         since = interruptions()
         start = time.perf_counter()
-        status = dk.dopri5_start(km, ws, t0, y, loop.f, vimp, loop.step, counters, steps.rtol,
-                                 steps.atol, ctl.max_step)  # fmt: skip
+        status = dopri_kernels.dopri5_start(km, ws, t0, y, loop.f, vimp, loop.step, counters,
+                                            steps.rtol, steps.atol, ctl.max_step)  # fmt: skip
         forecast = StepForecast(
             t0=t0, t_end=t_end, max_steps=self.max_steps, counters=counters,
             budget=steps.step_budget,
@@ -145,7 +145,7 @@ class Dopri5(Integrator):
             try:
                 for t_stop in progress_chunks(t0, t_end, progress):
                     status = advance_to(
-                        lambda stop: dk.dopri5_advance(km, ws, loop, out, ctl, stop),
+                        lambda stop: dopri_kernels.dopri5_advance(km, ws, loop, out, ctl, stop),
                         loop.step, t_stop, bar, since, forecast,
                     )  # fmt: skip
                     if status != STATUS_RUNNING:
@@ -291,7 +291,7 @@ class GeneralizedAlpha(Integrator):
         record: RecordPlan = FULL,
         progress: bool = False,
         label: str = "simulate",
-        deviation: tk.Deviation | None = None,
+        deviation: tangent_kernels.Deviation | None = None,
         stops: np.ndarray | None = None,
         on_stop: Callable[[float], None] | None = None,
     ) -> Integration:
@@ -322,7 +322,9 @@ class GeneralizedAlpha(Integrator):
         if status == STATUS_OK:
             status = STATUS_RUNNING
             fd_cols, an_cols = _jacobian_columns(model)
-            jac = gk.jacobian_buffers(n, vimp.shape[0], fd_cols, an_cols, _contact_columns(model))
+            jac = genalpha_kernels.jacobian_buffers(
+                n, vimp.shape[0], fd_cols, an_cols, _contact_columns(model)
+            )
             if self.step == "max_step":
                 # an unbounded run (e.g. the ideal companion) steps at the output spacing
                 fixed = float(max_step)
@@ -336,7 +338,7 @@ class GeneralizedAlpha(Integrator):
             else:
                 h0 = min(max_step, 1e-3 * (t_end - t0), 1e-4)
             ctl = step_control(self, t0, t_end, steps, max_step=max_step, fixed_step=fixed)
-            loop = sk.LoopState(
+            loop = step_kernels.LoopState(
                 y=y, f=acc, apse=acc.copy(), step=np.array([t0, h0, 0.0, 0.0, 0.0]),
                 vimp=vimp, contact=contact, counters=counters,
             )  # fmt: skip
@@ -347,7 +349,7 @@ class GeneralizedAlpha(Integrator):
             try:
                 for t_stop in chunks:
                     status = advance_to(
-                        lambda stop: gk.genalpha_advance(
+                        lambda stop: genalpha_kernels.genalpha_advance(
                             km, ws, loop, out, ctl, jac, stop, deviation
                         ),
                         loop.step, t_stop, bar, since, forecast,

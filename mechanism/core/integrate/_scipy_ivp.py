@@ -13,7 +13,7 @@ import numpy as np
 from mechanism.core._status import STATUS_SINGULAR, STATUS_STEP_TOO_SMALL
 from mechanism.core.model import kernels as model_kernels
 
-from . import _step_kernels as sk
+from . import _step_kernels as step_kernels
 from ._driver import ProgressBar, initial_latch
 from ._interface import (
     FULL,
@@ -103,7 +103,7 @@ class ScipyIVP(Integrator):
             options["max_step"] = max_step
         start = time.perf_counter()
         solver = solver_cls(fun, t0, y, t_end, **options)
-        sk.record_sample(km, ws, rec, 0, t0, y, vimp, np.empty_like(y), counters.copy())
+        step_kernels.record_sample(km, ws, rec, 0, t0, y, vimp, np.empty_like(y), counters.copy())
         cursor = 1
         bar = ProgressBar(progress, t0, t_end, label)
         status = 0
@@ -125,7 +125,9 @@ class ScipyIVP(Integrator):
                     dense = solver.dense_output()
                     times = np.ascontiguousarray(t_out[cursor:stop])
                     states = np.ascontiguousarray(np.atleast_2d(dense(times)).reshape(y.size, -1))
-                    sk.record_batch(km, ws, rec, cursor, times, states, vimp, out_counters)
+                    step_kernels.record_batch(
+                        km, ws, rec, cursor, times, states, vimp, out_counters
+                    )
                     cursor = stop
                 yy = np.ascontiguousarray(solver.y, dtype=np.float64)
                 model_kernels.update_latch(km, ws, yy, vimp, contact, counters)

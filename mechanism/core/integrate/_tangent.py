@@ -21,8 +21,8 @@ from mechanism.core._status import STATUS_RUNNING
 from mechanism.core.joints import PC_X, PC_Y, update_points
 from mechanism.core.model import kernels as model_kernels
 
-from . import _dopri_kernels as dk
-from . import _tangent_kernels as tk
+from . import _dopri_kernels as dopri_kernels
+from . import _tangent_kernels as tangent_kernels
 from ._interface import StepSettings
 from ._methods import (
     APPROACH_FRACTION,
@@ -236,7 +236,9 @@ def inverse_total_mass(model: Model) -> float:
 def deviation_size(model: Model, d: np.ndarray, *, time_scale: float) -> float:
     """Mass-weighted size (m) √((δqᵀMδq + τ²δq̇ᵀMδq̇)/m_total) of a state deviation ``d``."""
     d = np.ascontiguousarray(d, dtype=np.float64)
-    return float(tk.deviation_size(model.kernel, d, time_scale**2, inverse_total_mass(model)))
+    return float(
+        tangent_kernels.deviation_size(model.kernel, d, time_scale**2, inverse_total_mass(model))
+    )
 
 
 def length_scale(model: Model, y0: np.ndarray) -> float:
@@ -283,9 +285,11 @@ def initial_deviation(
     y = np.ascontiguousarray(y0, dtype=np.float64)
     d = np.random.default_rng(seed).standard_normal(y.size)
     ws, ws2 = model.workspace(), model.workspace()
-    if not tk.project_tangent(model.kernel, ws, ws2, float(t0), y, d, np.empty(y.size)):
+    if not tangent_kernels.project_tangent(
+        model.kernel, ws, ws2, float(t0), y, d, np.empty(y.size)
+    ):
         raise ValueError("the constraint Jacobian is singular at the initial state.")
-    r = tk.deviation_size(model.kernel, d, time_scale**2, inverse_total_mass(model))
+    r = tangent_kernels.deviation_size(model.kernel, d, time_scale**2, inverse_total_mass(model))
     return np.ascontiguousarray(d * (size / r))
 
 
@@ -396,13 +400,13 @@ def integrate_tangent(
     d = np.ascontiguousarray(d0, dtype=np.float64).copy()
     tau2 = float(time_scale) ** 2
     inv_mass = inverse_total_mass(model)
-    size = float(tk.deviation_size(km, d, tau2, inv_mass))
+    size = float(tangent_kernels.deviation_size(km, d, tau2, inv_mass))
     k1 = np.zeros_like(y)
     kd1 = np.zeros_like(y)
     state = np.zeros(5)
     counters = np.zeros(model_kernels.CNT_COLUMNS, dtype=np.int64)
     counters_p = np.zeros(model_kernels.CNT_COLUMNS, dtype=np.int64)
-    growth = np.zeros(tk.GROWTH_COLUMNS)
+    growth = np.zeros(tangent_kernels.GROWTH_COLUMNS)
     vimp, contact = _start_latch(model, y, latch)
     dvimp = np.zeros_like(vimp)  # deviation of the latched impact velocities (m/s)
     if latch_deviation is not None:
@@ -415,12 +419,14 @@ def integrate_tangent(
     status = model_kernels.rhs(km, ws, t0, y, vimp, k1, counters)
     if status == model_kernels.STATUS_OK:
         state[0] = t0
-        state[1] = dk.initial_step(km, ws, t0, y, k1, vimp, counters, rtol, atol, max_step)
+        state[1] = dopri_kernels.initial_step(
+            km, ws, t0, y, k1, vimp, counters, rtol, atol, max_step
+        )
         state[2] = 1e-4
         status = STATUS_RUNNING
 
     def rate() -> int:
-        return int(tk.tangent_start(
+        return int(tangent_kernels.tangent_start(
             km, ws, float(state[0]), y, d, k1, kd1, vimp, dvimp, counters, counters_p,
             size, float(time_scale), inv_mass, directional,
         ))  # fmt: skip
@@ -438,7 +444,7 @@ def integrate_tangent(
         chunk_steps = 1
 
     def advance(stop: float) -> int:
-        st = int(tk.tangent_advance(
+        st = int(tangent_kernels.tangent_advance(
             km, ws, ws2, y, d, k1, kd1, state, vimp, dvimp, contact, counters,
             counters_p, growth, stop, t_end, rtol, atol, max_step, steps_in.projection,
             settings.max_steps, settings.renormalize_every, size, tau2, inv_mass,
@@ -459,7 +465,7 @@ def integrate_tangent(
             status = advance_to(advance, state, float(t_stop), bar, since)
             if status in (STATUS_RUNNING, 0):
                 times.append(float(state[0]))
-                logs.append(float(growth[tk.GROWTH_LOG]))
+                logs.append(float(growth[tangent_kernels.GROWTH_LOG]))
                 record.add(y, contact, vimp, counters)
     finally:
         bar.close()
@@ -471,7 +477,7 @@ def integrate_tangent(
     return TangentIntegration(
         t=np.array(times),
         log_growth=np.array(logs),
-        renormalizations=int(growth[tk.GROWTH_COUNT]),
+        renormalizations=int(growth[tangent_kernels.GROWTH_COUNT]),
         stats=stats,
         final_state=y,
         final_deviation=d,
@@ -588,7 +594,9 @@ def tangent_basis(model: Model, y: np.ndarray, *, t: float, time_scale: float) -
     for i in range(2 * n):
         e = np.zeros(2 * n)
         e[i] = 1.0 / scale[i]
-        if not tk.project_tangent(model.kernel, ws, ws2, float(t), y, e, np.empty(2 * n)):
+        if not tangent_kernels.project_tangent(
+            model.kernel, ws, ws2, float(t), y, e, np.empty(2 * n)
+        ):
             raise ValueError("the constraint Jacobian is singular at the state.")
         columns[:, i] = e * scale
     u, _, _ = np.linalg.svd(columns)

@@ -21,7 +21,7 @@ from chaoskit.contract import check_int, check_positive
 from mechanism.core.bodies import beams_force_add
 from mechanism.core.model import kernels as model_kernels
 
-from . import _tangent_kernels as tk
+from . import _tangent_kernels as tangent_kernels
 from ._methods import GeneralizedAlpha, RecordPlan, initial_latch
 from ._tangent import TangentIntegration, TangentSettings, inverse_total_mass
 
@@ -130,13 +130,13 @@ def integrate_tangent_flexible(
     d = np.ascontiguousarray(d0, dtype=np.float64).copy()
     tau2 = float(time_scale) ** 2
     inv_mass = inverse_total_mass(model)
-    size = float(tk.deviation_size(km, d, tau2, inv_mass))
+    size = float(tangent_kernels.deviation_size(km, d, tau2, inv_mass))
     counters_d = np.zeros(model_kernels.CNT_COLUMNS, dtype=np.int64)
     vimp, _ = initial_latch(model, y)
     t0 = float(stops[0])
-    dev = tk.Deviation(
+    dev = tangent_kernels.Deviation(
         d=d, dacc=np.zeros(n), dapse=np.zeros(n), vimp=vimp.copy(),
-        growth=np.zeros(tk.DEV_COLUMNS), counters=counters_d, ws=model.workspace(),
+        growth=np.zeros(tangent_kernels.DEV_COLUMNS), counters=counters_d, ws=model.workspace(),
         f0=np.zeros(n), f1=np.zeros(n), fel=np.zeros(n),
         dx=np.zeros(n), res=np.zeros(n), dqn=np.zeros(n), dvn=np.zeros(n),
         yp=np.zeros(2 * n), scratch=np.zeros(2 * n), size=size, tau2=tau2,
@@ -147,8 +147,8 @@ def integrate_tangent_flexible(
     # pseudo-accelerations (the integrator starts its own from the acceleration)
     beams_force_add(km.beam_i, km.beam_f, y[:n], y[n:], -1.0, dev.fel)
     zero = np.zeros(n)
-    tk.copy_accelerations(km, dev, t0, y[:n], y[n:], zero, zero, vimp, dev.f0)
-    tk.copy_accelerations(km, dev, t0, y[:n], y[n:], d[:n], d[n:], vimp, dev.f1)
+    tangent_kernels.copy_accelerations(km, dev, t0, y[:n], y[n:], zero, zero, vimp, dev.f0)
+    tangent_kernels.copy_accelerations(km, dev, t0, y[:n], y[n:], d[:n], d[n:], vimp, dev.f1)
     dev.dacc[:] = dev.f1 - dev.f0
     dev.dapse[:] = dev.dacc
     times = [t0]
@@ -156,7 +156,7 @@ def integrate_tangent_flexible(
 
     def read(t: float) -> None:
         times.append(t)
-        logs.append(float(dev.growth[tk.DEV_LOG]))
+        logs.append(float(dev.growth[tangent_kernels.DEV_LOG]))
 
     start = time.perf_counter()
     run = method._advance(
@@ -173,10 +173,10 @@ def integrate_tangent_flexible(
     return TangentIntegration(
         t=np.array(times),
         log_growth=np.array(logs),
-        renormalizations=int(dev.growth[tk.DEV_COUNT]),
+        renormalizations=int(dev.growth[tangent_kernels.DEV_COUNT]),
         stats=stats,
         final_state=run.final_state,
         final_deviation=d,
-        newton_iterations=int(dev.growth[tk.DEV_NEWTON]),
-        unconverged_steps=int(dev.growth[tk.DEV_UNCONVERGED]),
+        newton_iterations=int(dev.growth[tangent_kernels.DEV_NEWTON]),
+        unconverged_steps=int(dev.growth[tangent_kernels.DEV_UNCONVERGED]),
     )

@@ -62,7 +62,7 @@ from mechanism.core.scene import (
     Scene,
 )
 from mechanism.core.wear import WornProfile
-from mechanism.core.wear import kernels as wk
+from mechanism.core.wear import kernels as wear_kernels
 
 from . import _kernels as model_kernels
 from ._compiled import IdealJointRows, KernelModel, SliderMap
@@ -278,7 +278,7 @@ def _worn_tables(
         if not depth.any():
             continue  # an unworn surface: empty slice, nominal clearance and curvature
         kappa = np.empty(depth.size)
-        wk.curvature_profile(radius, depth, profile.smoothing_regions, outward, kappa)
+        wear_kernels.curvature_profile(radius, depth, profile.smoothing_regions, outward, kappa)
         row_i[col] = offset
         row_i[col + 1] = depth.size
         flat.extend((depth, kappa))

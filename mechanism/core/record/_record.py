@@ -18,7 +18,7 @@ import xarray as xr
 
 from chaoskit.contract import __version__, stamp, variable
 from mechanism.core.integrate import Integration, Recording
-from mechanism.core.integrate import kernels as ik
+from mechanism.core.integrate import kernels as integrate_kernels
 from mechanism.core.model import Model
 from mechanism.core.model import kernels as model_kernels
 
@@ -418,10 +418,12 @@ def metrics_dataset(
     met = run.metrics
     nan = math.nan
     data: dict[str, xr.Variable] = {}
-    touching = bool(model.clearance_joints) and math.isfinite(met[ik.MET_FN])
-    data["peak_contact_force"] = _metric("peak_contact_force", met[ik.MET_FN] if touching else nan)
+    touching = bool(model.clearance_joints) and math.isfinite(met[integrate_kernels.MET_FN])
+    data["peak_contact_force"] = _metric(
+        "peak_contact_force", met[integrate_kernels.MET_FN] if touching else nan
+    )
     data["max_penetration"] = _metric(
-        "max_penetration", max(met[ik.MET_DELTA], 0.0) if touching else nan
+        "max_penetration", max(met[integrate_kernels.MET_DELTA], 0.0) if touching else nan
     )
     disp = speed = nan
     light = run.light
@@ -434,7 +436,7 @@ def metrics_dataset(
             speed = float(np.max(np.abs(light[keep, 2] - ideal[keep, 2])))
     data["max_displacement_error"] = _metric("max_displacement_error", disp)
     data["max_speed_error"] = _metric("max_speed_error", speed)
-    high, low = met[ik.MET_TORQUE_MAX], met[ik.MET_TORQUE_MIN]
+    high, low = met[integrate_kernels.MET_TORQUE_MAX], met[integrate_kernels.MET_TORQUE_MIN]
     torque = nan
     if model.drive_row is not None and math.isfinite(high):
         torque = high if abs(high) >= abs(low) else low

@@ -32,7 +32,7 @@ from chaoskit.contract import check_positive
 from mechanism.core.contact import StiffnessForm, form_code
 from mechanism.core.contact import hertz_half_width as _half_width_kernel
 
-from . import _kernels as wk
+from . import _kernels as wear_kernels
 from ._profile import DEFAULT_RADIUS_RATIO_LIMIT, WornProfile
 
 __all__ = ["ArchardResult", "archard_wear", "hertz_half_width"]
@@ -222,7 +222,7 @@ def archard_wear(
     hj = np.array(profile.journal_depth, dtype=np.float64)
     counters = np.zeros(3, dtype=np.int64)
     volumes = np.zeros(3)
-    wk.archard_history(
+    wear_kernels.archard_history(
         hb,
         hj,
         angle_b,

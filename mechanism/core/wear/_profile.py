@@ -26,7 +26,7 @@ import xarray as xr
 from chaoskit.contract import check_choice, check_int, check_positive
 from mechanism.core.contact import StiffnessForm, form_code
 
-from . import _kernels as wk
+from . import _kernels as wear_kernels
 
 if TYPE_CHECKING:
     from mechanism.core.scene import ClearanceRevolute, WearSettings
@@ -280,7 +280,9 @@ class WornProfile:
     def region_index(self, angle: Any) -> Any:
         """Index of the region containing each angle (rad, body frame)."""
         a = _angles(angle, "angle")
-        out = np.vectorize(lambda x: wk.region_index(x, self.regions), otypes=[np.int64])(a)
+        out = np.vectorize(lambda x: wear_kernels.region_index(x, self.regions), otypes=[np.int64])(
+            a
+        )
         return int(out) if out.ndim == 0 else out
 
     def wear_depth(self, angle: Any, *, surface: Surface = "bearing") -> Any:
@@ -292,14 +294,14 @@ class WornProfile:
         """
         depth = self._depth(surface)
         a = _angles(angle, "angle")
-        out = np.vectorize(lambda x: wk.surface_value(depth, x), otypes=[np.float64])(a)
+        out = np.vectorize(lambda x: wear_kernels.surface_value(depth, x), otypes=[np.float64])(a)
         return _scalar_or_array(out)
 
     def wear_depth_slope(self, angle: Any, *, surface: Surface = "bearing") -> Any:
         """Angular derivative dh/dφ (m/rad) of :meth:`wear_depth` at angle(s) (rad)."""
         depth = self._depth(surface)
         a = _angles(angle, "angle")
-        out = np.vectorize(lambda x: wk.surface_slope(depth, x), otypes=[np.float64])(a)
+        out = np.vectorize(lambda x: wear_kernels.surface_slope(depth, x), otypes=[np.float64])(a)
         return _scalar_or_array(out)
 
     def local_clearance(self, bearing_angle: Any, journal_angle: Any = 0.0) -> Any:
@@ -315,16 +317,19 @@ class WornProfile:
         b = _angles(bearing_angle, "bearing_angle")
         j = _angles(journal_angle, "journal_angle")
         c0, hb, hj = self.clearance, self.bearing_depth, self.journal_depth
-        out = np.vectorize(lambda x, y: wk.local_clearance(c0, hb, hj, x, y), otypes=[np.float64])(
-            b, j
-        )
+        out = np.vectorize(
+            lambda x, y: wear_kernels.local_clearance(c0, hb, hj, x, y), otypes=[np.float64]
+        )(b, j)
         return _scalar_or_array(out)
 
     def smoothed_depth(self, *, surface: Surface = "bearing") -> np.ndarray:
         """The moving-average depth (m) per region the curvature is computed from."""
         depth = self._depth(surface)
         return np.array(
-            [wk.smoothed_depth(depth, i, self.smoothing_regions) for i in range(self.regions)]
+            [
+                wear_kernels.smoothed_depth(depth, i, self.smoothing_regions)
+                for i in range(self.regions)
+            ]
         )
 
     def curvature(self, *, surface: Surface = "bearing") -> np.ndarray:
@@ -335,7 +340,7 @@ class WornProfile:
         """
         depth = self._depth(surface)
         kappa = np.empty(self.regions)
-        wk.curvature_profile(
+        wear_kernels.curvature_profile(
             self._radius(surface), depth, self.smoothing_regions, surface == "bearing", kappa
         )
         return kappa
@@ -370,7 +375,7 @@ class WornProfile:
         args = (self.bearing_radius, self.journal_radius, self.bearing_depth, self.journal_depth)
         s = self.smoothing_regions
         out = np.vectorize(
-            lambda x, y: wk.local_effective_radius(code, *args, x, y, s, limit),
+            lambda x, y: wear_kernels.local_effective_radius(code, *args, x, y, s, limit),
             otypes=[np.float64],
         )(b, j)
         return _scalar_or_array(out)
@@ -417,12 +422,16 @@ class WornProfile:
     @property
     def bearing_volume(self) -> float:
         """Volume the bearing has lost, Σ L Δ h_i (R_b + h_i/2) (m³)."""
-        return float(wk.worn_volume(self.bearing_depth, self.bearing_radius, self.length, True))
+        return float(
+            wear_kernels.worn_volume(self.bearing_depth, self.bearing_radius, self.length, True)
+        )
 
     @property
     def journal_volume(self) -> float:
         """Volume the journal has lost, Σ L Δ h_i (R_j − h_i/2) (m³)."""
-        return float(wk.worn_volume(self.journal_depth, self.journal_radius, self.length, False))
+        return float(
+            wear_kernels.worn_volume(self.journal_depth, self.journal_radius, self.length, False)
+        )
 
     @property
     def volume(self) -> float:
