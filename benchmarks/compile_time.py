@@ -25,6 +25,12 @@ Run with
 
 and ``--child CASE`` runs one case in this process (what the parent starts). A row per
 case is appended to ``docs/benchmarks/compile-time.csv`` (``--csv`` to change).
+``--kernels`` prints a table of every compiled dispatcher: the phase of the run that
+compiled it first (``simulate``, or ``lyapunov`` for the exponent's own), its number of
+signatures (``dispatcher.signatures``), its own CPU time, and, for a kernel compiled
+more than once, what its signatures differ in (argument by argument, the fields of a
+named-tuple argument by field: array layout, readonly, integer width, ...).
+``--json DIR`` writes the same per case to ``DIR/compile-CASE.json``.
 """
 
 from __future__ import annotations
@@ -65,6 +71,10 @@ class Profile(event.Listener):
         self.own: dict[tuple[str, str], float] = defaultdict(float)
         self.kernel: dict[str, float] = defaultdict(float)
         self.signatures: dict[str, set[str]] = defaultdict(set)
+        self.dispatchers: dict[str, Any] = {}
+        #: the phase of the run (``simulate``, ``lyapunov``) in which a kernel first compiled
+        self.phase_of: dict[str, str] = {}
+        self.phase = "simulate"
         self.compiling: list[str] = []
         self.last = time.process_time()
 
@@ -84,6 +94,8 @@ class Profile(event.Listener):
             disp = ev.data["dispatcher"]
             name = f"{disp.py_func.__module__}.{disp.py_func.__qualname__}"
             self.signatures[name].add(str(ev.data["args"]))
+            self.dispatchers[name] = disp
+            self.phase_of.setdefault(name, self.phase)
             self.compiling.append(name)
         elif ev.kind == "numba:run_pass":
             name = ev.data["name"].split(" [")[0]
@@ -102,6 +114,36 @@ class Profile(event.Listener):
     def install(self) -> None:
         for kind in ("numba:compile", "numba:run_pass", "numba:llvm_lock"):
             event.register(kind, self)
+
+
+def _field_differences(a: Any, b: Any, where: str) -> list[str]:
+    """Where two numba types differ: the fields of two named tuples of the same class one
+    by one, else the two types whole."""
+    if a == b:
+        return []
+    fields_a = getattr(a, "fields", None)
+    if fields_a is not None and getattr(a, "instance_class", None) is getattr(
+        b, "instance_class", False
+    ):
+        out = []
+        for name, ta, tb in zip(fields_a, a.types, b.types, strict=True):
+            out += _field_differences(ta, tb, f"{where}.{name}")
+        return out
+    return [f"{where}: {a} / {b}"]
+
+
+def differences(signatures: list[tuple[Any, ...]]) -> str:
+    """What the signatures of one dispatcher differ in (argument by argument, the fields of
+    a named-tuple argument by field); empty with a single signature."""
+    out: list[str] = []
+    first = signatures[0] if signatures else ()
+    for other in signatures[1:]:
+        if len(other) != len(first):
+            out.append(f"{len(first)} / {len(other)} arguments")
+            continue
+        for i, (a, b) in enumerate(zip(first, other, strict=True)):
+            out += _field_differences(a, b, f"arg {i}")
+    return "; ".join(dict.fromkeys(out))
 
 
 def child(case: str) -> dict[str, Any]:
@@ -123,6 +165,7 @@ def child(case: str) -> dict[str, Any]:
         scene = rigid.replace({"effects.wear": True}) if case == "wear" else rigid
         mechanism.simulate(scene, revolutions=revolutions, record="sections")
         if case == "lyapunov":
+            profile.phase = "lyapunov"
             mechanism.lyapunov_exponent(scene, revolutions=2 * revolutions, discard=0.5)
 
     t0 = time.process_time()
@@ -148,8 +191,10 @@ def child(case: str) -> dict[str, Any]:
         "other_passes_cpu_s": round(total - infer - llvm - lowering, 2),
         "load_start": load_start, "load_end": os.getloadavg()[0],
         "top_kernels": "; ".join(f"{n.split('.', 2)[-1]} {v:.1f}" for n, v in top),
-        "all_kernels": {n: [len(s), round(profile.kernel[n], 2)]
-                        for n, s in profile.signatures.items()},
+        "all_kernels": {n: [len(profile.dispatchers[n].signatures), round(profile.kernel[n], 2),
+                            profile.phase_of[n],
+                            differences(profile.dispatchers[n].signatures)]
+                        for n in profile.signatures},
         "passes": {n: round(v, 2) for (k, n), v in sorted(own.items(), key=lambda kv: -kv[1])
                    if v > 0.2},
     }  # fmt: skip
@@ -160,7 +205,11 @@ def main() -> None:
     parser.add_argument("--case", action="append", choices=CASES)
     parser.add_argument("--child", choices=CASES, help=argparse.SUPPRESS)
     parser.add_argument("--csv", default=str(OUT))
-    parser.add_argument("--kernels", action="store_true", help="list every compiled kernel")
+    parser.add_argument(
+        "--kernels", action="store_true",
+        help="list every compiled kernel: phase, signatures, own CPU time, what differs",
+    )  # fmt: skip
+    parser.add_argument("--json", help="folder: write each case's row and kernel table there")
     args = parser.parse_args()
     if args.child:
         print(json.dumps(child(args.child)))
@@ -177,8 +226,18 @@ def main() -> None:
         print(json.dumps(row, indent=1, ensure_ascii=False))
         print("passes (own CPU s):", passes)
         if args.kernels:
-            for name, (sigs, own) in sorted(kernels.items()):
-                print(f"  {name}: {sigs} signature(s), own CPU {own:.2f} s")
+            print("| kernel | phase | signatures | own CPU s | signatures differ in |")
+            print("|---|---|---:|---:|---|")
+            for name, (sigs, own, phase, diff) in sorted(
+                kernels.items(), key=lambda kv: (kv[1][2] != "simulate", -kv[1][1])
+            ):
+                short = name.removeprefix("mechanism.core.")
+                print(f"| `{short}` | {phase} | {sigs} | {own:.2f} | {diff} |")
+        if args.json:
+            folder = Path(args.json)
+            folder.mkdir(parents=True, exist_ok=True)
+            table = json.dumps({"row": row, "kernels": kernels}, indent=1)
+            (folder / f"compile-{case}.json").write_text(table, encoding="utf-8")
         path = Path(args.csv)
         path.parent.mkdir(parents=True, exist_ok=True)
         new = not path.exists()

@@ -26,6 +26,12 @@ the fitted slopes within 1 %. ``lyap_k`` finds neighbours in the Euclidean norm 
 averages squared distances (ln of the RMS distance), ours the maximum norm and distances
 (ln of the mean): the slopes over the fit window must agree within 10 %.
 
+Results: every speed-up of the kernels must keep our estimates. ``BEFORE`` holds the
+exponent and interval of each row as computed before the last round of speed-ups (on the
+series whose SHA-256 prefix is in ``SERIES``); when the series are bit-identical (same
+machine arithmetic) each estimate must agree within ``RESULT_TOL`` relative, else the
+check is skipped with a note (a chaotic series depends on the rounding of its integrator).
+
 TISEAN is not shipped with chaoskit: build it from its source (``./configure && make`` in
 ``source_c``) and give the programs in ``TISEAN_LYAP_R`` and ``TISEAN_LYAP_K``; rows
 whose program is missing are skipped. Writes ``docs/benchmarks/lyapunov-vs-tisean.csv``.
@@ -38,6 +44,7 @@ from __future__ import annotations
 
 import argparse
 import csv
+import hashlib
 import os
 import resource
 import subprocess
@@ -56,6 +63,78 @@ OUT = Path(__file__).resolve().parents[1] / "docs" / "benchmarks" / "lyapunov-vs
 CURVE_TOL = 0.02  # nats, lyap_r curve against ours after removing the unit offset
 SLOPE_TOL_R = 0.01  # relative, lyap_r
 SLOPE_TOL_K = 0.10  # relative, lyap_k (other norm and mean)
+RESULT_TOL = 1e-12  # relative, our estimates against BEFORE
+#: SHA-256 prefix of each case's series when BEFORE was computed
+SERIES = {
+    "Lorenz x N=10000": "f8744cd2890631e0",
+    "Lorenz x N=50000": "058b47ba8c2ea44a",
+    "Henon x N=50000": "698af7bbaeeabcc7",
+}
+#: (mle, ci low, ci high) before the speed-ups of the neighbour search (kernels inlined,
+#: cells sorted), the divergence curve (horizons on a step of 2 or 3 built over their span),
+#: the interval's batch sums and Kantz's fused distance pass
+BEFORE = {
+    ("rosenstein", "Lorenz x N=10000", "same work"): (
+        1.0340769520312452,
+        0.24933053023119345,
+        1.8188233738312969,
+    ),
+    ("rosenstein", "Lorenz x N=10000", "defaults"): (
+        0.9717487116680739,
+        0.21403297429369483,
+        1.729464449042453,
+    ),
+    ("kantz", "Lorenz x N=10000", "same work"): (
+        1.3036364269709313,
+        0.05303336358449906,
+        2.5542394903573635,
+    ),
+    ("kantz", "Lorenz x N=10000", "defaults"): (
+        1.058728154817303,
+        0.08224364820787611,
+        2.03521266142673,
+    ),
+    ("rosenstein", "Lorenz x N=50000", "same work"): (
+        0.9730618407300292,
+        0.2424524226276744,
+        1.703671258832384,
+    ),
+    ("rosenstein", "Lorenz x N=50000", "defaults"): (
+        0.8867014472554894,
+        0.2196675970873755,
+        1.5572398215360117,
+    ),
+    ("kantz", "Lorenz x N=50000", "same work"): (
+        1.2049829272121444,
+        0.11083445509475864,
+        2.2991313993295304,
+    ),
+    ("kantz", "Lorenz x N=50000", "defaults"): (
+        0.9460349554041753,
+        0.07981200091588525,
+        1.8122579098924652,
+    ),
+    ("rosenstein", "Henon x N=50000", "same work"): (
+        0.4181090828225908,
+        0.39701681695120494,
+        0.43920134869397665,
+    ),
+    ("rosenstein", "Henon x N=50000", "defaults"): (
+        0.41797400861464085,
+        0.3963091854526813,
+        0.4396388317766004,
+    ),
+    ("kantz", "Henon x N=50000", "same work"): (
+        0.4250599575427061,
+        0.4028655946133524,
+        0.44725432047205976,
+    ),
+    ("kantz", "Henon x N=50000", "defaults"): (
+        0.42426845687988707,
+        0.39998113693644627,
+        0.4479348906581768,
+    ),
+}
 
 
 @dataclass(frozen=True)
@@ -81,6 +160,21 @@ def cases() -> list[Case]:
         Case("Lorenz x N=50000", lor50, 0.01, 3, 10, 100, 300, (20, 250), 200, (20, 150)),
         Case("Henon x N=50000", hen50, 1.0, 2, 1, 1, 25, (1, 12), 20, (1, 8)),
     ]
+
+
+def series_hash(x: np.ndarray) -> str:
+    return hashlib.sha256(np.ascontiguousarray(x, dtype=np.float64).tobytes()).hexdigest()[:16]
+
+
+def check_before(estimator: str, case: Case, label: str, res) -> str:
+    """Compare an estimate with ``BEFORE`` (asserting agreement); returns a note."""
+    key = (estimator, case.name, "defaults" if label == "defaults" else "same work")
+    if series_hash(case.x) != SERIES[case.name]:
+        return "before-check skipped: the series differs from the one BEFORE was computed on"
+    got = (res.mle, *res.ci)
+    dev = max(abs(g / b - 1.0) for g, b in zip(got, BEFORE[key], strict=True))
+    assert dev <= RESULT_TOL, f"{key}: estimate moved by {dev:.3g} relative since BEFORE"
+    return f"same as before within {dev:.1g}"
 
 
 def child_cpu() -> float:
@@ -167,7 +261,15 @@ def rosenstein_rows(case: Case, lyap_r: str | None, tmp: Path, rounds: int) -> l
         row = {"estimator": "rosenstein", "case": case.name, "settings": label}
         if not lyap_r:
             t, res = run_ours(ours)
-            rows.append(row | {"ours_cpu_s": t, "peer": "lyap_r (not built: set TISEAN_LYAP_R)"})
+            before = check_before("rosenstein", case, label, res)
+            rows.append(
+                row
+                | {
+                    "ours_cpu_s": t,
+                    "peer": "lyap_r (not built: set TISEAN_LYAP_R)",
+                    "before": before,
+                }
+            )
             continue
         out = tmp / "x.ros"
         full = [lyap_r, str(data), *cmd, "-o", str(out), "-V0"]
@@ -178,6 +280,7 @@ def rosenstein_rows(case: Case, lyap_r: str | None, tmp: Path, rounds: int) -> l
             "peer_cpu_s": t_theirs,
             "ratio": t_ours / t_theirs,
             "ours_mle": res.mle,
+            "before": check_before("rosenstein", case, label, res),
         }
         if cmd:
             k, y = read_ros(out)
@@ -235,7 +338,15 @@ def kantz_rows(case: Case, lyap_k: str | None, tmp: Path, rounds: int) -> list[d
         row = {"estimator": "kantz", "case": case.name, "settings": label}
         if not lyap_k:
             t, res = run_ours(ours)
-            rows.append(row | {"ours_cpu_s": t, "peer": "lyap_k (not built: set TISEAN_LYAP_K)"})
+            before = check_before("kantz", case, label, res)
+            rows.append(
+                row
+                | {
+                    "ours_cpu_s": t,
+                    "peer": "lyap_k (not built: set TISEAN_LYAP_K)",
+                    "before": before,
+                }
+            )
             continue
         out = tmp / "x.lyap"
         full = [lyap_k, str(data), *cmd, "-o", str(out), "-V0"]
@@ -246,6 +357,7 @@ def kantz_rows(case: Case, lyap_k: str | None, tmp: Path, rounds: int) -> list[d
             "peer_cpu_s": t_theirs,
             "ratio": t_ours / t_theirs,
             "ours_mle": res.mle,
+            "before": check_before("kantz", case, label, res),
         }
         if cmd:
             e = res.epsilon_index
@@ -303,6 +415,7 @@ FIELDS = [
     "ours_mle",
     "peer_mle",
     "agreement",
+    "before",
 ]
 
 

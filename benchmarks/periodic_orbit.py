@@ -9,6 +9,14 @@ multiple shooting over 8 segments at the default; it is written to
 ``docs/benchmarks/periodic-orbit.csv``::
 
     NUMBA_NUM_THREADS=1 python benchmarks/periodic_orbit.py [--rpm 30]
+
+``--compare ROUNDS`` instead times the monodromy matrix's two ways of carrying its
+columns, side by side in one process (interleaved rounds, the order alternating, so a
+changing machine load falls on both alike): all columns in one block on one reference
+run (the default), and one tangent run per column (the former way, the same numbers on
+a frozen step schedule); written to ``docs/benchmarks/periodic-orbit-block.csv``::
+
+    NUMBA_NUM_THREADS=1 python benchmarks/periodic_orbit.py --compare 3
 """
 
 from __future__ import annotations
@@ -24,7 +32,11 @@ import numpy as np
 import mechanism
 from chaoskit.contract import atomic_write
 
+# the internal switch between the block and the per-column monodromy (comparison only)
+from mechanism.studies.orbits import _shooting as shooting
+
 OUT = Path(__file__).resolve().parents[1] / "docs" / "benchmarks" / "periodic-orbit.csv"
+COMPARE_OUT = OUT.with_name("periodic-orbit-block.csv")
 TOLERANCES = (1e-8, 1e-9, 1e-10)
 
 
@@ -59,23 +71,63 @@ def measure(rpm: float, tol: float, segments: int | None = None) -> dict:
     }
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--rpm", type=float, default=30.0)
-    args = parser.parse_args()
-    measure(args.rpm, 1e-8)  # compile the kernels outside the measurement
-    rows = [measure(args.rpm, tol) for tol in TOLERANCES]
-    rows.append(measure(args.rpm, TOLERANCES[-1], segments=8))
-    for row in rows:
-        print(row)
+def compare(rpm: float, rounds: int) -> list[dict]:
+    """CPU of the default orbit with the block and with one run per column, interleaved."""
+    scene = mechanism.load_scene("paper").replace(
+        {"effects.flexibility": False, "drive.speed_rpm": rpm}
+    )
+    modes = {"block": None, "per column": 1}
+    rows = []
+    for r in range(rounds):
+        order = list(modes) if r % 2 == 0 else list(modes)[::-1]
+        for mode in order:
+            shooting.COLUMNS_PER_RUN = modes[mode]
+            try:
+                cpu = time.process_time()
+                orbit = mechanism.periodic_orbit(scene, settle=5)
+                cpu = time.process_time() - cpu
+            finally:
+                shooting.COLUMNS_PER_RUN = None
+            mu = orbit.largest_multiplier
+            rows.append({
+                "rpm": rpm, "round": r, "monodromy": mode, "cpu_s": round(cpu, 2),
+                "function_evaluations": orbit.function_evaluations,
+                "converged": orbit.converged, "residual": f"{orbit.residual:.2e}",
+                "largest_multiplier": f"{mu.real:.10e}",
+                "largest_multiplier_hex": float(mu.real).hex(),
+            })  # fmt: skip
+            print(rows[-1])
+    return rows
 
-    def write(path: Path) -> None:
-        with path.open("w", newline="") as fh:
+
+def _write(path: Path, rows: list[dict]) -> None:
+    def write(target: Path) -> None:
+        with target.open("w", newline="") as fh:
             writer = csv.DictWriter(fh, fieldnames=list(rows[0]))
             writer.writeheader()
             writer.writerows(rows)
 
-    atomic_write(OUT, write)
+    atomic_write(path, write)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--rpm", type=float, default=30.0)
+    parser.add_argument("--compare", type=int, default=0, metavar="ROUNDS")
+    args = parser.parse_args()
+    measure(args.rpm, 1e-8)  # compile the kernels outside the measurement
+    if args.compare > 0:
+        rows = compare(args.rpm, args.compare)
+        for mode in ("block", "per column"):
+            cpu = [row["cpu_s"] for row in rows if row["monodromy"] == mode]
+            print(f"{mode}: median CPU {np.median(cpu):.2f} s over {len(cpu)} rounds")
+        _write(COMPARE_OUT, rows)
+        return
+    rows = [measure(args.rpm, tol) for tol in TOLERANCES]
+    rows.append(measure(args.rpm, TOLERANCES[-1], segments=8))
+    for row in rows:
+        print(row)
+    _write(OUT, rows)
 
 
 if __name__ == "__main__":

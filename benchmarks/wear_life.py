@@ -35,6 +35,8 @@ from chaoskit.contract import atomic_write
 OUT = Path(__file__).resolve().parents[1] / "docs" / "benchmarks"
 MAP = OUT / "wear-life-speed.nc"
 COST = OUT / "wear-life-cost.csv"
+# slowest first: a slower path costs more (longer revolutions, docs/wear.md §7) and the
+# paths start in this order, so the longest starts first and the two workers end close
 SPEEDS = [30.0, 60.0, 90.0, 120.0, 150.0]
 CYCLES = 40000.0
 CHECKPOINTS = [5000.0 * k for k in range(1, 9)]

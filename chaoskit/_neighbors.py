@@ -43,6 +43,8 @@ _GRID_OCCUPANCY = 16.0
 _GRID_PILOT = 4096
 _GRID_MAX_CELLS = 1 << 20  # per coordinate, so that three of them fit a 64-bit cell id
 _GRID_TABLE = 1 << 20  # cells up to which a direct cell → members table is kept (4 MB)
+_COUNTING_CELLS = 4  # cells per point up to which the points are counting-sorted by cell
+_NO_ORDER = np.empty(0, dtype=np.int64)
 
 
 def check_theiler_window(theiler_window: int, n_points: int) -> None:
@@ -223,19 +225,15 @@ def grid_nearest_neighbors(
     cell = _cell_size(points, cols)
     lo, ncell, stride = _grid(points, cols, cell)
     keys = _nk.cell_keys(points, cols, lo, cell, ncell, stride)
-    members = np.argsort(keys).astype(np.int64)  # order inside a cell does not matter
-    sorted_keys = keys[members]
-    first = np.flatnonzero(np.r_[True, sorted_keys[1:] != sorted_keys[:-1]])
-    starts = np.append(first, n_points).astype(np.int64)
-    unique = np.ascontiguousarray(sorted_keys[first])
     total = int(np.prod(ncell))
     dense = total <= max(_GRID_TABLE, 8 * n_points)
-    slot = _nk.slot_table(unique, total) if dense else np.empty(0, dtype=np.int32)
+    # the order inside a cell does not matter (ties go to the smaller index)
+    order = _NO_ORDER if total <= _COUNTING_CELLS * n_points else np.argsort(keys)
+    members, spts, unique, starts, slot = _nk.bucket(points, keys, order, total, dense)
     return _nk.grid_query(
         points,
-        points[members],
+        spts,
         q,
-        np.arange(q.size, dtype=np.int64),
         int(theiler_window),
         cols,
         lo,

@@ -2,7 +2,9 @@
 
 The points are bucketed on a uniform grid over ``g`` of their coordinates (``cols``): the
 cells are numbered ``Σ c_d · stride_d``, the points sorted by cell (``members``), and
-``keys``/``starts`` hold each occupied cell and the offset of its first member. A query
+``keys``/``starts`` hold each occupied cell and the offset of its first member; inside
+a cell the members are sorted by the first coordinate, so that a scan starts at the
+query's place and stops where that coordinate alone is farther than the best. A query
 visits the cells around its own in rings of growing Chebyshev radius, skips a cell whose
 box is farther (in the ``g`` coordinates) than the best candidate so far, and stops once
 every unvisited cell lies farther than that candidate: the projected distance bounds the
@@ -47,6 +49,66 @@ def occupancy(sorted_keys):
 
 
 @njit(cache=True)
+def bucket(points, keys, order, total, dense):
+    """The points sorted by cell: ``members`` (row indices), ``spts`` (their coordinates),
+    each occupied cell id (``unique``), the offset of its first member (``starts``, one
+    more entry) and, if ``dense``, the position of every cell id ``0 … total − 1`` in
+    ``unique`` (``slot``, −1: empty; else an empty array).
+
+    ``order`` sorts ``keys``; an empty ``order`` asks for a counting sort here (stable,
+    O(N + total): for grids of at most a few cells per point it costs less than a
+    comparison sort and the passes that follow one). Inside each cell the members are
+    sorted by the first coordinate (:func:`_scan_sorted`).
+    """
+    n, m = points.shape
+    if order.size == n:
+        members = order.astype(np.int64)
+    else:
+        cursor = np.zeros(total + 1, dtype=np.int64)
+        for i in range(n):
+            cursor[keys[i] + 1] += 1
+        for c in range(total):
+            cursor[c + 1] += cursor[c]
+        members = np.empty(n, dtype=np.int64)
+        for i in range(n):
+            members[cursor[keys[i]]] = i
+            cursor[keys[i]] += 1
+    n_unique = 0
+    for q in range(n):
+        if q == 0 or keys[members[q]] != keys[members[q - 1]]:
+            n_unique += 1
+    unique = np.empty(n_unique, dtype=np.int64)
+    starts = np.empty(n_unique + 1, dtype=np.int64)
+    u = 0
+    for q in range(n):
+        key = keys[members[q]]
+        if q == 0 or key != unique[u - 1]:
+            unique[u] = key
+            starts[u] = q
+            u += 1
+    starts[n_unique] = n
+    slot = np.full(total if dense else 0, -1, dtype=np.int32)
+    if dense:
+        for u in range(n_unique):
+            slot[unique[u]] = u
+    # each cell's members by their first coordinate (insertion sort: a few per cell)
+    for u in range(n_unique):
+        for q in range(starts[u] + 1, starts[u + 1]):
+            v = members[q]
+            x = points[v, 0]
+            r = q - 1
+            while r >= starts[u] and points[members[r], 0] > x:
+                members[r + 1] = members[r]
+                r -= 1
+            members[r + 1] = v
+    spts = np.empty((n, m))
+    for q in range(n):
+        for c in range(m):
+            spts[q, c] = points[members[q], c]
+    return members, spts, unique, starts, slot
+
+
+@njit(cache=True)
 def slot_table(keys, total):
     """Position of every cell id ``0 … total − 1`` in the sorted ``keys`` (−1: empty)."""
     slot = np.full(total, -1, dtype=np.int32)
@@ -72,33 +134,31 @@ def find_key(keys, key):
 
 
 @njit(cache=True, inline="always")
-def _distance(points, i, j, best, maxnorm):
-    """Squared Euclidean (or maximum-norm) distance, abandoned above ``best`` (returns inf)."""
+def _point_distance(points, i, j, maxnorm):
+    """Squared Euclidean (or maximum-norm) distance of rows ``i`` and ``j``."""
     d = 0.0
     for c in range(points.shape[1]):
         diff = points[i, c] - points[j, c]
         if maxnorm:
-            diff = abs(diff)
-            if diff > d:
-                d = diff
+            d = max(d, abs(diff))
         else:
             d += diff * diff
-        if d > best:
-            return np.inf
     return d
 
 
-@njit(cache=True)
-def _scan_cell(spts, qv, i, w, lo_m, hi_m, members, best, best_j, maxnorm):
-    """Members ``lo_m … hi_m − 1`` (rows of ``spts``, the points in cell order) against the
-    query ``qv`` (row ``i``): the best admissible one so far."""
+@njit(cache=True, inline="always")
+def _scan_cell(points, spts, i, w, lo_m, hi_m, members, best, best_j, maxnorm):
+    """Members ``lo_m … hi_m − 1`` (rows of ``spts``, the points in cell order) against row
+    ``i`` of ``points``: the best admissible one so far (each distance abandoned once it
+    exceeds ``best``; ties to the smaller index)."""
+    m = points.shape[1]
     for q in range(lo_m, hi_m):
         j = members[q]
         if abs(i - j) <= w:
             continue
         d = 0.0
-        for c in range(qv.size):
-            diff = spts[q, c] - qv[c]
+        for c in range(m):
+            diff = spts[q, c] - points[i, c]
             if maxnorm:
                 d = max(d, abs(diff))
             else:
@@ -111,9 +171,71 @@ def _scan_cell(spts, qv, i, w, lo_m, hi_m, members, best, best_j, maxnorm):
     return best, best_j
 
 
+@njit(cache=True, inline="always")
+def _scan_sorted(points, spts, i, w, lo_m, hi_m, members, best, best_j, maxnorm):
+    """:func:`_scan_cell` over a cell whose members are sorted by the first coordinate:
+    from the query's place in that order outwards, each way until the first-coordinate
+    gap alone exceeds ``best`` (the distance's first term is that gap, and adding the
+    others never makes the rounded sum smaller, so no closer or tied point is skipped)."""
+    m = points.shape[1]
+    xq = points[i, 0]
+    # first member whose first coordinate is >= the query's
+    a = lo_m
+    b = hi_m
+    while a < b:
+        mid = (a + b) >> 1
+        if spts[mid, 0] < xq:
+            a = mid + 1
+        else:
+            b = mid
+    q = a
+    while q < hi_m:
+        dx = spts[q, 0] - xq
+        if (dx if maxnorm else dx * dx) > best:
+            break
+        j = members[q]
+        if abs(i - j) > w:
+            d = 0.0
+            for c in range(m):
+                diff = spts[q, c] - points[i, c]
+                if maxnorm:
+                    d = max(d, abs(diff))
+                else:
+                    d += diff * diff
+                if d > best:
+                    break
+            if d < best or (d == best and j < best_j):
+                best = d
+                best_j = j
+        q += 1
+    q = a - 1
+    while q >= lo_m:
+        dx = spts[q, 0] - xq
+        if (-dx if maxnorm else dx * dx) > best:
+            break
+        j = members[q]
+        if abs(i - j) > w:
+            d = 0.0
+            for c in range(m):
+                diff = spts[q, c] - points[i, c]
+                if maxnorm:
+                    d = max(d, abs(diff))
+                else:
+                    d += diff * diff
+                if d > best:
+                    break
+            if d < best or (d == best and j < best_j):
+                best = d
+                best_j = j
+        q -= 1
+    return best, best_j
+
+
 @njit(cache=True)
-def _brute(spts, qv, i, w, members, maxnorm):
-    return _scan_cell(spts, qv, i, w, 0, members.size, members, np.inf, -1, maxnorm)
+def _scan_all(points, spts, i, w, members, best, best_j, maxnorm):
+    """Every point against row ``i`` (a query whose rings would cover more cells than
+    there are points)."""
+    return _scan_cell(points, spts, i, w, 0, members.size, members, best, best_j, maxnorm)
 
 
 @njit(cache=True, inline="always")
@@ -127,150 +249,132 @@ def _gap(off, frac, cell):
 
 
 @njit(cache=True, inline="always")
-def _join(a, b, maxnorm):
-    return max(a, b) if maxnorm else a + b
+def _grid_cell(value, lo, cell, n):
+    """Cell of ``value`` on ``n`` cells from ``lo`` (clipped) and the position in it."""
+    u = (value - lo) / cell
+    c = min(max(int(np.floor(u)), 0), n - 1)
+    return c, u - c
 
 
-@njit(cache=True)
-def _ring(
-    spts, qv, i, w, r, cen, frc, ncl, strd, cell, keys, slot, starts, members, best, best_j, mx
-):
-    """Scan the cells at Chebyshev distance ``r`` from the query's cell (three coordinates,
-    unused ones have one cell), skipping those farther than ``best``."""
-    for o0 in range(-r, r + 1):
-        c0 = cen[0] + o0
-        if c0 < 0 or c0 >= ncl[0]:
-            continue
-        e0 = _gap(o0, frc[0], cell)
-        g0 = e0 if mx else e0 * e0
-        if g0 > best:
-            continue
-        r1 = r if ncl[1] > 1 else 0
-        for o1 in range(-r1, r1 + 1):
-            c1 = cen[1] + o1
-            if c1 < 0 or c1 >= ncl[1]:
-                continue
-            e1 = _gap(o1, frc[1], cell)
-            g1 = _join(g0, e1 if mx else e1 * e1, mx)
-            if g1 > best:
-                continue
-            r2 = r if ncl[2] > 1 else 0
-            edge = abs(o0) == r or abs(o1) == r
-            for o2 in range(-r2, r2 + 1):
-                if not edge and abs(o2) != r:
-                    continue
-                c2 = cen[2] + o2
-                if c2 < 0 or c2 >= ncl[2]:
-                    continue
-                e2 = _gap(o2, frc[2], cell)
-                if _join(g1, e2 if mx else e2 * e2, mx) > best:
-                    continue
-                key = c0 * strd[0] + c1 * strd[1] + c2 * strd[2]
-                pos = slot[key] if slot.size else find_key(keys, key)
-                if pos < 0:
-                    continue
-                best, best_j = _scan_cell(
-                    spts, qv, i, w, starts[pos], starts[pos + 1], members, best, best_j, mx
-                )
+@njit(cache=True, inline="always")
+def _seeded(points, i, w, answer, prev_j, maxnorm):
+    """The better of two exact candidates, so that most cells are skipped unseen: the
+    successor of the neighbour of the point before (neighbouring trajectories stay close)
+    and the neighbour of the query answered just before (same or next cell)."""
+    n_points = points.shape[0]
+    best = np.inf
+    best_j = -1
+    for k in range(2):
+        if k == 0:
+            seed = answer[i - 1] + 1 if i > 0 and answer[i - 1] >= 0 else -1
+        else:
+            seed = prev_j
+        if 0 <= seed < n_points and abs(i - seed) > w:
+            d = _point_distance(points, i, seed, maxnorm)
+            if d < best or (d == best and seed < best_j):
+                best = d
+                best_j = seed
     return best, best_j
 
 
 @njit(cache=True)
 def grid_query(
-    points,
-    spts,
-    query,
-    proc,
-    w,
-    cols,
-    lo,
-    cell,
-    ncell,
-    stride,
-    keys,
-    slot,
-    starts,
-    members,
-    maxnorm,
+    points, spts, query, w, cols, lo, cell, ncell, stride, keys, slot, starts, members, maxnorm
 ):
     """Nearest admissible neighbour (``|i − j| > w``) of each row in ``query``.
 
     ``spts`` holds the points in cell order (``points[members]``), so that a cell's
     members are read from contiguous memory; ``slot`` maps every cell id to its position in
     ``keys`` (−1: empty), or is empty when the grid is too large for such a table and the
-    cells are found by bisection of ``keys``. The queries are answered in the order
-    ``proc`` (by cell, so that consecutive queries read the same cells from cache).
-    Returns the indices and the distances
+    cells are found by bisection of ``keys``. Returns the indices and the distances
     (Euclidean, or maximum norm with ``maxnorm``). A query whose search would visit more
-    cells than there are points is answered by a scan of every point.
+    cells than there are points is answered by a scan of every point. The rings are
+    written out here and the helpers inlined, with the grid's shape in scalars: calls and
+    array reads per ring were a third of the time on a two-coordinate map.
     """
     g = cols.size
     nq = query.size
     out_j = np.full(nq, -1, dtype=np.int64)
     out_d = np.full(nq, np.inf)
-    cen = np.zeros(3, dtype=np.int64)
-    frc = np.full(3, 0.5)
-    ncl = np.ones(3, dtype=np.int64)
-    strd = np.zeros(3, dtype=np.int64)
-    max_ring = 0
-    for d in range(g):
-        ncl[d] = ncell[d]
-        strd[d] = stride[d]
-        max_ring = max(max_ring, ncell[d])
-    qv = np.empty(points.shape[1])
-    n_points = points.shape[0]
-    answer = np.full(n_points, -1, dtype=np.int64)  # neighbour of each point answered
+    answer = np.full(points.shape[0], -1, dtype=np.int64)  # neighbour of each point answered
+    # the grid's shape as scalars (kept in registers); unused coordinates have one cell
+    ca, cb, cz = cols[0], cols[1 % g], cols[2 % g]
+    n0 = ncell[0]
+    n1 = ncell[1] if g > 1 else 1
+    n2 = ncell[2] if g > 2 else 1
+    s0 = stride[0]
+    s1 = stride[1] if g > 1 else 0
+    s2 = stride[2] if g > 2 else 0
+    max_ring = max(n0, max(n1, n2))
+    use_slot = slot.size > 0
     prev_j = -1
-    for tt in range(nq):
-        t = proc[tt]
+    for t in range(nq):
         i = query[t]
-        qv[:] = points[i]
-        fmin = 0.5
-        for d in range(g):
-            u = (points[i, cols[d]] - lo[d]) / cell
-            c = min(max(int(np.floor(u)), 0), ncell[d] - 1)
-            cen[d] = c
-            frc[d] = u - c
-            fmin = min(fmin, max(0.0, min(frc[d], 1.0 - frc[d])))
-        best = np.inf  # squared for the Euclidean norm
-        best_j = -1
-        # two exact candidates bound the search from the start, so that most cells are
-        # skipped unseen: the successor of the neighbour of the point before (neighbouring
-        # trajectories stay close) and the neighbour of the query answered just before
-        # (it lies in the same or the next cell)
-        for seed in (answer[i - 1] + 1 if i > 0 and answer[i - 1] >= 0 else -1, prev_j):
-            if 0 <= seed < n_points and abs(i - seed) > w:
-                d = _distance(points, i, seed, np.inf, maxnorm)
-                if d < best or (d == best and seed < best_j):
-                    best = d
-                    best_j = seed
-        visited = 0
+        c0, f0 = _grid_cell(points[i, ca], lo[0], cell, n0)
+        c1, f1, c2, f2 = 0, 0.5, 0, 0.5
+        if g > 1:
+            c1, f1 = _grid_cell(points[i, cb], lo[1], cell, n1)
+        if g > 2:
+            c2, f2 = _grid_cell(points[i, cz], lo[2], cell, n2)
+        fmin = min(min(f0, 1.0 - f0), min(min(f1, 1.0 - f1), min(f2, 1.0 - f2)))
+        fmin = min(0.5, max(0.0, fmin))
+        best, best_j = _seeded(points, i, w, answer, prev_j, maxnorm)
         r = 0
+        visited = 0
         while True:
             side = 2 * r + 1
-            visited += side**g
+            visited += side if g == 1 else (side * side if g == 2 else side * side * side)
             if visited > members.size:
-                best, best_j = _brute(spts, qv, i, w, members, maxnorm)
+                best, best_j = _scan_all(points, spts, i, w, members, best, best_j, maxnorm)
                 break
-            best, best_j = _ring(
-                spts,
-                qv,
-                i,
-                w,
-                r,
-                cen,
-                frc,
-                ncl,
-                strd,
-                cell,
-                keys,
-                slot,
-                starts,
-                members,
-                best,
-                best_j,
-                maxnorm,
-            )
+            # the cells at Chebyshev distance r from the query's, skipping those farther
+            # than the best candidate; off the ring's faces only the cells at ±r of the
+            # last coordinate belong to it
+            r1 = r if n1 > 1 else 0
+            r2 = r if n2 > 1 else 0
+            for o0 in range(-r, r + 1):
+                edge0 = o0 == -r or o0 == r
+                if not edge0 and r1 == 0 and r2 == 0:
+                    continue
+                a0 = c0 + o0
+                if a0 < 0 or a0 >= n0:
+                    continue
+                e0 = _gap(o0, f0, cell)
+                g0 = e0 if maxnorm else e0 * e0
+                if g0 > best:
+                    continue
+                inner1 = not edge0 and r2 == 0
+                for o1 in range(-r1, r1 + 1, 2 * r1 if inner1 else 1):
+                    a1 = c1 + o1
+                    if a1 < 0 or a1 >= n1:
+                        continue
+                    e1 = _gap(o1, f1, cell)
+                    g1 = max(g0, e1) if maxnorm else g0 + e1 * e1
+                    if g1 > best:
+                        continue
+                    inner2 = not edge0 and abs(o1) != r and r2 > 0
+                    for o2 in range(-r2, r2 + 1, 2 * r2 if inner2 else 1):
+                        a2 = c2 + o2
+                        if a2 < 0 or a2 >= n2:
+                            continue
+                        e2 = _gap(o2, f2, cell)
+                        if (max(g1, e2) if maxnorm else g1 + e2 * e2) > best:
+                            continue
+                        key = a0 * s0 + a1 * s1 + a2 * s2
+                        pos = slot[key] if use_slot else find_key(keys, key)
+                        if pos >= 0:
+                            best, best_j = _scan_sorted(
+                                points,
+                                spts,
+                                i,
+                                w,
+                                starts[pos],
+                                starts[pos + 1],
+                                members,
+                                best,
+                                best_j,
+                                maxnorm,
+                            )
             # every unvisited cell lies at least (r + fmin) cells away in the grid coordinates
             reach = (r + fmin) * cell
             if best_j >= 0 and best <= (reach if maxnorm else reach * reach):

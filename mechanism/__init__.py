@@ -92,6 +92,7 @@ from .studies import (
     plot_wear_profile,
     predict_wear,
     register_grid_transform,
+    regular_stretches,
     route,
     run_paper_study,
     stroboscopic_points,
@@ -185,6 +186,7 @@ _routes_to_chaos = [
     "RouteToChaos",
     "continuation",
     "continue_map",
+    "regular_stretches",
     "route",
 ]
 

@@ -109,7 +109,9 @@ def _prepare(x: Any, lag: Any, max_dim: Any, theiler_window: Any, max_points: An
 def _references(n: int, max_points: int) -> np.ndarray:
     if n <= max_points:
         return np.arange(n, dtype=np.int64)
-    return np.unique(np.linspace(0, n - 1, max_points).astype(np.int64))
+    # increasing, so the duplicates (none when n > max_points) are consecutive: no sort
+    ref = np.linspace(0, n - 1, max_points).astype(np.int64)
+    return ref[np.r_[True, ref[1:] != ref[:-1]]]
 
 
 def _neighbours(arr, dim, lag, n_points, theiler_window, max_points, p):

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 from typing import Any
 
@@ -166,7 +167,32 @@ def references(n: int, max_points: int) -> np.ndarray:
     """All of ``0 … n−1`` or ``max_points`` of them evenly spaced."""
     if n <= max_points:
         return np.arange(n, dtype=np.int64)
-    return np.unique(np.linspace(0, n - 1, max_points).astype(np.int64))
+    # increasing, so the duplicates (none when n > max_points) are consecutive: no sort
+    ref = np.linspace(0, n - 1, max_points).astype(np.int64)
+    return ref[np.r_[True, ref[1:] != ref[:-1]]]
+
+
+def batch_edges(n: int, n_batches: int = 20) -> np.ndarray:
+    """Boundaries of the contiguous batches of ``n`` time-ordered values (at most
+    ``n_batches``, at least two values each; fewer than two batches: empty)."""
+    b = int(min(n_batches, n // 2))
+    if b < 2:
+        return np.empty(0, dtype=np.int64)
+    return np.linspace(0, n, b + 1).astype(np.int64)
+
+
+@functools.lru_cache(maxsize=64)
+def _t975(dof: int) -> float:
+    """97.5 % quantile of Student's t (a scipy call costs ≈ 0.4 ms; a few are ever asked)."""
+    from scipy.stats import t as student_t
+
+    return float(student_t.ppf(0.975, dof))
+
+
+def batch_half_width(means: np.ndarray) -> float:
+    """95 % Student-t half-width of the mean of the batch ``means``."""
+    b = means.size
+    return float(_t975(b - 1) * means.std(ddof=1) / np.sqrt(b))
 
 
 def batch_means_ci(values: np.ndarray, n_batches: int = 20) -> tuple[float, float, int]:
@@ -175,16 +201,16 @@ def batch_means_ci(values: np.ndarray, n_batches: int = 20) -> tuple[float, floa
     Contiguous batches absorb the correlation between neighbouring reference points.
     Returns (mean, half_width, batches used).
     """
-    from scipy.stats import t as student_t
-
     n = values.size
-    b = int(min(n_batches, n // 2))
-    if b < 2:
-        return float(values.mean()) if n else float("nan"), float("inf"), b
-    edges = np.linspace(0, n, b + 1).astype(np.int64)
+    edges = batch_edges(n, n_batches)
+    if edges.size == 0:
+        return (
+            float(values.mean()) if n else float("nan"),
+            float("inf"),
+            int(min(n_batches, n // 2)),
+        )
     means = np.add.reduceat(values, edges[:-1]) / np.diff(edges)
-    half = float(student_t.ppf(0.975, b - 1) * means.std(ddof=1) / np.sqrt(b))
-    return float(means.mean()), half, b
+    return float(means.mean()), batch_half_width(means), edges.size - 1
 
 
 # Relative systematic error of each estimator's default estimate, as a 95 % half-width over

@@ -6,7 +6,7 @@ import numpy as np
 from numba import njit
 
 from .._neighbors_kernels import find_key
-from ._kernels import sq_distance
+from ._kernels import LOG_RUN, MANTISSA, ONE_BITS, TINY, sq_distance
 
 
 @njit(cache=True, inline="always")
@@ -79,6 +79,9 @@ def kantz_log_distances(
     cand: np.ndarray,
     cdist: np.ndarray,
     crank: np.ndarray,
+    expo: np.ndarray,
+    prod: np.ndarray,
+    run: np.ndarray,
 ) -> np.ndarray:
     """Per reference point, ln of the mean distance to its ε-neighbours after k samples.
 
@@ -102,6 +105,13 @@ def kantz_log_distances(
     (a neighbour's distances at consecutive horizons are read from contiguous memory);
     ``cand``, ``cdist`` and ``crank`` are work buffers of ``members.size`` entries (int64,
     float64, int64), allocated once by the caller.
+
+    The sum over references is taken without a log per term (the terms are ln of a mean
+    distance): each mean is split into its binary exponent, summed in ``expo[e, q]``
+    (int64), and a mantissa in [1, 2), multiplied into ``prod[e, q]``, whose log is added
+    to ``total`` every 512 references (``run[0]`` counts them). The state lives in the
+    caller's arrays, so the sums do not depend on how the references are split into
+    calls; the caller adds ``ln prod + expo · ln 2`` once after the last call.
     """
     n_e = eps.size
     nk = ks.size
@@ -110,6 +120,7 @@ def kantz_log_distances(
     used = np.zeros((ref.size, n_e), dtype=np.int64)
     acc = np.zeros((n_e, nk))
     row = np.empty(nk)
+    bits = row.view(np.int64)
     for r in range(ref.size):
         i = ref[r]
         nc = _gather(
@@ -130,12 +141,62 @@ def kantz_log_distances(
             for q in range(nk):
                 v = np.nan
                 if taken > 0 and acc[e, q] > 0.0:
-                    v = np.log(acc[e, q] / taken)
-                    total[e, q] += v
+                    mean = acc[e, q] / taken
+                    if mean >= TINY:
+                        row[0] = mean
+                        word = bits[0]
+                        expo[e, q] += (word >> 52) - 1023
+                        bits[0] = (word & MANTISSA) | ONE_BITS
+                        prod[e, q] *= row[0]
+                    else:  # subnormal: its own log
+                        total[e, q] += np.log(mean)
                     count[e, q] += 1
+                    if store:
+                        v = np.log(mean)
                 if store:
                     out[r, e, q] = v
+        run[0] += 1
+        if run[0] == LOG_RUN:
+            for e in range(n_e):
+                for q in range(nk):
+                    total[e, q] += np.log(prod[e, q])
+                    prod[e, q] = 1.0
+            run[0] = 0
     return used
+
+
+_FUSED_HORIZONS = 64  # consecutive horizons from which the fused distance pass is used
+
+
+@njit(cache=True, inline="always")
+def _add_root_distances(cols, i, j, k0, dst):
+    """``dst[q] += ‖y_{i+k0+q} − y_{j+k0+q}‖`` for up to three coordinates: the squared
+    distance, its root and the addition in one vectorised pass (the same arithmetic, in
+    the same order, as building the row of squared distances first)."""
+    m = cols.shape[0]
+    nk = dst.size
+    a0 = cols[0][i + k0 : i + k0 + nk]
+    b0 = cols[0][j + k0 : j + k0 + nk]
+    if m == 1:
+        for q in range(nk):
+            diff = b0[q] - a0[q]
+            dst[q] += np.sqrt(diff * diff)
+        return
+    a1 = cols[1][i + k0 : i + k0 + nk]
+    b1 = cols[1][j + k0 : j + k0 + nk]
+    if m == 2:
+        for q in range(nk):
+            d0 = b0[q] - a0[q]
+            d1 = b1[q] - a1[q]
+            dst[q] += np.sqrt(d0 * d0 + d1 * d1)
+        return
+    a2 = cols[2][i + k0 : i + k0 + nk]
+    b2 = cols[2][j + k0 : j + k0 + nk]
+    for q in range(nk):
+        d0 = b0[q] - a0[q]
+        d1 = b1[q] - a1[q]
+        d2 = b2[q] - a2[q]
+        dst[q] += np.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
 
 
 @njit(cache=True)
@@ -158,6 +219,9 @@ def _accumulate(
     for q in range(1, nk):
         if ks[q] != ks[q - 1] + 1:
             unit = False
+    # the fused pass pays on long curves only (measured: Lorenz, 201 horizons, 20 % less
+    # time; Hénon, 21 horizons, 70 % more)
+    fused = unit and not transverse and m <= 3 and nk >= _FUSED_HORIZONS
     stride_e = np.ones(n_e, dtype=np.int64)
     seen_e = np.zeros(n_e, dtype=np.int64)
     taken_e = np.zeros(n_e, dtype=np.int64)
@@ -186,6 +250,10 @@ def _accumulate(
             while cdist[t] >= eps[shell]:
                 shell += 1
         j = cand[t]
+        if fused and not capped:
+            _add_root_distances(cols, i, j, ks[0], acc[shell])
+            taken_e[shell] += 1
+            continue
         # (written out here: as a separate function it compiles to slower code)
         if transverse:
             for q in range(nk):

@@ -14,7 +14,7 @@ from .._validate import (
 from ..embedding import estimate_delay, estimate_embedding_dim
 from ..lyapunov import lyapunov_kantz, lyapunov_rosenstein, lyapunov_wolf
 from ._combine import RuleEvidence, combine
-from ._cycles import cycle_spread, orbit_residual
+from ._cycles import cycle_spread, orbit_residual, phase_spread
 from ._evidence import (
     any_rejected,
     clearly_positive,
@@ -174,7 +174,12 @@ def classify(
     fools them), and so is a rejection of the cycle test within the cluster tolerance.
     Where the mean cycle carries most of the variance, the IAAFT test of the departure
     from it votes too (``residual``): for *chaotic* when it rejects, for a periodic orbit
-    plus coloured noise when it does not.
+    plus coloured noise when it does not. A periodic label of a forced series also
+    counts the departure's phase-dependent part (``Verdict.phase_spread``, the stationarity
+    reading of :func:`cycle_spread` alone): above ``rule.cluster_tol`` it opposes (``phase``),
+    since a departure confined to some phases is not stationary measurement noise and shows
+    no stable orbit (a stable orbit jolted afresh every cycle and chaos in the timing of
+    impacts both look like that).
 
     Parameters
     ----------
@@ -259,7 +264,7 @@ def classify(
     )
     lines = _lines(x, inp, drive_period, time_scale, rule, errors)
     n_cycles, unit = count_cycles(inp, x.size, time_scale)
-    cycles, spread, residual = _cycle_null(
+    cycles, (spread, phased), residual = _cycle_null(
         x, inp, (lag, embedding_dim), structure, lines, time_scale, rule,
         (n_surrogates, surrogate_max_samples), gen, errors,
     )  # fmt: skip
@@ -284,6 +289,7 @@ def classify(
         driven=inp.kind == "forced",
         noise=noise,
         cycle_spread=spread,
+        phase_spread=phased,
         orbit_residual=residual,
     )
     outcome = combine(evidence, rule)
@@ -319,6 +325,7 @@ def classify(
         surrogates_one_step=one_step,
         surrogates_cycle=cycles,
         cycle_spread=spread,
+        phase_spread=phased,
         **base,
     )
 
@@ -466,13 +473,14 @@ def _cycle_null(
     surrogates: tuple[int, int],
     gen: np.random.Generator,
     errors: dict[str, str],
-) -> tuple[Any, float, Any]:
+) -> tuple[Any, tuple[float, float], Any]:
     """For a forced series, the null of a noisy periodic orbit: the cycle-shuffled
-    surrogate test, the correlated departure from the mean cycle and that departure read
-    as measurement noise (None, NaN and None otherwise, or when they cannot be computed).
-    ``embedding`` is (lag, dimension), ``surrogates`` (number, most samples)."""
+    surrogate test, the correlated departure from the mean cycle with its phase-dependent
+    part, and that departure read as measurement noise (None, (NaN, NaN) and None
+    otherwise, or when they cannot be computed). ``embedding`` is (lag, dimension),
+    ``surrogates`` (number, most samples)."""
     cycles = residual = None
-    spread = float("nan")
+    spread = phased = float("nan")
     lag, embedding_dim = embedding
     n_surrogates, max_samples = surrogates
     if inp.kind == "forced":
@@ -484,9 +492,10 @@ def _cycle_null(
                 k = line_period(lines, inp, time_scale) or 1
             cycles = cycle_test(x, inp.dt, lag, k * time_scale, rule, n_surrogates, gen)
             spread = cycle_spread(x, k * time_scale, dt=inp.dt, max_noise=rule.max_noise_allowance)
+            phased = phase_spread(x, k * time_scale, dt=inp.dt)
         except ValueError as exc:
             errors["cycles"] = str(exc)
-            return cycles, spread, residual
+            return cycles, (spread, phased), residual
         try:
             # drawn after the cycle test: every other result keeps its random numbers
             residual = orbit_residual(
@@ -497,7 +506,7 @@ def _cycle_null(
             )  # fmt: skip
         except ValueError as exc:
             errors["orbit_residual"] = str(exc)
-    return cycles, spread, residual
+    return cycles, (spread, phased), residual
 
 
 def _referee(

@@ -59,6 +59,10 @@ class RuleEvidence:
     cycle_spread
         The cycle-to-cycle variation that is not white noise, relative to the standard
         deviation.
+    phase_spread
+        The part of the departure from the mean cycle whose variance depends on the phase
+        of the cycle, relative to the standard deviation (NaN: not computed): stationary
+        measurement noise, white or coloured, reads 0.
     orbit_residual
         The departure of a forced series from its mean cycle read as measurement noise
         (None: not computed).
@@ -80,6 +84,7 @@ class RuleEvidence:
     driven: bool = False
     noise: float = float("nan")
     cycle_spread: float = float("nan")
+    phase_spread: float = float("nan")
     orbit_residual: OrbitResidual | None = None
 
     def __post_init__(self) -> None:
@@ -147,6 +152,7 @@ class _Evidence:
     noise: float
     cycle_spread: float
     residual: OrbitResidual | None = None
+    phase_spread: float = float("nan")
 
     @property
     def n_positive(self) -> int:
@@ -211,6 +217,15 @@ class _Evidence:
             and self.lines != "quasi-periodic"
             and self.cycle_spread <= self.rule.cluster_tol
         )
+
+    @property
+    def phase_dependent(self) -> bool:
+        # the departure from the mean cycle depends on the phase beyond the tolerance: it
+        # is not stationary measurement noise. A periodic call then rests on the lag-one
+        # reading alone (the departure is not smooth over a sample), which cannot tell a
+        # stable orbit jolted afresh every cycle from chaos that lives in the timing of
+        # impacts: both are spiky departures confined to some phases
+        return bool(self.driven and self.phase_spread > self.rule.cluster_tol)
 
     @property
     def beyond_orbit(self) -> bool:
@@ -637,6 +652,7 @@ def combine(evidence: RuleEvidence, rule: VerdictRule) -> RuleOutcome:
         noise=e.noise,
         cycle_spread=e.cycle_spread,
         residual=e.orbit_residual,
+        phase_spread=e.phase_spread,
     )
     label, period, reason = _decide(ev)
     needs: list[str] = []
@@ -676,6 +692,20 @@ def combine(evidence: RuleEvidence, rule: VerdictRule) -> RuleOutcome:
         votes["residual"] = "supports"
         if e.cycle_spread > rule.cluster_tol:
             votes["cycles"] = "opposes"
+    if (
+        label == "periodic"
+        and e.lines != "periodic"
+        and ev.phase_dependent
+        and votes.get("cycles") != "opposes"  # the same reading already counted
+    ):
+        # a departure that is not stationary noise is no evidence of a stable orbit
+        votes["phase"] = "opposes"
+        reason += (
+            f"; but the departure's variance depends on the phase of the cycle "
+            f"({e.phase_spread:.2g} of the standard deviation beyond stationary noise, above "
+            f"{rule.cluster_tol:g}): not measurement noise, and nothing shows the orbit "
+            "stable (chaos in the timing of impacts looks the same), which counts against it"
+        )
     if label == "undetermined":
         confidence = float("nan")
     else:

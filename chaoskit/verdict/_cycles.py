@@ -421,6 +421,26 @@ def cycle_spread(
 PHASE_BINS = 10  # phase bins per cycle of the stationarity reading (fewer for short cycles)
 
 
+def phase_spread(x: np.ndarray, period: float, *, dt: float = 1.0) -> float:
+    """The phase-dependent part of the departure of ``x`` from its mean cycle, over the
+    standard deviation: the second reading of :func:`cycle_spread` alone (0 for a periodic
+    orbit plus stationary noise of any colour and level). Where it exceeds the cluster
+    tolerance while the lag-one reading does not, the departure is neither stationary
+    measurement noise nor smooth: a stable orbit jolted afresh every cycle looks like
+    that, and so does chaos that lives in the timing of impacts."""
+    x = as_series(x, name="x", min_length=16)
+    spc = _samples_per_cycle(period, dt)
+    if int(x.size // spc) < MIN_CYCLES:
+        raise ValueError(
+            f"x spans {int(x.size // spc)} whole cycles of period {period:g}; the phase "
+            f"spread needs at least {MIN_CYCLES}."
+        )
+    sigma = float(np.std(x))
+    if sigma == 0.0:
+        return 0.0
+    return _phase_dependent_spread(x - _mean_cycle_at_samples(x, spc), spc) / sigma
+
+
 def _phase_dependent_spread(r: np.ndarray, spc: float) -> float:
     """RMS of the part of the departure ``r`` from the mean cycle whose variance depends on
     the phase: the mean over phase bins of the variance above the smallest one, which

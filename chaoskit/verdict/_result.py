@@ -38,7 +38,8 @@ class Verdict:
         periods; the series has 5"``). Empty for a decided label.
     votes
         For each piece of evidence (``lines``, ``section``, ``rosenstein``, ``wolf``,
-        ``zero_one``, ``surrogates``, and ``cycles`` for a forced series): ``"supports"``,
+        ``zero_one``, ``surrogates``, and ``cycles`` for a forced series, ``phase`` for a
+        periodic forced series whose departure depends on the phase): ``"supports"``,
         ``"opposes"``, ``"neutral"`` (present but unable to decide) or ``"missing"``.
     errors
         Evidence that could not be computed, with the estimator's message.
@@ -85,6 +86,12 @@ class Verdict:
         For a forced series: the cycle-to-cycle variation that is not white noise, relative
         to the standard deviation (:func:`~chaoskit.cycle_spread`, same cycles); NaN
         otherwise.
+    phase_spread
+        For a forced series: the part of that departure whose variance depends on the
+        phase of the cycle, relative to the standard deviation (the stationarity reading
+        of :func:`~chaoskit.cycle_spread` alone: 0 for a periodic orbit plus stationary
+        noise); NaN otherwise. Above ``rule.cluster_tol`` it votes against a periodic
+        label (``votes["phase"]``).
     rule
         The :class:`VerdictRule` applied.
     """
@@ -122,6 +129,7 @@ class Verdict:
     surrogates_one_step: SurrogateResult | None = field(default=None, repr=False)
     surrogates_cycle: SurrogateResult | None = field(default=None, repr=False)
     cycle_spread: float = float("nan")
+    phase_spread: float = float("nan")
     lines: LineSpectrum | None = field(default=None, repr=False)
     rule: VerdictRule = field(default_factory=VerdictRule, repr=False)
 

@@ -48,6 +48,7 @@ from .orbits import (
     continue_map,
     periodic_orbit,
     plot_basins,
+    regular_stretches,
     route,
 )
 from .paper import PaperStudy, StudySettings, paper_claims, paper_tables, run_paper_study
@@ -115,6 +116,7 @@ __all__ = [
     "plot_wear_profile",
     "predict_wear",
     "register_grid_transform",
+    "regular_stretches",
     "route",
     "run_paper_study",
     "stroboscopic_points",

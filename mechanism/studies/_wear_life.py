@@ -21,12 +21,19 @@ from tqdm.auto import tqdm
 
 import chaoskit
 from chaoskit.contract import __version__, check_int, check_positive, stamp, variable
-from mechanism.core import Scene, SimulationError, drive_period, scene_from_json, simulate
+from mechanism.core import Scene, SimulationError, scene_from_json
 from mechanism.core.record import window_start
-from mechanism.core.scene import ClearanceRevolute, MotorDrive
+from mechanism.core.scene import ClearanceRevolute
 from mechanism.core.wear import SURFACES, WornProfile, surface_angle
 
 from ._lyapunov import SceneLyapunov, lyapunov_exponent
+from ._turns import (
+    cut_at_turns,
+    exponent_revolutions,
+    exponent_span,
+    revolution_time,
+    simulate_turns,
+)
 from ._wear_prediction import update_loop
 from ._wear_settings import (
     DEFAULT_MAX_DEPTH_INCREMENT,
@@ -46,9 +53,15 @@ __all__ = [
 #: 20 000 cycles is 2.3 with 4 revolutions, 1.0 with 8 and 1.0 with 16, which costs twice
 #: the CPU time of 8).
 DEFAULT_WEAR_LIFE_AVERAGED_REVOLUTIONS = 8
-#: Samples per drive period handed to the motion verdict (the trajectory is thinned to
-#: about this many: the verdict's cost grows with the samples, its evidence with periods).
-VERDICT_SAMPLES_PER_PERIOD = 500
+#: Default of ``verdict_samples_per_revolution``: the trajectory handed to the motion
+#: verdict is thinned to about this many samples per drive period (its cost grows with the
+#: samples, its evidence with the periods; docs/accuracy-vs-cost.md, "Wear path").
+VERDICT_SAMPLES_PER_PERIOD = 250
+#: Default of ``lyapunov_first_revolutions``: the revolutions of the exponent's first run.
+LYAPUNOV_FIRST_REVOLUTIONS = 6.0
+#: The first run's exponent is kept when its 95 % interval lies beyond zero by at least
+#: this many of its half-widths (the interval widened by 1 + this factor excludes zero).
+EXPONENT_DECIDED_MARGIN = 1.0
 #: The path ends when a state fails, with this status (as :class:`mechanism.WearPrediction`).
 _COMPLETE, _FAILED = "complete", "failed"
 
@@ -197,6 +210,18 @@ class WearLifeSettings:
     exponent : bool
         Compute the exponent from the equations at each checkpoint (an explicit argument
         of :func:`wear_life` wins).
+    lyapunov_first_revolutions : float or None
+        Revolutions of a first, shorter exponent run (> ``lyapunov_discard``; default 6).
+        When its 95 % interval lies beyond zero by at least its half-width (the sign is
+        decided), it is the checkpoint's exponent; otherwise the run of
+        ``lyapunov_revolutions`` is made and reported. None, or a value of at least
+        ``lyapunov_revolutions``: always the full run.
+    share_state_run : bool
+        One run per checkpoint state gives both its analysis and the first increment worn
+        from it (default True; False: two runs, whose samples differ only by rounding).
+    verdict_samples_per_revolution : int
+        Samples per drive period handed to the motion verdict, in [20, 100000]
+        (default 250; the trajectory is thinned to about this many).
 
     Examples
     --------
@@ -213,6 +238,9 @@ class WearLifeSettings:
     averaged_revolutions: int = DEFAULT_WEAR_LIFE_AVERAGED_REVOLUTIONS
     max_depth_increment: float = DEFAULT_MAX_DEPTH_INCREMENT
     exponent: bool = True
+    lyapunov_first_revolutions: float | None = LYAPUNOV_FIRST_REVOLUTIONS
+    share_state_run: bool = True
+    verdict_samples_per_revolution: int = VERDICT_SAMPLES_PER_PERIOD
 
     def __post_init__(self) -> None:
         settle = check_positive(self.settle_revolutions, name="settle_revolutions", allow_zero=True)
@@ -237,7 +265,15 @@ class WearLifeSettings:
             "averaged_revolutions": check_averaged_revolutions(self.averaged_revolutions),
             "max_depth_increment": check_depth_increment(self.max_depth_increment),
             "exponent": _flag(self.exponent, "exponent"),
-        }
+            "lyapunov_first_revolutions": _first_revolutions(
+                self.lyapunov_first_revolutions, lyap_discard
+            ),
+            "share_state_run": _flag(self.share_state_run, "share_state_run"),
+            "verdict_samples_per_revolution": check_int(
+                self.verdict_samples_per_revolution, name="verdict_samples_per_revolution",
+                minimum=20, maximum=100000,
+            ),
+        }  # fmt: skip
         for name, value in checked.items():
             object.__setattr__(self, name, value)
 
@@ -295,16 +331,13 @@ def _checked_path(cycles: Any, checkpoints: Any) -> tuple[float, list[float]]:
 def _checked_scene(scene: Any) -> Scene:
     if not isinstance(scene, Scene):
         raise TypeError(f"scene must be a mechanism Scene; got {type(scene).__name__}.")
-    if isinstance(scene.drive, MotorDrive):
-        # a cycle of wear is a drive period, and the settle, analysis and exponent spans
-        # are whole periods; a motor-driven crank's turns take no fixed time
+    if revolution_time(scene) is None:
+        # a wear cycle is a crank revolution: a drive period, or a turn of a motor-driven
+        # crank counted on its angle
         raise ValueError(
-            "wear_life needs a periodic drive: a motor-driven crank has no drive period, so "
-            "its wear cycles cannot be counted; use a constant_speed drive at the speed "
-            "the motor reaches."
+            "wear_life needs a scene with a periodic drive or a motor drive (cycles are "
+            "crank turns)."
         )
-    if drive_period(scene) is None:
-        raise ValueError("wear_life needs a scene with a periodic drive (cycles are crank turns).")
     for name, joint in scene.joints.items():
         if isinstance(joint, ClearanceRevolute) and not joint.wear.coefficient > 0.0:
             raise ValueError(
@@ -318,6 +351,21 @@ def _flag(value: Any, name: str) -> bool:
     if not isinstance(value, bool | np.bool_):
         raise ValueError(f"{name} must be True or False; got {value!r}.")
     return bool(value)
+
+
+def _first_revolutions(value: Any, discard: float) -> float | None:
+    if value is None:
+        return None
+    try:
+        out = float(value)
+    except (TypeError, ValueError):
+        out = math.nan
+    if not (math.isfinite(out) and out > discard):
+        raise ValueError(
+            "lyapunov_first_revolutions must be None or a number of revolutions > "
+            f"lyapunov_discard ({discard:g}); got {value!r}."
+        )
+    return out
 
 
 def _fraction(value: Any, name: str) -> float:
@@ -377,30 +425,59 @@ class _Analysis:
     exponent: bool
     lyapunov_revolutions: float
     lyapunov_discard: float
+    lyapunov_first: float | None
     continuous_fraction: float
+    verdict_samples: int
     simulate_kwargs: dict[str, Any]
 
 
-def _analyse(scene: Scene, names: list[str], how: _Analysis) -> dict[str, Any]:
-    """The motion of one worn state (a SimulationError propagates)."""
-    period = float(drive_period(scene))  # type: ignore[arg-type]
-    traj = simulate(scene, revolutions=how.discard + how.revolutions, **how.simulate_kwargs)
+def exponent_decided(lam: SceneLyapunov, margin: float = EXPONENT_DECIDED_MARGIN) -> bool:
+    """True when the exponent's 95 % interval lies beyond zero by at least ``margin`` of
+    its half-widths (above: chaotic by the equations; below: regular); False for an
+    interval that is not finite."""
+    lo, hi = (float(x) for x in lam.ci)
+    if not (math.isfinite(lo) and math.isfinite(hi)):
+        return False
+    half = 0.5 * (hi - lo)
+    return lo > margin * half or hi < -margin * half
+
+
+def checkpoint_exponent(scene: Scene, how: _Analysis) -> SceneLyapunov | None:
+    """The exponent of one state: the first, shorter run when its sign is decided
+    (:func:`exponent_decided`), else the full run; None when an integration fails."""
+    first = how.lyapunov_first
+    try:
+        if first is not None and first < how.lyapunov_revolutions:
+            lam = lyapunov_exponent(scene, **exponent_span(scene, first, how.lyapunov_discard))
+            if exponent_decided(lam):
+                return lam
+        return lyapunov_exponent(
+            scene, **exponent_span(scene, how.lyapunov_revolutions, how.lyapunov_discard)
+        )
+    except SimulationError:
+        return None
+
+
+def _analyse(
+    scene: Scene, names: list[str], how: _Analysis, traj: xr.Dataset | None = None
+) -> dict[str, Any]:
+    """The motion of one worn state (a SimulationError propagates). ``traj``: the state's
+    run when it is shared with the increment (it may run longer than the analysis)."""
+    period = float(revolution_time(scene))  # type: ignore[arg-type]
+    span = how.discard + how.revolutions
+    if traj is None:
+        traj = simulate_turns(scene, span, **how.simulate_kwargs)
+    else:
+        traj = cut_at_turns(traj, span)
     start = window_start(traj, how.discard)
     window = traj.isel(time=slice(start, None))
     strobe = chaoskit.stroboscopic_map(
         window[["eccentricity_x", "eccentricity_y", "crank_angle"]],
         phase_variable="crank_angle",
     )
-    lam = None
-    if how.exponent:
-        try:
-            lam = lyapunov_exponent(
-                scene, revolutions=how.lyapunov_revolutions, discard=how.lyapunov_discard
-            )
-        except SimulationError:
-            lam = None
+    lam = checkpoint_exponent(scene, how) if how.exponent else None
     samples = int(window.sizes["time"])
-    stride = max(1, int(samples / (how.revolutions * VERDICT_SAMPLES_PER_PERIOD)))
+    stride = max(1, int(samples / (how.revolutions * how.verdict_samples)))
     verdict = chaoskit.classify_motion(
         window[["eccentricity_x", "eccentricity_y", "crank_angle"]].isel(
             time=slice(None, None, stride)
@@ -418,6 +495,7 @@ def _analyse(scene: Scene, names: list[str], how: _Analysis) -> dict[str, Any]:
         "strobe_x": np.asarray(strobe["eccentricity_x"].transpose("joint", ...).values),
         "strobe_y": np.asarray(strobe["eccentricity_y"].transpose("joint", ...).values),
         "lyapunov": lam,
+        "lyapunov_run": math.nan if lam is None else exponent_revolutions(lam.settings, scene),
         "verdict": verdict,
         "peak_force": [float(force.sel(joint=n).max()) for n in names],
         "mean_force": [float(force.sel(joint=n).mean()) for n in names],
@@ -476,9 +554,10 @@ def wear_life(
     Parameters
     ----------
     scene : Scene
-        A mechanism with a periodic drive (a motor-driven scene is refused: its cycles
-        take no fixed time) and at least one active clearance joint with a positive wear
-        coefficient (``effects.wear`` is switched on).
+        A mechanism with a periodic drive or a motor drive (whose cycles are counted as
+        turns of the crank angle, and whose exponent runs over periods of the no-load
+        speed) and at least one active clearance joint with a positive wear coefficient
+        (``effects.wear`` is switched on).
     cycles : float
         Crank cycles of wear (> 0).
     checkpoints : sequence of float
@@ -532,21 +611,27 @@ def wear_life(
     settle = settings.settle_revolutions
     lyap_revs, lyap_discard = settings.lyapunov_revolutions, settings.lyapunov_discard
     kwargs = {"method": method, "rtol": rtol, "atol": atol, "output_step": output_step}
+    first = settings.lyapunov_first_revolutions
+    first = lyap_revs if first is None else min(first, lyap_revs)
     how = _Analysis(
         discard=settle, revolutions=settings.analysis_revolutions, exponent=bool(exponent),
-        lyapunov_revolutions=lyap_revs, lyapunov_discard=lyap_discard,
-        continuous_fraction=settings.continuous_contact, simulate_kwargs=kwargs,
+        lyapunov_revolutions=lyap_revs, lyapunov_discard=lyap_discard, lyapunov_first=first,
+        continuous_fraction=settings.continuous_contact,
+        verdict_samples=settings.verdict_samples_per_revolution, simulate_kwargs=kwargs,
     )  # fmt: skip
     loop = update_loop(
         scene, targets=targets, limit=limit, settle=settle, averaged=averaged,
         simulate_kwargs=kwargs, caller="wear_life",
     )  # fmt: skip
+    if settings.share_state_run:
+        loop.state_revolutions = float(how.revolutions)
     records: list[dict[str, Any]] = []
     analysis_failure: list[str] = []
 
     def on_state(current: Scene, update: int, at: float) -> bool:
         try:
-            records.append(_analyse(current, loop.names, how))
+            traj, loop.state_traj = loop.state_traj, None  # not held while it wears on
+            records.append(_analyse(current, loop.names, how, traj))
         except SimulationError as exc:
             analysis_failure.append(
                 f"the analysis of the state after {at:.6g} cycles failed: {exc}"
@@ -567,7 +652,10 @@ def wear_life(
         "cycles": total, "averaged_revolutions": averaged, "max_depth_increment": limit,
         "settle_revolutions": settle, "analysis_revolutions": how.revolutions,
         "exponent": int(how.exponent), "lyapunov_revolutions": lyap_revs,
-        "lyapunov_discard": lyap_discard, "continuous_contact": how.continuous_fraction,
+        "lyapunov_discard": lyap_discard, "lyapunov_first_revolutions": first,
+        "continuous_contact": how.continuous_fraction,
+        "share_state_run": int(settings.share_state_run),
+        "verdict_samples_per_revolution": how.verdict_samples,
     }  # fmt: skip
     return _result(scene, loop, states, records, total, failure, settings)
 
@@ -663,6 +751,10 @@ def _dataset(
                                     "lower end of the exponent's 95 % interval"),
         "lyapunov_ci_high": variable(("checkpoint",), hi, "1/s",
                                      "upper end of the exponent's 95 % interval"),
+        "lyapunov_run_revolutions": variable(
+            ("checkpoint",), [r["lyapunov_run"] for r in records], "1",
+            "revolutions of the exponent's run (the first, shorter run when it decided "
+            "the sign; NaN: not computed)"),
         "motion": variable(("checkpoint",), np.array([v.label for v in verdicts], dtype=object),
                            "1", "motion verdict (chaoskit.classify_motion)"),
         "motion_confidence": variable(("checkpoint",), [float(v.confidence) for v in verdicts],

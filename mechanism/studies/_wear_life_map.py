@@ -596,7 +596,9 @@ def _map_dataset(life_map: WearLifeMap) -> xr.Dataset:
         {k: settings[k] for k in ("averaged_revolutions", "max_depth_increment",
                                   "settle_revolutions", "analysis_revolutions", "exponent",
                                   "lyapunov_revolutions", "lyapunov_discard",
-                                  "continuous_contact") if k in settings}
+                                  "lyapunov_first_revolutions", "continuous_contact",
+                                  "share_state_run", "verdict_samples_per_revolution")
+         if k in settings}
     )  # fmt: skip
     merged.attrs.update(
         {"parameter": life_map.parameter, "cycles": life_map.cycles,

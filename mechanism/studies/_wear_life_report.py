@@ -113,7 +113,7 @@ def wear_life_section(life: WearLifeMap) -> ReportSection:
         f"of at most {ds.attrs.get('max_depth_increment', '—')} of the clearance; at each "
         f"checkpoint {ds.attrs.get('analysis_revolutions', '—')} revolutions analysed and "
         f"the exponent over {ds.attrs.get('lyapunov_revolutions', '—')} revolutions "
-        f"({ds.attrs.get('lyapunov_discard', '—')} left out)."
+        f"({ds.attrs.get('lyapunov_discard', '—')} left out){_first_run(ds)}."
     )
     if not ds.attrs.get("exponent", 1):
         footer += " No exponent was computed: no checkpoint can be called chaotic."
@@ -122,6 +122,17 @@ def wear_life_section(life: WearLifeMap) -> ReportSection:
         items=(_table(life), *_figures(life)),
         text=text,
         footer=footer,
+    )
+
+
+def _first_run(ds: Any) -> str:
+    """The exponent's first, shorter run, when it was tried (stores of older runs lack it)."""
+    first, full = ds.attrs.get("lyapunov_first_revolutions"), ds.attrs.get("lyapunov_revolutions")
+    if first is None or full is None or not float(first) < float(full):
+        return ""
+    return (
+        f", or over the first {float(first):g} when their 95 % interval lies beyond zero by "
+        "its half-width"
     )
 
 

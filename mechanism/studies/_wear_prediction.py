@@ -25,11 +25,12 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from mechanism.core import Scene, SimulationError, simulate
+from mechanism.core import Scene, SimulationError
 from mechanism.core.record import response_metrics, window_start
 from mechanism.core.scene import ClearanceRevolute
 from mechanism.core.wear import WornProfile, clearance_joint, run_wear
 
+from ._turns import simulate_turns
 from ._wear_result import COMPLETE, FAILED, WearPrediction, WearPredictionError, prediction_dataset
 from ._wear_settings import (
     DEFAULT_AVERAGED_REVOLUTIONS,
@@ -108,11 +109,12 @@ def predict_wear(
     For each update u = 0 … ``updates`` − 1 (docs/paper-model.md §6, Flores 2009, Mukras 2010)
     the block of ΔN = ``cycles_per_update`` cycles is worn in sub-updates:
 
-    1. simulate ``settle_revolutions`` + n crank revolutions (n = ``averaged_revolutions``)
-       with the current profiles (the worn geometry shapes the contact) and take the
-       response metrics of the last n revolutions and the Archard wear per cycle h_cyc,
-       the mean of the n revolutions' wear (``run_wear`` on each), with its 95 %
-       interval per region from batch means over consecutive revolutions;
+    1. simulate ``settle_revolutions`` + n crank revolutions (n = ``averaged_revolutions``;
+       drive periods, or turns of a motor-driven crank's angle) with the current profiles
+       (the worn geometry shapes the contact) and take the response metrics of the last
+       n revolutions and the Archard wear per cycle h_cyc, the mean of the n revolutions'
+       wear (``run_wear`` on each), with its 95 % interval per region from batch means
+       over consecutive revolutions;
     2. the sub-update takes the cycles left of the block, split into the fewest equal
        parts for which no region deepens by more than ``max_depth_increment`` × clearance;
     3. h ← h + ΔN_sub · smooth(h_cyc) with the joint's ``smoothing_regions`` moving average;
@@ -279,15 +281,38 @@ class UpdateLoop:
         self.last_check: _Check | None = None  # of the last simulated state, passed or not
         self.on_state: Callable[[Scene, int, float], bool] | None = None
         self.bar: Any = None
+        # revolutions after the settle simulated at an update state (one that ends an
+        # update, and the unworn one) when a hook analyses that state's run: the state's
+        # increment reads the first ``averaged`` of them, the hook all (``state_traj``);
+        # None: no run is shared (the hook makes its own)
+        self.state_revolutions: float | None = None
+        self.state_traj: xr.Dataset | None = None
 
     # -- one simulated state
-    def _simulate(self, label: str) -> tuple[xr.Dataset, int, _Check] | None:
+    def _simulate(
+        self, label: str, *, update_state: bool = False
+    ) -> tuple[xr.Dataset, int, _Check] | None:
+        """The run of the current state, its settled start and its check; None (and
+        ``self.failure`` set) when it fails. An update state's run lasts
+        ``state_revolutions`` after the settle (kept whole in ``state_traj``) and is cut
+        after ``averaged`` of them, so the increment and its check see the same
+        revolutions as a run of ``settle + averaged`` (the same steps: the samples differ
+        from the shorter run's by the rounding of the dense output only)."""
         self.last_check = None
+        extra = self.state_revolutions if update_state else None
+        shared = extra is not None
+        span = self.averaged if extra is None else max(extra, float(self.averaged))
+        longer = span > self.averaged
+        revolutions = self.settle + span
         try:
-            traj = simulate(self.current, revolutions=self.settle + self.averaged, **self.kwargs)
+            traj = simulate_turns(self.current, revolutions, **self.kwargs)
         except SimulationError as exc:
             self.failure = f"the simulation of {label} failed: {exc}"
             return None
+        self.state_traj = traj if shared else None
+        if longer:
+            end = window_start(traj, self.settle + self.averaged)
+            traj = traj.isel(time=slice(0, end + 1))
         check = self.last_check = _check_state(traj, self.current)
         if not check.passed:
             self.failure = self._check_message(check, label)
@@ -322,7 +347,7 @@ class UpdateLoop:
         """Run ``updates`` blocks (up to ``self.targets[updates - 1]``); on return ``self.states``
         holds every finished update state and ``self.failure`` why it stopped, if it did."""
         self.updates, self.bar = updates, bar
-        state = self._simulate(self._label(0.0, 0, updates, 0))
+        state = self._simulate(self._label(0.0, 0, updates, 0), update_state=True)
         cycles = 0.0
         for u in range(updates + 1):
             if state is None:
@@ -388,7 +413,7 @@ class UpdateLoop:
             if self.bar is not None:
                 self.bar.set_postfix_str(f"sub-update {sub}", refresh=True)
             label = self._label(start_cycles + done, u + 1, updates, 0 if parts == 1 else sub)
-            state = self._simulate(label)
+            state = self._simulate(label, update_state=parts == 1)
             last = self.last_check
             self.subs.append(
                 {"update": u, "cycles": cycles, "depth_increment": cycles * rate,

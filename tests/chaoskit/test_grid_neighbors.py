@@ -7,9 +7,12 @@ import numpy as np
 import pytest
 from numpy.testing import assert_allclose, assert_array_equal
 
+import chaoskit._neighbors as neighbors_module
 from chaoskit import lyapunov_kantz, lyapunov_rosenstein, systems
 from chaoskit._neighbors import grid_nearest_neighbors, nearest_neighbors
 from chaoskit.lyapunov import _kernels
+from chaoskit.lyapunov._common import batch_means_ci
+from chaoskit.lyapunov._rosenstein import slope_spread
 
 
 def _brute(points: np.ndarray, w: int, p: float) -> tuple[np.ndarray, np.ndarray]:
@@ -71,14 +74,40 @@ def test_grid_bad_input() -> None:
         grid_nearest_neighbors(pts, theiler_window=1, p=1.0)
 
 
-@pytest.mark.parametrize("step", [1, 3])
+@pytest.mark.parametrize("p", [2.0, np.inf])
+def test_grid_on_a_map_both_bucketings_match_brute_force(p: float, monkeypatch) -> None:
+    # Hénon: a clustered two-coordinate set, where most queries end in their own cell;
+    # the points are bucketed by counting sort (few cells per point) or by argsort
+    x = systems.henon(1500)[:, 0]
+    pts = np.ascontiguousarray(np.column_stack([x[:-1], x[1:]]))
+    ref_idx, ref_dist = _brute(pts, 1, p)
+    idx, dist = grid_nearest_neighbors(pts, theiler_window=1, p=p)
+    monkeypatch.setattr(neighbors_module, "_COUNTING_CELLS", 0)
+    a_idx, a_dist = grid_nearest_neighbors(pts, theiler_window=1, p=p)
+    for i, d in ((idx, dist), (a_idx, a_dist)):
+        assert_array_equal(i, ref_idx)
+        assert_allclose(d, ref_dist, rtol=1e-12)
+
+
+def test_grid_sparse_middle_coordinate_matches_brute_force() -> None:
+    # a grid coordinate with a single cell: rings grow over the other two only
+    pts = np.random.default_rng(8).standard_normal((400, 3))
+    pts[:, 1] = 0.25
+    for p in (2.0, np.inf):
+        idx, dist = grid_nearest_neighbors(pts, theiler_window=3, p=p)
+        ref_idx, ref_dist = _brute(pts, 3, p)
+        assert_array_equal(idx, ref_idx)
+        assert_allclose(dist, ref_dist, rtol=1e-12)
+
+
+@pytest.mark.parametrize("step", [1, 2, 3, 5])
 def test_euclidean_divergence_matches_the_general_kernel(step: int) -> None:
     # the general SAMPLE_ORBIT kernel with zero shifts is sqrt(d2 · d2) = d2 per pair
     x = systems.lorenz(6000, dt=0.01)[:, 0]
     pts = np.ascontiguousarray(np.column_stack([x[:-20], x[10:-10], x[20:]]) / x.std())
     ref = np.arange(0, 5000, 2)
     nbr, _ = grid_nearest_neighbors(pts[:5000], theiler_window=100, query=ref)
-    ks = np.arange(0, 301, step)
+    ks = np.append(np.arange(0, 301, step), 302)  # a last horizon off the step
     zero = np.zeros(ref.size)
     total, count = _kernels.log_divergence(pts, ref, nbr, ks, _kernels.EUCLIDEAN, zero)
     gen, gcount = _kernels.log_divergence(pts, ref, nbr, ks, _kernels.SAMPLE_ORBIT, zero)
@@ -99,7 +128,7 @@ def test_estimates_on_henon_are_unchanged() -> None:
     assert_allclose(lyapunov_kantz(x).mle, 0.425756, atol=2e-3)
 
 
-@pytest.mark.parametrize("step", [1, 4])
+@pytest.mark.parametrize("step", [1, 2, 4])
 def test_orbit_divergence_matches_numpy(step: int) -> None:
     x = systems.lorenz(3000, dt=0.01)[:, 0]
     pts = np.ascontiguousarray(np.column_stack([x[:-20], x[10:-10], x[20:]]) / x.std())
@@ -123,3 +152,24 @@ def test_orbit_divergence_matches_numpy(step: int) -> None:
     expected = np.where(ok, 0.5 * np.log(np.where(ok, d2, 1.0)), 0.0).sum(axis=0)
     assert_array_equal(count, ok.sum(axis=0))
     assert_allclose(total, expected, rtol=1e-12, atol=1e-9)
+
+
+@pytest.mark.parametrize("mode", [_kernels.EUCLIDEAN, _kernels.SAMPLE_ORBIT])
+def test_batch_slope_sums_match_the_per_pair_slopes(mode: int) -> None:
+    # the interval's spread from batch sums of log distances equals the batch means of the
+    # per-pair slopes; a pair at zero distance sends it back to the per-pair path
+    x = systems.lorenz(5000, dt=0.01)[:, 0]
+    pts = np.ascontiguousarray(np.column_stack([x[:-20], x[10:-10], x[20:]]) / x.std())
+    ref = np.arange(0, 4600, 3)
+    nbr, _ = grid_nearest_neighbors(pts[:4600], theiler_window=100, query=ref)
+    shift = _kernels.orbit_shifts(pts, ref, nbr)
+    ks = np.unique(np.linspace(20, 300, 32).astype(np.int64))
+    slopes, valid = _kernels.pair_slopes(pts, ref, nbr, ks, mode, shift)
+    _, half, n_batches = batch_means_ci(slopes[valid])
+    got = slope_spread(pts, ref, nbr, ks, mode, shift)
+    assert got[1:] == (n_batches, int(valid.sum())) == (20, 1534)
+    assert_allclose(got[0], half, rtol=1e-12)
+    pts[nbr[7] + ks[2]] = pts[ref[7] + ks[2]]
+    slopes, valid = _kernels.pair_slopes(pts, ref, nbr, ks, mode, shift)
+    _, half, n_batches = batch_means_ci(slopes[valid])
+    assert slope_spread(pts, ref, nbr, ks, mode, shift) == (half, n_batches, int(valid.sum()))

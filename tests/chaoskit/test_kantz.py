@@ -155,6 +155,27 @@ def test_kernel_matches_brute_force(transverse: bool) -> None:
     assert (count == finite.sum(axis=0)).all()
 
 
+@pytest.mark.parametrize("dim", [1, 2, 3, 4])
+def test_kernel_on_consecutive_horizons_matches_brute_force(dim: int) -> None:
+    # 64 or more consecutive horizons take the fused distance-root-sum pass for up to
+    # three coordinates, the general one beyond
+    pts = np.ascontiguousarray(np.random.default_rng(5 + dim).standard_normal((700, dim)))
+    ks = np.arange(0, 70, dtype=np.int64)
+    usable = pts.shape[0] - ks[-1]
+    ref = np.arange(0, usable, 13, dtype=np.int64)
+    eps = np.array([0.3, 0.5, 0.8]) * dim**0.5
+    search = _Search(pts, pts[:usable], ref, 2, eps, ks, 10_000)
+    out, used, total, count = search.log_distances(False, eps.size - 1)
+    expect = _brute(pts, ref, 2, eps, ks, False)
+    assert ((used > 0) == np.isfinite(expect[:, :, 0])).all()
+    assert np.isfinite(expect).sum() > 100
+    # (absolute tolerance: a mean distance near 1 has a log near 0)
+    assert_allclose(out, expect, rtol=1e-12, atol=1e-14, equal_nan=True)
+    finite = np.isfinite(expect)
+    assert_allclose(total, np.where(finite, expect, 0.0).sum(axis=0), rtol=1e-12, atol=1e-12)
+    assert (count == finite.sum(axis=0)).all()
+
+
 def test_neighbour_cap_takes_a_strided_subset() -> None:
     pts = np.ascontiguousarray(np.random.default_rng(4).standard_normal((2000, 2)))
     ks = np.array([0, 2], dtype=np.int64)

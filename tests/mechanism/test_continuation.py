@@ -202,7 +202,8 @@ def test_branch_that_ends_with_its_multipliers_inside_is_an_unnamed_end():
     (end,) = bifs
     assert end.kind == "end" and end.branch_end
     assert end.bracket[0] <= 0.5 < end.bracket[1]
-    assert end.bracket[1] - end.bracket[0] < 2e-3
+    # unnamed: the step is halved 3 more times below min_step before the branch ends
+    assert end.bracket[1] - end.bracket[0] < 2e-3 / 8
     assert "ends abruptly" in end.explanation
 
 
@@ -294,6 +295,95 @@ def test_scene_arguments_are_checked() -> None:
         mechanism.continuation(scene, parameter="drive.speed_rpm", values=[30.0, 40.0, 35.0])
     with pytest.raises(ValueError, match=r"parameter .drive\.nothing. is not a scene key"):
         mechanism.continuation(scene, parameter="drive.nothing", span=(30.0, 40.0))
+    with pytest.raises(ValueError, match=r"seeds must be finite values in \[30, 40\]; got 50.0"):
+        mechanism.continuation(scene, parameter="drive.speed_rpm", span=(30.0, 40.0), seeds=[50])
+    with pytest.raises(ValueError, match="calm_modulus must be"):
+        ContinuationSettings(calm_modulus=0.0)
+
+
+def test_step_grows_on_small_multipliers_with_calm_modulus() -> None:
+    """Step control on the multipliers: with |mu| <= calm_modulus the step grows whatever
+    Newton's iteration count, so fewer points cover the span, at the same fixed points."""
+    base = {"step": 0.01, "max_step": 0.08, "easy_iterations": 1, "switch_branches": False}
+    plain, _ = continue_map(logistic, np.array([0.6]), (2.5, 2.9),
+                            settings=ContinuationSettings(**base))  # fmt: skip
+    calm, _ = continue_map(logistic, np.array([0.6]), (2.5, 2.9),
+                           settings=ContinuationSettings(**base, calm_modulus=0.95))  # fmt: skip
+    assert len(plain[0].points) >= 41  # no growth: every Newton solve takes > 1 iteration
+    assert len(calm[0].points) < 15
+    for p in calm[0].points:
+        assert p.state[0] == pytest.approx(1 - 1 / p.parameter, rel=1e-10)
+
+
+def _diagram(values, low, estimate) -> xr.Dataset:
+    name = "drive.speed_rpm"
+    return xr.Dataset(
+        {
+            "lyapunov_exponent_low": (name, np.asarray(low, float)),
+            "lyapunov_exponent": (name, np.asarray(estimate, float)),
+        },
+        coords={name: np.asarray(values, float)},
+        attrs={"bifurcation_parameter": name},
+    )
+
+
+def test_chaotic_windows_bridge_undecided_values_and_regular_stretches_give_seeds() -> None:
+    """An undecided value (interval reaching below 0, estimate above 0.1 1/s) between
+    chaotic ones does not split a window; a regular one does; each regular stretch's seed
+    is its most negative exponent."""
+    values = [30, 40, 50, 60, 70, 80, 90, 100, 110]
+    low = [-1e-5, -3.0, 1.0, -0.7, 2.0, -4.0, -9.0, 0.5, -2.0]
+    estimate = [1e-6, -2.9, 2.0, 0.4, 3.0, -3.9, -8.9, 1.0, -1.9]
+    windows, slack = mechanism.studies.orbits._route.chaotic_windows(
+        _diagram(values, low, estimate)
+    )
+    assert windows == [(50.0, 70.0), (100.0, 100.0)]
+    assert slack == 5.0
+    stretches = mechanism.regular_stretches(_diagram(values, low, estimate))
+    assert stretches == [(30.0, 40.0, 40.0), (80.0, 90.0, 90.0), (110.0, 110.0, 110.0)]
+
+
+def _bif(kind, p, branch, *, end=False, before=0.5, after=1.5):
+    return mechanism.BifurcationPoint(
+        kind=kind, parameter=p, bracket=(p - 0.2, p + 0.2), branch=branch, period=1,
+        multipliers_before=np.array([before]),
+        multipliers_after=np.zeros(0) if end else np.array([after]), branch_end=end,
+    )  # fmt: skip
+
+
+def test_route_names_the_onset_from_below_and_the_closing_from_above() -> None:
+    """Each window gets the last loss of stability below it on a branch followed up and
+    the first one above it on a branch followed down."""
+
+    def branch(ps):
+        return mechanism.ContinuationBranch(period=1, points=tuple(
+            mechanism.ContinuationPoint(parameter=p, state=np.zeros(2),
+                                        multipliers=np.array([0.01]), stable=True, residual=0.0)
+            for p in ps))  # fmt: skip
+
+    branches = (branch([30, 50, 64.4]), branch([144, 140, 128.3]), branch([144, 148.6]))
+    bifs = (_bif("grazing", 64.47, 0, end=True), _bif("fold", 128.2, 1, end=True),
+            _bif("period-doubling", 148.7, 2))  # fmt: skip
+    c = mechanism.Continuation(
+        parameter="drive.speed_rpm", units="rpm", scene_name="paper", branches=branches,
+        bifurcations=bifs, settings=ContinuationSettings(),
+    )  # fmt: skip
+    r = mechanism.route(c, [(71.2, 126.1), (149.0, 162.7)])
+    assert [b.parameter for b in r.onsets] == [64.47, 148.7]
+    assert [b and b.parameter for b in r.closings] == [128.2, None]
+    lines = r.lines()
+    assert lines[-2] == (
+        "chaotic window 71.2–126.1 rpm: opened by the grazing at 64.47 rpm [64.27, 64.67] "
+        "(end of the period-1 branch 0); from above, the regular motion ends in the fold at "
+        "128.2 rpm [128, 128.4] (end of the period-1 branch 1)"
+    )
+    assert lines[-1].startswith("chaotic window 149–162.7 rpm: opened by the period-doubling")
+    assert r.inside == ((), ())
+    # a branch stable on both sides of a window runs through it
+    through = dataclasses.replace(c, branches=(*branches, branch([300, 227.2, 221.2])))
+    r = mechanism.route(through, [(71.2, 126.1), (222.2, 222.2)])
+    assert r.inside == ((), ((222.2, 222.2),))
+    assert r.lines()[-1].endswith("a stable orbit followed inside it over 222.2–222.2 rpm")
 
 
 @pytest.mark.slow
@@ -407,3 +497,32 @@ def test_rigid_paper_scene_first_loss_of_stability_of_the_period_one_orbit() -> 
         found.append(loss)
     assert found[0].kind == found[1].kind
     assert found[0].parameter == pytest.approx(found[1].parameter, abs=0.5)
+
+
+@pytest.mark.slow
+def test_rigid_paper_scene_orbit_followed_down_from_199_rpm_grazes_then_ends() -> None:
+    """The period-1 orbit of the regular stretch above the chaotic window at 190 rpm,
+    followed down from a run settled at 199.1 rpm: a free-flight phase appears (a
+    grazing, located by bisection on the contact signature) near 197.9 rpm, and the
+    branch ends just below; the same from a start changed by 1e-12 (relative)."""
+    scene = rigid_paper().replace({"drive.speed_rpm": 199.1})
+    settings = ContinuationSettings(
+        step=0.3, min_step=0.1, max_step=0.6, locate_tolerance=0.5, easy_iterations=1,
+        calm_modulus=0.5, max_iterations=8, reseed=False, max_period=1, segments=1,
+    )  # fmt: skip
+    orbit = mechanism.periodic_orbit(scene, settle=40, segments=1)
+    assert orbit.converged and orbit.stable
+    for factor in (1.0, 1.0 + 1e-12):
+        start = dataclasses.replace(orbit, section_state=orbit.section_state * factor)
+        c = mechanism.continuation(
+            rigid_paper(), parameter="drive.speed_rpm", values=[199.1, 196.0], orbit=start,
+            settings=settings,
+        )  # fmt: skip
+        grazing = [b for b in c.bifurcations if b.kind == "grazing" and not b.branch_end]
+        ends = [b for b in c.bifurcations if b.branch_end]
+        assert len(grazing) == 1 and len(ends) == 1
+        assert 197.4 < grazing[0].bracket[0] < grazing[0].bracket[1] < 198.4
+        assert "C:free flight" in grazing[0].explanation
+        lo, hi = ends[0].bracket
+        assert 197.0 < lo < hi <= grazing[0].bracket[1] and hi - lo <= 0.5
+        assert c.branches[0].stable.all()

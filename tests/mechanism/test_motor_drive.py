@@ -135,9 +135,14 @@ def test_motor_scene_from_toml_keys() -> None:
     ("drive", "forces", "message"),
     [
         (
-            {"stall_torque": 0.0, "no_load_speed_rpm": 600.0},
+            {"stall_torque": -1.0, "no_load_speed_rpm": 600.0},
             None,
-            "drive.stall_torque: must be in (0, 1e+09] (N m); got 0.0",
+            "drive.stall_torque: must be in [0, 1e+09] (N m); got -1.0",
+        ),
+        (
+            {"stall_torque": 2.0, "no_load_speed_rpm": 600.0, "initial_speed_rpm": 2e6},
+            None,
+            "drive.initial_speed_rpm: must be in [-1e+06, 1e+06] (rpm); got 2000000.0",
         ),
         (
             {"stall_torque": 2.0, "no_load_speed_rpm": 0.0},

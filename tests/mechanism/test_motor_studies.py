@@ -2,8 +2,9 @@
 
 A sweep runs each point for ``revolutions`` periods of the motor's no-load speed (as the
 orbit diagram does) and gives exactly the run ``simulate`` makes over that time on the
-same machine; the wear path and periodic orbits, which need a fixed drive period, refuse
-the scene with a one-line error that names the reason.
+same machine; periodic orbits and continuation, which need a fixed drive period, refuse
+the scene with a one-line error that names the reason (the wear path counts its cycles on
+the crank angle: ``test_motor_wear.py``).
 """
 
 from __future__ import annotations
@@ -59,16 +60,6 @@ def test_sweep_of_a_motor_scene_runs_revolutions_of_the_no_load_period(tmp_path)
     assert math.isfinite(peak)
     torque = float(ds.driving_torque_extreme.values.ravel()[0])
     assert np.isnan(torque)  # a motor has no driving constraint: no reaction torque
-
-
-def test_wear_life_refuses_a_motor_scene() -> None:
-    with pytest.raises(ValueError) as info:
-        mechanism.wear_life(_motor_crank(), cycles=1000.0, checkpoints=[500.0])
-    assert str(info.value) == (
-        "wear_life needs a periodic drive: a motor-driven crank has no drive period, so its "
-        "wear cycles cannot be counted; use a constant_speed drive at the speed the motor "
-        "reaches."
-    )
 
 
 def test_periodic_orbit_refuses_a_motor_scene() -> None:

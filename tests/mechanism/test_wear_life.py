@@ -252,17 +252,17 @@ def test_a_state_beyond_the_model_ends_the_path_and_keeps_the_checkpoints_before
     """From the third simulated wear state on the penetration is inflated 50× (far beyond
     the clearance whatever the rounding): the path ends there with the reason, keeping the
     unworn state and the checkpoint at 500 cycles (one increment each at 90 rpm)."""
-    real = wear_module.simulate
+    real = wear_module.simulate_turns
     calls: list = []
 
-    def deeper(scene, **kwargs):
-        ds = real(scene, **kwargs)
+    def deeper(scene, revolutions, **kwargs):
+        ds = real(scene, revolutions, **kwargs)
         calls.append(scene)
         if len(calls) >= 3:
             ds = ds.assign(penetration=ds["penetration"] * 50.0)
         return ds
 
-    monkeypatch.setattr(wear_module, "simulate", deeper)
+    monkeypatch.setattr(wear_module, "simulate_turns", deeper)
     life = _quiet(
         mechanism.wear_life, rigid_paper({"drive.speed_rpm": 90.0}), cycles=1000,
         checkpoints=[500], **QUICK,

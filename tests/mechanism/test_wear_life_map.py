@@ -127,11 +127,11 @@ def test_a_failed_path_is_a_row_with_its_reason_and_the_checkpoints_before(tmp_p
     beyond the clearance whatever the rounding): that path ends after 50 cycles, keeping
     the unworn state and the checkpoint at 50; the task of 120 rpm raises. Both are rows
     of the map; a re-run keeps the ended path (it is a result) and runs the raised one."""
-    real_simulate, real_wear_life = wear_module.simulate, map_module.wear_life
+    real_simulate, real_wear_life = wear_module.simulate_turns, map_module.wear_life
     calls: list = []
 
-    def deeper(scene, **kwargs):
-        ds = real_simulate(scene, **kwargs)
+    def deeper(scene, revolutions, **kwargs):
+        ds = real_simulate(scene, revolutions, **kwargs)
         if scene.drive.speed_rpm == 150.0:
             calls.append(scene)
             if len(calls) >= 3:
@@ -143,7 +143,7 @@ def test_a_failed_path_is_a_row_with_its_reason_and_the_checkpoints_before(tmp_p
             raise RuntimeError("stand-in failure")
         return real_wear_life(scene, **kwargs)
 
-    monkeypatch.setattr(wear_module, "simulate", deeper)
+    monkeypatch.setattr(wear_module, "simulate_turns", deeper)
     monkeypatch.setattr(map_module, "wear_life", broken)
     life = _map(tmp_path, [120.0, 150.0])
     assert life.statuses == ("failed", "failed")

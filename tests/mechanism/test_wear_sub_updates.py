@@ -32,17 +32,17 @@ def _deepen_penetration_from_call(monkeypatch, first: int, factor: float = 50.0)
     """Make every simulation from the ``first``-th on report ``factor`` × its penetration
     (a state the hard check must stop; the unworn slider-crank penetrates 10–20 % of its
     clearance, so 50 × is far beyond it whatever the rounding)."""
-    real = wear_module.simulate
+    real = wear_module.simulate_turns
     calls: list = []
 
-    def deeper(scene, **kwargs):
-        ds = real(scene, **kwargs)
+    def deeper(scene, revolutions, **kwargs):
+        ds = real(scene, revolutions, **kwargs)
         calls.append(scene)
         if len(calls) >= first:
             ds = ds.assign(penetration=ds["penetration"] * factor)
         return ds
 
-    monkeypatch.setattr(wear_module, "simulate", deeper)
+    monkeypatch.setattr(wear_module, "simulate_turns", deeper)
     return calls
 
 
@@ -192,13 +192,13 @@ def test_an_unworn_state_beyond_the_clearance_names_the_scene_not_the_step(monke
 
 
 def test_non_finite_contact_forces_stop_the_prediction(monkeypatch):
-    real = wear_module.simulate
+    real = wear_module.simulate_turns
 
-    def broken(scene, **kwargs):
-        ds = real(scene, **kwargs)
+    def broken(scene, revolutions, **kwargs):
+        ds = real(scene, revolutions, **kwargs)
         return ds.assign(contact_force=ds["contact_force"] * np.nan)
 
-    monkeypatch.setattr(wear_module, "simulate", broken)
+    monkeypatch.setattr(wear_module, "simulate_turns", broken)
     with pytest.raises(mechanism.WearPredictionError, match="not finite"):
         mechanism.predict_wear(
             mechanism.load_scene(SCENE), updates=1, cycles_per_update=1.0, settle_revolutions=0.0

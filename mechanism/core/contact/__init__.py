@@ -46,4 +46,10 @@ from ._laws import (
 from ._laws import __all__ as __all__
 
 # the oil film of a lubricated revolute clearance joint, for the model; not public API
-from ._lubrication import film_factor, positive_film_force, short_bearing_force
+from ._lubrication import (
+    film_engaged,
+    film_factor,
+    film_moved,
+    positive_film_force,
+    short_bearing_force,
+)

@@ -121,3 +121,41 @@ def positive_film_force(
     f_r = -k * (a * i_cc - eps_w * i_sc)
     f_t = -k * (a * i_sc - eps_w * i_ss)
     return f_r, f_t
+
+
+@njit_noalloc()
+def film_engaged(viscosity: float, breakdown: float, delta: float) -> bool:
+    """Whether the film of a clearance joint carries load at the contact state ``delta``
+    (|e| − c, negative while the journal floats): the joint is lubricated
+    (``viscosity`` > 0) and its minimum film thickness −δ is above ``breakdown``.
+
+    The implicit integrators re-linearise such a joint at every Newton iterate, as one in
+    dry contact: near the wall the film's stiffness and damping grow as (1 − ε²)^(−5/2),
+    so a Jacobian taken at the start of a step is stale at its end."""
+    return viscosity > 0.0 and -delta > breakdown
+
+
+@njit_noalloc()
+def film_moved(
+    viscosity: float,
+    breakdown: float,
+    delta: float,
+    delta_lin: float,
+    angle: float,
+    angle_lin: float,
+    fraction: float,
+) -> bool:
+    """Whether a linearisation of the film force taken at (``delta_lin``, ``angle_lin``)
+    no longer holds at (``delta``, ``angle``): the film is engaged at either state
+    (:func:`film_engaged`) and its minimum thickness changed by more than ``fraction`` of
+    the thinner one, or the line of centres turned by more than ``fraction`` rad.
+
+    The force is linear in the rates (ε̇ and the entrainment speed) at a fixed
+    eccentricity, so its derivative with respect to the velocities changes only with the
+    geometry checked here."""
+    if not (
+        film_engaged(viscosity, breakdown, delta) or film_engaged(viscosity, breakdown, delta_lin)
+    ):
+        return False
+    thinner = min(-delta, -delta_lin)
+    return abs(delta - delta_lin) > fraction * thinner or abs(angle - angle_lin) > fraction

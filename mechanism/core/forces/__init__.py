@@ -4,6 +4,7 @@ profiles (``docs/force-elements.md``). Scenes describe them as data (``[forces.N
 the model adds their compiled forces to each right-hand side when a scene has any."""
 
 # compiled kernels and their table layouts, for the model; not public API
+from ._initial import motor_speed_row
 from ._kernels import (
     FO_COLUMNS,
     FO_COORD,

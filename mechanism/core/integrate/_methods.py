@@ -339,7 +339,7 @@ class GeneralizedAlpha(Integrator):
                 h0 = min(max_step, 1e-3 * (t_end - t0), 1e-4)
             ctl = step_control(self, t0, t_end, steps, max_step=max_step, fixed_step=fixed)
             loop = step_kernels.LoopState(
-                y=y, f=acc, apse=acc.copy(), step=np.array([t0, h0, 0.0, 0.0, 0.0]),
+                y=y, f=acc, apse=acc.copy(), step=np.array([t0, h0, 0.0, 0.0, 0.0, -1.0, 0.0]),
                 vimp=vimp, contact=contact, counters=counters,
             )  # fmt: skip
             bar = ProgressBar(progress, t0, t_end, label)

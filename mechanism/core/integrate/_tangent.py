@@ -174,19 +174,21 @@ class TangentIntegration:
         step before each stop is shortened to land on it; the deviation is renormalised
         there).
     log_growth : numpy.ndarray
-        ``Σ ln(|d|/size)`` from the start up to each ``t`` (natural log, dimensionless).
+        ``Σ ln(|d|/size)`` from the start up to each ``t`` (natural log, dimensionless);
+        for a block of deviations (``d0`` of shape (2n, k)) one column per deviation.
     renormalizations : int
-        Renormalisations done.
+        Renormalisations done (of each deviation).
     stats : SolverStats
         Reference integration cost; ``function_evaluations`` counts both copies.
     final_state, final_deviation : numpy.ndarray
+        The reference's state and the deviation (for a block, one column per deviation).
     newton_iterations, unconverged_steps : int
         Generalized-α only: the perturbed copy's Newton iterations, and the steps whose
         copy ended its iterations with an update above 1e-3 of the deviation's size (0
         for Dormand–Prince).
     final_latch, final_latch_deviation : numpy.ndarray
         Latched impact velocity (m/s) of each clearance joint at the end, and its
-        deviation (rescaled with the deviation, like it).
+        deviation (rescaled with the deviation, like it; for a block, (joints, k)).
     final_contact : numpy.ndarray
         1 for a clearance joint in contact at the end, else 0.
     states : numpy.ndarray
@@ -311,6 +313,35 @@ def _start_latch(
     return vimp, contact
 
 
+def _deviation_rows(d0: np.ndarray, n2: int) -> np.ndarray:
+    """A deviation (2n,) or a block (2n, k) as the compiled loop's rows (k, 2n)."""
+    d = np.asarray(d0, dtype=np.float64)
+    if d.ndim not in (1, 2) or d.shape[0] != n2 or (d.ndim == 2 and d.shape[1] < 1):
+        raise ValueError(
+            f"d0 must be a deviation of {n2} values or a block of shape ({n2}, k), k >= 1; "
+            f"got shape {d.shape}."
+        )
+    return np.ascontiguousarray(np.atleast_2d(d.T) if d.ndim == 2 else d[None, :]).copy()
+
+
+def _latch_rows(
+    latch_deviation: np.ndarray | None, joints: int, columns: int, block: bool
+) -> np.ndarray:
+    """Initial latch deviations (m/s) as rows (k, joints); zero when not given."""
+    out = np.zeros((columns, joints))
+    if latch_deviation is None:
+        return out
+    dl = np.asarray(latch_deviation, dtype=np.float64)
+    want = (joints, columns) if block else (joints,)
+    if dl.shape != want:
+        raise ValueError(
+            f"latch_deviation must have shape {want} (joints, and one column per deviation "
+            f"of a block); got {dl.shape}."
+        )
+    out[:] = dl.T if block else dl[None, :]
+    return out
+
+
 def integrate_tangent(
     model: Model,
     y0: np.ndarray,
@@ -335,7 +366,15 @@ def integrate_tangent(
     y0, d0
         Initial state [q; q̇] and deviation (its size, :func:`deviation_size`, is kept at
         every renormalisation). A zero ``d0`` integrates the reference alone, at a third
-        of the cost (its growth stays 0).
+        of the cost (its growth stays 0). A (2n, k) ``d0`` is a block of k deviations
+        carried in lock-step on the one reference: the same steps (with
+        ``deviation_rtol`` > 0 the error norm is the largest of the reference's and the
+        deviations'), the same contact, friction-ramp and latch rules, each column
+        renormalised on its own to its own size; a column's numbers are those of a
+        lone run of it whenever the steps are (a ``step_schedule``, or
+        ``deviation_rtol`` = 0), and one reference serves them all (the monodromy
+        matrix of :func:`mechanism.periodic_orbit`). The results then carry one
+        column per deviation.
     t_stops
         Increasing times (s); the first is the start. The growth is read at each.
     settings
@@ -348,7 +387,8 @@ def integrate_tangent(
         default: those :func:`mechanism.simulate` starts from (a journal in contact holds
         the floor). A state taken from inside a run needs the run's latch.
     latch_deviation
-        Initial deviation (m/s) of the latched impact velocities; default 0.
+        Initial deviation (m/s) of the latched impact velocities (for a block, (joints, k),
+        one column per deviation); default 0.
     step_schedule
         Increasing times holding ``t_stops`` (e.g. ``step_times`` of a run from a nearby
         state): step exactly from one to the next, accepting every step.
@@ -397,22 +437,23 @@ def integrate_tangent(
     ws, ws2 = model.workspace(), model.workspace()
     stops = np.ascontiguousarray(t_stops, dtype=np.float64)
     y = np.ascontiguousarray(y0, dtype=np.float64).copy()
-    d = np.ascontiguousarray(d0, dtype=np.float64).copy()
+    block = np.ndim(d0) == 2
+    # the compiled loop holds the deviations as rows: (k, 2n)
+    d = _deviation_rows(d0, y.size)
     tau2 = float(time_scale) ** 2
     inv_mass = inverse_total_mass(model)
-    size = float(tangent_kernels.deviation_size(km, d, tau2, inv_mass))
+    size = np.array([tangent_kernels.deviation_size(km, row, tau2, inv_mass) for row in d])
     k1 = np.zeros_like(y)
-    kd1 = np.zeros_like(y)
+    kd1 = np.zeros_like(d)
     state = np.zeros(5)
     counters = np.zeros(model_kernels.CNT_COLUMNS, dtype=np.int64)
     counters_p = np.zeros(model_kernels.CNT_COLUMNS, dtype=np.int64)
-    growth = np.zeros(tangent_kernels.GROWTH_COLUMNS)
+    growth = np.zeros((d.shape[0], tangent_kernels.GROWTH_COLUMNS))
     vimp, contact = _start_latch(model, y, latch)
-    dvimp = np.zeros_like(vimp)  # deviation of the latched impact velocities (m/s)
-    if latch_deviation is not None:
-        dvimp[:] = np.asarray(latch_deviation, dtype=np.float64)
+    # deviations of the latched impact velocities (m/s), one row per deviation
+    dvimp = _latch_rows(latch_deviation, vimp.size, d.shape[0], block)
     t0, t_end = float(stops[0]), float(stops[-1])
-    times, logs = [t0], [0.0]
+    times, logs = [t0], [np.zeros(d.shape[0])]
     record = _StopRecord(record_states, y, contact, vimp)
     since = interruptions()
     start = time.perf_counter()
@@ -465,7 +506,7 @@ def integrate_tangent(
             status = advance_to(advance, state, float(t_stop), bar, since)
             if status in (STATUS_RUNNING, 0):
                 times.append(float(state[0]))
-                logs.append(float(growth[tangent_kernels.GROWTH_LOG]))
+                logs.append(growth[:, tangent_kernels.GROWTH_LOG].copy())
                 record.add(y, contact, vimp, counters)
     finally:
         bar.close()
@@ -474,15 +515,16 @@ def integrate_tangent(
         status = 0
     counters[model_kernels.CNT_FEV] += counters_p[model_kernels.CNT_FEV]
     stats = solver_stats("dopri5", status, counters, wall)
+    log_growth = np.array(logs)
     return TangentIntegration(
         t=np.array(times),
-        log_growth=np.array(logs),
-        renormalizations=int(growth[tangent_kernels.GROWTH_COUNT]),
+        log_growth=log_growth if block else log_growth[:, 0],
+        renormalizations=int(growth[0, tangent_kernels.GROWTH_COUNT]),
         stats=stats,
         final_state=y,
-        final_deviation=d,
+        final_deviation=d.T.copy() if block else d[0],
         final_latch=vimp,
-        final_latch_deviation=dvimp,
+        final_latch_deviation=dvimp.T.copy() if block else dvimp[0],
         final_contact=contact,
         latch_drops=hold.drops,
         step_times=np.array(steps) if record_steps else np.zeros(0),
@@ -505,7 +547,8 @@ class _ContactHold:
         self.since = np.where(contact != 0, t0, np.nan)
 
     def drop(self, t: float, contact: np.ndarray, counters: np.ndarray, dvimp: np.ndarray) -> bool:
-        """Update at time ``t``; True when a latch deviation was zeroed."""
+        """Update at time ``t``; True when a latch deviation was zeroed (``dvimp``: one
+        row per deviation)."""
         if self.after is None:
             return False
         events = int(counters[model_kernels.CNT_CONTACT_EVENTS])

@@ -272,21 +272,21 @@ def _shift(y, d, lo, hi, c, out):
 @njit_noalloc()
 def latch_pair(model, ws, ws2, y, d, vimp, dvimp, contact, counters, yp, size, tau, inv_mass):
     """Contact state after an accepted step, decided by the reference ``y``, and the
-    deviation ``dvimp`` of the latched impact velocity.
+    deviations ``dvimp`` of the latched impact velocity, one row per deviation (row c
+    of ``d``, ``dvimp`` and ``size``).
 
     Like :func:`mechanism.core.model._kernels.update_latch`: a joint the reference sees
-    penetrating is in contact (latch and its deviation frozen; an event counted on entry);
-    one it sees separated tracks the approach speed δ̇, floored at
-    ``impact_velocity_floor``. The latch's deviation is the derivative of that value along
-    ``d`` on the reference's branch: (∂δ̇/∂y)·d by finite differences (the position and
-    the velocity part of d each scaled to ``size``, as in :func:`_deviation_rate`), 0 when
-    the reference is held at the floor.
+    penetrating is in contact (latch and its deviations frozen; an event counted on
+    entry); one it sees separated tracks the approach speed δ̇, floored at
+    ``impact_velocity_floor``. A latch deviation is the derivative of that value along
+    its deviation on the reference's branch: (∂δ̇/∂y)·d by finite differences (the
+    position and the velocity part of d each scaled to ``size``, as in
+    :func:`_deviation_rate`), 0 when the reference is held at the floor.
     """
     ncj = model.cj_i.shape[0]
     if ncj == 0:
         return
     n = model.n_dof
-    n2 = y.shape[0]
     update_points(y[:n], y[n:], model.pt_i, model.pt_f, ws.pci, ws.pcf)
     tracking = False
     for j in range(ncj):
@@ -298,7 +298,8 @@ def latch_pair(model, ws, ws2, y, d, vimp, dvimp, contact, counters, yp, size, t
         else:
             contact[j] = 0
             floor = model.cj_f[j, CF_FLOOR]
-            dvimp[j] = 0.0
+            for c in range(d.shape[0]):
+                dvimp[c, j] = 0.0
             if ddot > floor:
                 vimp[j] = ddot
                 tracking = True
@@ -306,6 +307,18 @@ def latch_pair(model, ws, ws2, y, d, vimp, dvimp, contact, counters, yp, size, t
                 vimp[j] = floor
     if not tracking:
         return
+    for c in range(d.shape[0]):
+        _latch_deviation(model, ws, ws2, y, d[c], vimp, dvimp[c], contact, yp, size[c], tau,
+                         inv_mass)  # fmt: skip
+
+
+@njit_noalloc()
+def _latch_deviation(model, ws, ws2, y, d, vimp, dvimp, contact, yp, size, tau, inv_mass):
+    """Add (∂δ̇/∂y)·d to ``dvimp`` of every tracking joint (separated, above the floor);
+    ``ws`` holds the points of the reference ``y``."""
+    ncj = model.cj_i.shape[0]
+    n = model.n_dof
+    n2 = y.shape[0]
     pq, pv = part_norms(model, d, inv_mass)
     for half in range(2):
         if half == 0:
@@ -456,8 +469,8 @@ def _deviation_rate(model, ws, t, ys, ds, f_ref, vimp, dvimp, vimp_p, yp, fp, kd
 @njit(cache=True)
 def tangent_start(model, ws, t, y, d, k1, kd1, vimp, dvimp, counters, counters_p, size, tau,
                   inv_mass, directional):  # fmt: skip
-    """k1 = f(t, y) and kd1 = the deviation's rate (:func:`_deviation_rate`); returns a
-    status."""
+    """k1 = f(t, y) and, for every row c of the block ``d`` (with ``dvimp[c]`` and
+    ``size[c]``), kd1[c] = its rate (:func:`_deviation_rate`); returns a status."""
     st = rhs(model, ws, t, y, vimp, k1, counters)
     if st != STATUS_OK:
         return st
@@ -465,10 +478,12 @@ def tangent_start(model, ws, t, y, d, k1, kd1, vimp, dvimp, counters, counters_p
     fp = np.empty_like(y)
     ref = np.empty(model.cj_i.shape[0])
     vimp_p = np.empty_like(vimp)
-    st = _deviation_rate(
-        model, ws, t, y, d, k1, vimp, dvimp, vimp_p, yp, fp, kd1, ref, True,
-        size, tau, inv_mass, counters_p, directional,
-    )  # fmt: skip
+    for c in range(d.shape[0]):
+        # the first column reads the reference's branches from ws, the others reuse them
+        st |= _deviation_rate(
+            model, ws, t, y, d[c], k1, vimp, dvimp[c], vimp_p, yp, fp, kd1[c], ref, c == 0,
+            size[c], tau, inv_mass, counters_p, directional,
+        )  # fmt: skip
     return STATUS_RUNNING if st == STATUS_OK else st
 
 
@@ -531,21 +546,25 @@ def tangent_advance(
     schedule,
     directional,
 ):
-    """Advance reference and deviation to ``t_stop`` (≤ ``t_end``), landing on it, and
-    renormalise there.
+    """Advance the reference and a block of deviations to ``t_stop`` (≤ ``t_end``),
+    landing on it, and renormalise there.
 
-    With ``deviation_rtol`` = 0 the reference is stepped exactly as
+    The block: row c of ``d`` (k, 2n), ``kd1``, ``dvimp`` (k, joints), ``growth``
+    (k, ``GROWTH_COLUMNS``) and ``size`` (k,) is one deviation, carried in lock-step with
+    the one reference on its steps, each by the arithmetic of a lone deviation (k = 1 is
+    the single-deviation integration bit for bit). With ``deviation_rtol`` = 0 the
+    reference is stepped exactly as
     :func:`mechanism.core.integrate._dopri_kernels.dopri5_advance` steps it (same controller,
     error norm, maximum step, approach bound of the clearance joints, latch and optional
-    projection) and the deviation rides along; with ``deviation_rtol`` > 0 the error
-    passed to the controller is the larger of the reference's and the deviation's
-    (its embedded error estimate in the mass-weighted norm over ``deviation_rtol`` × its
-    size). Every ``every`` accepted steps, and at the end, the
-    deviation is renormalised (:func:`renormalize`). ``state`` = [t, h, facold, last step
-    rejected, accepted steps since the last renormalisation]. Returns ``STATUS_RUNNING``
-    when ``t_stop`` < ``t_end`` was reached, or after ``chunk_steps`` (> 0) attempted steps
-    with ``state[0]`` < ``t_stop`` (the next call continues bit for bit), 0 at ``t_end``,
-    or a negative failure status.
+    projection) and the deviations ride along; with ``deviation_rtol`` > 0 the error
+    passed to the controller is the largest of the reference's and the deviations' (each
+    one's embedded error estimate in the mass-weighted norm over ``deviation_rtol`` × its
+    size). Every ``every`` accepted steps, and at the end, every deviation is renormalised
+    (:func:`renormalize`). ``state`` = [t, h, facold, last step rejected, accepted steps
+    since the last renormalisation]. Returns ``STATUS_RUNNING`` when ``t_stop`` <
+    ``t_end`` was reached, or after ``chunk_steps`` (> 0) attempted steps with
+    ``state[0]`` < ``t_stop`` (the next call continues bit for bit), 0 at ``t_end``, or a
+    negative failure status.
 
     A non-empty ``schedule`` (increasing times holding the stops) fixes the steps: each
     goes from ``t`` to the next schedule time and is accepted whatever its error
@@ -553,22 +572,23 @@ def tangent_advance(
     choice to jump.
     """
     n2 = y.shape[0]
+    nc = d.shape[0]
     k2 = np.empty(n2)
     k3 = np.empty(n2)
     k4 = np.empty(n2)
     k5 = np.empty(n2)
     k6 = np.empty(n2)
     k7 = np.empty(n2)
-    kd2 = np.empty(n2)
-    kd3 = np.empty(n2)
-    kd4 = np.empty(n2)
-    kd5 = np.empty(n2)
-    kd6 = np.empty(n2)
-    kd7 = np.empty(n2)
+    kd2 = np.empty((nc, n2))
+    kd3 = np.empty((nc, n2))
+    kd4 = np.empty((nc, n2))
+    kd5 = np.empty((nc, n2))
+    kd6 = np.empty((nc, n2))
+    kd7 = np.empty((nc, n2))
     ytmp = np.empty(n2)
     dtmp = np.empty(n2)
     ynew = np.empty(n2)
-    dnew = np.empty(n2)
+    dnew = np.empty((nc, n2))
     yp = np.empty(n2)
     fp = np.empty(n2)
     err = np.empty(n2)
@@ -604,63 +624,81 @@ def tangent_advance(
         if h < 10.0 * _EPS * max(abs(t), 1e-300) or h <= 0.0:
             status = STATUS_STEP_TOO_SMALL
             break
+        # the stages: the reference's, then every deviation's at the reference's stage
+        # state (the first column reads the reference's contact branches from ws)
         st = STATUS_OK
         for i in range(n2):
             ytmp[i] = y[i] + h * A21 * k1[i]
-            dtmp[i] = d[i] + h * A21 * kd1[i]
         st |= rhs(model, ws, t + C2 * h, ytmp, vimp, k2, counters)
-        st |= _deviation_rate(
-            model, ws, t + C2 * h, ytmp, dtmp, k2, vimp, dvimp, vimp_p, yp, fp, kd2,
-            ref, True, size, tau, inv_mass, counters_p, directional,
-        )  # fmt: skip
+        for c in range(nc):
+            for i in range(n2):
+                dtmp[i] = d[c, i] + h * A21 * kd1[c, i]
+            st |= _deviation_rate(
+                model, ws, t + C2 * h, ytmp, dtmp, k2, vimp, dvimp[c], vimp_p, yp, fp, kd2[c],
+                ref, c == 0, size[c], tau, inv_mass, counters_p, directional,
+            )  # fmt: skip
         for i in range(n2):
             ytmp[i] = y[i] + h * (A31 * k1[i] + A32 * k2[i])
-            dtmp[i] = d[i] + h * (A31 * kd1[i] + A32 * kd2[i])
         st |= rhs(model, ws, t + C3 * h, ytmp, vimp, k3, counters)
-        st |= _deviation_rate(
-            model, ws, t + C3 * h, ytmp, dtmp, k3, vimp, dvimp, vimp_p, yp, fp, kd3,
-            ref, True, size, tau, inv_mass, counters_p, directional,
-        )  # fmt: skip
+        for c in range(nc):
+            for i in range(n2):
+                dtmp[i] = d[c, i] + h * (A31 * kd1[c, i] + A32 * kd2[c, i])
+            st |= _deviation_rate(
+                model, ws, t + C3 * h, ytmp, dtmp, k3, vimp, dvimp[c], vimp_p, yp, fp, kd3[c],
+                ref, c == 0, size[c], tau, inv_mass, counters_p, directional,
+            )  # fmt: skip
         for i in range(n2):
             ytmp[i] = y[i] + h * (A41 * k1[i] + A42 * k2[i] + A43 * k3[i])
-            dtmp[i] = d[i] + h * (A41 * kd1[i] + A42 * kd2[i] + A43 * kd3[i])
         st |= rhs(model, ws, t + C4 * h, ytmp, vimp, k4, counters)
-        st |= _deviation_rate(
-            model, ws, t + C4 * h, ytmp, dtmp, k4, vimp, dvimp, vimp_p, yp, fp, kd4,
-            ref, True, size, tau, inv_mass, counters_p, directional,
-        )  # fmt: skip
+        for c in range(nc):
+            for i in range(n2):
+                dtmp[i] = d[c, i] + h * (A41 * kd1[c, i] + A42 * kd2[c, i] + A43 * kd3[c, i])
+            st |= _deviation_rate(
+                model, ws, t + C4 * h, ytmp, dtmp, k4, vimp, dvimp[c], vimp_p, yp, fp, kd4[c],
+                ref, c == 0, size[c], tau, inv_mass, counters_p, directional,
+            )  # fmt: skip
         for i in range(n2):
             ytmp[i] = y[i] + h * (A51 * k1[i] + A52 * k2[i] + A53 * k3[i] + A54 * k4[i])
-            dtmp[i] = d[i] + h * (A51 * kd1[i] + A52 * kd2[i] + A53 * kd3[i] + A54 * kd4[i])
         st |= rhs(model, ws, t + C5 * h, ytmp, vimp, k5, counters)
-        st |= _deviation_rate(
-            model, ws, t + C5 * h, ytmp, dtmp, k5, vimp, dvimp, vimp_p, yp, fp, kd5,
-            ref, True, size, tau, inv_mass, counters_p, directional,
-        )  # fmt: skip
+        for c in range(nc):
+            for i in range(n2):
+                dtmp[i] = d[c, i] + h * (
+                    A51 * kd1[c, i] + A52 * kd2[c, i] + A53 * kd3[c, i] + A54 * kd4[c, i]
+                )
+            st |= _deviation_rate(
+                model, ws, t + C5 * h, ytmp, dtmp, k5, vimp, dvimp[c], vimp_p, yp, fp, kd5[c],
+                ref, c == 0, size[c], tau, inv_mass, counters_p, directional,
+            )  # fmt: skip
         for i in range(n2):
             ytmp[i] = y[i] + h * (
                 A61 * k1[i] + A62 * k2[i] + A63 * k3[i] + A64 * k4[i] + A65 * k5[i]
             )
-            dtmp[i] = d[i] + h * (
-                A61 * kd1[i] + A62 * kd2[i] + A63 * kd3[i] + A64 * kd4[i] + A65 * kd5[i]
-            )
         st |= rhs(model, ws, t + h, ytmp, vimp, k6, counters)
-        st |= _deviation_rate(
-            model, ws, t + h, ytmp, dtmp, k6, vimp, dvimp, vimp_p, yp, fp, kd6,
-            ref, True, size, tau, inv_mass, counters_p, directional,
-        )  # fmt: skip
+        for c in range(nc):
+            for i in range(n2):
+                dtmp[i] = d[c, i] + h * (
+                    A61 * kd1[c, i] + A62 * kd2[c, i] + A63 * kd3[c, i] + A64 * kd4[c, i]
+                    + A65 * kd5[c, i]
+                )  # fmt: skip
+            st |= _deviation_rate(
+                model, ws, t + h, ytmp, dtmp, k6, vimp, dvimp[c], vimp_p, yp, fp, kd6[c],
+                ref, c == 0, size[c], tau, inv_mass, counters_p, directional,
+            )  # fmt: skip
         for i in range(n2):
             ynew[i] = y[i] + h * (
                 A71 * k1[i] + A73 * k3[i] + A74 * k4[i] + A75 * k5[i] + A76 * k6[i]
             )
-            dnew[i] = d[i] + h * (
-                A71 * kd1[i] + A73 * kd3[i] + A74 * kd4[i] + A75 * kd5[i] + A76 * kd6[i]
-            )
         st |= rhs(model, ws, t + h, ynew, vimp, k7, counters)
-        st |= _deviation_rate(
-            model, ws, t + h, ynew, dnew, k7, vimp, dvimp, vimp_p, yp, fp, kd7,
-            ref, True, size, tau, inv_mass, counters_p, directional,
-        )  # fmt: skip
+        for c in range(nc):
+            for i in range(n2):
+                dnew[c, i] = d[c, i] + h * (
+                    A71 * kd1[c, i] + A73 * kd3[c, i] + A74 * kd4[c, i] + A75 * kd5[c, i]
+                    + A76 * kd6[c, i]
+                )  # fmt: skip
+            st |= _deviation_rate(
+                model, ws, t + h, ynew, dnew[c], k7, vimp, dvimp[c], vimp_p, yp, fp, kd7[c],
+                ref, c == 0, size[c], tau, inv_mass, counters_p, directional,
+            )  # fmt: skip
         if st != STATUS_OK:
             status = STATUS_SINGULAR
             break
@@ -670,19 +708,23 @@ def tangent_advance(
             )
         e = wrms(err, y, ynew, rtol, atol)
         if deviation_rtol > 0.0:
-            # the deviation's own error estimate, relative to its size
-            for i in range(n2):
-                err[i] = h * (
-                    E1 * kd1[i]
-                    + E3 * kd3[i]
-                    + E4 * kd4[i]
-                    + E5 * kd5[i]
-                    + E6 * kd6[i]
-                    + E7 * kd7[i]
+            # every deviation's own error estimate, relative to its size
+            for c in range(nc):
+                for i in range(n2):
+                    err[i] = h * (
+                        E1 * kd1[c, i]
+                        + E3 * kd3[c, i]
+                        + E4 * kd4[c, i]
+                        + E5 * kd5[c, i]
+                        + E6 * kd6[c, i]
+                        + E7 * kd7[c, i]
+                    )
+                scale = max(deviation_size(model, d[c], tau2, inv_mass),
+                            deviation_size(model, dnew[c], tau2, inv_mass))  # fmt: skip
+                e = max(
+                    e,
+                    deviation_size(model, err, tau2, inv_mass) / (deviation_rtol * scale),
                 )
-            scale = max(deviation_size(model, d, tau2, inv_mass),
-                        deviation_size(model, dnew, tau2, inv_mass))  # fmt: skip
-            e = max(e, deviation_size(model, err, tau2, inv_mass) / (deviation_rtol * scale))
         if fixed_steps and not math.isfinite(e):
             status = STATUS_NONFINITE
             break
@@ -700,8 +742,10 @@ def tangent_advance(
                 t = target
             for i in range(n2):
                 y[i] = ynew[i]
-                d[i] = dnew[i]
                 k1[i] = k7[i]
+            for c in range(nc):
+                for i in range(n2):
+                    d[c, i] = dnew[c, i]
             counters[CNT_STEPS] += 1
             latch_pair(model, ws, ws2, y, d, vimp, dvimp, contact, counters, yp, size, tau,
                        inv_mass)  # fmt: skip
@@ -711,32 +755,15 @@ def tangent_advance(
                     break
                 rhs(model, ws, t, y, vimp, k1, counters)
             since += 1
-            # the split difference recomputes the rate after every step (as it always
-            # has: the periodic orbits' monodromy matrices are those numbers)
-            changed = projection or not directional
+            status = _after_step(
+                model, ws, ws2, t, y, d, k1, kd1, kd7, vimp, dvimp, vimp_p, yp, fp, ref,
+                scratch, size, tau, tau2, inv_mass, growth, counters_p, projection,
+                directional, since >= every or t >= t_stop or t >= t_end,
+            )  # fmt: skip
+            if status != STATUS_RUNNING:
+                break
             if since >= every or t >= t_stop or t >= t_end:
-                if not renormalize(model, ws, ws2, t, y, d, dvimp, scratch, size, tau2,
-                                   inv_mass, growth):  # fmt: skip
-                    status = STATUS_NONFINITE
-                    break
                 since = 0
-                changed = True
-            if changed:
-                # the projection moved d (or y): its rate anew; ref holds the reference's
-                # branches at y from the last stage (or from the evaluation after a
-                # projection)
-                st = _deviation_rate(
-                    model, ws, t, y, d, k1, vimp, dvimp, vimp_p, yp, fp, kd1, ref,
-                    projection, size, tau, inv_mass, counters_p, directional,
-                )  # fmt: skip
-                if st != STATUS_OK:
-                    status = STATUS_SINGULAR
-                    break
-            else:
-                # first same as last: the rate at the new point is the last stage's (the
-                # latch the step may have changed acts only in contact, where it is frozen)
-                for i in range(n2):
-                    kd1[i] = kd7[i]
             h, facold, last_rejected = next_step_size(
                 True, e, h, fac11, facold, beta, last_rejected
             )
@@ -751,6 +778,42 @@ def tangent_advance(
     state[3] = 1.0 if last_rejected else 0.0
     state[4] = float(since)
     return status
+
+
+@njit_noalloc()
+def _after_step(model, ws, ws2, t, y, d, k1, kd1, kd7, vimp, dvimp, vimp_p, yp, fp, ref,
+                scratch, size, tau, tau2, inv_mass, growth, counters_p, projection,
+                directional, due):  # fmt: skip
+    """After an accepted step: renormalise every deviation when ``due``, then the rate at
+    the new point of each (anew, or first same as last). Returns ``STATUS_RUNNING``, or
+    the failure status."""
+    n2 = y.shape[0]
+    # the split difference recomputes the rate after every step (as it always has: the
+    # periodic orbits' monodromy matrices are those numbers)
+    changed = projection or not directional
+    if due:
+        for c in range(d.shape[0]):
+            if not renormalize(model, ws, ws2, t, y, d[c], dvimp[c], scratch, size[c], tau2,
+                               inv_mass, growth[c]):  # fmt: skip
+                return STATUS_NONFINITE
+        changed = True
+    for c in range(d.shape[0]):
+        if changed:
+            # the projection moved d (or y): its rate anew; ref holds the reference's
+            # branches at y from the last stage (or, for the first column, from the
+            # evaluation after a projection)
+            st = _deviation_rate(
+                model, ws, t, y, d[c], k1, vimp, dvimp[c], vimp_p, yp, fp, kd1[c], ref,
+                projection and c == 0, size[c], tau, inv_mass, counters_p, directional,
+            )  # fmt: skip
+            if st != STATUS_OK:
+                return STATUS_SINGULAR
+        else:
+            # first same as last: the rate at the new point is the last stage's (the
+            # latch the step may have changed acts only in contact, where it is frozen)
+            for i in range(n2):
+                kd1[c, i] = kd7[c, i]
+    return STATUS_RUNNING
 
 
 class Deviation(NamedTuple):

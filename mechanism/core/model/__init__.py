@@ -9,9 +9,11 @@ from ._compiled import KernelModel, Model, Workspace
 # the names the compiled integrator loops call (numba resolves them as globals of the
 # importing module, so they are bound by name rather than reached through ``kernels``)
 from ._kernels import (
+    CF_FILM,
     CF_FLOOR,
     CF_V0,
     CF_V1,
+    CF_VISC,
     CJ_DELTA,
     CJ_DELTA_DOT,
     CJ_FN,
@@ -27,6 +29,8 @@ from ._kernels import (
     CW_WORN,
     accelerations,
     approach_step,
+    beams_energy_if,
+    beams_force_if,
     cholesky_solve,
     clearance_forces,
     clearance_state,
@@ -34,6 +38,8 @@ from ._kernels import (
     derived_outputs,
     entry_depth_ratio,
     evaluate_constraints,
+    forces_add_if,
+    forces_energy_if,
     journal_travel_ratio,
     light_outputs,
     project,

@@ -26,7 +26,7 @@ import dataclasses
 import numpy as np
 
 from mechanism.core.bodies import AncfLayout, RigidLayout
-from mechanism.core.forces import force_tables
+from mechanism.core.forces import force_tables, motor_speed_row
 from mechanism.core.scene import Scene
 
 from . import _kernels as model_kernels
@@ -35,7 +35,7 @@ from . import _kernels as model_kernels
 # them, and is unpickled whole before its freshness is checked: these tables were defined
 # here, so an index written by an older source (another process) must still find them here
 from ._compiled import KernelModel as KernelModel
-from ._compiled import Model
+from ._compiled import Model, with_effect_switches
 from ._compiled import Workspace as Workspace
 from ._tables import (
     TableBuilder,
@@ -109,6 +109,8 @@ def assemble(scene: Scene, *, ideal: bool = False, eccentricity_offsets: bool = 
     kernel = kernel_model(
         scene, layouts, offsets, mass, b, joints, drive, crank_points, slider, forces
     )
+    # the kernels compile only the effects the scene has (docs/performance.md, "Compiling")
+    kernel = with_effect_switches(kernel, scene)
     return Model(
         scene=scene,
         kernel=kernel,
@@ -142,7 +144,8 @@ def initial_state(
     step Δq = −Φq⁺Φ, on the mechanism whose clearance joints are ideal revolutes holding
     their ``initial_eccentricity``. Velocities: the minimum-kinetic-energy solution of
     Φq q̇ = −Φt (unique when the drive makes the ideal mechanism determinate), i.e. the
-    ideal-mechanism velocities with the journal at rest relative to the bearing.
+    ideal-mechanism velocities with the journal at rest relative to the bearing; a motor
+    drive's ``initial_speed_rpm`` adds the condition that its joint turns at that speed.
     ``eccentricity=False`` centres every journal (the ideal mechanism).
 
     With flexible ANCF beams the state is that of the rigid mechanism
@@ -190,10 +193,13 @@ def initial_state(
             "positions, angles and joint points."
         )
     model_kernels.evaluate_constraints(km, ws, t0, q, v)
-    phiq = ws.phiq.copy()
+    phiq, phit = ws.phiq.copy(), ws.phit.copy()
+    speed = motor_speed_row(model.scene, model.body_names, model.body_offsets, q.size)
+    if speed is not None:  # a motor started at its initial speed: r · q̇ = ω
+        phiq, phit = np.vstack([phiq, speed[0]]), np.append(phit, -speed[1])
     w = km.minv @ phiq.T
     s = phiq @ w
-    lam = np.linalg.lstsq(s, ws.phit, rcond=None)[0]
+    lam = np.linalg.lstsq(s, phit, rcond=None)[0]
     v = -w @ lam
     return q, v
 

@@ -12,11 +12,18 @@ import numpy as np
 from mechanism.core.bodies import AncfLayout
 from mechanism.core.forces import FO_COLUMNS, force_elements_add
 from mechanism.core.joints import PCF_COLUMNS, PCI_COLUMNS, update_points
-from mechanism.core.scene import Scene
+from mechanism.core.scene import ClearanceRevolute, Scene
 
 from . import _kernels as model_kernels
 
-__all__ = ["IdealJointRows", "KernelModel", "Model", "SliderMap", "Workspace"]
+__all__ = [
+    "IdealJointRows",
+    "KernelModel",
+    "Model",
+    "SliderMap",
+    "Workspace",
+    "with_effect_switches",
+]
 
 
 class KernelModel(NamedTuple):
@@ -58,6 +65,40 @@ class KernelModel(NamedTuple):
     fe_i: np.ndarray  # (n_elements, FI_COLUMNS) int64
     fe_f: np.ndarray  # (n_elements, FF_COLUMNS) float64
     fe_t: np.ndarray  # flat tables and Fourier coefficients
+    # Which effects the kernels are compiled for: None when the scene has none of an
+    # effect, True when it may (the default: everything compiled). numba removes a branch
+    # on an argument that is None before type inference, so the kernels behind a None
+    # switch are not compiled at all; a dry rigid scene compiles no ANCF, force-element,
+    # worn-contact or oil-film kernel (set by :func:`with_effect_switches`).
+    beams_on: bool | None = True
+    forces_on: bool | None = True
+    worn_on: bool | None = True
+    film_on: bool | None = True
+
+
+def with_effect_switches(km: KernelModel, scene: Scene) -> KernelModel:
+    """``km`` with each effect switch None where ``scene`` lacks the effect.
+
+    Beams: no ANCF beam rows. Force elements: no element rows. Worn contact: no revolute
+    clearance joint (the joints a wear profile applies to) or ``effects.clearance`` off.
+    Oil film: no lubricated revolute clearance joint, or ``effects.clearance`` off. The
+    switches follow the scene, not the tables, so every model assembled from one scene has
+    the same switches and compiles the same kernels: the ideal companion of a run (its
+    clearance joints made ideal) and the initial assembly compile nothing new. An unworn
+    revolute clearance joint keeps the worn-contact kernels: the wear studies run one
+    scene before and after wear, and a second specialisation would compile the whole run
+    again. A switch is None only where the kernels would skip the effect at run time
+    anyway, so the switches change what is compiled, never a result.
+    """
+    joints = [j for j in scene.joints.values() if isinstance(j, ClearanceRevolute)]
+    if not scene.effects.clearance:
+        joints = []
+    return km._replace(
+        beams_on=True if km.beam_i.shape[0] > 0 else None,
+        forces_on=True if km.fe_i.shape[0] > 0 else None,
+        worn_on=True if joints else None,
+        film_on=True if any(j.lubrication is not None for j in joints) else None,
+    )
 
 
 class Workspace(NamedTuple):

@@ -169,6 +169,65 @@ def evaluate_constraints(model, ws, t, q, v):
     )
 
 
+# ------------------------------------------------------------- effects a scene may lack
+# Each ``*_if`` kernel calls the kernel of one effect unless its switch (a field of the
+# model: ``beams_on``, ``forces_on``, ``worn_on``, ``film_on``) is None. numba removes a
+# branch on an argument that is None before type inference, so a model whose switch is
+# None compiles a no-op here and never compiles the effect's kernels. A switch is None
+# only where the effect is absent (``with_effect_switches``), so the pruned call is one
+# the kernels would have skipped at run time: results are unchanged.
+
+
+@njit_noalloc()
+def beams_force_if(on, beam_i, beam_f, q, v, scale, gen):
+    """:func:`~mechanism.core.bodies.beams_force_add` unless ``on`` is None."""
+    if on is None:
+        return
+    beams_force_add(beam_i, beam_f, q, v, scale, gen)
+
+
+@njit_noalloc()
+def beams_energy_if(on, beam_i, beam_f, q):
+    """:func:`~mechanism.core.bodies.beams_strain_energy` (J), 0 when ``on`` is None."""
+    if on is None:
+        return 0.0
+    return beams_strain_energy(beam_i, beam_f, q)
+
+
+@njit_noalloc()
+def forces_add_if(on, fe_i, fe_f, fe_t, t, pci, pcf, gen, fe):
+    """:func:`~mechanism.core.forces.force_elements_add` unless ``on`` is None."""
+    if on is None:
+        return
+    force_elements_add(fe_i, fe_f, fe_t, t, pci, pcf, gen, fe)
+
+
+@njit_noalloc()
+def forces_energy_if(on, fe_i, fe_f, fe_t, pcf):
+    """:func:`~mechanism.core.forces.force_elements_potential` (J), 0 when ``on`` is None."""
+    if on is None:
+        return 0.0
+    return force_elements_potential(fe_i, fe_f, fe_t, pcf)
+
+
+@njit_noalloc()
+def worn_contact_if(on, cw_i, cw_f, cw_h, cw_k, j, r_bearing, r_journal, clearance,
+                    stiffness, phi_b, phi_j):  # fmt: skip
+    """:func:`worn_contact`, or the unworn (c₀, K) when ``on`` is None."""
+    if on is None:
+        return clearance, stiffness
+    return worn_contact(cw_i, cw_f, cw_h, cw_k, j, r_bearing, r_journal, clearance, stiffness,
+                        phi_b, phi_j)  # fmt: skip
+
+
+@njit_noalloc()
+def worn_clearance_rate_if(on, cw_i, cw_h, j, pcf, bearing, journal, ex, ey, phi_b, phi_j):
+    """:func:`worn_clearance_rate`, or 0 (an unworn joint's) when ``on`` is None."""
+    if on is None:
+        return 0.0
+    return worn_clearance_rate(cw_i, cw_h, j, pcf, bearing, journal, ex, ey, phi_b, phi_j)
+
+
 @njit_noalloc()
 def worn_contact(cw_i, cw_f, cw_h, cw_k, j, r_bearing, r_journal, clearance, stiffness,
                  phi_b, phi_j):  # fmt: skip
@@ -269,6 +328,14 @@ def film_force_add(cj_f, j, pci, pcf, b, jn, ex, ey, nx, ny, e_dot, gen):
 
 
 @njit_noalloc()
+def film_force_if(on, cj_f, j, pci, pcf, b, jn, ex, ey, nx, ny, e_dot, gen):
+    """:func:`film_force_add` unless ``on`` is None (no lubricated joint)."""
+    if on is None:
+        return
+    film_force_add(cj_f, j, pci, pcf, b, jn, ex, ey, nx, ny, e_dot, gen)
+
+
+@njit_noalloc()
 def clearance_forces(model, pci, pcf, vimp, gen, cj, counters):
     cj_i = model.cj_i
     cj_f = model.cj_f
@@ -281,15 +348,18 @@ def clearance_forces(model, pci, pcf, vimp, gen, cj, counters):
         c0 = cj_f[j, CF_C]
         ex, ey, nx, ny, delta, ddot, vt, phib, phij = contact_kinematics(cj_i, cj_f, pcf, j)
         if cj_f[j, CF_VISC] > 0.0:
-            film_force_add(cj_f, j, pci, pcf, b, jn, ex, ey, nx, ny, ddot, gen)
+            film_force_if(model.film_on, cj_f, j, pci, pcf, b, jn, ex, ey, nx, ny, ddot, gen)
         kn = cj_f[j, CF_K]
         if cw_i[j, CW_WORN] != 0:
             counters[CNT_WORN_EVALS] += 1
-            c, kn = worn_contact(
-                cw_i, model.cw_f, model.cw_h, model.cw_k, j, rb, rj, c0, kn, phib, phij
-            )
+            c, kn = worn_contact_if(
+                model.worn_on, cw_i, model.cw_f, model.cw_h, model.cw_k, j, rb, rj, c0, kn,
+                phib, phij,
+            )  # fmt: skip
             delta += c0 - c
-            ddot -= worn_clearance_rate(cw_i, model.cw_h, j, pcf, b, jn, ex, ey, phib, phij)
+            ddot -= worn_clearance_rate_if(
+                model.worn_on, cw_i, model.cw_h, j, pcf, b, jn, ex, ey, phib, phij
+            )
         fn = 0.0
         ft = 0.0
         if delta > 0.0:
@@ -411,11 +481,11 @@ def accelerations(model, ws, t, q, v, vimp, acc, counters):
     for i in range(gen.shape[0]):
         gen[i] = gravity[i]
     if model.beam_i.shape[0] > 0:
-        beams_force_add(model.beam_i, model.beam_f, q, v, -1.0, gen)
+        beams_force_if(model.beams_on, model.beam_i, model.beam_f, q, v, -1.0, gen)
     if model.cj_i.shape[0] > 0:
         clearance_forces(model, pci, pcf, vimp, gen, ws.cj, counters)
     if model.fe_i.shape[0] > 0:
-        force_elements_add(model.fe_i, model.fe_f, model.fe_t, t, pci, pcf, gen, ws.fe)
+        forces_add_if(model.forces_on, model.fe_i, model.fe_f, model.fe_t, t, pci, pcf, gen, ws.fe)
     return solve(
         model.minv, model.blk_lo, model.blk_hi, model.alpha, model.beta, phi, phiq, phit, gam,
         gen, v, ws.a0, ws.w, ws.s, ws.lam, ws.nz_n, ws.nz_j, acc,
@@ -504,13 +574,13 @@ def clearance_state(model, ws, y, j):
     rj = model.cj_f[j, CF_RJ]
     c0 = model.cj_f[j, CF_C]
     res = contact_kinematics(model.cj_i, model.cj_f, ws.pcf, j)
-    c, kn = worn_contact(
-        model.cw_i, model.cw_f, model.cw_h, model.cw_k, j, rb, rj, c0, model.cj_f[j, CF_K],
-        res[7], res[8],
+    c, kn = worn_contact_if(
+        model.worn_on, model.cw_i, model.cw_f, model.cw_h, model.cw_k, j, rb, rj, c0,
+        model.cj_f[j, CF_K], res[7], res[8],
     )  # fmt: skip
-    rate = worn_clearance_rate(
-        model.cw_i, model.cw_h, j, ws.pcf, model.cj_i[j, 0], model.cj_i[j, 1], res[0], res[1],
-        res[7], res[8],
+    rate = worn_clearance_rate_if(
+        model.worn_on, model.cw_i, model.cw_h, j, ws.pcf, model.cj_i[j, 0], model.cj_i[j, 1],
+        res[0], res[1], res[7], res[8],
     )  # fmt: skip
     return res[4] + c0 - c, res[5] - rate, kn
 
@@ -755,10 +825,10 @@ def mechanical_energy(model, ws, y):
             delta, _, kn = clearance_state(model, ws, y, j)
             pot += contact_potential(kn, model.cj_f[j, CF_EXP], delta)
     if model.beam_i.shape[0] > 0:
-        pot += beams_strain_energy(model.beam_i, model.beam_f, q)
+        pot += beams_energy_if(model.beams_on, model.beam_i, model.beam_f, q)
     if model.fe_i.shape[0] > 0:
         update_points(q, v, model.pt_i, model.pt_f, ws.pci, ws.pcf)
-        pot += force_elements_potential(model.fe_i, model.fe_f, model.fe_t, ws.pcf)
+        pot += forces_energy_if(model.forces_on, model.fe_i, model.fe_f, model.fe_t, ws.pcf)
     return kin + pot
 
 
@@ -890,9 +960,9 @@ def derived_outputs(model, ws, q, v, a, out, jf):
     for j in range(model.cj_i.shape[0]):
         energy += contact_potential(ws.cj[j, CJ_K], model.cj_f[j, CF_EXP], ws.cj[j, CJ_DELTA])
     if model.beam_i.shape[0] > 0:
-        energy += beams_strain_energy(model.beam_i, model.beam_f, q)
+        energy += beams_energy_if(model.beams_on, model.beam_i, model.beam_f, q)
     if model.fe_i.shape[0] > 0:
-        energy += force_elements_potential(model.fe_i, model.fe_f, model.fe_t, pcf)
+        energy += forces_energy_if(model.forces_on, model.fe_i, model.fe_f, model.fe_t, pcf)
     out[OUT_ENERGY] = energy
     worst = 0.0
     for k in range(model.n_rows):

@@ -712,16 +712,22 @@ class MotorDrive:
     linear curve T(ω) = ``stall_torque`` (1 − ω/ω₀), ω₀ the ``no_load_speed_rpm``, or a
     measured ``torque_speed`` (:class:`MotorTorqueTable`). ``flywheel_inertia`` (kg m²)
     adds to the moment of inertia of the rigid bodies[1]. The joint's angle is free: the
-    motion is autonomous and starts from the scene's pose at rest."""
+    motion is autonomous and starts from the scene's pose, at rest or with the joint
+    turning at ``initial_speed_rpm`` (the other bodies at the velocities of the ideal
+    mechanism). ``stall_torque = 0`` leaves the crank free (no torque): a mechanism
+    launched at ``initial_speed_rpm`` that runs down or swings on its own."""
 
     type: Literal["motor"] = "motor"
     joint: Name
-    stall_torque: Annotated[Real, Gt(0), Le(TORQUE_LIMIT), Unit("N m")] | None = None
+    stall_torque: Annotated[Real, Ge(0), Le(TORQUE_LIMIT), Unit("N m")] | None = None
     no_load_speed_rpm: (
         Annotated[Real, Ge(SPEED_RPM_RANGE[0]), Le(SPEED_RPM_RANGE[1]), Unit("rpm")] | None
     ) = None
     torque_speed: MotorTorqueTable | None = None
     flywheel_inertia: Annotated[Real, Ge(0), Le(INERTIA_RANGE[1]), Unit("kg m2")] = 0.0
+    initial_speed_rpm: Annotated[
+        Real, Ge(-SPEED_RPM_RANGE[1]), Le(SPEED_RPM_RANGE[1]), Unit("rpm")
+    ] = 0.0
 
     @property
     def no_load_speed(self) -> float:

@@ -17,7 +17,7 @@ from ._continuation import (
 from ._maps import continue_map
 from ._modes import ContactPhase
 from ._orbit import PeriodicOrbit, periodic_orbit
-from ._route import RouteToChaos, route
+from ._route import RouteToChaos, regular_stretches, route
 from ._scene import Continuation, continuation
 
 __all__ = [
@@ -35,5 +35,6 @@ __all__ = [
     "continue_map",
     "periodic_orbit",
     "plot_basins",
+    "regular_stretches",
     "route",
 ]

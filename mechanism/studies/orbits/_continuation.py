@@ -37,6 +37,9 @@ BIFURCATION_KINDS = ("period-doubling", "fold", "neimark-sacker", "grazing", "en
 #: at the end of a branch, a multiplier within this distance of +1 (−1) names a fold
 #: (period doubling) that the corrector could not pass
 END_CRITICAL = 0.2
+#: halvings of the step below ``min_step`` allowed at a branch end that its last points
+#: do not name yet: points closer to the end give the grazing margin's trend
+END_REFINEMENTS = 3
 
 MapFunction = Callable[[np.ndarray, float], tuple[np.ndarray, np.ndarray, np.ndarray | None]]
 
@@ -89,6 +92,12 @@ class ContinuationSettings:
         Scene continuations: ``segments`` of :func:`mechanism.periodic_orbit` (1: single
         shooting only, so a value where the branch has ended fails after
         ``max_iterations`` instead of going on to multiple shooting; default its own).
+    calm_modulus : float or None
+        Step control on the multipliers: the step also grows (by ``growth``) after a
+        point whose ``|μ_max|`` is at most this (> 0), whose contact-mode signature is
+        that of the point before and with no bifurcation between them, however many
+        Newton iterations it took; such a stretch is far from any crossing of the unit
+        circle and from any grazing. ``None``: growth on easy points only.
     """
 
     step: float = 0.01
@@ -107,6 +116,7 @@ class ContinuationSettings:
     shooting_tolerance: float | None = None
     reseed: bool = True
     segments: int | None = None
+    calm_modulus: float | None = None
 
     def __post_init__(self) -> None:
         for name in ("step", "min_step", "max_step", "locate_tolerance", "newton_tolerance"):
@@ -123,7 +133,7 @@ class ContinuationSettings:
         check_int(self.max_period, name="max_period", minimum=1)
         if self.segments is not None:
             check_int(self.segments, name="segments", minimum=1, maximum=64)
-        for name in ("switch_offset", "shooting_tolerance"):
+        for name in ("switch_offset", "shooting_tolerance", "calm_modulus"):
             if getattr(self, name) is not None:
                 check_positive(getattr(self, name), name=name)
 
@@ -343,7 +353,9 @@ class Follower:
 
     ``chord`` (optional) corrects on the hyperplane through a predicted (x, p)
     perpendicular to a direction: pseudo-arclength, used around folds and to bisect
-    between points that a fixed p cannot (both sides of a fold).
+    between points that a fixed p cannot (both sides of a fold). ``stop_when``
+    (optional) is asked after every new point and ends the branch there when it returns
+    a reason (e.g. the point lies on a branch followed before).
     """
 
     def __init__(
@@ -353,11 +365,13 @@ class Follower:
         *,
         chord: Callable[[np.ndarray, np.ndarray, Solved], Solved | None] | None = None,
         on_point: Callable[[Solved], None] | None = None,
+        stop_when: Callable[[Solved], str | None] | None = None,
     ) -> None:
         self.corrector = corrector
         self.settings = settings
         self.chord = chord
         self.on_point = on_point
+        self.stop_when = stop_when
         #: (located point, bracket end before, bracket end after) of every located point
         self.brackets: list[tuple[BifurcationPoint, Solved, Solved]] = []
 
@@ -385,6 +399,7 @@ class Follower:
         arclength = False
         end = "reached the end of the span"
         failed = math.nan
+        refinements = END_REFINEMENTS
         while len(points) < s.max_points:
             last = points[-1]
             if not arclength:
@@ -403,6 +418,12 @@ class Follower:
                     failed = p_next
                 h *= 0.5
                 if h < s.min_step:
+                    if (not arclength and refinements > 0 and math.isfinite(failed)
+                            and _end_kind([x.point for x in points[-3:]], failed, period)[0]
+                            == "end"):  # fmt: skip
+                        # unnamed yet: closer to the end before giving up
+                        refinements -= 1
+                        continue
                     if self.chord is not None and s.arclength and not arclength:
                         arclength, h = True, max(4.0 * s.min_step, s.step * 0.25)
                         continue
@@ -414,10 +435,15 @@ class Follower:
             points.append(new)
             if self.on_point is not None:
                 self.on_point(new)
-            found.extend(self._detect(points[-2], new, branch=branch, period=period))
-            if new.iterations <= s.easy_iterations:
+            located = self._detect(points[-2], new, branch=branch, period=period)
+            found.extend(located)
+            if new.iterations <= s.easy_iterations or (not located and _calm(points[-2], new, s)):
                 h = min(h * s.growth, s.max_step)
             p = new.point.parameter
+            reason = self.stop_when(new) if self.stop_when is not None else None
+            if reason:
+                end = reason
+                break
             if not arclength and p == stop:
                 break
             if arclength and not (lo - 1e-12 <= p <= hi + 1e-12):
@@ -634,6 +660,17 @@ def _end_kind(last: list[ContinuationPoint], failed: float, period: int) -> tupl
     return "end", (
         f"the {orbit} ends abruptly (|mu_max| {top:.3g}, no multiplier near +-1, no "
         f"grazing margin closing): {past}"
+    )
+
+
+def _calm(a: Solved, b: Solved, s: ContinuationSettings) -> bool:
+    """Step control on the multipliers: b is far inside the unit circle and has a's
+    contact-mode signature."""
+    mu = b.point.multipliers
+    return (
+        s.calm_modulus is not None
+        and a.point.signature == b.point.signature
+        and (float(np.max(np.abs(mu))) if mu.size else 0.0) <= s.calm_modulus
     )
 
 

@@ -134,29 +134,22 @@ def segment_jacobian(
     joints in contact at node i) to (coordinates on ``end``, τ × latches of the joints in
     contact at node i + 1).
 
-    One deviation per tangent direction over the segment, unrescaled; a latch column is
-    the run with the latch deviation added to the first direction minus that direction's
-    run (a deviation of the latch alone has no velocity part to carry the finite
+    One deviation per tangent direction over the segment, unrescaled, all in one block
+    on one reference run (:meth:`StroboscopicMap.images`); a latch column is the
+    deviation with the latch deviation added to the first direction minus that
+    direction's (a deviation of the latch alone has no velocity part to carry the finite
     difference of its effect)."""
     into = nodes.active(i + 1)
-
-    def image(col: np.ndarray, latch: int | None) -> np.ndarray:
-        scale = smap.size / deviation_size(smap.model, col, time_scale=smap.tau)
-        dl = np.zeros(nodes.states[i].latch.size)
-        if latch is not None:
-            dl[latch] = scale / smap.tau
-        run = _run(smap, nodes, i, d0=col * scale, latch_deviation=dl, tangent=True)
-        grow = math.exp(float(run.log_growth[-1])) / scale
-        return np.concatenate(
-            [
-                smap.coordinates(end, run.final_deviation * grow),
-                smap.tau * run.final_latch_deviation[into] * grow,
-            ]
-        )
-
-    columns = [image(start[:, c], None) for c in range(start.shape[1])]
-    columns += [image(start[:, 0], j) - columns[0] for j in nodes.active(i)]
-    return np.stack(columns, axis=1)
+    held = nodes.active(i)
+    n_free = start.shape[1]
+    columns = np.concatenate([start, np.repeat(start[:, :1], held.size, axis=1)], axis=1)
+    latch = np.concatenate([np.full(n_free, -1), held]).astype(np.int64)
+    try:
+        images, _ = smap.images(nodes.states[i], nodes.times[i : i + 2], columns, latch, end, into)
+    except SimulationError as exc:
+        raise SimulationError(f"periodic orbit: segment {i}: {exc}") from None
+    images[:, n_free:] -= images[:, :1]
+    return images
 
 
 def _jacobians(smap: StroboscopicMap, nodes: Nodes) -> tuple[list[np.ndarray], list[np.ndarray]]:

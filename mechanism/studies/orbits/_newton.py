@@ -66,9 +66,12 @@ def run_ok(smap: StroboscopicMap, section: Section, stops: np.ndarray, **kw: Any
     return run
 
 
-def refresh(smap: StroboscopicMap, state: NewtonState, end: Any) -> np.ndarray:
+def refresh(
+    smap: StroboscopicMap, state: NewtonState, end: Any, recorded: Any = None
+) -> np.ndarray:
     """Recompute the monodromy matrix at the current section (``end``: the map's run from
-    it); returns the basis."""
+    it; ``recorded``: optionally that run recorded at every time of the step schedule);
+    returns the basis."""
     sec = state.section
     basis = smap.basis(sec)
     state.latches = np.flatnonzero(sec.contact != 0)
@@ -77,7 +80,7 @@ def refresh(smap: StroboscopicMap, state: NewtonState, end: Any) -> np.ndarray:
     if frozen and smap.schedule is not None:
         # no latch renewed: the tangent block piece by piece (well conditioned), and the
         # latches' unit rows and columns
-        block = smap.segmented(sec, SEGMENTS)
+        block = smap.segmented(sec, SEGMENTS, recorded)
         jac = np.eye(state.n_free + state.latches.size)
         jac[: state.n_free, : state.n_free] = block
     else:

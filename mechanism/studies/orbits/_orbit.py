@@ -623,16 +623,17 @@ def _assemble_orbit(
     if smap.schedule is None:
         # not converged to where the steps are frozen: the recording's own steps
         smap.freeze_steps(sec, smap.basis(sec))
+    # the orbit on the map's own steps: it ends at the section state to the residual (and
+    # serves the monodromy matrix as the map's run from the section)
+    rec = run_ok(smap, sec, smap.schedule, record=True)
     if state.jacobian is None or smap.distance(state.jacobian_at.y, sec.y) > MONODROMY_OFFSET:
-        refresh(smap, state, run_ok(smap, sec, smap.stops))
+        refresh(smap, state, rec, rec)
     offset = smap.distance(state.jacobian_at.y, sec.y)
     joints = tuple(model.clearance_joints)
     mult, vectors, neutral, what = _multipliers(state.jacobian, state.n_free, state.latches, joints)
     floquet, floquet_latch = _floquet_vectors(smap, state, vectors)
     k, big_t = smap.period, smap.drive_period
     n = model.n_dof
-    # the orbit on the map's own steps: it ends at the section state to the residual
-    rec = run_ok(smap, sec, smap.schedule, record=True)
     kin = clearance_kinematics(model, rec.states, t=rec.t, latch=rec.latches)
     strobe = kin[np.searchsorted(rec.t, smap.sections[:-1])]
     phases = contact_phases(rec.t, rec.contact, rec.contact_events, joints, big_t)

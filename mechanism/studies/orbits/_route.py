@@ -14,7 +14,12 @@ import xarray as xr
 from ._continuation import BifurcationPoint
 from ._scene import Continuation
 
-__all__ = ["RouteToChaos", "chaotic_windows", "route"]
+__all__ = ["RouteToChaos", "chaotic_windows", "regular_stretches", "route"]
+
+#: an orbit diagram's value between two chaotic ones whose exponent estimate is above
+#: this (1/s) while its 95 % interval reaches below 0 is undecided and does not split a
+#: chaotic window; a periodic orbit's estimate is about 1e-5 (its neutral latch)
+UNDECIDED_EXPONENT = 0.1
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -34,6 +39,18 @@ class RouteToChaos:
     onsets : tuple of BifurcationPoint or None
         Per window, the last located bifurcation at or before its start (within
         ``slack``) and after the previous window; ``None`` when none was located there.
+        Points on branches followed towards lower values are left out when a branch
+        followed upwards has one there.
+    closings : tuple of BifurcationPoint or None
+        Per window, what ends the regular motion above it going down: the first located
+        loss of stability (else located point) met going down from the next window to
+        the window's start, on a branch followed towards lower values (e.g. from a seed
+        in the regular stretch above); inside the window when a stable orbit outlives
+        the orbit diagram's chaos there. ``None`` when no such branch was followed.
+    inside : tuple of tuple of (float, float)
+        Per window, the part of it covered by each run of consecutive stable points of a
+        followed branch: stable periodic orbits beside the orbit diagram's chaos (which
+        is the motion from the scene's start).
     slack : float
         How far past a window's first chaotic value its onset may lie (half the orbit
         diagram's spacing there; 0 for windows given as pairs).
@@ -45,19 +62,29 @@ class RouteToChaos:
     windows: tuple[tuple[float, float], ...]
     onsets: tuple[BifurcationPoint | None, ...]
     slack: float = 0.0
+    closings: tuple[BifurcationPoint | None, ...] = ()
+    inside: tuple[tuple[tuple[float, float], ...], ...] = ()
 
     def lines(self) -> list[str]:
-        """The route, then the onset of every window, one line each."""
+        """The route, then the onset (and, where followed, the closing from above) of
+        every window, one line each."""
         out = list(self.steps)
-        for (lo, hi), onset in zip(self.windows, self.onsets, strict=True):
+        closings = self.closings or (None,) * len(self.windows)
+        for (lo, hi), onset, closing in zip(self.windows, self.onsets, closings, strict=True):
             window = f"chaotic window {_v(lo)}–{_v(hi)} {self.units}"
             if onset is None:
-                out.append(f"{window}: no located bifurcation of the followed branches opens it")
+                text = f"{window}: no located bifurcation of the followed branches opens it"
             else:
-                out.append(
-                    f"{window}: opened by the {onset.kind} at {_v(onset.parameter)} "
-                    f"{self.units} (period-{onset.period} branch)"
+                text = f"{window}: opened by the {_named(onset, self.units)}"
+            for a, b in dict(zip(self.windows, self.inside, strict=False)).get((lo, hi), ()):
+                text += f"; a stable orbit followed inside it over {_v(a)}–{_v(b)} {self.units}"
+            if closing is not None:
+                text += (
+                    f"; from above, the regular motion ends in the {_named(closing, self.units)}"
                 )
+                if closing.parameter < hi - self.slack:
+                    text += " inside the window: a stable orbit there beside the diagram's chaos"
+            out.append(text)
         return out
 
     def summary(self) -> str:
@@ -69,10 +96,21 @@ def _v(x: float) -> str:
     return f"{x:.4g}"
 
 
+def _named(b: BifurcationPoint, units: str) -> str:
+    """'grazing at 64.47 rpm [64.44, 64.51] (end of the period-1 branch)'."""
+    where = "end of the" if b.branch_end else "on the"
+    return (
+        f"{b.kind} at {_v(b.parameter)} {units} [{b.bracket[0]:.4g}, {b.bracket[1]:.4g}] "
+        f"({where} period-{b.period} branch {b.branch})"
+    )
+
+
 def chaotic_windows(diagram: xr.Dataset) -> tuple[list[tuple[float, float]], float]:
     """Chaotic windows of a :func:`mechanism.bifurcation` Dataset with the exponent:
     runs of consecutive values whose 95 % interval of λ₁ lies above 0, and half the
-    largest spacing of the values (the resolution of a window's edge)."""
+    largest spacing of the values (the resolution of a window's edge). Values between
+    two such runs that are all undecided (interval reaching below 0, estimate above
+    ``UNDECIDED_EXPONENT``) do not split the window."""
     name = str(diagram.attrs.get("bifurcation_parameter", ""))
     if name not in diagram.dims or "lyapunov_exponent_low" not in diagram:
         raise ValueError(
@@ -83,19 +121,65 @@ def chaotic_windows(diagram: xr.Dataset) -> tuple[list[tuple[float, float]], flo
     low = np.asarray(diagram["lyapunov_exponent_low"].values, dtype=np.float64)
     order = np.argsort(p)
     p, chaotic = p[order], np.nan_to_num(low[order], nan=-1.0) > 0
+    if "lyapunov_exponent" in diagram:
+        estimate = np.nan_to_num(
+            np.asarray(diagram["lyapunov_exponent"].values, dtype=np.float64)[order], nan=-1.0
+        )
+        undecided = ~chaotic & (estimate > UNDECIDED_EXPONENT)
+    else:
+        undecided = np.zeros_like(chaotic)
     out: list[tuple[float, float]] = []
     i = 0
     while i < p.size:
         if chaotic[i]:
             j = i
-            while j + 1 < p.size and chaotic[j + 1]:
-                j += 1
+            while True:
+                k = j + 1
+                while k < p.size and undecided[k]:
+                    k += 1
+                if k < p.size and chaotic[k]:
+                    j = k
+                else:
+                    break
             out.append((float(p[i]), float(p[j])))
             i = j + 1
         else:
             i += 1
     spacing = float(np.max(np.diff(p))) if p.size > 1 else 0.0
     return out, 0.5 * spacing
+
+
+def regular_stretches(diagram: xr.Dataset) -> list[tuple[float, float, float]]:
+    """The stretches of an orbit diagram between its chaotic windows
+    (runs of values whose 95 % interval of λ₁ lies above 0, undecided values between
+    two such runs bridged): (first value, last value, seed) of every run of values
+    outside the windows, in increasing order, the seed being the run's value of lowest
+    exponent estimate (the most strongly attracting motion): where
+    :func:`mechanism.continuation` ``seeds`` start branches."""
+    wins, _ = chaotic_windows(diagram)
+    name = str(diagram.attrs.get("bifurcation_parameter", ""))
+    order = np.argsort(np.asarray(diagram[name].values, dtype=np.float64))
+    p = np.asarray(diagram[name].values, dtype=np.float64)[order]
+    lam = np.nan_to_num(
+        np.asarray(diagram["lyapunov_exponent"].values, dtype=np.float64)[order], nan=np.inf
+    )
+    inside = np.zeros(p.size, dtype=bool)
+    for lo, hi in wins:
+        inside |= (p >= lo) & (p <= hi)
+    out: list[tuple[float, float, float]] = []
+    i = 0
+    while i < p.size:
+        if inside[i]:
+            i += 1
+            continue
+        j = i
+        while j + 1 < p.size and not inside[j + 1]:
+            j += 1
+        run = p[i : j + 1]
+        seed = float(run[np.argmin(lam[i : j + 1])])
+        out.append((float(run[0]), float(run[-1]), seed))
+        i = j + 1
+    return out
 
 
 def _given_windows(windows: Any) -> tuple[list[tuple[float, float]], float]:
@@ -159,10 +243,65 @@ def route(
     units = continuation.units
     steps = _walk(continuation, wins, slack, direction)
     onsets = [_onset(continuation, wins, i, slack, direction, p0) for i in range(len(wins))]
+    closings = [_closing(continuation, wins, i, slack) for i in range(len(wins))]
+    inside = [_stable_inside(continuation, w) for w in wins]
     return RouteToChaos(
         parameter=continuation.parameter, units=units, steps=tuple(steps),
-        windows=tuple(wins), onsets=tuple(onsets), slack=slack,
+        windows=tuple(wins), onsets=tuple(onsets), slack=slack, closings=tuple(closings),
+        inside=tuple(inside),
     )  # fmt: skip
+
+
+def _stable_inside(c: Continuation, window: tuple[float, float]) -> tuple[tuple[float, float], ...]:
+    """Per branch, the part of the window covered by a run of its consecutive stable
+    points (a branch stable on both sides of a one-value window runs through it)."""
+    lo, hi = min(window), max(window)
+    out = []
+    for b in c.branches:
+        ps, stable = b.parameter, b.stable
+        i = 0
+        while i < ps.size:
+            if not stable[i]:
+                i += 1
+                continue
+            j = i
+            while j + 1 < ps.size and stable[j + 1]:
+                j += 1
+            a, z = float(np.min(ps[i : j + 1])), float(np.max(ps[i : j + 1]))
+            if a <= hi and z >= lo:
+                out.append((max(a, lo), min(z, hi)))
+            i = j + 1
+    return tuple(out)
+
+
+def _branch_direction(c: Continuation, index: int) -> float:
+    """+1 for a branch followed towards higher values, −1 lower, 0 a single point."""
+    ps = c.branches[index].parameter
+    return float(np.sign(ps[-1] - ps[0])) if ps.size > 1 else 0.0
+
+
+def _is_loss(b: BifurcationPoint) -> bool:
+    before = bool(np.all(np.abs(b.multipliers_before) < 1.0))
+    after = bool(np.all(np.abs(b.multipliers_after) < 1.0))
+    return before and (b.branch_end or not after)
+
+
+def _closing(
+    c: Continuation, wins: list[tuple[float, float]], i: int, slack: float
+) -> BifurcationPoint | None:
+    """The first located loss of stability (else any located point) met going down from
+    the next window (in increasing order) to the start of window i, on branches followed
+    downwards: where the regular motion above the window ends, inside the window when a
+    stable orbit outlives the orbit diagram's chaos there."""
+    lo_w, hi_w = min(wins[i]), max(wins[i])
+    above = [min(w) for w in wins if min(w) > hi_w]
+    ceiling = min(above) if above else math.inf
+    candidates = [
+        b for b in c.bifurcations
+        if _branch_direction(c, b.branch) < 0 and lo_w - slack < b.parameter <= ceiling + slack
+    ]  # fmt: skip
+    losses = [b for b in candidates if _is_loss(b)] or candidates
+    return max(losses, key=lambda b: b.parameter) if losses else None
 
 
 def _entry(w: tuple[float, float], direction: float) -> float:
@@ -242,6 +381,9 @@ def _onset(
         if direction * (b.parameter - after) >= -slack
         and direction * (b.parameter - entry) <= slack + 1e-12
     ]  # fmt: skip
+    # going the way of the first branch: points of branches followed that way first
+    ahead = [b for b in candidates if _branch_direction(c, b.branch) != -direction]
+    candidates = ahead or candidates
     if not candidates:
         return None
     return max(candidates, key=lambda b: direction * b.parameter)

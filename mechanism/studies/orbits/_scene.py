@@ -15,9 +15,9 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from mechanism.core import SimulationError
-from mechanism.core.integrate import project_state
-from mechanism.core.model import assemble
+from mechanism.core import SimulationError, default_step, drive_period, step_limits
+from mechanism.core.integrate import Dopri5, length_scale, project_state, section_latch
+from mechanism.core.model import assemble, initial_state
 from mechanism.core.scene import MotorDrive, Scene, SceneError
 
 from ._continuation import (
@@ -28,7 +28,16 @@ from ._continuation import (
     Follower,
     Solved,
 )
-from ._orbit import MOTOR_REFUSAL, PeriodicOrbit, periodic_orbit
+from ._multiple import REFREEZE_ABOVE
+from ._newton import CONTRACTION
+from ._orbit import (
+    DEFAULT_PERTURBATION,
+    DEFAULT_TOLERANCE,
+    MOTOR_REFUSAL,
+    PeriodicOrbit,
+    periodic_orbit,
+)
+from ._shooting import Section, StroboscopicMap, frozen_latches, newton_step
 
 __all__ = [
     "Continuation",
@@ -43,6 +52,10 @@ _LOG = logging.getLogger(__name__)
 #: periods run from the scene's start before the doubled orbit is taken at a period
 #: doubling (the attractor just past a supercritical doubling is the doubled orbit)
 SWITCH_SETTLE = 40
+#: chord iterations (the previous point's monodromy matrix as Newton's Jacobian) at most
+#: before the shooting takes over; each must cut the residual at least this much
+CHORD_ITERATIONS = 6
+CHORD_RATE = 0.5
 
 
 def contact_signature(orbit: PeriodicOrbit) -> tuple[str, ...]:
@@ -177,6 +190,7 @@ def continuation(
     span: tuple[float, float] | None = None,
     orbit: PeriodicOrbit | None = None,
     settings: ContinuationSettings | None = None,
+    seeds: Sequence[float] | None = None,
 ) -> Continuation:
     """Follow a periodic orbit of a rigid scene over one scene key and label where it
     bifurcates.
@@ -216,6 +230,13 @@ def continuation(
         Default: steps of 1/100 of the span (at most 1/25, at least 1/10 000; grown
         after a point that converged in at most 5 Newton iterations, halved after 8
         without convergence) and bifurcations located to 1/1 000 of it.
+    seeds : sequence of float, optional
+        Values inside the span where further period-1 branches start, each from a run
+        of the scene settled for 40 periods (one per regular stretch of an orbit
+        diagram, say): a seed not on a branch followed before is followed down to the
+        start of the span and up to its end, each way until it ends or runs onto a
+        branch followed before (its section eccentricities within 5 % of the clearance
+        of that branch's there), so every edge of a regular stretch is a located point.
 
     Returns
     -------
@@ -224,7 +245,7 @@ def continuation(
     Raises
     ------
     ValueError
-        On a bad key, span or values, or when the first orbit does not converge.
+        On a bad key, span, values or seeds, or when the first orbit does not converge.
     """
     cpu0 = time.process_time()
     if not isinstance(scene, Scene):
@@ -232,6 +253,7 @@ def continuation(
     if isinstance(scene.drive, MotorDrive):
         raise ValueError(MOTOR_REFUSAL.format(caller="continuation"))
     targets = _targets(values, span)
+    extra = _seeds(seeds, targets)
     try:
         first_scene = scene.replace({parameter: targets[0]})
     except SceneError as exc:
@@ -255,37 +277,57 @@ def continuation(
             f"no periodic orbit converged at {parameter} = {targets[0]:g} (residual "
             f"{start.residual:.3g} of the clearance); pass orbit= a converged orbit there."
         )
-    follower = Follower(corrector, settings)
     branches: list[ContinuationBranch] = []
+    solved: list[list[Solved]] = []
+    follower = Follower(
+        corrector, settings,
+        stop_when=lambda new: _joins(new, branches, solved, corrector.period),
+    )  # fmt: skip
     found: list[BifurcationPoint] = []
-    queue: list[tuple[Solved, int, str]] = [(seed, 1, "start")]
-    while queue:
-        first, k, origin = queue.pop(0)
+    queue: list[tuple[Solved, int, str, float]] = [(seed, 1, "start", targets[-1])]
+    while queue or extra:
+        if not queue:
+            value = extra.pop(0)
+            covered = _covered(value, branches)
+            if covered is not None:
+                _LOG.info("seed %.6g lies on branch %d: not started again", value, covered)
+                continue
+            fresh = corrector.settled(value)
+            if fresh is not None:
+                origin = f"settled run at {value:.6g}"
+                queue.append((fresh, 1, f"{origin}, followed down", min(targets[0], targets[-1])))
+                queue.append((fresh, 1, f"{origin}, followed up", max(targets[0], targets[-1])))
+            continue
+        first, k, origin, stop = queue.pop(0)
         corrector.period = k
-        branch, located, _ = follower.follow(
-            first, targets[-1], period=k, branch=len(branches), origin=origin,
+        branch, located, points = follower.follow(
+            first, stop, period=k, branch=len(branches), origin=origin,
             targets=targets[1:] if not branches else None,
         )  # fmt: skip
         branches.append(branch)
+        solved.append(points)
         found.extend(located)
         last = branch.points[-1].parameter
         _LOG.info("branch %d (period %d, %s) ends at %.6g: %s", len(branches) - 1, k, origin,
                   last, branch.end)  # fmt: skip
         for bif in located:
             _LOG.info("%s at %.6g %s: %s", bif.kind, bif.parameter, bif.bracket, bif.explanation)
-        if settings.reseed and k == 1 and branch.end.startswith("the corrector failed"):
+        if (settings.reseed and k == 1 and stop == targets[-1]
+                and branch.end.startswith("the corrector failed")):  # fmt: skip
             fresh = corrector.reseed(last, targets[-1])
             if fresh is not None:
-                queue.append((fresh, 1, f"settled run at {fresh.point.parameter:.6g}"))
+                queue.append((fresh, 1, f"settled run at {fresh.point.parameter:.6g}",
+                              targets[-1]))  # fmt: skip
         if not settings.switch_branches or 2 * k > settings.max_period:
             continue
         for bif in located:
             if bif.kind == "period-doubling":
                 ends = [x for x in follower.brackets if x[0] is bif]
                 near = ends[0][1].payload if ends else None
-                doubled = corrector.doubled(bif, targets[-1], near)
+                doubled = corrector.doubled(bif, stop, near)
                 if doubled is not None:
-                    queue.append((doubled, 2 * k, f"period doubling at {bif.parameter:.6g}"))
+                    queue.append((doubled, 2 * k, f"period doubling at {bif.parameter:.6g}",
+                                  stop))  # fmt: skip
     return Continuation(
         parameter=parameter,
         units=_key_units(scene, parameter),
@@ -296,6 +338,67 @@ def continuation(
         orbit_solves=corrector.solves,
         cpu_time=time.process_time() - cpu0,
     )
+
+
+#: a branch that comes within this share of the clearance (section eccentricities) of a
+#: branch followed before, inside that branch's range, has joined it
+JOIN_TOLERANCE = 0.05
+
+
+def _seeds(seeds: Sequence[float] | None, targets: list[float]) -> list[float]:
+    """The seed values, checked to be finite numbers inside the span."""
+    if seeds is None:
+        return []
+    lo, hi = min(targets[0], targets[-1]), max(targets[0], targets[-1])
+    try:
+        out = [float(v) for v in seeds]
+    except (TypeError, ValueError):
+        raise ValueError(f"seeds must be numbers; got {seeds!r}.") from None
+    for v in out:
+        if not (math.isfinite(v) and lo <= v <= hi):
+            raise ValueError(f"seeds must be finite values in [{lo:g}, {hi:g}]; got {v!r}.")
+    return out
+
+
+def _covered(value: float, branches: list[ContinuationBranch]) -> int | None:
+    """Index of a period-1 branch whose followed range holds ``value``."""
+    for i, b in enumerate(branches):
+        if b.period == 1 and len(b.points) > 1:
+            ps = b.parameter
+            if ps.min() <= value <= ps.max():
+                return i
+    return None
+
+
+def _joins(
+    new: Solved, branches: list[ContinuationBranch], solved: list[list[Solved]], period: int
+) -> str | None:
+    """Why the branch ends at ``new``: it lies on a branch of the same period followed
+    before (inside its range, its section eccentricities within ``JOIN_TOLERANCE`` of
+    the clearance of that branch's, interpolated linearly); else None."""
+    orbit = new.payload
+    if not isinstance(orbit, PeriodicOrbit):
+        return None
+    p = new.point.parameter
+    for i, (b, pts) in enumerate(zip(branches, solved, strict=True)):
+        if b.period != period or len(pts) < 2:
+            continue
+        ps = b.parameter
+        order = np.argsort(ps)
+        if not ps[order[0]] < p < ps[order[-1]]:
+            continue
+        j = int(np.searchsorted(ps[order], p))
+        a, c = pts[order[j - 1]], pts[order[j]]
+        ea, ec = (getattr(x.payload, "section_eccentricity", None) for x in (a, c))
+        if ea is None or ec is None or ea.shape != orbit.section_eccentricity.shape:
+            continue
+        pa, pc = a.point.parameter, c.point.parameter
+        theta = (p - pa) / (pc - pa) if pc != pa else 0.0
+        there = (1.0 - theta) * ea + theta * ec
+        gap = float(np.max(np.abs(orbit.section_eccentricity - there))) / orbit.clearance
+        if gap <= JOIN_TOLERANCE:
+            return f"joins branch {i} at {p:.6g}"
+    return None
 
 
 def _targets(values: Sequence[float] | None, span: tuple[float, float] | None) -> list[float]:
@@ -345,6 +448,53 @@ class _SceneCorrector:
         self.settings = settings
         self.period = 1
         self.solves = 0
+        #: chord iterations run and the map runs they cost, summed over the points
+        self.chord_iterations = 0
+        self.chord_runs = 0
+
+    def chord(self, scene: Scene, base: PeriodicOrbit, state: np.ndarray) -> np.ndarray | None:
+        """The predicted section state corrected by chord iterations: Newton steps with
+        the previous orbit's monodromy matrix as the Jacobian (no tangent runs), on the
+        map's own adaptive steps, while each cuts the residual by ``CHORD_RATE`` and it is
+        above ``REFREEZE_ABOVE`` (below it the shooting freezes the steps). Worth it only
+        where the map does not contract by itself (``|mu_max|`` of the previous orbit above
+        the shooting's ``CONTRACTION``); None when no iteration helped."""
+        jac = np.asarray(base.monodromy, dtype=np.float64)
+        mu = base.multipliers
+        if jac.size == 0 or not mu.size or float(np.abs(mu[0])) <= CONTRACTION:
+            return None
+        smap = _map_of(scene, self.period)
+        latch, contact = section_latch(smap.model, state, base.section_latch)
+        sec = Section(y=state, latch=latch, contact=contact)
+        end = smap.run(sec, smap.stops)
+        self.chord_runs += 1
+        if not end.stats.success:
+            return None
+        rho = first = smap.residual(sec, end, sec.contact != 0)
+        for _ in range(CHORD_ITERATIONS):
+            if rho <= REFREEZE_ABOVE:
+                break
+            basis = smap.basis(sec)
+            latches = np.flatnonzero(sec.contact != 0)
+            n_free = basis.shape[1]
+            if jac.shape[0] != n_free + latches.size:
+                break  # other latches than the previous orbit's: its matrix does not fit
+            keep = np.setdiff1d(np.arange(jac.shape[0]), n_free + frozen_latches(jac, n_free))
+            r = smap.reduced_residual(sec, end, basis, latches)
+            dz = np.zeros_like(r)
+            dz[keep] = newton_step(jac[np.ix_(keep, keep)], r[keep])
+            trial = smap.corrected(sec, basis, latches, dz)
+            tend = smap.run(trial, smap.stops)
+            self.chord_runs += 1
+            if not tend.stats.success:
+                break
+            trho = smap.residual(trial, tend, trial.contact != 0)
+            if not trho < CHORD_RATE * rho:
+                break
+            sec, end, rho = trial, tend, trho
+            self.chord_iterations += 1
+        _LOG.info("chord: residual %.3g -> %.3g", first, rho)
+        return sec.y if rho < first else None
 
     def wrap(self, orbit: PeriodicOrbit, parameter: float) -> Solved:
         point = ContinuationPoint(
@@ -364,7 +514,8 @@ class _SceneCorrector:
             # the predicted state, moved onto this value's constraint manifold (a drive
             # speed changes the prescribed velocities)
             state = project_state(assemble(scene), guess.point.state, t=0.0)
-            start = replace(base, section_state=state)
+            corrected = self.chord(scene, base, state)
+            start = replace(base, section_state=state if corrected is None else corrected)
             self.solves += 1
             orbit = periodic_orbit(
                 scene, period=self.period, guess=start,
@@ -391,18 +542,32 @@ class _SceneCorrector:
         direction = 1.0 if stop >= last else -1.0
         p = last + direction * self.settings.max_step
         while direction * (stop - p) >= 0:
-            try:
-                self.solves += 1
-                orbit = periodic_orbit(self.scene.replace({self.key: p}), settle=SWITCH_SETTLE)
-            except (SimulationError, ValueError, np.linalg.LinAlgError):
-                orbit = None
-            ok = orbit is not None and orbit.converged
-            _LOG.info("%s = %.6g, settled start: %s", self.key, p, "orbit" if ok else "none")
-            if orbit is not None and ok:
-                self.period = 1
-                return self.wrap(orbit, p)
+            fresh = self.settled(p)
+            if fresh is not None:
+                return fresh
             p += direction * self.settings.max_step
         return None
+
+    def settled(self, p: float) -> Solved | None:
+        """The period-1 orbit at ``p`` from a run of the scene settled for
+        ``SWITCH_SETTLE`` periods (None when shooting does not converge)."""
+        try:
+            self.solves += 1
+            orbit = periodic_orbit(
+                self.scene.replace({self.key: p}), settle=SWITCH_SETTLE,
+                max_iterations=max(self.settings.max_iterations, 12),
+                segments=self.settings.segments,
+                **({} if self.settings.shooting_tolerance is None
+                   else {"tol": self.settings.shooting_tolerance}),
+            )  # fmt: skip
+        except (SimulationError, ValueError, np.linalg.LinAlgError):
+            orbit = None
+        ok = orbit is not None and orbit.converged
+        _LOG.info("%s = %.6g, settled start: %s", self.key, p, "orbit" if ok else "none")
+        if orbit is None or not ok:
+            return None
+        self.period = 1
+        return self.wrap(orbit, p)
 
     def doubled(
         self, bif: BifurcationPoint, stop: float, near: PeriodicOrbit | None
@@ -431,6 +596,21 @@ class _SceneCorrector:
                 if orbit.converged and not _collapsed(orbit):
                     return self.wrap(orbit, p)
         return None
+
+
+def _map_of(scene: Scene, period: int) -> StroboscopicMap:
+    """The k-fold stroboscopic map of a rigid scene with the defaults of
+    :func:`mechanism.periodic_orbit` (tolerances, steps, perturbation)."""
+    model = assemble(scene)
+    big_t = drive_period(scene)
+    max_step, floor = step_limits(model, Dopri5(), default_step(scene, big_t))
+    q0, v0 = initial_state(model)
+    return StroboscopicMap(
+        model, drive_period=big_t, period=period, rtol=DEFAULT_TOLERANCE,
+        atol=DEFAULT_TOLERANCE, max_step=max_step, approach_floor=floor,
+        perturbation=DEFAULT_PERTURBATION,
+        clearance=length_scale(model, np.concatenate([q0, v0])),
+    )  # fmt: skip
 
 
 def _doubling_guesses(near: PeriodicOrbit | None) -> list[PeriodicOrbit | None]:

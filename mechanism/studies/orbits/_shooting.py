@@ -6,9 +6,9 @@ t ≡ 0 modulo the drive period T, with the latched impact velocities of the cle
 joints in contact) to the state k periods later. It is evaluated by
 :func:`mechanism.core.integrate.integrate_tangent` with a zero deviation (the reference
 alone); its Jacobian, in coordinates of the manifold's tangent space, by the same
-function with one deviation per direction, on exactly the reference's steps
-(``deviation_rtol`` = 0), so the tangent rules at contact entry and exit, on the
-friction ramp and for the latch are those of :func:`mechanism.lyapunov_exponent`.
+function with a block of deviations, one per direction, carried in lock-step on one
+reference run, so the tangent rules at contact entry and exit, on the friction ramp and
+for the latch are those of :func:`mechanism.lyapunov_exponent`.
 """
 
 from __future__ import annotations
@@ -36,6 +36,16 @@ _NO_RENORMALIZATION = 2**62
 #: a latch row of the monodromy matrix that differs from a unit row by less than this is
 #: frozen (the contact lasts the whole period): only round-off of the growth read back
 _FROZEN = 1e-9
+#: deviations per tangent run of a Jacobian: None, all its columns in one block on one
+#: reference run; 1, one run per column (the same numbers on a frozen step schedule, at
+#: the cost of a reference run per column; kept for comparison)
+COLUMNS_PER_RUN: int | None = None
+#: how the Jacobian's tangent runs difference their deviations' rates
+#: (:class:`mechanism.core.integrate.TangentSettings` ``difference``): the split
+#: difference; the directional one (the exponent's default, a third of the cost) moved
+#: the 30 rpm orbit's largest multiplier by 2.4 % and its reproduction from a start moved
+#: by 1e-12 by 6 %, twice the 3 % of the split one (docs/periodic-orbits.md, Cost)
+DIFFERENCE = "split"
 
 
 @dataclass(frozen=True)
@@ -172,13 +182,17 @@ class StroboscopicMap:
         latch_deviation: np.ndarray | None = None,
         record: bool = False,
         tangent: bool = False,
+        difference: str | None = None,
     ) -> TangentIntegration:
         """Integrate from ``section`` over ``stops`` (with a deviation ``d0``, else the
-        reference alone); ``tangent``: the deviation's error also controls the steps."""
+        reference alone); ``tangent``: the deviation's error also controls the steps;
+        ``difference``: how the deviation's rate is differenced (default split)."""
         d = np.zeros_like(section.y) if d0 is None else d0
         settings = self.settings
         if tangent and self.schedule is None:
             settings = replace(settings, deviation_rtol=self.deviation_rtol)
+        if difference is not None:
+            settings = replace(settings, difference=difference)
         run = integrate_tangent(
             self.model, section.y, d, stops, settings=settings,
             latch=(section.latch, section.contact), latch_deviation=latch_deviation,
@@ -221,94 +235,126 @@ class StroboscopicMap:
         dl = self.tau * (end.final_latch - section.latch)[latches]
         return np.concatenate([self.coordinates(basis, diff), dl])
 
+    def images(
+        self,
+        section: Section,
+        stops: np.ndarray,
+        columns: np.ndarray,
+        latch: np.ndarray,
+        basis: np.ndarray,
+        latches: np.ndarray,
+    ) -> tuple[np.ndarray, TangentIntegration]:
+        """Images of tangent vectors over ``stops`` from ``section``, by a block of
+        deviations on one reference run (:data:`COLUMNS_PER_RUN`).
+
+        Column c of ``columns`` (2n, k), scaled to the perturbation's size, starts with a
+        unit τ × latch deviation of joint ``latch[c]`` (none for −1), scaled alike. Each
+        is carried without rescaling inside the stops (the growth read at the last one
+        restores its size); returns the images (rows: coordinates on ``basis``, then τ ×
+        the latches of the joints ``latches``; one column each) and the (first) run.
+        """
+        k = columns.shape[1]
+        scales = np.array(
+            [self.size / deviation_size(self.model, columns[:, c], time_scale=self.tau)
+             for c in range(k)]
+        )  # fmt: skip
+        d0 = columns * scales
+        dl = np.zeros((section.latch.size, k))
+        for c in np.flatnonzero(latch >= 0):
+            dl[latch[c], c] = scales[c] / self.tau
+        width = k if COLUMNS_PER_RUN is None else COLUMNS_PER_RUN
+        out = np.empty((basis.shape[1] + latches.size, k))
+        first: TangentIntegration | None = None
+        for lo in range(0, k, width):
+            part = slice(lo, min(lo + width, k))
+            one = part.stop - part.start == 1
+            run = self.run(
+                section, stops, d0=d0[:, lo] if one else d0[:, part],
+                latch_deviation=dl[:, lo] if one else dl[:, part], tangent=True,
+                difference=DIFFERENCE,
+            )  # fmt: skip
+            if not run.stats.success:
+                raise SimulationError(f"the tangent run failed: {run.stats.message}")
+            first = run if first is None else first
+            dev = run.final_deviation.reshape(d0.shape[0], -1)
+            dlat = run.final_latch_deviation.reshape(section.latch.size, -1)
+            logs = np.atleast_1d(run.log_growth[-1])
+            for i, c in enumerate(range(part.start, part.stop)):
+                grow = math.exp(float(logs[i])) / scales[c]
+                out[:, c] = np.concatenate(
+                    [
+                        self.coordinates(basis, dev[:, i] * grow),
+                        self.tau * dlat[latches, i] * grow,
+                    ]
+                )
+        assert first is not None
+        return out, first
+
     def monodromy(self, section: Section, basis: np.ndarray, latches: np.ndarray) -> np.ndarray:
         """Jacobian of the map in tangent coordinates (and τ × latch of the joints
         ``latches``, indices of joints in contact at the section).
 
-        One deviation per tangent direction, carried over the k periods without
-        rescaling inside them (the growth read at the stops restores its size). A latch
+        One deviation per tangent direction, all in one block (:meth:`images`). A latch
         that the reference never renews (in contact at both ends, no contact entry in
         between) is frozen: its row and column are the unit ones, its multiplier exactly
-        1. Another latch's column is the difference of the run with the latch deviation
-        added to the first direction and that direction's run (a deviation of the latch
-        alone has no velocity part to carry the finite difference of its effect).
+        1. Another latch's column is the difference of the deviation with the latch
+        deviation added to the first direction and that direction's (a deviation of the
+        latch alone has no velocity part to carry the finite difference of its effect).
         """
         n_free = basis.shape[1]
+        columns = np.concatenate([basis, np.repeat(basis[:, :1], latches.size, axis=1)], axis=1)
+        latch = np.concatenate([np.full(n_free, -1), latches]).astype(np.int64)
+        images, run = self.images(section, self.stops, columns, latch, basis, latches)
         jac = np.eye(n_free + latches.size)
-        first, run0 = self._image(section, basis, latches, basis[:, 0], None)
-        jac[:, 0] = first
-        for i in range(1, n_free):
-            jac[:, i] = self._image(section, basis, latches, basis[:, i], None)[0]
+        jac[:, :n_free] = images[:, :n_free]
         for pos, j in enumerate(latches):
-            if run0.stats.contact_events == 0 and run0.final_contact[j] != 0:
+            if run.stats.contact_events == 0 and run.final_contact[j] != 0:
                 continue  # frozen: the unit row and column
-            image, _ = self._image(section, basis, latches, basis[:, 0], j)
-            jac[:, n_free + pos] = image - first
+            jac[:, n_free + pos] = images[:, n_free + pos] - images[:, 0]
         return jac
 
-    def segmented(self, section: Section, segments: int) -> np.ndarray:
+    def segmented(
+        self, section: Section, segments: int, recorded: TangentIntegration | None = None
+    ) -> np.ndarray:
         """Monodromy matrix on the tangent space (no latch) as the product of the Jacobians
         of ``segments`` consecutive pieces of the step schedule.
 
         Over a whole period every tangent deviation of a strongly contracting orbit turns
         into the dominant direction, and what the others carried is lost to round-off;
         piece by piece each Jacobian is better conditioned. For sections whose latches
-        are all frozen (or absent).
+        are all frozen (or absent). ``recorded``: a run from ``section`` recorded at every
+        time of the step schedule, whose states at the cuts are the pieces' starts (the
+        same numbers as a run recorded at the cuts alone).
         """
         assert self.schedule is not None
         last = self.schedule.size - 1
         cut = np.unique(np.round(np.linspace(0, last, segments + 1)).astype(int))
-        ref = self.run(section, self.schedule[cut], record=True)
-        if not ref.stats.success:
-            raise SimulationError(f"the integration failed: {ref.stats.message}")
+        if recorded is None:
+            ref = self.run(section, self.schedule[cut], record=True)
+            if not ref.stats.success:
+                raise SimulationError(f"the integration failed: {ref.stats.message}")
+        else:
+            ref = replace(
+                recorded, t=recorded.t[cut], states=recorded.states[cut],
+                latches=recorded.latches[cut], contact=recorded.contact[cut],
+            )  # fmt: skip
         # the end in the section's coordinates: the map's, so the product is its Jacobian
         bases = [self.basis(section)] + [
             tangent_basis(self.model, y, t=float(t), time_scale=self.tau)
             for y, t in zip(ref.states[1:-1], ref.t[1:-1], strict=True)
         ]
         bases.append(bases[0])
+        none = np.zeros(0, dtype=np.int64)
         product: np.ndarray | None = None
         for j in range(cut.size - 1):
             start = Section(y=ref.states[j], latch=ref.latches[j], contact=ref.contact[j])
-            stops = ref.t[j : j + 2]
-            piece = np.empty((bases[j].shape[1],) * 2)
-            for i in range(piece.shape[1]):
-                col = bases[j][:, i]
-                scale = self.size / deviation_size(self.model, col, time_scale=self.tau)
-                run = self.run(start, stops, d0=col * scale, tangent=True)
-                if not run.stats.success:
-                    raise SimulationError(f"the tangent run failed: {run.stats.message}")
-                grow = math.exp(float(run.log_growth[-1])) / scale
-                piece[:, i] = self.coordinates(bases[j + 1], run.final_deviation * grow)
+            cols = bases[j]
+            piece, _ = self.images(
+                start, ref.t[j : j + 2], cols, np.full(cols.shape[1], -1), bases[j + 1], none
+            )
             product = piece if product is None else piece @ product
         assert product is not None
         return product
-
-    def _image(
-        self,
-        section: Section,
-        basis: np.ndarray,
-        latches: np.ndarray,
-        col: np.ndarray,
-        latch: int | None,
-    ) -> tuple[np.ndarray, TangentIntegration]:
-        """Image of the tangent vector ``col`` (plus a unit τ × latch deviation of joint
-        ``latch``) in the map's coordinates."""
-        scale = self.size / deviation_size(self.model, col, time_scale=self.tau)
-        dl = np.zeros(section.latch.size)
-        if latch is not None:
-            dl[latch] = scale / self.tau
-        run = self.run(section, self.stops, d0=col * scale, latch_deviation=dl, tangent=True)
-        if not run.stats.success:
-            raise SimulationError(f"the tangent run failed: {run.stats.message}")
-        grow = math.exp(float(run.log_growth[-1])) / scale
-        image = np.concatenate(
-            [
-                self.coordinates(basis, run.final_deviation * grow),
-                self.tau * run.final_latch_deviation[latches] * grow,
-            ]
-        )
-        return image, run
 
     def corrected(
         self, section: Section, basis: np.ndarray, latches: np.ndarray, dz: np.ndarray

@@ -33,7 +33,8 @@ design), ``_settings`` (:class:`StudySettings`), ``_runs`` (the single computati
 tasks), ``_schedule`` (backends, the pool's queue, stores, stage costs), ``_study`` (the
 stages in order), ``_tables`` (our tables), ``_report`` and ``_summary`` (the report's
 parts), ``_claims`` (the transition claims judged on the wear paths), ``_wear_paths``
-(the report's wear-life answer) and ``_result`` (:class:`PaperStudy`).
+(the report's wear-life answer), ``_route`` (the report's route to chaos over crank
+speed, from a stored continuation) and ``_result`` (:class:`PaperStudy`).
 """
 
 from __future__ import annotations

@@ -53,6 +53,7 @@ from ._report import (
     with_run_facts,
 )
 from ._result import PaperStudy
+from ._route import route_section
 from ._runs import chaos_analysis_options, compile_kernels, convergence_run, wear_scene_of
 from ._schedule import (
     WEAR_PATHS_STAGE,
@@ -559,6 +560,11 @@ def _report(
                 results.profiles, sectors=paper_wear_zones(), sector_label="paper's wear zones"
             )
         )
+    try:
+        # a stored result (computing it is minutes of CPU): data/route_rigid.json
+        sections.append(route_section())
+    except (OSError, ValueError, KeyError) as exc:
+        run.unavailable.append(f"route to chaos over crank speed: the stored result: {exc}")
     return dataclasses.replace(rep, sections=(*sections, *rep.sections))
 
 

@@ -3,26 +3,13 @@ periods of the no-load speed for a motor-driven crank (as :func:`mechanism.bifur
 
 from __future__ import annotations
 
-import math
 from typing import Any
 
 from mechanism.core import drive_period
-from mechanism.core.scene import MotorDrive
+
+from .._turns import revolution_time
 
 __all__ = ["revolution_time", "simulated_span"]
-
-
-def revolution_time(scene: Any) -> float | None:
-    """The time (s) a sweep counts as one revolution: the drive period, or 2π/ω₀ at the
-    motor's no-load speed ω₀ for a motor-driven crank (which turns at most about once in
-    it, slower under load); None when the scene has neither."""
-    period = drive_period(scene)
-    if period is not None:
-        return period
-    drive = scene.drive
-    if isinstance(drive, MotorDrive) and drive.no_load_speed > 0.0:
-        return 2.0 * math.pi / drive.no_load_speed
-    return None
 
 
 def simulated_span(scene: Any, revolutions: float) -> dict[str, float]:

@@ -1,0 +1,141 @@
+"""The cost knobs of ``mechanism.wear_life``: their defaults, the exponent's stopping rule
+and the run shared by a checkpoint's analysis and its first increment.
+
+Their accuracy against the cost is in ``docs/accuracy-vs-cost.md`` ("Wear path").
+"""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import pytest
+
+import mechanism
+from mechanism.studies import _wear_life as life_module
+from tests.mechanism.scenes import rigid_paper
+
+
+def _quiet(fn, *args, **kwargs):
+    with warnings.catch_warnings():
+        # worn states may warn about step limits; what matters is asserted
+        warnings.simplefilter("ignore", mechanism.SimulationWarning)
+        return fn(*args, **kwargs)
+
+
+def test_the_cost_knobs_default_to_the_measured_settings():
+    """The defaults whose accuracy docs/accuracy-vs-cost.md shows: a first exponent run of 6
+    revolutions, one run per checkpoint state, 250 verdict samples per revolution."""
+    settings = mechanism.WearLifeSettings()
+    assert settings.lyapunov_first_revolutions == 6.0
+    assert settings.share_state_run is True
+    assert settings.verdict_samples_per_revolution == 250
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "message"),
+    [
+        (
+            {"lyapunov_first_revolutions": 2.0},
+            "lyapunov_first_revolutions must be None or a number of revolutions > "
+            "lyapunov_discard (2); got 2.0.",
+        ),
+        (
+            {"lyapunov_first_revolutions": "six"},
+            "lyapunov_first_revolutions must be None or a number of revolutions > "
+            "lyapunov_discard (2); got 'six'.",
+        ),
+        (
+            {"verdict_samples_per_revolution": 10},
+            "verdict_samples_per_revolution must be in [20, 100000]; got 10.",
+        ),
+        ({"share_state_run": 1}, "share_state_run must be True or False; got 1."),
+    ],
+)
+def test_the_cost_knobs_are_validated_in_one_line(kwargs, message):
+    with pytest.raises(ValueError) as info:
+        mechanism.WearLifeSettings(**kwargs)
+    assert str(info.value) == message
+
+
+def _estimate(lo: float, hi: float, revolutions: float) -> mechanism.SceneLyapunov:
+    return mechanism.SceneLyapunov(
+        exponent=0.5 * (lo + hi), ci=(lo, hi), ci_method="batch means", drive_period=0.4,
+        time=np.arange(1.0, revolutions - 1.0), running_exponent=np.zeros(0),
+        segment_exponent=np.zeros(0), batches=4, settings={"revolutions": revolutions},
+    )  # fmt: skip
+
+
+@pytest.mark.parametrize(
+    ("lo", "hi", "decided"),
+    [
+        (34.0, 59.3, True),  # a worn chaotic state: beyond zero by 2.7 half-widths
+        (-4.09, -4.02, True),  # an unworn periodic state
+        (12.0, 36.0, False),  # above zero, but by one half-width exactly: not beyond it
+        (1.0, 20.0, False),  # above zero by less than its half-width
+        (-5.0, 13.0, False),  # contains zero
+        (float("nan"), float("nan"), False),
+    ],
+)
+def test_the_exponent_is_decided_beyond_zero_by_its_half_width(lo, hi, decided):
+    assert life_module.exponent_decided(_estimate(lo, hi, 6.0)) is decided
+
+
+def _how(first):
+    return life_module._Analysis(
+        discard=2.0, revolutions=25, exponent=True, lyapunov_revolutions=10.0,
+        lyapunov_discard=2.0, lyapunov_first=first, continuous_fraction=0.01,
+        verdict_samples=250, simulate_kwargs={},
+    )  # fmt: skip
+
+
+@pytest.mark.parametrize(
+    ("first_interval", "first", "runs"),
+    [
+        ((34.0, 59.3), 6.0, [6.0]),  # decided: the first run is the answer
+        ((-5.0, 13.0), 6.0, [6.0, 10.0]),  # undecided: the full run is made and reported
+        ((34.0, 59.3), 10.0, [10.0]),  # no shorter first run
+    ],
+)
+def test_the_exponent_runs_the_full_revolutions_only_when_undecided(
+    monkeypatch, first_interval, first, runs
+):
+    calls = []
+
+    def fake(scene, *, revolutions, discard):
+        calls.append(revolutions)
+        assert discard == 2.0
+        lo, hi = first_interval if len(calls) == 1 else (20.0, 40.0)
+        return _estimate(lo, hi, revolutions)
+
+    monkeypatch.setattr(life_module, "lyapunov_exponent", fake)
+    lam = life_module.checkpoint_exponent(rigid_paper(), _how(first))
+    assert calls == runs
+    assert float(lam.settings["revolutions"]) == runs[-1]
+
+
+@pytest.mark.slow
+def test_a_shared_state_run_gives_the_path_of_two_runs():
+    """One run per checkpoint state (its first revolutions wear, all of them are analysed)
+    against a run each. The unworn state's analysis is the same run either way, so its
+    numbers are equal exactly; the increment reads the first revolutions of a longer run,
+    which differ from a run of their own only in its last, shortened step, so the depth
+    after 500 cycles at 150 rpm agrees to rounding (measured: 16 of 1440 regions differ,
+    by at most 2.3e-11 m; asserted 1e-9 m, a nanometre)."""
+    settings = {"settle_revolutions": 1.0, "analysis_revolutions": 4}
+    runs = {}
+    for share in (True, False):
+        runs[share] = _quiet(
+            mechanism.wear_life, rigid_paper({"drive.speed_rpm": 150.0}), cycles=500,
+            checkpoints=[500], averaged_revolutions=2, exponent=False,
+            settings=mechanism.WearLifeSettings(share_state_run=share, **settings),
+        ).to_dataset()  # fmt: skip
+    shared, separate = runs[True], runs[False]
+    assert shared.attrs["share_state_run"] == 1 and separate.attrs["share_state_run"] == 0
+    np.testing.assert_allclose(
+        shared["wear_depth"].values, separate["wear_depth"].values, rtol=0.0, atol=1e-9
+    )
+    for name in ("peak_contact_force", "mean_contact_force", "continuous_contact_fraction"):
+        np.testing.assert_array_equal(
+            shared[name].isel(checkpoint=0).values, separate[name].isel(checkpoint=0).values
+        )
