@@ -134,5 +134,5 @@ def test_the_flexible_trajectory_is_unchanged() -> None:
     _check_digest(
         mechanism.load_scene("paper"),
         0.05,
-        "e3058ae803d4815bf8adb269f135bc4292e610b8666e5010b7ef8d694ba64c58",
+        "53e124301d52f894a5ce152b5aa897779420c74cfff8710b7245a6438b9335ff",
     )
