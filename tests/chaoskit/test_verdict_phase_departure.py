@@ -115,6 +115,7 @@ def test_periodic_orbit_plus_coloured_noise_is_confidently_periodic(level):
     assert "phase" not in v.votes
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("u0", [0.3123, 0.3123 * (1.0 + 1e-12)])
 def test_chaotic_impacts_are_not_confidently_periodic(u0):
     # the logistic map loses the 1e-12 perturbation within the series: only what holds

@@ -56,6 +56,7 @@ def test_predict_wear_counts_the_cycles_of_a_motor_driven_crank_by_its_turns() -
     np.testing.assert_allclose(per_cycle, expected, rtol=2e-2)
 
 
+@pytest.mark.slow
 def test_wear_life_runs_on_a_motor_driven_crank() -> None:
     """The wear path of a motor-driven crank: its cycles are crank turns; the checkpoint's
     analysis runs ``settle + analysis`` turns of the crank and the exponent over periods of
