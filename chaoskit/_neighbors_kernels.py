@@ -188,46 +188,28 @@ def _scan_sorted(points, spts, i, w, lo_m, hi_m, members, best, best_j, maxnorm)
             a = mid + 1
         else:
             b = mid
-    q = a
-    while q < hi_m:
-        dx = spts[q, 0] - xq
-        if (dx if maxnorm else dx * dx) > best:
-            break
-        j = members[q]
-        if abs(i - j) > w:
-            d = 0.0
-            for c in range(m):
-                diff = spts[q, c] - points[i, c]
-                if maxnorm:
-                    d = max(d, abs(diff))
-                else:
-                    d += diff * diff
-                if d > best:
-                    break
-            if d < best or (d == best and j < best_j):
-                best = d
-                best_j = j
-        q += 1
-    q = a - 1
-    while q >= lo_m:
-        dx = spts[q, 0] - xq
-        if (-dx if maxnorm else dx * dx) > best:
-            break
-        j = members[q]
-        if abs(i - j) > w:
-            d = 0.0
-            for c in range(m):
-                diff = spts[q, c] - points[i, c]
-                if maxnorm:
-                    d = max(d, abs(diff))
-                else:
-                    d += diff * diff
-                if d > best:
-                    break
-            if d < best or (d == best and j < best_j):
-                best = d
-                best_j = j
-        q -= 1
+    for step in (1, -1):
+        q = a if step == 1 else a - 1
+        while lo_m <= q < hi_m:
+            dx = spts[q, 0] - xq
+            gap = dx if step == 1 else -dx
+            if (gap if maxnorm else dx * dx) > best:
+                break
+            j = members[q]
+            if abs(i - j) > w:
+                d = 0.0
+                for c in range(m):
+                    diff = spts[q, c] - points[i, c]
+                    if maxnorm:
+                        d = max(d, abs(diff))
+                    else:
+                        d += diff * diff
+                    if d > best:
+                        break
+                if d < best or (d == best and j < best_j):
+                    best = d
+                    best_j = j
+            q += step
     return best, best_j
 
 
