@@ -20,6 +20,17 @@ Writes ``docs/benchmarks/flexible-cost.csv`` and prints the comparison. Run from
 repository root::
 
     python benchmarks/flexible_cost.py --baseline 897d698 [--revolutions 2] [--rounds 2]
+
+``--companion`` measures instead what the ideal companion's result (the slider of the
+mechanism with ideal joints, from which the displacement and speed errors are taken)
+costs and how far it moves with the model that gives it: the flexible ideal mechanism
+at the scene's step T/10000 (what ``simulate`` runs), at T/5000 and T/2500, and the
+rigid ideal mechanism (dopri5). CPU per revolution of ``record="sections"`` on the ideal
+scene alone, and on the ``record="full"`` grid the largest slider position and speed
+differences from the T/10000 companion and the errors of the clearance run measured
+against each; writes ``docs/benchmarks/flexible-companion.csv``::
+
+    NUMBA_NUM_THREADS=1 python benchmarks/flexible_cost.py --companion [--revolutions 2]
 """
 
 from __future__ import annotations
@@ -40,6 +51,7 @@ import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
 OUT = ROOT / "docs" / "benchmarks" / "flexible-cost.csv"
+COMPANION_OUT = ROOT / "docs" / "benchmarks" / "flexible-companion.csv"
 PERTURBATION = 1e-12  # m, initial journal offset of the chaos reference
 
 
@@ -75,6 +87,57 @@ def _worker(out: str, revolutions: float, offset: float) -> None:
     print(json.dumps(row))
 
 
+def _companion(revolutions: float) -> None:
+    """The ideal companion's result from the flexible ideal mechanism at three steps and
+    from the rigid one, against the companion ``simulate`` runs (module docstring)."""
+    import mechanism
+
+    scene = mechanism.load_scene("paper")
+    period = 60.0 / 150.0
+    mechanism.simulate(scene, revolutions=0.02, record="sections")  # compile / load
+    main = mechanism.simulate(scene, revolutions=revolutions, record="full")
+    ideal = scene.replace({"effects.clearance": False})
+    variants = {
+        "flexible T/10000 (simulate's companion)": ideal,
+        "flexible T/5000": ideal.replace({"solver.max_step": period / 5000}),
+        "flexible T/2500": ideal.replace({"solver.max_step": period / 2500}),
+        "rigid (dopri5)": ideal.replace({"effects.flexibility": False}),
+    }
+    rows, ref = [], None
+    for name, variant in variants.items():
+        mechanism.simulate(variant, revolutions=0.02, record="sections")
+        cpu = time.process_time()
+        mechanism.simulate(variant, revolutions=revolutions, record="sections")
+        cpu = time.process_time() - cpu
+        ds = mechanism.simulate(variant, revolutions=revolutions, record="full")
+        x, v = ds.slider_position.values, ds.slider_velocity.values
+        ref = (x, v) if ref is None else ref
+        row = {
+            "companion": name,
+            "cpu_s_per_rev": cpu / revolutions,
+            "steps_per_rev": ds.attrs["solver_steps"] / revolutions,
+            "slider_position_diff_m": float(np.abs(x - ref[0]).max()),
+            "slider_speed_diff_m_s": float(np.abs(v - ref[1]).max()),
+            "max_displacement_error_m": float(np.abs(main.slider_position.values - x).max()),
+            "max_speed_error_m_s": float(np.abs(main.slider_velocity.values - v).max()),
+        }
+        rows.append(row)
+        print(json.dumps(row), flush=True)
+    _write(COMPANION_OUT, rows)
+    print(f"written: {COMPANION_OUT}")
+
+
+def _write(path: Path, rows: list[dict]) -> None:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fields = list(dict.fromkeys(k for row in rows for k in row))
+    tmp_out = path.with_suffix(".csv.tmp")
+    with tmp_out.open("w", newline="") as fh:
+        writer = csv.DictWriter(fh, fieldnames=fields)
+        writer.writeheader()
+        writer.writerows(rows)
+    tmp_out.replace(path)
+
+
 def _export(revision: str, into: Path) -> Path:
     data = subprocess.run(
         ["git", "archive", revision], cwd=ROOT, check=True, capture_output=True
@@ -99,7 +162,13 @@ def main() -> None:
     parser.add_argument("--rounds", type=int, default=2)
     parser.add_argument("--worker", help=argparse.SUPPRESS)
     parser.add_argument("--offset", type=float, default=0.0, help=argparse.SUPPRESS)
+    parser.add_argument(
+        "--companion", action="store_true", help="measure the ideal companion's alternatives"
+    )
     args = parser.parse_args()
+    if args.companion:
+        _companion(args.revolutions)
+        return
     if args.worker:
         _worker(args.worker, args.revolutions, args.offset)
         return
@@ -130,14 +199,7 @@ def main() -> None:
         uptime = subprocess.run(["uptime"], capture_output=True, text=True).stdout.strip()
     for row in rows:
         row["load"] = uptime.split("load average:")[-1].strip()
-    OUT.parent.mkdir(parents=True, exist_ok=True)
-    fields = list(dict.fromkeys(k for row in rows for k in row))
-    tmp_out = OUT.with_suffix(".csv.tmp")
-    with tmp_out.open("w", newline="") as fh:
-        writer = csv.DictWriter(fh, fieldnames=fields)
-        writer.writeheader()
-        writer.writerows(rows)
-    tmp_out.replace(OUT)
+    _write(OUT, rows)
     for name in ("baseline", "this"):
         cpu = [row["cpu_s_per_rev"] for row in rows if row["tree"] == name]
         print(f"{name}: CPU s/rev {' '.join(f'{c:.3f}' for c in cpu)}")

@@ -24,7 +24,10 @@ removing it they must agree within 0.02 nats at every horizon (the reference set
 by TISEAN's last ``theiler_window`` points, and zero distances are dropped by TISEAN), and
 the fitted slopes within 1 %. ``lyap_k`` finds neighbours in the Euclidean norm and
 averages squared distances (ln of the RMS distance), ours the maximum norm and distances
-(ln of the mean): the slopes over the fit window must agree within 10 %.
+(ln of the mean): the slopes over the fit window must agree within 10 %. Kantz's same
+work is also run on TISEAN's definition (``definition="rms"``): then every
+radius's curve must agree with ``lyap_k``'s within 10⁻⁴ nats after the unit offset
+(``lyap_k`` prints six digits).
 
 Results: every speed-up of the kernels must keep our estimates. ``BEFORE`` holds the
 exponent and interval of each row as computed before the last round of speed-ups (on the
@@ -64,6 +67,8 @@ CURVE_TOL = 0.02  # nats, lyap_r curve against ours after removing the unit offs
 SLOPE_TOL_R = 0.01  # relative, lyap_r
 SLOPE_TOL_K = 0.10  # relative, lyap_k (other norm and mean)
 RESULT_TOL = 1e-12  # relative, our estimates against BEFORE
+CURVE_TOL_K = 1e-4  # nats, lyap_k curve against ours on TISEAN's definition (it prints 6 digits)
+TISEAN_DEFINITION = "Euclidean ball, ln RMS"
 #: SHA-256 prefix of each case's series when BEFORE was computed
 SERIES = {
     "Lorenz x N=10000": "f8744cd2890631e0",
@@ -72,7 +77,8 @@ SERIES = {
 }
 #: (mle, ci low, ci high) before the speed-ups of the neighbour search (kernels inlined,
 #: cells sorted), the divergence curve (horizons on a step of 2 or 3 built over their span),
-#: the interval's batch sums and Kantz's fused distance pass
+#: the interval's batch sums and Kantz's fused distance pass (the TISEAN-definition rows: their
+#: values when the option was added)
 BEFORE = {
     ("rosenstein", "Lorenz x N=10000", "same work"): (
         1.0340769520312452,
@@ -134,6 +140,22 @@ BEFORE = {
         0.39998113693644627,
         0.4479348906581768,
     ),
+    # TISEAN's definition (Euclidean balls, ln of the RMS distance), when it was added
+    ("kantz", "Lorenz x N=10000", "same work, " + TISEAN_DEFINITION): (
+        1.321604641650683,
+        0.050425673459925546,
+        2.5927836098414403,
+    ),
+    ("kantz", "Lorenz x N=50000", "same work, " + TISEAN_DEFINITION): (
+        1.1969762287797583,
+        0.10082339521686379,
+        2.293129062342653,
+    ),
+    ("kantz", "Henon x N=50000", "same work, " + TISEAN_DEFINITION): (
+        0.42719580757082687,
+        0.40338848196977223,
+        0.4510031331718815,
+    ),
 }
 
 
@@ -168,7 +190,12 @@ def series_hash(x: np.ndarray) -> str:
 
 def check_before(estimator: str, case: Case, label: str, res) -> str:
     """Compare an estimate with ``BEFORE`` (asserting agreement); returns a note."""
-    key = (estimator, case.name, "defaults" if label == "defaults" else "same work")
+    kind = "defaults" if label == "defaults" else "same work"
+    if label.endswith(TISEAN_DEFINITION):
+        kind = "same work, " + TISEAN_DEFINITION
+    key = (estimator, case.name, kind)
+    if key not in BEFORE:
+        return "no earlier value"
     if series_hash(case.x) != SERIES[case.name]:
         return "before-check skipped: the series differs from the one BEFORE was computed on"
     got = (res.mle, *res.ci)
@@ -215,6 +242,15 @@ def read_lyap(path: Path, index: int) -> tuple[np.ndarray, np.ndarray]:
             blocks[-1].append([float(v) for v in line.split()])
     block = np.array(blocks[index])
     return block[:, 0].astype(int), block[:, 1]
+
+
+def lyap_k_curve_deviation(path: Path, res, index: int) -> float:
+    """Largest deviation of the ``index``-th radius's ``lyap_k`` curve from ours, after
+    removing their mean difference (TISEAN's unit is the range, ours the std)."""
+    k, y = read_lyap(path, index)
+    ours_y = np.interp(k, res.horizon, res.curves[index])
+    offset = float(np.mean(ours_y - y))
+    return float(np.max(np.abs(ours_y - y - offset)))
 
 
 def slope(k: np.ndarray, y: np.ndarray, fit: tuple[int, int]) -> float:
@@ -327,10 +363,12 @@ def kantz_rows(case: Case, lyap_k: str | None, tmp: Path, rounds: int) -> list[d
         "-#5",
     ]
     rows = []
+    settings = f"m={case.m} lag={case.lag} w={case.w} k<={case.k_steps} fit={case.k_fit} 5 radii"
     for label, ours, cmd in (
+        (settings, lambda: lyapunov_kantz(case.x, **kw), same),
         (
-            f"m={case.m} lag={case.lag} w={case.w} k<={case.k_steps} fit={case.k_fit} 5 radii",
-            lambda: lyapunov_kantz(case.x, **kw),
+            f"{settings}, {TISEAN_DEFINITION}",
+            lambda: lyapunov_kantz(case.x, **kw, definition="rms"),
             same,
         ),
         ("defaults", lambda: lyapunov_kantz(case.x, dt=case.dt), []),
@@ -364,7 +402,13 @@ def kantz_rows(case: Case, lyap_k: str | None, tmp: Path, rounds: int) -> list[d
             k, y = read_lyap(out, e)
             s_theirs = slope(k, y, case.k_fit) / case.dt
             rel = abs(res.mle / s_theirs - 1.0)
-            row |= {"peer_mle": s_theirs, "agreement": f"slope rel. diff {rel:.2g} (radius {e})"}
+            note = f"slope rel. diff {rel:.2g} (radius {e})"
+            if label.endswith(TISEAN_DEFINITION):
+                # the same quantity: every radius's curve, after the unit offset
+                dev = max(lyap_k_curve_deviation(out, res, i) for i in range(eps.size))
+                note = f"curve max dev {dev:.2g} nats (5 radii), " + note
+                assert dev < CURVE_TOL_K, f"{case.name}: lyap_k curve deviates by {dev:.3g}"
+            row |= {"peer_mle": s_theirs, "agreement": note}
             assert rel < SLOPE_TOL_K, f"{case.name}: lyap_k slope differs by {rel:.3g}"
         rows.append(row)
         print(row, flush=True)

@@ -2,7 +2,7 @@
 its Floquet multipliers, against the map's integration tolerance.
 
 For each tolerance (rtol = atol) :func:`mechanism.periodic_orbit` runs from the scene's
-start (5 settling periods) and the table records the process CPU time (one process,
+start (at most 5 settling periods) and the table records the process CPU time (one process,
 ``NUMBA_NUM_THREADS=1``, kernels compiled beforehand), the Newton iterations, the residual,
 the largest multiplier and the exponent ln|μ_max|/T, single shooting at each tolerance and
 multiple shooting over 8 segments at the default; it is written to
@@ -17,6 +17,12 @@ run (the default), and one tangent run per column (the former way, the same numb
 a frozen step schedule); written to ``docs/benchmarks/periodic-orbit-block.csv``::
 
     NUMBA_NUM_THREADS=1 python benchmarks/periodic_orbit.py --compare 3
+
+``--stages`` prints where the CPU time of the default orbit (``periodic_orbit(scene)``,
+30 rpm) goes: settling, freezing the steps, the map evaluations of the iteration, the
+monodromy matrix's tangent runs, the orbit's record and its kinematics::
+
+    NUMBA_NUM_THREADS=1 python benchmarks/periodic_orbit.py --stages
 """
 
 from __future__ import annotations
@@ -100,6 +106,56 @@ def compare(rpm: float, rounds: int) -> list[dict]:
     return rows
 
 
+def stages(rpm: float) -> dict[str, list[float]]:
+    """CPU seconds and calls of the default orbit's stages (the map's methods timed)."""
+    scene = mechanism.load_scene("paper").replace(
+        {"effects.flexibility": False, "drive.speed_rpm": rpm}
+    )
+    spent: dict[str, list[float]] = {}
+    cls = shooting.StroboscopicMap
+    saved = {name: getattr(cls, name) for name in ("run", "freeze_steps", "carry")}
+    active: list[str] = []
+
+    def timed(name: str):
+        inner = saved[name]
+
+        def call(self, *args, **kw):
+            label = name
+            if name == "run":
+                label = "map run, frozen steps" if self.schedule is not None else "map run"
+                if kw.get("record"):
+                    label = "record"
+            if active:  # inside freeze_steps or carry: counted there
+                return inner(self, *args, **kw)
+            active.append(label)
+            cpu = time.process_time()
+            try:
+                return inner(self, *args, **kw)
+            finally:
+                active.pop()
+                row = spent.setdefault(label, [0.0, 0])
+                row[0] += time.process_time() - cpu
+                row[1] += 1
+
+        return call
+
+    for name in saved:
+        setattr(cls, name, timed(name))
+    try:
+        cpu = time.process_time()
+        orbit = mechanism.periodic_orbit(scene)
+        spent["total"] = [time.process_time() - cpu, 1]
+    finally:
+        for name, inner in saved.items():
+            setattr(cls, name, inner)
+    spent["other (kinematics, bases, eigenvalues)"] = [
+        spent["total"][0] - sum(v[0] for k, v in spent.items() if k != "total"),
+        1,
+    ]
+    print(f"residual {orbit.residual:.2e}, |mu_max| {abs(orbit.largest_multiplier):.4e}")
+    return spent
+
+
 def _write(path: Path, rows: list[dict]) -> None:
     def write(target: Path) -> None:
         with target.open("w", newline="") as fh:
@@ -114,8 +170,13 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--rpm", type=float, default=30.0)
     parser.add_argument("--compare", type=int, default=0, metavar="ROUNDS")
+    parser.add_argument("--stages", action="store_true")
     args = parser.parse_args()
     measure(args.rpm, 1e-8)  # compile the kernels outside the measurement
+    if args.stages:
+        for label, (cpu, calls) in stages(args.rpm).items():
+            print(f"{label:40s} {cpu:6.2f} s  ({calls} calls)")
+        return
     if args.compare > 0:
         rows = compare(args.rpm, args.compare)
         for mode in ("block", "per column"):

@@ -1,4 +1,4 @@
-"""Cost of what a run records: full trajectory, metrics only, sections only.
+"""Cost of what a run records: full trajectory, wear variables, metrics only, sections only.
 
 Measures, for the ``paper`` scene at 150 rpm, the CPU time per revolution of
 ``mechanism.simulate`` (process CPU time: the main run and its ideal companion together,
@@ -71,7 +71,7 @@ def main() -> None:
     args = parser.parse_args()
     rows = []
     for flexible, revs in ((False, args.revolutions), (True, args.flexible_revolutions)):
-        for record in ("full", "metrics", "sections"):
+        for record in ("full", "wear", "metrics", "sections"):
             row = {"rods": "flexible" if flexible else "rigid", "record": record}
             row["revolutions"] = revs
             row.update(_cost(_scene(flexible), revs, record))

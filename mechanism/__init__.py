@@ -30,6 +30,7 @@ from .core import (
     SectionsRecord,
     SimulationError,
     SimulationWarning,
+    WearRecord,
     WornProfile,
     archard_wear,
     beam_modes,
@@ -120,6 +121,7 @@ _simulation = [
     "SectionsRecord",
     "SimulationError",
     "SimulationWarning",
+    "WearRecord",
     "simulate",
 ]
 _contact_wear = [

@@ -8,7 +8,7 @@ from typing import Any
 
 import numpy as np
 
-from .._neighbors import default_theiler_window, mean_period
+from .._neighbors import mean_period
 from .._tables import check_index_interval
 from .._validate import as_series, check_int, check_positive
 from ..embedding import DEFAULT_FNN_THRESHOLD, embed, fnn_curve, lag_or_estimate, standardize
@@ -29,6 +29,11 @@ class Prepared:
     dim_rule: str
     period: float
     scale: float
+
+
+def _theiler_window(period: float, n_points: int) -> int:
+    """:func:`~chaoskit._neighbors.default_theiler_window` from the mean period."""
+    return int(max(1, min(int(np.ceil(period)), n_points // 10)))
 
 
 def _too_short(n: int, need: int, what: str) -> ValueError:
@@ -58,12 +63,14 @@ def prepare(
     scale = float((arr / peak).std()) * peak
     arr = standardize(arr)
     n = arr.size
+    # one periodogram for the period and both default Theiler windows
+    period = mean_period(arr)
     lag, lag_rule = lag_or_estimate(arr, lag)
     if embedding_dim is None:
         max_dim = min(10, (n - 10) // lag - 1)
         if max_dim < 1:
             raise _too_short(n, 2 * lag + 11, f"estimating the embedding dimension at lag={lag}")
-        w_fnn = default_theiler_window(arr, n - max_dim * lag)
+        w_fnn = _theiler_window(period, n - max_dim * lag)
         dim = fnn_curve(
             arr, lag, max_dim, 15.0, 2.0, w_fnn, DEFAULT_FNN_THRESHOLD, _DIM_POINTS, stop_early=True
         )
@@ -74,7 +81,7 @@ def prepare(
     span = (embedding_dim - 1) * lag
     n_points = n - span
     if theiler_window is None:
-        w = default_theiler_window(arr, max(n_points - min_future, 1))
+        w = _theiler_window(period, max(n_points - min_future, 1))
     else:
         w = check_int(theiler_window, name="theiler_window", minimum=0)
     need = span + min_future + 2 * w + 2
@@ -94,7 +101,7 @@ def prepare(
         theiler_window=w,
         lag_rule=lag_rule,
         dim_rule=dim_rule,
-        period=mean_period(arr),
+        period=period,
         scale=scale,
     )
 

@@ -18,6 +18,7 @@ from ._cycles import cycle_spread, orbit_residual, phase_spread
 from ._evidence import (
     any_rejected,
     clearly_positive,
+    confirm_low_dim,
     count_cycles,
     cycle_test,
     describe_error,
@@ -149,7 +150,9 @@ def classify(
       white noise and exceeds ``rule.cluster_tol`` of the standard deviation; for it, the
       IAAFT surrogate test of the departure from a mean cycle carrying at least
       ``1 - rule.max_residual`` of the variance stands in for the test of the series (the
-      mean cycle dilutes the departure where the chaos lives);
+      mean cycle dilutes the departure where the chaos lives), and so does the test in
+      three delay coordinates (or one sample ahead) when it rejects at ``rule.alpha`` and,
+      repeated with twice as many surrogates, at ``rule.alpha / 2``;
     * else *undetermined*, and ``Verdict.needs`` says what would decide: more drive
       periods or oscillations, more section points, a clearly positive exponent, an
       estimator that failed.
@@ -174,7 +177,9 @@ def classify(
     fools them), and so is a rejection of the cycle test within the cluster tolerance.
     Where the mean cycle carries most of the variance, the IAAFT test of the departure
     from it votes too (``residual``): for *chaotic* when it rejects, for a periodic orbit
-    plus coloured noise when it does not. A periodic label of a forced series also
+    plus coloured noise when it does not; the confirmed test in three delay coordinates
+    votes for *chaotic* when it stands in for the surrogate test (``low_dim``). A
+    periodic label of a forced series also
     counts the departure's phase-dependent part (``Verdict.phase_spread``, the stationarity
     reading of :func:`cycle_spread` alone): above ``rule.cluster_tol`` it opposes (``phase``),
     since a departure confined to some phases is not stationary measurement noise and shows
@@ -245,7 +250,7 @@ def classify(
     delay, dimension, lag, embedding_dim = _embedding(x, lag, embedding_dim)
     noise = noise_level(x) if inp.kind != "map" else float("nan")
     # the steps run in this order, each drawing from the same generator ``gen``: the 0-1
-    # test, the surrogate tests, the cycle test
+    # test, the surrogate tests, the cycle test, the departure's test, the confirmation
     section, structure, time_scale = _section(
         inp, x, lag, embedding_dim, drive_period, noise, rule, errors
     )
@@ -268,9 +273,19 @@ def classify(
         x, inp, (lag, embedding_dim), structure, lines, time_scale, rule,
         (n_surrogates, surrogate_max_samples), gen, errors,
     )  # fmt: skip
+    confirmed = None
+    if residual is not None and residual.fraction >= 1.0 - rule.max_residual:
+        # drawn last: every other result keeps its random numbers
+        confirmed = confirm_low_dim(
+            x, lag=lag, tests=(low_dim, one_step), n_surrogates=n_surrogates,
+            max_samples=surrogate_max_samples, rule=rule, gen=gen, errors=errors,
+        )  # fmt: skip
     kantz = None
     kantz_positive = None
-    if needs_referee(positives, structure, lines, surrogates, n_cycles >= rule.min_cycles):
+    if needs_referee(
+        positives, structure, lines, surrogates, n_cycles >= rule.min_cycles,
+        confirmed=confirmed is not None and confirmed.rejected,
+    ):  # fmt: skip
         kantz, kantz_positive = _referee(x, embedding_dim, lag, inp.dt, time_scale, rule, errors)
     evidence = RuleEvidence(
         structure=structure,
@@ -284,6 +299,7 @@ def classify(
         n_cycles=n_cycles,
         cycle_unit=unit,
         low_dim_rejected=any_rejected(low_dim, one_step),
+        low_dim_confirmed=None if confirmed is None else confirmed.rejected,
         kantz_positive=kantz_positive,
         cycles_rejected=None if cycles is None else cycles.rejected,
         driven=inp.kind == "forced",
@@ -324,6 +340,7 @@ def classify(
         surrogates_low_dim=low_dim,
         surrogates_one_step=one_step,
         surrogates_cycle=cycles,
+        surrogates_confirmed=confirmed,
         cycle_spread=spread,
         phase_spread=phased,
         **base,

@@ -45,6 +45,11 @@ class RuleEvidence:
     low_dim_rejected
         Whether a surrogate test repeated in a few delay coordinates, a delay or one
         sample ahead rejected (None: none ran).
+    low_dim_confirmed
+        Whether that rejection held when the test was repeated at half the significance
+        level with twice as many surrogates (None: not repeated). For a forced series
+        whose mean cycle carries at least ``1 - rule.max_residual`` of the variance it
+        counts as determinism.
     kantz_positive
         Whether the referee (Kantz) exponent is clearly positive (None: it did not run).
     cycles_rejected
@@ -79,6 +84,7 @@ class RuleEvidence:
     n_cycles: float = float("inf")
     cycle_unit: str = "characteristic times"
     low_dim_rejected: bool | None = None
+    low_dim_confirmed: bool | None = None
     kantz_positive: bool | None = None
     cycles_rejected: bool | None = None
     driven: bool = False
@@ -153,6 +159,7 @@ class _Evidence:
     cycle_spread: float
     residual: OrbitResidual | None = None
     phase_spread: float = float("nan")
+    low_dim_confirmed: bool | None = None
 
     @property
     def n_positive(self) -> int:
@@ -265,6 +272,18 @@ class _Evidence:
         # test of the whole series misses when the mean cycle dilutes it
         r = self.residual
         return bool(self.dominant_cycle and r is not None and r.test.rejected)
+
+    @property
+    def confirmed_low_dim(self) -> bool:
+        # the test in a few delay coordinates rejected, and again at half the level with
+        # twice as many surrogates: determinism, for a series dominated by its mean cycle
+        # (not noise) whose departure a predictor in the full embedding dimension cannot
+        # resolve (too few close neighbours among a few thousand points)
+        return bool(
+            self.dominant_cycle
+            and self.surrogates_rejected is False
+            and self.low_dim_confirmed is True
+        )
 
     @property
     def coloured_noise_orbit(self) -> bool:
@@ -447,7 +466,7 @@ def _chaotic(ev: _Evidence) -> str | None:
     """The reason when the evidence shows chaos."""
     if not (
         (ev.both_positive or ev.zero_one_witness)
-        and (ev.surrogates_rejected is True or ev.residual_rejected)
+        and (ev.surrogates_rejected is True or ev.residual_rejected or ev.confirmed_low_dim)
         and (not ev.driven or ev.beyond_orbit)
         and ev.lines in ("broadband", "unresolved")
         # a regular-looking section does not count against a broadband spectrum either
@@ -467,12 +486,20 @@ def _chaotic(ev: _Evidence) -> str | None:
         )
     if ev.surrogates_rejected is True:
         determinism = "the data are more predictable than their IAAFT surrogates"
-    else:
+    elif ev.residual_rejected:
         assert ev.residual is not None
         determinism = (
             "the departure from the mean cycle over the drive (which carries "
             f"{100 * ev.residual.fraction:.0f} % of the variance) is more predictable than its "
             "IAAFT surrogates"
+        )
+    else:
+        assert ev.residual is not None  # a confirmed low-dimensional test needs it
+        determinism = (
+            f"the data are more predictable than their IAAFT surrogates in {LOW_DIM} delay "
+            f"coordinates, at {ev.rule.alpha:g} and again at {ev.rule.alpha / 2:g} with "
+            "twice as many surrogates (not in the embedding dimension; the mean cycle over "
+            f"the drive carries {100 * ev.residual.fraction:.0f} % of the variance)"
         )
     return (
         f"{head}, {determinism}"
@@ -541,6 +568,8 @@ def _blocking_needs(ev: _Evidence) -> list[str] | None:
             f"(above {rule.max_noise_allowance:g}) and its IAAFT surrogate test does not reject"
         ]
     if ev.surrogates_rejected is False and ev.low_dim_rejected is True:
+        if ev.confirmed_low_dim:
+            return None  # determinism is shown; what else chaos needs is asked below
         return [
             "a longer or more finely sampled series: the data are more predictable "
             f"than their surrogates in {LOW_DIM} delay coordinates or one sample "
@@ -577,7 +606,7 @@ def _needs(ev: _Evidence) -> list[str]:
         blocking = _blocking_needs(ev)
         if blocking is not None:
             needs += blocking
-        elif ev.surrogates_rejected is not False:
+        elif ev.surrogates_rejected is not False or ev.confirmed_low_dim:
             for name, pos in ev.exponents.items():
                 if pos is False:
                     needs.append(
@@ -653,6 +682,7 @@ def combine(evidence: RuleEvidence, rule: VerdictRule) -> RuleOutcome:
         cycle_spread=e.cycle_spread,
         residual=e.orbit_residual,
         phase_spread=e.phase_spread,
+        low_dim_confirmed=e.low_dim_confirmed,
     )
     label, period, reason = _decide(ev)
     needs: list[str] = []
@@ -686,6 +716,8 @@ def combine(evidence: RuleEvidence, rule: VerdictRule) -> RuleOutcome:
     )
     if label == "chaotic" and ev.dominant_cycle:
         votes["residual"] = "supports" if ev.residual_rejected else "opposes"
+    if label == "chaotic" and ev.confirmed_low_dim:
+        votes["low_dim"] = "supports"
     if coloured:
         # the departure from the mean cycle is linear noise; a phase-dependent spread
         # beyond the tolerance counts against the orbit

@@ -76,6 +76,13 @@ class Verdict:
         The surrogate test in three delay coordinates at a horizon of one sample of the
         (thinned) series when the first one, at a horizon of one delay, did not reject
         (None otherwise): a noise label needs it to fail as well.
+    surrogates_confirmed
+        For a forced series whose mean cycle carries at least ``1 - rule.max_residual`` of
+        the variance, when the first surrogate test did not reject but the one in
+        ``LOW_DIM`` delay coordinates (or one sample ahead) did: that test repeated at
+        ``rule.alpha / 2`` with twice as many surrogates (the evidence of ``confirm_low_dim``); its
+        rejection counts as determinism for a chaotic label (``votes["low_dim"]``). None
+        otherwise.
     surrogates_cycle
         For a forced series: the test of the null hypothesis "a periodic orbit plus noise
         that does not carry over from one cycle to the next"
@@ -128,6 +135,7 @@ class Verdict:
     surrogates_low_dim: SurrogateResult | None = field(default=None, repr=False)
     surrogates_one_step: SurrogateResult | None = field(default=None, repr=False)
     surrogates_cycle: SurrogateResult | None = field(default=None, repr=False)
+    surrogates_confirmed: SurrogateResult | None = field(default=None, repr=False)
     cycle_spread: float = float("nan")
     phase_spread: float = float("nan")
     lines: LineSpectrum | None = field(default=None, repr=False)

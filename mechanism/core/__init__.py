@@ -26,7 +26,7 @@ from .bodies import (
     solve_beam_static,
 )
 from .contact import contact_stiffness, hertz_stiffness
-from .record import FullRecord, MetricsRecord, RecordMode, SectionsRecord
+from .record import FullRecord, MetricsRecord, RecordMode, SectionsRecord, WearRecord
 from .scene import Scene, SceneError, list_scenes, load_scene, save_scene, scene_from_json
 from .wear import WornProfile, archard_wear
 
@@ -42,6 +42,7 @@ __all__ = [
     "SectionsRecord",
     "SimulationError",
     "SimulationWarning",
+    "WearRecord",
     "WornProfile",
     "archard_wear",
     "beam_modes",

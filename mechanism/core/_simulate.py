@@ -575,12 +575,13 @@ def simulate(
     output_step : float, optional
         Spacing (s) of the uniform output grid (default: the record mode's). It never
         bounds the step (``step_limits``).
-    record : RecordMode or {"full", "metrics", "sections"}
+    record : RecordMode or {"full", "metrics", "sections", "wear"}
         What is kept of the run: a :class:`~mechanism.FullRecord` (the
         trajectory; default), :class:`~mechanism.MetricsRecord` (the response
-        metrics) or :class:`~mechanism.SectionsRecord` (stroboscopic points
-        and metrics), which hold their options (``variables``; ``discard``, ``companion``;
-        ``phase``): these are not keywords of ``simulate`` (a TypeError names the object).
+        metrics), :class:`~mechanism.SectionsRecord` (stroboscopic points
+        and metrics) or :class:`~mechanism.WearRecord` (what wear reads), which
+        hold their options (``variables``; ``discard``, ``companion``; ``phase``):
+        these are not keywords of ``simulate`` (a TypeError names the object).
         A name stands for that mode with its default options.
     progress : bool
         Show a progress bar (tqdm).

@@ -11,6 +11,7 @@ flight, impacts and continuous contact. See ``docs/wear.md`` §6.
 from __future__ import annotations
 
 import math
+import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -22,7 +23,7 @@ from tqdm.auto import tqdm
 import chaoskit
 from chaoskit.contract import __version__, check_int, check_positive, stamp, variable
 from mechanism.core import Scene, SimulationError, scene_from_json
-from mechanism.core.record import window_start
+from mechanism.core.record import WearRecord, window_start
 from mechanism.core.scene import ClearanceRevolute
 from mechanism.core.wear import SURFACES, WornProfile, surface_angle
 
@@ -40,6 +41,7 @@ from ._wear_settings import (
     check_averaged_revolutions,
     check_depth_increment,
 )
+from ._wear_statistics import contact_modes
 
 __all__ = [
     "DEFAULT_WEAR_LIFE_AVERAGED_REVOLUTIONS",
@@ -151,8 +153,10 @@ class WearLife:
         ``motion`` (verdict label), ``motion_confidence``, ``peak_contact_force``,
         ``mean_contact_force`` (N), ``free_flight_fraction``, ``impact_fraction``,
         ``continuous_contact_fraction`` (checkpoint, joint); the settings, ``status``,
-        ``status_reason`` and ``cycles_to_chaos`` (−1: none) in attrs. Every variable has
-        ``units`` and ``long_name``.
+        ``status_reason``, ``cycles_to_chaos`` (−1: none) and the CPU seconds of the
+        path's phases (``phase_cpu_runs``: the simulations; ``phase_cpu_wear``: averaging
+        their wear; ``phase_cpu_exponent``; ``phase_cpu_verdict``; ``phase_cpu_total``)
+        in attrs. Every variable has ``units`` and ``long_name``.
         """
         return self.dataset.copy()
 
@@ -383,39 +387,6 @@ def _fraction(value: Any, name: str) -> float:
 # --------------------------------------------------------------------------- one checkpoint
 
 
-def contact_modes(
-    traj: xr.Dataset, joint: str, *, start: int, continuous_time: float
-) -> tuple[float, float, float]:
-    """Time shares of free flight, impacts and continuous contact of one joint.
-
-    A sample is in contact when its contact force is positive. Consecutive samples in
-    contact form one contact episode; an episode lasting less than ``continuous_time`` (s)
-    is an impact, a longer one continuous contact. Each sample carries its trapezoidal
-    time weight over the window ``traj.time[start:]``, so the three shares add up to 1.
-    """
-    t = np.asarray(traj["time"].values, dtype=np.float64)[start:]
-    force = np.asarray(traj["contact_force"].sel(joint=joint).values, dtype=np.float64)[start:]
-    w = np.zeros(t.size)
-    if t.size > 1:
-        dt = np.diff(t)
-        w[:-1] += 0.5 * dt
-        w[1:] += 0.5 * dt
-    total = float(w.sum())
-    if total <= 0.0:
-        return (math.nan, math.nan, math.nan)
-    on = np.nan_to_num(force) > 0.0
-    edges = np.diff(np.concatenate([[0], on.astype(np.int8), [0]]))
-    starts, ends = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)
-    impact = continuous = 0.0
-    for a, b in zip(starts, ends, strict=True):
-        duration = float(w[a:b].sum())
-        if duration < continuous_time:
-            impact += duration
-        else:
-            continuous += duration
-    return (1.0 - (impact + continuous) / total, impact / total, continuous / total)
-
-
 @dataclass(frozen=True)
 class _Analysis:
     """How each checkpoint's state is analysed (see :func:`wear_life`)."""
@@ -459,14 +430,23 @@ def checkpoint_exponent(scene: Scene, how: _Analysis) -> SceneLyapunov | None:
 
 
 def _analyse(
-    scene: Scene, names: list[str], how: _Analysis, traj: xr.Dataset | None = None
+    scene: Scene,
+    names: list[str],
+    how: _Analysis,
+    traj: xr.Dataset | None = None,
+    cpu: dict[str, float] | None = None,
 ) -> dict[str, Any]:
     """The motion of one worn state (a SimulationError propagates). ``traj``: the state's
-    run when it is shared with the increment (it may run longer than the analysis)."""
+    run when it is shared with the increment (it may run longer than the analysis).
+    ``cpu``: CPU seconds of this process are added to its ``"runs"``, ``"exponent"`` and
+    ``"verdict"``."""
+    cpu = {} if cpu is None else cpu
     period = float(revolution_time(scene))  # type: ignore[arg-type]
     span = how.discard + how.revolutions
     if traj is None:
+        start_cpu = time.process_time()
         traj = simulate_turns(scene, span, **how.simulate_kwargs)
+        cpu["runs"] = cpu.get("runs", 0.0) + time.process_time() - start_cpu
     else:
         traj = cut_at_turns(traj, span)
     start = window_start(traj, how.discard)
@@ -475,9 +455,12 @@ def _analyse(
         window[["eccentricity_x", "eccentricity_y", "crank_angle"]],
         phase_variable="crank_angle",
     )
+    start_cpu = time.process_time()
     lam = checkpoint_exponent(scene, how) if how.exponent else None
+    cpu["exponent"] = cpu.get("exponent", 0.0) + time.process_time() - start_cpu
     samples = int(window.sizes["time"])
     stride = max(1, int(samples / (how.revolutions * how.verdict_samples)))
+    start_cpu = time.process_time()
     verdict = chaoskit.classify_motion(
         window[["eccentricity_x", "eccentricity_y", "crank_angle"]].isel(
             time=slice(None, None, stride)
@@ -486,6 +469,7 @@ def _analyse(
         exponent=lam,
         rng=0,
     )
+    cpu["verdict"] = cpu.get("verdict", 0.0) + time.process_time() - start_cpu
     force = traj["contact_force"].isel(time=slice(start, None))
     modes = [
         contact_modes(traj, n, start=start, continuous_time=how.continuous_fraction * period)
@@ -598,6 +582,7 @@ def wear_life(
     >>> life = mechanism.wear_life(scene, cycles=20000, checkpoints=[5000, 10000])  # doctest: +SKIP
     >>> print(life.summary())  # doctest: +SKIP
     """
+    cpu_start = time.process_time()
     scene = _checked_scene(scene)
     total, targets = _checked_path(cycles, checkpoints)
     settings = checked_settings(settings)
@@ -610,7 +595,10 @@ def wear_life(
     exponent = settings.exponent if exponent is None else _flag(exponent, "exponent")
     settle = settings.settle_revolutions
     lyap_revs, lyap_discard = settings.lyapunov_revolutions, settings.lyapunov_discard
-    kwargs = {"method": method, "rtol": rtol, "atol": atol, "output_step": output_step}
+    # the runs keep only what the wear and the analysis read (the same samples as the
+    # full record, without the ideal companion: docs/wear.md §7)
+    kwargs = {"method": method, "rtol": rtol, "atol": atol, "output_step": output_step,
+              "record": WearRecord()}  # fmt: skip
     first = settings.lyapunov_first_revolutions
     first = lyap_revs if first is None else min(first, lyap_revs)
     how = _Analysis(
@@ -631,7 +619,7 @@ def wear_life(
     def on_state(current: Scene, update: int, at: float) -> bool:
         try:
             traj, loop.state_traj = loop.state_traj, None  # not held while it wears on
-            records.append(_analyse(current, loop.names, how, traj))
+            records.append(_analyse(current, loop.names, how, traj, loop.cpu))
         except SimulationError as exc:
             analysis_failure.append(
                 f"the analysis of the state after {at:.6g} cycles failed: {exc}"
@@ -656,6 +644,11 @@ def wear_life(
         "continuous_contact": how.continuous_fraction,
         "share_state_run": int(settings.share_state_run),
         "verdict_samples_per_revolution": how.verdict_samples,
+        # where the path's CPU time went (s, this process): the runs, averaging their wear,
+        # the exponent, the verdict; the rest is the analysis's bookkeeping
+        **{f"phase_cpu_{k}": float(loop.cpu.get(k, 0.0))
+           for k in ("runs", "wear", "exponent", "verdict")},
+        "phase_cpu_total": time.process_time() - cpu_start,
     }  # fmt: skip
     return _result(scene, loop, states, records, total, failure, settings)
 
@@ -704,6 +697,12 @@ def _strobe(records: list[dict[str, Any]], key: str, joints: int) -> np.ndarray:
     for i, r in enumerate(records):
         out[i, :, : r[key].shape[-1]] = r[key]
     return out
+
+
+def _per_joint(records: list[dict[str, Any]], key: str, names: list[str]) -> np.ndarray:
+    """``key`` of every record as (checkpoint, joint), also when no state was analysed."""
+    values = [r[key] for r in records]
+    return np.array(values, dtype=np.float64).reshape(len(records), len(names))
 
 
 def _dataset(
@@ -759,9 +758,9 @@ def _dataset(
                            "1", "motion verdict (chaoskit.classify_motion)"),
         "motion_confidence": variable(("checkpoint",), [float(v.confidence) for v in verdicts],
                                       "1", "confidence of the motion verdict"),
-        "peak_contact_force": variable(cj, [r["peak_force"] for r in records], "N",
+        "peak_contact_force": variable(cj, _per_joint(records, "peak_force", names), "N",
                                        "peak contact force over the analysed revolutions"),
-        "mean_contact_force": variable(cj, [r["mean_force"] for r in records], "N",
+        "mean_contact_force": variable(cj, _per_joint(records, "mean_force", names), "N",
                                        "time-mean contact force over the analysed revolutions"),
         "free_flight_fraction": variable(cj, modes[:, :, 0], "1",
                                          "share of time without contact force"),

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import time
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
@@ -287,6 +288,9 @@ class UpdateLoop:
         # None: no run is shared (the hook makes its own)
         self.state_revolutions: float | None = None
         self.state_traj: xr.Dataset | None = None
+        # CPU seconds (this process) of the runs and of averaging their wear, and of what
+        # a hook adds under its own keys
+        self.cpu: dict[str, float] = {"runs": 0.0, "wear": 0.0}
 
     # -- one simulated state
     def _simulate(
@@ -304,11 +308,14 @@ class UpdateLoop:
         span = self.averaged if extra is None else max(extra, float(self.averaged))
         longer = span > self.averaged
         revolutions = self.settle + span
+        cpu = time.process_time()
         try:
             traj = simulate_turns(self.current, revolutions, **self.kwargs)
         except SimulationError as exc:
             self.failure = f"the simulation of {label} failed: {exc}"
             return None
+        finally:
+            self.cpu["runs"] += time.process_time() - cpu
         self.state_traj = traj if shared else None
         if longer:
             end = window_start(traj, self.settle + self.averaged)
@@ -434,6 +441,13 @@ class UpdateLoop:
         """The wear per cycle of the state ``traj`` (mean of the revolutions after
         ``start``) by joint, smoothed like the profile, with its interval; None (and
         ``self.failure`` set) when it is not finite."""
+        cpu = time.process_time()
+        try:
+            return self._averaged_rates(traj, start, label=label)
+        finally:
+            self.cpu["wear"] += time.process_time() - cpu
+
+    def _averaged_rates(self, traj: xr.Dataset, start: int, *, label: str) -> _Rates | None:
         bounds = revolution_bounds(traj, self.settle, self.averaged)
         per_rev: dict[str, list[np.ndarray]] = {n: [] for n in self.names}
         for k in range(self.averaged):

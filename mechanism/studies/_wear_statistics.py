@@ -55,3 +55,36 @@ def revolution_bounds(traj: xr.Dataset, settle: float, revolutions: int) -> list
     the last one (its last sample)."""
     bounds = [window_start(traj, settle + k) for k in range(revolutions)]
     return [*bounds, int(traj.sizes["time"]) - 1]
+
+
+def contact_modes(
+    traj: xr.Dataset, joint: str, *, start: int, continuous_time: float
+) -> tuple[float, float, float]:
+    """Time shares of free flight, impacts and continuous contact of one joint.
+
+    A sample is in contact when its contact force is positive. Consecutive samples in
+    contact form one contact episode; an episode lasting less than ``continuous_time`` (s)
+    is an impact, a longer one continuous contact. Each sample carries its trapezoidal
+    time weight over the window ``traj.time[start:]``, so the three shares add up to 1.
+    """
+    t = np.asarray(traj["time"].values, dtype=np.float64)[start:]
+    force = np.asarray(traj["contact_force"].sel(joint=joint).values, dtype=np.float64)[start:]
+    w = np.zeros(t.size)
+    if t.size > 1:
+        dt = np.diff(t)
+        w[:-1] += 0.5 * dt
+        w[1:] += 0.5 * dt
+    total = float(w.sum())
+    if total <= 0.0:
+        return (math.nan, math.nan, math.nan)
+    on = np.nan_to_num(force) > 0.0
+    edges = np.diff(np.concatenate([[0], on.astype(np.int8), [0]]))
+    starts, ends = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)
+    impact = continuous = 0.0
+    for a, b in zip(starts, ends, strict=True):
+        duration = float(w[a:b].sum())
+        if duration < continuous_time:
+            impact += duration
+        else:
+            continuous += duration
+    return (1.0 - (impact + continuous) / total, impact / total, continuous / total)

@@ -62,12 +62,6 @@ def test_sweep_of_a_motor_scene_runs_revolutions_of_the_no_load_period(tmp_path)
     assert np.isnan(torque)  # a motor has no driving constraint: no reaction torque
 
 
-def test_periodic_orbit_refuses_a_motor_scene() -> None:
-    with pytest.raises(ValueError) as info:
-        mechanism.periodic_orbit(_motor_crank())
-    assert str(info.value) == REFUSAL.format(caller="periodic_orbit")
-
-
 def test_continuation_refuses_a_motor_scene() -> None:
     with pytest.raises(ValueError) as info:
         mechanism.continuation(_motor_crank(), parameter="drive.stall_torque", span=(5.0, 6.0))

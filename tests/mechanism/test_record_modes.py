@@ -348,8 +348,8 @@ def test_a_mode_class_given_for_a_mode_object_is_refused(scene) -> None:
         mechanism.simulate(scene, revolutions=2, record=mechanism.SectionsRecord)
     assert str(info.value) == (
         "record must be a record mode object (FullRecord(), MetricsRecord(), "
-        "SectionsRecord()) or one of 'full', 'metrics', 'sections'; got the class "
-        "SectionsRecord."
+        "SectionsRecord(), WearRecord()) or one of 'full', 'metrics', 'sections', 'wear'; "
+        "got the class SectionsRecord."
     )
 
 

@@ -8,6 +8,8 @@ is the lone run of it whenever the steps are the same (a frozen step schedule, o
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 
@@ -102,3 +104,29 @@ def test_bad_block_shapes_are_refused(setup):
         integrate_tangent(model, y0, block[:-1], stops, settings=settings)
     with pytest.raises(ValueError, match=r"latch_deviation must have shape \(1, 3\)"):
         integrate_tangent(model, y0, block, stops, settings=settings, latch_deviation=latch[:, 0])
+
+
+def test_records_at_every_stop_and_steps_match_the_stop_by_stop_loop(setup):
+    """Recorded at many stops, or keeping every step's time, a run takes one compiled loop
+    over them; its numbers are those of one return to Python per stop or step (forced
+    here by a contact duration no run reaches), bit for bit."""
+    model, y0, block, latch = setup
+    stops = np.linspace(0.0, 0.02, 120)
+    settings = TangentSettings(steps=STEPS, time_scale=TAU, deviation_rtol=1e-4, chunk_steps=50)
+    python = dataclasses.replace(settings, neutral_latch_after=1e9)
+    runs = [
+        integrate_tangent(
+            model, y0, block, stops, settings=s, latch_deviation=latch, record_states=True
+        )
+        for s in (settings, python)
+    ]
+    for name in ("t", "log_growth", "states", "contact", "contact_events", "latches"):
+        np.testing.assert_array_equal(getattr(runs[0], name), getattr(runs[1], name))
+    np.testing.assert_array_equal(runs[0].final_deviation, runs[1].final_deviation)
+    steps = [
+        integrate_tangent(model, y0, block, stops[[0, -1]], settings=s, record_steps=True)
+        for s in (settings, python)
+    ]
+    assert steps[0].step_times.size > 100
+    np.testing.assert_array_equal(steps[0].step_times, steps[1].step_times)
+    np.testing.assert_array_equal(steps[0].final_state, steps[1].final_state)

@@ -13,6 +13,7 @@ import pytest
 
 import mechanism
 from mechanism.studies import _wear_life as life_module
+from mechanism.studies import _wear_prediction as prediction_module
 from tests.mechanism.scenes import rigid_paper
 
 
@@ -139,3 +140,43 @@ def test_a_shared_state_run_gives_the_path_of_two_runs():
         np.testing.assert_array_equal(
             shared[name].isel(checkpoint=0).values, separate[name].isel(checkpoint=0).values
         )
+
+
+def test_the_path_records_its_runs_lean_and_its_phases_cpu(monkeypatch):
+    """Every run of a path records what the wear and the analysis read (``WearRecord``:
+    no ideal companion), and the path's attrs say where its CPU time went."""
+    seen = []
+
+    def failing(scene, revolutions, **kwargs):
+        seen.append(kwargs["record"])
+        raise mechanism.SimulationError("stopped by the test", time=0.0)
+
+    monkeypatch.setattr(prediction_module, "simulate_turns", failing)
+    life = mechanism.wear_life(rigid_paper(), cycles=500, checkpoints=[500])
+    assert life.status == "failed"
+    assert len(seen) == 1 and isinstance(seen[0], mechanism.WearRecord)
+    attrs = life.to_dataset().attrs
+    phases = [attrs[f"phase_cpu_{k}"] for k in ("runs", "wear", "exponent", "verdict")]
+    assert all(p >= 0.0 for p in phases)
+    assert sum(phases) <= attrs["phase_cpu_total"] + 1e-9
+
+
+@pytest.mark.slow
+def test_the_lean_record_gives_the_path_of_the_full_record():
+    """The path recorded lean against the same path recorded in full: the same
+    integrations sampled on the same grid, so the wear and the analysis agree bit for bit
+    (150 rpm, 500 cycles, no exponent)."""
+    settings = mechanism.WearLifeSettings(settle_revolutions=1.0, analysis_revolutions=4)
+    runs = {}
+    for lean in (True, False):
+        with pytest.MonkeyPatch.context() as patch:
+            if not lean:
+                patch.setattr(life_module, "WearRecord", mechanism.FullRecord)
+            runs[lean] = _quiet(
+                mechanism.wear_life, rigid_paper({"drive.speed_rpm": 150.0}), cycles=500,
+                checkpoints=[500], averaged_revolutions=2, exponent=False, settings=settings,
+            ).to_dataset()  # fmt: skip
+    compared = ("wear_depth", "strobe_x", "peak_contact_force", "mean_contact_force",
+                "impact_fraction", "continuous_contact_fraction", "motion_confidence")  # fmt: skip
+    for name in compared:
+        np.testing.assert_array_equal(runs[True][name].values, runs[False][name].values)

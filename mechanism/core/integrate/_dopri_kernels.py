@@ -1,9 +1,19 @@
 """Compiled Dormand–Prince 5(4) loop with dense output (the default integrator).
 
-:func:`dopri5_start` sets the first step and :func:`dopri5_advance` advances a chunk of
-steps; the typed tuples they take and the recording after every accepted step are in
-``_step_kernels.py``. The Butcher tableau and :func:`wrms` are shared with the tangent
-integration of ``_tangent_kernels.py``.
+:func:`dopri5_advance` is the one entry point of a run: its first call (``loop.step[3]``
+< 0) records the initial state, evaluates k1 = f(t₀, y₀) and the starting step
+(:func:`dopri5_start`), every call advances a chunk of steps. The typed tuples it takes
+and the recording after every accepted step are in ``_step_kernels.py``. The Butcher
+tableau and :func:`wrms` are shared with the tangent integration of
+``_tangent_kernels.py``.
+
+Why one entry point: numba links the code of every kernel a kernel calls into its own
+module and optimises and emits the whole module again, once per compiled kernel, and
+gives every kernel wrappers for calls from Python. The start, the initial step and the
+recording are therefore inlined at numba's IR level (``inline="always"``) rather than
+compiled as kernels of their own (``docs/performance.md``, *Compiling*);
+:func:`initial_step` stays a kernel for the tangent integration, which calls it from
+Python.
 """
 
 from __future__ import annotations
@@ -41,6 +51,7 @@ from ._step_kernels import (
     chunk_end,
     entry_fraction,
     next_step_size,
+    record_start,
 )
 
 __all__: list[str] = []
@@ -99,9 +110,23 @@ def wrms(err, y0, y1, rtol, atol):
     return math.sqrt(s / n)
 
 
+#: rows of ``LoopState.work`` of the Dormand–Prince loop: stages k2…k7, the stage state,
+#: the new state, the error, the five rows of the dense output, the sample state and its
+#: derivative, and the two states of the initial step
+DOPRI_WORK_ROWS = 18
+
+
 @njit(cache=True)
 def initial_step(model, ws, t, y, f0, vimp, counters, rtol, atol, max_step):
     """Starting step size in the manner of Hairer's HINIT (order 5)."""
+    n2 = y.shape[0]
+    return _initial_step(model, ws, t, y, f0, vimp, counters, rtol, atol, max_step,
+                         np.empty(n2), np.empty(n2))  # fmt: skip
+
+
+@njit_noalloc(inline="always")
+def _initial_step(model, ws, t, y, f0, vimp, counters, rtol, atol, max_step, y1, f1):
+    """:func:`initial_step` with its two scratch states ``y1``, ``f1`` given."""
     n2 = y.shape[0]
     dnf = 0.0
     dny = 0.0
@@ -116,8 +141,6 @@ def initial_step(model, ws, t, y, f0, vimp, counters, rtol, atol, max_step):
     else:
         h = 0.01 * math.sqrt(dny / dnf)
     h = min(h, max_step)
-    y1 = np.empty(n2)
-    f1 = np.empty(n2)
     for i in range(n2):
         y1[i] = y[i] + h * f0[i]
     rhs(model, ws, t + h, y1, vimp, f1, counters)
@@ -134,22 +157,24 @@ def initial_step(model, ws, t, y, f0, vimp, counters, rtol, atol, max_step):
     return min(100.0 * h, h1, max_step)
 
 
-@njit(cache=True)
-def dopri5_start(model, ws, t, y, k1, vimp, step, counters, rtol, atol, max_step):
+@njit_noalloc(inline="always")
+def dopri5_start(model, ws, t, y, k1, vimp, step, counters, rtol, atol, max_step, y1, f1):
     """Evaluate k1 = f(t, y) and the starting step into ``step`` (a ``LoopState.step``);
-    returns a status. (Positional, as the tangent integration also calls it.)"""
+    returns a status. Inlined into :func:`dopri5_advance`, which calls it on its first
+    call."""
     status = rhs(model, ws, t, y, vimp, k1, counters)
     if status != STATUS_OK:
         return status
     step[0] = t
     if step[1] <= 0.0:
-        step[1] = initial_step(model, ws, t, y, k1, vimp, counters, rtol, atol, max_step)
+        step[1] = _initial_step(model, ws, t, y, k1, vimp, counters, rtol, atol, max_step, y1,
+                                f1)  # fmt: skip
     step[2] = 1e-4
     step[3] = 0.0
     return STATUS_RUNNING
 
 
-@njit(cache=True, nogil=True)
+@njit_noalloc(nogil=True)
 def dopri5_advance(model, ws, loop, out, ctl, t_stop):
     """Advance the Dormand–Prince 5(4) integration until ``t ≥ t_stop`` (or ``ctl.t_end``).
 
@@ -162,6 +187,13 @@ def dopri5_advance(model, ws, loop, out, ctl, t_stop):
     ``t_stop`` is reached before ``t_end`` or after ``ctl.chunk_steps`` attempted steps
     (then ``loop.step[0]`` < ``t_stop``; the next call continues bit for bit),
     ``STATUS_OK`` at ``t_end``, or a failure status.
+
+    Compiled without reference counting: it allocates nothing, its scratch is
+    ``loop.work`` (``DOPRI_WORK_ROWS`` × 2n). The first call of a run (``loop.step`` =
+    [t₀, h₀ or 0, ·, −1]) starts it first: the samples of the initial state
+    (``_step_kernels.record_start``; the Output comes from ``loop_output(...,
+    in_kernel=True)``), then k1 = f(t₀, y₀) into ``loop.f`` and, unless h₀ > 0, the
+    starting step of :func:`initial_step`; a failure there is returned before any step.
     """
     y = loop.y
     k1 = loop.f
@@ -173,19 +205,28 @@ def dopri5_advance(model, ws, loop, out, ctl, t_stop):
     atol = ctl.atol
     max_step = ctl.max_step
     n2 = y.shape[0]
-    k2 = np.empty(n2)
-    k3 = np.empty(n2)
-    k4 = np.empty(n2)
-    k5 = np.empty(n2)
-    k6 = np.empty(n2)
-    k7 = np.empty(n2)
-    ytmp = np.empty(n2)
-    ynew = np.empty(n2)
-    err = np.empty(n2)
-    dense = np.empty((5, n2))
-    yout = np.empty(n2)
-    scratch = np.empty(n2)
-    out_counters = np.zeros(counters.shape[0], dtype=np.int64)
+    # scratch from the caller (LoopState.work), so that the loop allocates nothing
+    work = loop.work
+    k2 = work[0]
+    k3 = work[1]
+    k4 = work[2]
+    k5 = work[3]
+    k6 = work[4]
+    k7 = work[5]
+    ytmp = work[6]
+    ynew = work[7]
+    err = work[8]
+    dense = work[9:14]
+    yout = work[14]
+    scratch = work[15]
+    out_counters = loop.tally
+    if loop.step[3] < 0.0:
+        # the run's first call: the start's samples, then k1 and the first step
+        record_start(model, ws, out, loop.step[0], y, vimp, scratch, out_counters)
+        started = dopri5_start(model, ws, loop.step[0], y, k1, vimp, loop.step, counters,
+                               rtol, atol, max_step, work[16], work[17])  # fmt: skip
+        if started != STATUS_RUNNING:
+            return started
     beta = 0.04
     expo1 = 0.2 - beta * 0.75
     t = loop.step[0]

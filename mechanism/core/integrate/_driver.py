@@ -49,10 +49,21 @@ APPROACH_FRACTION = 1.0
 
 
 def loop_output(
-    model: Model, ws: Any, y0: np.ndarray, vimp: np.ndarray, t_out: np.ndarray, plan: RecordPlan
+    model: Model,
+    ws: Any,
+    y0: np.ndarray,
+    vimp: np.ndarray,
+    t_out: np.ndarray,
+    plan: RecordPlan,
+    *,
+    in_kernel: bool = False,
 ) -> step_kernels.Output:
     """The kernels' Output tuple for ``plan``, with the first grid sample (and a section
-    at the start when the initial crank angle is a strobe angle) recorded."""
+    at the start when the initial crank angle is a strobe angle) recorded.
+
+    With ``in_kernel`` nothing is recorded yet: the loop records the start itself on its
+    first call (``_step_kernels.record_start``), so no recording kernel is compiled for a
+    call from Python."""
     full = plan.grid == "full"
     mode = step_kernels.REC_FULL if full else step_kernels.REC_LIGHT
     if plan.sections:
@@ -78,6 +89,13 @@ def loop_output(
         peak_step=float(plan.peak_step),
         drive_row=drive_row,
     )
+    sense = -1.0 if getattr(model.scene.drive, "speed_rpm", 1.0) < 0 else 1.0
+    two_pi = 2.0 * math.pi
+    strobe[step_kernels.STROBE_DIRECTION] = sense
+    strobe[step_kernels.STROBE_PHASE] = plan.phase
+    strobe[step_kernels.STROBE_SHIFT] = sense * two_pi * plan.discard
+    if in_kernel:
+        return out
     y = np.ascontiguousarray(y0, dtype=np.float64)
     scratch = np.empty_like(y)
     t0 = float(t_out[0])
@@ -90,8 +108,6 @@ def loop_output(
     if plan.sections:
         start = np.empty(3)
         model_kernels.light_outputs(model.kernel, ws, y, start)
-        sense = -1.0 if getattr(model.scene.drive, "speed_rpm", 1.0) < 0 else 1.0
-        two_pi = 2.0 * math.pi
         first = start[0] + sense * two_pi * plan.discard - plan.phase
         turns = math.ceil(first / two_pi - 1e-9) if sense > 0 else math.floor(first / two_pi + 1e-9)
         target = plan.phase + two_pi * turns
@@ -101,7 +117,6 @@ def loop_output(
             out.cursor[1] = 1
             target += sense * two_pi
         strobe[step_kernels.STROBE_TARGET] = target
-        strobe[step_kernels.STROBE_DIRECTION] = sense
         strobe[step_kernels.STROBE_ANGLE] = start[0]
     return out
 

@@ -124,34 +124,36 @@ class Dopri5(Integrator):
         y = np.ascontiguousarray(y0, dtype=np.float64).copy()
         counters = np.zeros(model_kernels.CNT_COLUMNS, dtype=np.int64)
         vimp, contact = initial_latch(model, y)
-        loop = step_kernels.LoopState(
-            y=y, f=np.zeros_like(y), apse=np.zeros(0), step=np.zeros(4), vimp=vimp,
-            contact=contact, counters=counters,
-        )  # fmt: skip
         t0 = float(t_out[0])
         t_end = float(t_out[-1])
+        # step = [t, h, facold, −1]: the loop's first call starts the run (k1 and the
+        # initial step), so the whole run is one compiled entry point
+        loop = step_kernels.LoopState(
+            y=y, f=np.zeros_like(y), apse=np.zeros(0), step=np.array([t0, 0.0, 0.0, -1.0]),
+            vimp=vimp, contact=contact, counters=counters,
+            work=np.zeros((dopri_kernels.DOPRI_WORK_ROWS, y.size)),
+            tally=np.zeros(model_kernels.CNT_COLUMNS, dtype=np.int64),
+        )  # fmt: skip
         ctl = step_control(self, t0, t_end, steps)
-        out = loop_output(model, ws, y, vimp, t_out, record)
+        out = loop_output(model, ws, y, vimp, t_out, record, in_kernel=True)
         since = interruptions()
         start = time.perf_counter()
-        status = dopri_kernels.dopri5_start(km, ws, t0, y, loop.f, vimp, loop.step, counters,
-                                            steps.rtol, steps.atol, ctl.max_step)  # fmt: skip
         forecast = StepForecast(
             t0=t0, t_end=t_end, max_steps=self.max_steps, counters=counters,
             budget=steps.step_budget,
         )  # fmt: skip
-        if status == STATUS_RUNNING:
-            bar = ProgressBar(progress, t0, t_end, label)
-            try:
-                for t_stop in progress_chunks(t0, t_end, progress):
-                    status = advance_to(
-                        lambda stop: dopri_kernels.dopri5_advance(km, ws, loop, out, ctl, stop),
-                        loop.step, t_stop, bar, since, forecast,
-                    )  # fmt: skip
-                    if status != STATUS_RUNNING:
-                        break
-            finally:
-                bar.close()
+        status = STATUS_RUNNING
+        bar = ProgressBar(progress, t0, t_end, label)
+        try:
+            for t_stop in progress_chunks(t0, t_end, progress):
+                status = advance_to(
+                    lambda stop: dopri_kernels.dopri5_advance(km, ws, loop, out, ctl, stop),
+                    loop.step, t_stop, bar, since, forecast,
+                )  # fmt: skip
+                if status != STATUS_RUNNING:
+                    break
+        finally:
+            bar.close()
         wall = time.perf_counter() - start
         return loop_result(
             self.name, out, status, counters, wall, y, loop.step[0], loop, forecast.message
@@ -340,7 +342,8 @@ class GeneralizedAlpha(Integrator):
             ctl = step_control(self, t0, t_end, steps, max_step=max_step, fixed_step=fixed)
             loop = step_kernels.LoopState(
                 y=y, f=acc, apse=acc.copy(), step=np.array([t0, h0, 0.0, 0.0, 0.0, -1.0, 0.0]),
-                vimp=vimp, contact=contact, counters=counters,
+                vimp=vimp, contact=contact, counters=counters, work=np.zeros((0, 0)),
+                tally=np.zeros(0, dtype=np.int64),
             )  # fmt: skip
             bar = ProgressBar(progress, t0, t_end, label)
             chunks = (

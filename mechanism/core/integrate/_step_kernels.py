@@ -80,7 +80,9 @@ PEAK_SAMPLES = 8  # a long contact step is also sampled at up to 7 interior poin
 STROBE_TARGET = 0  # next crank angle phase + 2πk to record
 STROBE_DIRECTION = 1  # +1 or −1: the sense of rotation of the crank
 STROBE_ANGLE = 2  # crank angle at the last accepted state
-STROBE_COLUMNS = 3
+STROBE_PHASE = 3  # φ of the strobe angles φ + 2πk (for the first target, record_start)
+STROBE_SHIFT = 4  # ±2π × the revolutions discarded before the first section (the same)
+STROBE_COLUMNS = 5
 
 # dense-output kinds
 DENSE_DOPRI5 = 0  # rows: y₀, r₂…r₅ of Hairer's continuous extension
@@ -116,6 +118,12 @@ class LoopState(NamedTuple):
     vimp: np.ndarray  # impact-velocity latch of each clearance joint
     contact: np.ndarray  # int64 contact flag of each clearance joint
     counters: np.ndarray  # int64[CNT_COLUMNS]
+    #: Dormand–Prince: (DOPRI_WORK_ROWS, 2n) scratch (stages, dense output, samples), so
+    #: that the loop allocates nothing and compiles without reference counting; (0, 0)
+    #: for generalized-α
+    work: np.ndarray
+    #: int64[CNT_COLUMNS]: the evaluations of the recorded samples (not the run's count)
+    tally: np.ndarray
 
 
 class Output(NamedTuple):
@@ -137,7 +145,7 @@ class Output(NamedTuple):
 EPS = 2.220446049250313e-16
 
 
-@njit_noalloc()
+@njit_noalloc(inline="always")
 def record_sample(model, ws, rec, i, t, y, vimp, scratch, counters):
     """Write output sample ``i`` of state ``y`` at time ``t``: one right-hand-side
     evaluation gives q̈, λ and the contact quantities, from which the derived outputs
@@ -196,7 +204,7 @@ def _dense_eval(kind, dense, th, h, yout):
             )
 
 
-@njit_noalloc()
+@njit_noalloc(inline="always")
 def _crank_at(model, ws, kind, dense, th, h, yout):
     """Crank angle on the dense output at θ (the state is left in ``yout``)."""
     _dense_eval(kind, dense, th, h, yout)
@@ -205,7 +213,7 @@ def _crank_at(model, ws, kind, dense, th, h, yout):
     return crank_angle(model, ws.pcf)
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _sections(model, ws, out, kind, dense, told, h, vimp, scratch, yout, counters):
     """Record a full sample wherever the crank angle passed the next strobe angle
     φ + 2πk during the step, located on the dense output by the Illinois method to
@@ -260,7 +268,7 @@ def _sections(model, ws, out, kind, dense, told, h, vimp, scratch, yout, counter
     strobe[STROBE_ANGLE] = c_end
 
 
-@njit_noalloc()
+@njit_noalloc(inline="always")
 def _metrics_from_workspace(met, ws, drive_row):
     """Update the running extremes from the workspace of the last evaluation."""
     for j in range(ws.cj.shape[0]):
@@ -276,7 +284,7 @@ def _metrics_from_workspace(met, ws, drive_row):
             met[MET_TORQUE_MIN] = torque
 
 
-@njit_noalloc()
+@njit_noalloc(inline="always")
 def after_step(model, ws, out, kind, dense, told, t, h, vimp, contact, scratch, yout, counters):
     """Record what ``out`` asks for after an accepted step from ``told`` to ``t``.
 
@@ -321,7 +329,45 @@ def after_step(model, ws, out, kind, dense, told, t, h, vimp, contact, scratch, 
         _sections(model, ws, out, kind, dense, told, h, vimp, scratch, yout, counters)
 
 
-@njit_noalloc()
+@njit_noalloc(inline="always")
+def record_start(model, ws, out, t0, y, vimp, scratch, counters):
+    """Record what ``out`` asks for at the initial state ``y`` at ``t0``: the first grid
+    sample, and the first strobe angle φ + 2πk at or after ``out.strobe[STROBE_SHIFT]``
+    (± the discarded revolutions) from the initial crank angle, with a section at ``t0``
+    when the initial crank angle is one. ``counters`` receive the evaluations of the
+    samples (pass others than the run's to keep them out of its count). What
+    ``_driver.loop_output`` records from Python, here inside the loop's first call so that
+    no recording kernel is called from Python (each such kernel compiles on its own, with
+    everything it calls)."""
+    mode = out.mode
+    if mode & REC_FULL:
+        record_sample(model, ws, out.rec, 0, t0, y, vimp, scratch, counters)
+    else:
+        light_outputs(model, ws, y, out.light[0])
+    out.cursor[0] = 1
+    if mode & REC_SECTIONS:
+        strobe = out.strobe
+        n = model.n_dof
+        update_points(y[:n], y[n:], model.pt_i, model.pt_f, ws.pci, ws.pcf)
+        start = crank_angle(model, ws.pcf)  # as light_outputs
+        sense = strobe[STROBE_DIRECTION]
+        phase = strobe[STROBE_PHASE]
+        two_pi = 2.0 * math.pi
+        first = start + strobe[STROBE_SHIFT] - phase
+        if sense > 0:
+            turns = math.ceil(first / two_pi - 1e-9)
+        else:
+            turns = math.floor(first / two_pi + 1e-9)
+        target = phase + two_pi * turns
+        if abs(target - start) <= 1e-9:
+            record_sample(model, ws, out.sections, 0, t0, y, vimp, scratch, counters)
+            out.cursor[1] = 1
+            target += sense * two_pi
+        strobe[STROBE_TARGET] = target
+        strobe[STROBE_ANGLE] = start
+
+
+@njit_noalloc(inline="always")
 def entry_fraction(model, ws, y, contact, entry_depth, r_end):
     """Fraction of a step that entered contact too deep to retry with: the step at which
     the penetration, interpolated linearly from the start of the step, is half the
@@ -334,7 +380,7 @@ def entry_fraction(model, ws, y, contact, entry_depth, r_end):
     return min(0.9, max(0.01, frac))
 
 
-@njit_noalloc()
+@njit_noalloc(inline="always")
 def chunk_end(t, t_end, t_stop, counters, max_steps, chunk_steps, attempted):  # type: ignore[no-untyped-def]
     """Whether a compiled loop stops before its next step, and with which status.
 
@@ -355,7 +401,7 @@ def chunk_end(t, t_end, t_stop, counters, max_steps, chunk_steps, attempted):  #
     return False, STATUS_RUNNING
 
 
-@njit_noalloc()
+@njit_noalloc(inline="always")
 def next_step_size(accepted, e, h, fac11, facold, beta, last_rejected):  # type: ignore[no-untyped-def]
     """(h, facold, last_rejected) after a step of the stabilised (PI) step-size control of
     Hairer, Nørsett & Wanner (Solving ODEs I, §II.4, DOPRI5): ``e`` the error norm,

@@ -481,10 +481,25 @@ def integrate_tangent(
         if step_schedule is None
         else np.ascontiguousarray(step_schedule, dtype=np.float64)
     )
-    if record_steps:
+    compiled_steps = record_steps and settings.neutral_latch_after is None
+    if record_steps and not compiled_steps:
         chunk_steps = 1
+    taken = _StepTimes()
+
+    def stepped(stop: float) -> int:
+        st = int(tangent_kernels.tangent_steps(
+            km, ws, ws2, y, d, k1, kd1, state, vimp, dvimp, contact, counters, counters_p,
+            growth, stop, t_end, rtol, atol, max_step, steps_in.projection,
+            settings.max_steps, settings.renormalize_every, size, tau2, inv_mass,
+            float(steps_in.approach_floor), APPROACH_FRACTION, settings.deviation_rtol,
+            chunk_steps, schedule, directional, taken.buffer, taken.count,
+        ))  # fmt: skip
+        taken.drain(steps)
+        return st
 
     def advance(stop: float) -> int:
+        if compiled_steps:
+            return stepped(stop)
         st = int(tangent_kernels.tangent_advance(
             km, ws, ws2, y, d, k1, kd1, state, vimp, dvimp, contact, counters,
             counters_p, growth, stop, t_end, rtol, atol, max_step, steps_in.projection,
@@ -498,9 +513,27 @@ def integrate_tangent(
             steps.append(float(state[0]))
         return st
 
+    # recording at many stops (e.g. every step of a schedule): one compiled loop over
+    # them, the same numbers without a return to Python at each stop
+    compiled_stops = record_states and settings.neutral_latch_after is None and not record_steps
+    rows = _StopRows(stops.size - 1, y.size, d.shape[0], contact.size)
+
+    def through(_: float) -> int:
+        return int(tangent_kernels.tangent_stops(
+            km, ws, ws2, y, d, k1, kd1, state, vimp, dvimp, contact, counters, counters_p,
+            growth, stops[1:], t_end, rtol, atol, max_step, steps_in.projection,
+            settings.max_steps, settings.renormalize_every, size, tau2, inv_mass,
+            float(steps_in.approach_floor), APPROACH_FRACTION, settings.deviation_rtol,
+            chunk_steps, schedule, directional, rows.cursor, rows.t, rows.log, rows.y,
+            rows.contact, rows.events, rows.latch,
+        ))  # fmt: skip
+
     bar = ProgressBar(progress, t0, t_end, label)
     try:
-        for t_stop in stops[1:]:
+        if compiled_stops and status == STATUS_RUNNING and stops.size > 1:
+            status = advance_to(through, state, t_end, bar, since)
+            rows.into(times, logs, record)
+        for t_stop in [] if compiled_stops else stops[1:]:
             if status != STATUS_RUNNING:
                 break
             status = advance_to(advance, state, float(t_stop), bar, since)
@@ -564,31 +597,69 @@ class _ContactHold:
         return True
 
 
+class _StepTimes:
+    """Buffer of accepted step times the compiled loop fills (:func:`tangent_steps`)."""
+
+    def __init__(self) -> None:
+        self.buffer = np.empty(4096)
+        self.count = np.zeros(1, dtype=np.int64)
+
+    def drain(self, steps: list[float]) -> None:
+        """Move the buffered times to ``steps``."""
+        n = int(self.count[0])
+        steps.extend(self.buffer[:n].tolist())
+        self.count[0] = 0
+
+
+class _StopRows:
+    """Rows the compiled loop over the stops fills (:func:`tangent_stops`): one per stop
+    reached after the start."""
+
+    def __init__(self, stops: int, n2: int, columns: int, joints: int) -> None:
+        self.cursor = np.zeros(2, dtype=np.int64)
+        self.t = np.empty(stops)
+        self.log = np.empty((stops, columns))
+        self.y = np.empty((stops, n2))
+        self.contact = np.empty((stops, joints), dtype=np.int64)
+        self.events = np.empty(stops, dtype=np.int64)
+        self.latch = np.empty((stops, joints))
+
+    def into(self, times: list, logs: list, record: _StopRecord) -> None:
+        """Append the filled rows to the stop times, the growth and the record."""
+        n = int(self.cursor[1])
+        times.extend(self.t[:n].tolist())
+        logs.extend(self.log[:n])
+        record.extend(self.y[:n], self.contact[:n], self.events[:n], self.latch[:n])
+
+
 class _StopRecord:
     """Reference states, contact flags and entry counts at the stops (when asked)."""
 
     def __init__(self, on: bool, y: np.ndarray, contact: np.ndarray, vimp: np.ndarray) -> None:
         self.on = on
-        self.rows: list[tuple[np.ndarray, np.ndarray, int, np.ndarray]] = []
+        # blocks of rows: (states, contact flags, entry counts, latches)
+        self.blocks: list[tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]] = []
         if on:
-            self.rows.append((y.copy(), contact.copy(), 0, vimp.copy()))
+            self.extend(y[None, :], contact[None, :], np.zeros(1, np.int64), vimp[None, :])
 
     def add(
         self, y: np.ndarray, contact: np.ndarray, vimp: np.ndarray, counters: np.ndarray
     ) -> None:
+        events = np.array([counters[model_kernels.CNT_CONTACT_EVENTS]], dtype=np.int64)
+        self.extend(y[None, :], contact[None, :], events, vimp[None, :])
+
+    def extend(
+        self, ys: np.ndarray, contact: np.ndarray, events: np.ndarray, latches: np.ndarray
+    ) -> None:
+        """Rows of states, contact flags, entry counts and latches at further stops."""
         if self.on:
-            events = int(counters[model_kernels.CNT_CONTACT_EVENTS])
-            self.rows.append((y.copy(), contact.copy(), events, vimp.copy()))
+            self.blocks.append((ys.copy(), contact.copy(), events.copy(), latches.copy()))
 
     def arrays(self) -> dict[str, np.ndarray]:
         if not self.on:
             return {}
-        return {
-            "states": np.array([r[0] for r in self.rows]),
-            "contact": np.array([r[1] for r in self.rows], dtype=np.int64),
-            "contact_events": np.array([r[2] for r in self.rows], dtype=np.int64),
-            "latches": np.array([r[3] for r in self.rows]),
-        }
+        names = ("states", "contact", "contact_events", "latches")
+        return {name: np.concatenate([b[i] for b in self.blocks]) for i, name in enumerate(names)}
 
 
 def section_latch(
@@ -687,18 +758,12 @@ def clearance_kinematics(
     states = np.ascontiguousarray(np.atleast_2d(states), dtype=np.float64)
     latch = np.ascontiguousarray(np.atleast_2d(latch), dtype=np.float64)
     times = np.broadcast_to(np.asarray(t, dtype=np.float64), (states.shape[0],))
-    f = np.zeros(states.shape[1])
-    counters = np.zeros(model_kernels.CNT_COLUMNS, dtype=np.int64)
-    columns = [
-        model_kernels.CJ_EX,
-        model_kernels.CJ_EY,
-        model_kernels.CJ_DELTA,
-        model_kernels.CJ_DELTA_DOT,
-    ]
+    columns = np.array(
+        [model_kernels.CJ_EX, model_kernels.CJ_EY, model_kernels.CJ_DELTA,
+         model_kernels.CJ_DELTA_DOT], dtype=np.int64,
+    )  # fmt: skip
     out = np.empty((states.shape[0], km.cj_i.shape[0], 4))
-    for i in range(states.shape[0]):
-        model_kernels.rhs(km, ws, float(times[i]), states[i], latch[i], f, counters)
-        out[i] = ws.cj[:, columns]
+    tangent_kernels.clearance_rows(km, ws, np.ascontiguousarray(times), states, latch, columns, out)
     return out
 
 

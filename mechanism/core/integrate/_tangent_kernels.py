@@ -95,6 +95,7 @@ from mechanism.core.model import (
     CJ_DELTA_DOT,
     CJ_FN,
     CJ_VT,
+    CNT_COLUMNS,
     CNT_CONTACT_EVENTS,
     CNT_FEV,
     CNT_REJECTED,
@@ -325,7 +326,7 @@ def _latch_deviation(model, ws, ws2, y, d, vimp, dvimp, contact, yp, size, tau, 
             if not pq > 0.0:
                 continue
             c = size / pq
-            _shift(y, d, 0, n, c, yp)
+            _shift(y, d, np.int64(0), n, c, yp)  # not a literal: one specialisation
         else:
             if not pv > 0.0:
                 continue
@@ -449,19 +450,19 @@ def _deviation_rate(model, ws, t, ys, ds, f_ref, vimp, dvimp, vimp_p, yp, fp, kd
         c = _directional_scale(pq, tau * pv, size)
         if c > 0.0:
             st |= _half_rate(
-                model, ws, t, ys, ds, 0, n2, c, f_ref, vimp, dvimp, True, vimp_p, yp, fp, kd,
-                ref, counters_p,
+                model, ws, t, ys, ds, np.int64(0), n2, c, f_ref, vimp, dvimp, np.bool_(True),
+                vimp_p, yp, fp, kd, ref, counters_p,
             )  # fmt: skip
         return st
     if pq > 0.0:
         st |= _half_rate(
-            model, ws, t, ys, ds, 0, n, size / pq, f_ref, vimp, dvimp, False, vimp_p, yp, fp,
-            kd, ref, counters_p,
+            model, ws, t, ys, ds, np.int64(0), n, size / pq, f_ref, vimp, dvimp, np.bool_(False),
+            vimp_p, yp, fp, kd, ref, counters_p,
         )  # fmt: skip
     if pv > 0.0:
         st |= _half_rate(
-            model, ws, t, ys, ds, n, n2, size / (tau * pv), f_ref, vimp, dvimp, True, vimp_p,
-            yp, fp, kd, ref, counters_p,
+            model, ws, t, ys, ds, n, n2, size / (tau * pv), f_ref, vimp, dvimp, np.bool_(True),
+            vimp_p, yp, fp, kd, ref, counters_p,
         )  # fmt: skip
     return st
 
@@ -778,6 +779,99 @@ def tangent_advance(
     state[3] = 1.0 if last_rejected else 0.0
     state[4] = float(since)
     return status
+
+
+@njit(cache=True, nogil=True)
+def tangent_stops(
+    model, ws, ws2, y, d, k1, kd1, state, vimp, dvimp, contact, counters, counters_p, growth,
+    stops, t_end, rtol, atol, max_step, projection, max_steps, every, size, tau2, inv_mass,
+    approach_floor, approach_fraction, deviation_rtol, chunk_steps, schedule, directional,
+    cursor, out_t, out_log, out_y, out_contact, out_events, out_latch,
+):  # fmt: skip
+    """:func:`tangent_advance` over the stops ``stops[cursor[0]:]`` in one call, writing
+    at every stop reached row ``cursor[1]`` of the outputs (time, the log growth of each
+    deviation, the state, the contact flags, the count of contact entries, the latches)
+    and advancing both cursors. Returns after ``chunk_steps`` attempted steps
+    (``STATUS_RUNNING``; called again it continues bit for bit), at the end
+    (``STATUS_OK``) or on a failure: the numbers of one :func:`tangent_advance` call per
+    stop, without a return to Python at each (a run recorded at every step)."""
+    attempted = counters[CNT_STEPS] + counters[CNT_REJECTED]
+    status = STATUS_RUNNING
+    while cursor[0] < stops.shape[0]:
+        left = chunk_steps - (counters[CNT_STEPS] + counters[CNT_REJECTED] - attempted)
+        if left <= 0:
+            return STATUS_RUNNING
+        t_stop = stops[cursor[0]]
+        status = tangent_advance(
+            model, ws, ws2, y, d, k1, kd1, state, vimp, dvimp, contact, counters,
+            counters_p, growth, t_stop, t_end, rtol, atol, max_step, projection, max_steps,
+            every, size, tau2, inv_mass, approach_floor, approach_fraction, deviation_rtol,
+            left, schedule, directional,
+        )  # fmt: skip
+        if status != STATUS_RUNNING and status != STATUS_OK:
+            return status
+        if status == STATUS_RUNNING and state[0] < t_stop:
+            continue  # the budget is spent: checked above
+        row = cursor[1]
+        out_t[row] = state[0]
+        for c in range(d.shape[0]):
+            out_log[row, c] = growth[c, GROWTH_LOG]
+        for i in range(y.shape[0]):
+            out_y[row, i] = y[i]
+        for j in range(contact.shape[0]):
+            out_contact[row, j] = contact[j]
+            out_latch[row, j] = vimp[j]
+        out_events[row] = counters[CNT_CONTACT_EVENTS]
+        cursor[0] += 1
+        cursor[1] += 1
+        if status == STATUS_OK:
+            return status
+    return status
+
+
+@njit(cache=True, nogil=True)
+def tangent_steps(
+    model, ws, ws2, y, d, k1, kd1, state, vimp, dvimp, contact, counters, counters_p, growth,
+    t_stop, t_end, rtol, atol, max_step, projection, max_steps, every, size, tau2, inv_mass,
+    approach_floor, approach_fraction, deviation_rtol, chunk_steps, schedule, directional,
+    times, count,
+):  # fmt: skip
+    """:func:`tangent_advance` towards ``t_stop`` one attempted step per call, writing the
+    time of every accepted step to ``times[count[0]]`` and counting it: the numbers of
+    one Python call per step (``chunk_steps`` = 1) without the return to Python. Returns
+    after ``chunk_steps`` attempted steps, when ``times`` is full (``STATUS_RUNNING``) or
+    as :func:`tangent_advance` does at the stop, the end or a failure."""
+    attempted = counters[CNT_STEPS] + counters[CNT_REJECTED]
+    status = STATUS_RUNNING
+    while count[0] < times.shape[0]:
+        if counters[CNT_STEPS] + counters[CNT_REJECTED] - attempted >= chunk_steps:
+            return STATUS_RUNNING
+        t = state[0]
+        status = tangent_advance(
+            model, ws, ws2, y, d, k1, kd1, state, vimp, dvimp, contact, counters,
+            counters_p, growth, t_stop, t_end, rtol, atol, max_step, projection, max_steps,
+            every, size, tau2, inv_mass, approach_floor, approach_fraction, deviation_rtol,
+            1, schedule, directional,
+        )  # fmt: skip
+        if state[0] > t:
+            times[count[0]] = state[0]
+            count[0] += 1
+        if status != STATUS_RUNNING or state[0] >= t_stop:
+            return status
+    return status
+
+
+@njit(cache=True)
+def clearance_rows(model, ws, times, states, latch, columns, out):
+    """``out[i, j, c]`` = column ``columns[c]`` of clearance joint j's state (``ws.cj``)
+    at ``states[i]`` (time ``times[i]``, latches ``latch[i]``)."""
+    f = np.zeros(states.shape[1])
+    counters = np.zeros(CNT_COLUMNS, dtype=np.int64)
+    for i in range(states.shape[0]):
+        rhs(model, ws, times[i], states[i], latch[i], f, counters)
+        for j in range(out.shape[1]):
+            for c in range(columns.shape[0]):
+                out[i, j, c] = ws.cj[j, columns[c]]
 
 
 @njit_noalloc()

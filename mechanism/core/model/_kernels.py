@@ -448,7 +448,7 @@ def _schur_arrays(phiq, minv, blk_lo, blk_hi, nzn, nzj, w, s):
             s[ll, k] = acc
 
 
-@njit_noalloc()
+@njit_noalloc(inline="always")
 def schur(model, ws):
     """W = M⁻¹Φqᵀ and S = Φq W from the current Φq, using each row's nonzero columns."""
     _schur_arrays(ws.phiq, model.minv, model.blk_lo, model.blk_hi, ws.nz_n, ws.nz_j, ws.w, ws.s)
@@ -698,7 +698,7 @@ def approach_step(model, ws, y, acc, fraction):
     return limit
 
 
-@njit_noalloc()
+@njit_noalloc(inline="always")
 def _corner_approach(model, ws, acc, j, delta, fraction):
     """The step of :func:`approach_step` for a separated slider corner (row ``j``, at
     penetration ``delta`` ≤ 0): the gap is its distance −δ to the guide surface, the speed

@@ -1,6 +1,7 @@
 """Recording: an integration as an xarray Dataset, and the response metrics read from one.
 
-The record modes (:class:`FullRecord`, :class:`MetricsRecord`, :class:`SectionsRecord`)
+The record modes (:class:`FullRecord`, :class:`MetricsRecord`, :class:`SectionsRecord`,
+:class:`WearRecord`)
 say what :func:`mechanism.simulate` keeps of a run and build its Dataset; a new mode is a
 new :class:`RecordMode` subclass (``docs/simulator.md``, *Record modes*).
 """
@@ -19,6 +20,7 @@ from ._modes import (
     RecordMode,
     RunTimes,
     SectionsRecord,
+    WearRecord,
     available_variables,
     record_mode,
 )
@@ -34,6 +36,7 @@ __all__ = [
     "RecordMode",
     "RunTimes",
     "SectionsRecord",
+    "WearRecord",
     "available_variables",
     "friction_sign_flips",
     "record_mode",

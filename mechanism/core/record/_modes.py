@@ -38,6 +38,7 @@ from ._record import (
     sections_dataset,
     to_dataset,
 )
+from ._wear_record import WEAR_VARIABLES, wear_dataset
 
 __all__ = [
     "RECORD_MODES",
@@ -46,6 +47,7 @@ __all__ = [
     "RecordMode",
     "RunTimes",
     "SectionsRecord",
+    "WearRecord",
     "available_variables",
     "record_mode",
 ]
@@ -489,15 +491,65 @@ class SectionsRecord(MetricsRecord):
         return ds.isel(crossing=ds["time"].values <= times.duration * (1.0 + 1e-9))
 
 
+@dataclass(frozen=True, kw_only=True)
+class WearRecord(RecordMode):
+    """What the wear of a run and a wear path's analysis read (``record="wear"``).
+
+    On the output grid, per clearance joint (dim ``joint``): ``eccentricity_x``,
+    ``eccentricity_y``, ``penetration``, ``contact_force``, ``sliding_velocity``,
+    ``contact_angle``, ``contact_angle_journal``; and ``crank_angle`` when the scene has a
+    crank. Each is the full record's variable of the same run, sample for sample (the
+    integration and the output grid are the same); the ideal companion does not run, and
+    the bodies, the ideal joints' forces, the energy and the run's wear are not kept
+    (``mechanism.core.wear.run_wear`` of the Dataset gives the wear). Needs a clearance
+    joint. :func:`mechanism.wear_life` records its runs this way.
+    """
+
+    name: ClassVar[str] = "wear"
+
+    @property
+    def companion(self) -> bool:
+        return False
+
+    def check(self, model: Model, times: RunTimes) -> None:
+        if not model.clearance_joints:
+            raise ValueError(
+                f"record='wear' needs a clearance joint; scene {model.scene.name!r} has "
+                "none (use record='full')."
+            )
+
+    def end_time(self, t_out: np.ndarray, times: RunTimes) -> float:
+        return float(t_out[-1])
+
+    def estimated_bytes(self, model: Model, times: RunTimes) -> int:
+        # the raw recording of the run, then the kept variables
+        sample = sum(a.nbytes for a in Recording.empty(model, 1))
+        kept = 8 * (1 + len(WEAR_VARIABLES) * len(model.clearance_joints))
+        return times.n_out * (8 + sample + kept)
+
+    def plans(self, model: Model, times: RunTimes) -> tuple[RecordPlan, RecordPlan]:
+        plan = RecordPlan()
+        return plan, plan
+
+    def dataset(
+        self, model: Model, run: Integration, ideal_model: Model,
+        ideal_run: Integration | None, t_out: np.ndarray, times: RunTimes,
+        attrs: dict[str, Any],
+    ) -> xr.Dataset:  # fmt: skip
+        ds = wear_dataset(model, run, attrs=attrs)
+        warn_if_deep_penetration(ds, model.scene, stacklevel=_CALLER)
+        return ds
+
+
 #: The record modes by name: ``simulate(record=name)`` is the mode with default options.
 RECORD_MODES: dict[str, type[RecordMode]] = {
-    mode.name: mode for mode in (FullRecord, MetricsRecord, SectionsRecord)
+    mode.name: mode for mode in (FullRecord, MetricsRecord, SectionsRecord, WearRecord)
 }
 
 
 def record_mode(record: RecordMode | str) -> RecordMode:
     """The record mode ``record``: a mode object as given, a name (``"full"``,
-    ``"metrics"``, ``"sections"``) as that mode with its default options."""
+    ``"metrics"``, ``"sections"``, ``"wear"``) as that mode with its default options."""
     if isinstance(record, RecordMode):
         return record
     if not isinstance(record, str):

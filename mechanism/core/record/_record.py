@@ -366,6 +366,14 @@ def _finish(
     )
 
 
+def finish_dataset(
+    ds: xr.Dataset, model: Model, run: Integration, attrs: dict[str, Any] | None
+) -> xr.Dataset:
+    """``ds`` of a run without an ideal companion, finished as every record mode's
+    Dataset: the scene, the solver statistics, ``attrs`` and the data contract's stamp."""
+    return _finish(ds, model, run, None, attrs)
+
+
 #: The series that describe the motion, in order of preference: the journal centres of the
 #: clearance joints, else the slider.
 _MOTION_CHOICES = (("eccentricity_x", "eccentricity_y"), ("slider_position",))

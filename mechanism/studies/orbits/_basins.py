@@ -15,9 +15,10 @@ import xarray as xr
 from chaoskit.contract import check_int, check_positive, stamp
 from mechanism.core import simulate
 from mechanism.core.record import SectionsRecord
-from mechanism.core.scene import Scene
+from mechanism.core.scene import MotorDrive, Scene
 
 from ._orbit import PeriodicOrbit
+from ._poincare import no_load_turn
 
 __all__ = ["Basins", "basins", "plot_basins"]
 
@@ -25,6 +26,9 @@ __all__ = ["Basins", "basins", "plot_basins"]
 UNDETERMINED = "undetermined"
 OUTSIDE = "outside"
 FAILED = "failed"
+#: a motor-driven start runs this many times the crank turns at the no-load speed, so a
+#: crank that settles at 2/3 of it or faster still turns ``revolutions`` times
+MOTOR_TIME_MARGIN = 1.5
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -57,6 +61,10 @@ class Basins:
         Revolutions, transient, tolerances and the strobe tolerance.
     cpu_time : float
         Process CPU time of the whole grid (s).
+    crank_speed : numpy.ndarray
+        Initial crank speeds (rpm) of a motor-driven scene's grid (``crank_speeds``);
+        then ``label``, ``period`` and ``attractor`` are (crank_speed, y, x). Empty for
+        the (y, x) grid of one start speed.
     """
 
     scene_name: str
@@ -71,6 +79,7 @@ class Basins:
     clearance: float
     settings: dict[str, Any] = field(default_factory=dict)
     cpu_time: float = 0.0
+    crank_speed: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
     @property
     def coexisting(self) -> bool:
@@ -80,13 +89,14 @@ class Basins:
 
     def to_dataset(self) -> xr.Dataset:
         """The grid as a Dataset (units and long names)."""
+        dims = ("crank_speed", "y", "x") if self.crank_speed.size else ("y", "x")
         ds = xr.Dataset(
             {
-                "label": (("y", "x"), self.label.astype(object), {
+                "label": (dims, self.label.astype(object), {
                     "units": "1", "long_name": "motion the initial state settles on"}),
-                "period": (("y", "x"), self.period, {
+                "period": (dims, self.period, {
                     "units": "1", "long_name": "period (drive periods) of the motion, 0: none"}),
-                "attractor": (("y", "x"), self.attractor, {
+                "attractor": (dims, self.attractor, {
                     "units": "1", "long_name": "index of the periodic attractor, -1: none"}),
             },
             coords={
@@ -96,6 +106,9 @@ class Basins:
                                     "long_name": f"initial eccentricity y of joint {self.joint}"}),
             },
         )  # fmt: skip
+        if self.crank_speed.size:
+            speed_attrs = {"units": "rpm", "long_name": "initial crank speed of the motor drive"}
+            ds = ds.assign_coords(crank_speed=("crank_speed", self.crank_speed, speed_attrs))
         extra = {f"setting_{k}": v for k, v in self.settings.items()}
         extra.update(
             scene_name=self.scene_name,
@@ -151,6 +164,7 @@ def basins(
     orbits: Sequence[PeriodicOrbit] = (),
     rtol: float = 1e-8,
     atol: float = 1e-8,
+    crank_speeds: Sequence[float] | None = None,
 ) -> Basins:
     """Which motion each initial state settles on: a grid of initial journal
     eccentricities of one clearance joint (journal at rest relative to its bearing),
@@ -168,7 +182,7 @@ def basins(
     Parameters
     ----------
     scene : mechanism.scene.Scene
-        A scene with a periodic drive and at least one clearance joint.
+        A scene with a periodic drive or a motor drive and at least one clearance joint.
     joint : str, optional
         Clearance joint whose initial eccentricity varies (default: the first).
     points : int
@@ -188,6 +202,12 @@ def basins(
         :func:`mechanism.periodic_orbit`).
     rtol, atol : float
         Tolerances of the runs (default 1e-8).
+    crank_speeds : sequence of float, optional
+        Motor-driven scenes only: initial crank speeds (rpm, ``drive.initial_speed_rpm``;
+        0 starts at rest) as a third axis of the grid. A motor-driven start (with or
+        without it) runs for 1.5 × ``revolutions`` crank turns at the motor's no-load
+        speed, its strobes are the crank angle's crossings (``discard`` counts crank
+        turns) and the last ``revolutions − discard`` of them are compared.
 
     Returns
     -------
@@ -221,46 +241,57 @@ def basins(
     if joint not in names:
         raise ValueError(f"joint must be one of the clearance joints {names}; got {joint!r}.")
     clearance = float(scene.joints[joint].clearance)
+    speeds = _crank_speeds(scene, crank_speeds)
     axis = extent * clearance * np.linspace(-1.0, 1.0, points)
-    label = np.full((points, points), OUTSIDE, dtype=object)
-    period = np.zeros((points, points), dtype=np.int64)
-    attractor = np.full((points, points), -1, dtype=np.int64)
+    shape = (max(speeds.size, 1), points, points)
+    label = np.full(shape, OUTSIDE, dtype=object)
+    period = np.zeros(shape, dtype=np.int64)
+    attractor = np.full(shape, -1, dtype=np.int64)
     found: list[tuple[str, np.ndarray]] = []
     record = SectionsRecord(discard=float(discard), companion=False)
-    for iy, ey in enumerate(axis):
-        for ix, ex in enumerate(axis):
-            if math.hypot(ex, ey) > extent * clearance * (1.0 + 1e-12):
-                continue
-            start = scene.replace({f"joints.{joint}.initial_eccentricity": (float(ex), float(ey))})
-            ds = simulate(
-                start, revolutions=revolutions, record=record, rtol=rtol, atol=atol, throw=False
-            )
-            if ds.attrs.get("solver_status", 0) != 0:
-                label[iy, ix] = FAILED
-                continue
-            strobes = np.stack(
-                [np.asarray(ds["eccentricity_x"].values), np.asarray(ds["eccentricity_y"].values)],
-                axis=-1,
-            ).reshape(ds.sizes["crossing"], -1, 2)
-            k = _period(strobes, max_period, tolerance * clearance)
-            if k == 0:
-                label[iy, ix] = UNDETERMINED
-                continue
-            cycle = strobes[-k:]
-            index = next(
-                (
-                    i
-                    for i, (_, pts) in enumerate(found)
-                    if _same_cycle(pts, cycle, 10.0 * tolerance * clearance)
-                ),
-                None,
-            )
-            if index is None:
-                found.append((_name(ds, k, len(found), orbits, tolerance), cycle))
-                index = len(found) - 1
-            label[iy, ix] = found[index][0]
-            period[iy, ix] = k
-            attractor[iy, ix] = index
+    span: dict[str, Any] = {"revolutions": revolutions}
+    if isinstance(scene.drive, MotorDrive):
+        # autonomous: run long enough for the crank to turn ``revolutions`` times; the
+        # sections are its angle's crossings, ``discard`` counts its turns
+        span = {"t_end": MOTOR_TIME_MARGIN * revolutions * no_load_turn(scene)}
+    for (i_s, iy, ix), _ in np.ndenumerate(label):
+        ex, ey = axis[ix], axis[iy]
+        if math.hypot(ex, ey) > extent * clearance * (1.0 + 1e-12):
+            continue
+        changes: dict[str, Any] = {f"joints.{joint}.initial_eccentricity": (float(ex), float(ey))}
+        if speeds.size:
+            changes["drive.initial_speed_rpm"] = float(speeds[i_s])
+        ds = simulate(
+            scene.replace(changes), record=record, rtol=rtol, atol=atol, throw=False, **span
+        )
+        if ds.attrs.get("solver_status", 0) != 0:
+            label[i_s, iy, ix] = FAILED
+            continue
+        strobes = np.stack(
+            [np.asarray(ds["eccentricity_x"].values), np.asarray(ds["eccentricity_y"].values)],
+            axis=-1,
+        ).reshape(ds.sizes["crossing"], -1, 2)
+        k = _period(strobes[-(revolutions - discard) :], max_period, tolerance * clearance)
+        if k == 0:
+            label[i_s, iy, ix] = UNDETERMINED
+            continue
+        cycle = strobes[-k:]
+        index = next(
+            (
+                i
+                for i, (_, pts) in enumerate(found)
+                if _same_cycle(pts, cycle, 10.0 * tolerance * clearance)
+            ),
+            None,
+        )
+        if index is None:
+            found.append((_name(ds, k, len(found), orbits, tolerance), cycle))
+            index = len(found) - 1
+        label[i_s, iy, ix] = found[index][0]
+        period[i_s, iy, ix] = k
+        attractor[i_s, iy, ix] = index
+    if not speeds.size:
+        label, period, attractor = label[0], period[0], attractor[0]
     return Basins(
         scene_name=scene.name,
         joint=joint,
@@ -275,7 +306,28 @@ def basins(
         settings={"revolutions": revolutions, "discard": discard, "max_period": max_period,
                   "tolerance": tolerance, "extent": extent, "rtol": rtol, "atol": atol},
         cpu_time=time.process_time() - cpu0,
+        crank_speed=speeds,
     )  # fmt: skip
+
+
+def _crank_speeds(scene: Scene, crank_speeds: Sequence[float] | None) -> np.ndarray:
+    """The checked initial crank speeds (rpm) of a motor-driven scene's grid (empty for
+    None)."""
+    if crank_speeds is None:
+        return np.zeros(0)
+    if not isinstance(scene.drive, MotorDrive):
+        raise ValueError(
+            "crank_speeds needs a motor drive (the crank speed of a constant_speed or "
+            "prescribed drive is not an initial condition); leave it None."
+        )
+    speeds = np.asarray(crank_speeds, dtype=np.float64).ravel()
+    limit = 1e6
+    if speeds.size == 0 or not np.all(np.isfinite(speeds)) or np.any(np.abs(speeds) > limit):
+        raise ValueError(
+            f"crank_speeds must be 1 or more finite speeds in [-{limit:g}, {limit:g}] rpm; "
+            f"got {crank_speeds!r}."
+        )
+    return speeds
 
 
 def _name(
@@ -294,7 +346,7 @@ def _name(
     return f"period {k} #{index}"
 
 
-def plot_basins(result: Basins, *, ax: Any = None) -> Any:
+def plot_basins(result: Basins, *, ax: Any = None, speed: int = 0) -> Any:
     """Draw the labelled grid: one colour per motion over the initial eccentricity (µm).
 
     Parameters
@@ -302,6 +354,8 @@ def plot_basins(result: Basins, *, ax: Any = None) -> Any:
     result : Basins
     ax : matplotlib.axes.Axes, optional
         Where to draw (default: a new figure's axes).
+    speed : int
+        Index into ``result.crank_speed`` of the slice drawn (a grid over crank speeds).
 
     Returns
     -------
@@ -311,10 +365,11 @@ def plot_basins(result: Basins, *, ax: Any = None) -> Any:
 
     if ax is None:
         _, ax = plt.subplots(figsize=(5, 4.5))
-    kinds = sorted({str(v) for v in result.label.ravel()} - {OUTSIDE})
-    code = np.full(result.label.shape, np.nan)
+    label = result.label if result.label.ndim == 2 else result.label[speed]
+    kinds = sorted({str(v) for v in label.ravel()} - {OUTSIDE})
+    code = np.full(label.shape, np.nan)
     for i, kind in enumerate(kinds):
-        code[result.label == kind] = i
+        code[label == kind] = i
     cmap = plt.get_cmap("tab10", max(len(kinds), 1))
     ax.pcolormesh(result.x * 1e6, result.y * 1e6, code, cmap=cmap, vmin=-0.5,
                   vmax=len(kinds) - 0.5, shading="nearest")  # fmt: skip

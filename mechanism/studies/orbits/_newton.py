@@ -23,6 +23,9 @@ SEGMENTS = 8
 #: cuts the residual at least this much: an orbit that attracts that strongly converges at
 #: the rate |mu_max| with no matrix, and costs one, at the converged state
 CONTRACTION = 0.1
+#: below this multiple of the shooting tolerance the residual is near the map's round-off
+#: floor: a trial is then likely the orbit, and its run is recorded to serve as its record
+NEAR_FLOOR = 100.0
 
 
 def multiple(
@@ -66,12 +69,9 @@ def run_ok(smap: StroboscopicMap, section: Section, stops: np.ndarray, **kw: Any
     return run
 
 
-def refresh(
-    smap: StroboscopicMap, state: NewtonState, end: Any, recorded: Any = None
-) -> np.ndarray:
+def refresh(smap: StroboscopicMap, state: NewtonState, end: Any) -> np.ndarray:
     """Recompute the monodromy matrix at the current section (``end``: the map's run from
-    it; ``recorded``: optionally that run recorded at every time of the step schedule);
-    returns the basis."""
+    it); returns the basis."""
     sec = state.section
     basis = smap.basis(sec)
     state.latches = np.flatnonzero(sec.contact != 0)
@@ -80,7 +80,7 @@ def refresh(
     if frozen and smap.schedule is not None:
         # no latch renewed: the tangent block piece by piece (well conditioned), and the
         # latches' unit rows and columns
-        block = smap.segmented(sec, SEGMENTS, recorded)
+        block = smap.segmented(sec, SEGMENTS)
         jac = np.eye(state.n_free + state.latches.size)
         jac[: state.n_free, : state.n_free] = block
     else:
@@ -90,9 +90,17 @@ def refresh(
     return basis
 
 
-def newton(smap: StroboscopicMap, start: Section, tol: float, max_iterations: int) -> NewtonState:
+def newton(
+    smap: StroboscopicMap,
+    start: Section,
+    tol: float,
+    max_iterations: int,
+    *,
+    end: Any = None,
+) -> NewtonState:
     """Damped Newton on P(z) − z = 0 with the monodromy matrix reused while the residual
-    falls fourfold per step.
+    falls fourfold per step (``end``: the map's run from ``start`` with adaptive steps,
+    when the caller has it).
 
     Above ``REFREEZE_ABOVE`` of the clearance every run takes its own adaptive steps: a
     step schedule frozen from another start misplaces the steps around impacts that have
@@ -101,7 +109,8 @@ def newton(smap: StroboscopicMap, start: Section, tol: float, max_iterations: in
     and the map is smooth."""
     smap.schedule = None
     stops = smap.stops
-    end = run_ok(smap, start, stops)
+    if end is None:
+        end = run_ok(smap, start, stops)
     state = NewtonState(section=start, residual=smap.residual(start, end, start.contact != 0),
                     iterations=0)  # fmt: skip
     end = freeze_near(smap, state, end)
@@ -123,7 +132,8 @@ def newton(smap: StroboscopicMap, start: Section, tol: float, max_iterations: in
         step = 1.0
         accepted = None
         # near the map's round-off floor halving only samples its noise
-        near_floor = state.residual < 100.0 * tol
+        near_floor = state.residual < NEAR_FLOOR * tol
+        smap.record_images = near_floor
         for _ in range(3 if near_floor else 12):
             trial = smap.corrected(sec, basis, state.latches, step * dz)
             tend = smap.run(trial, stops)
@@ -140,11 +150,12 @@ def newton(smap: StroboscopicMap, start: Section, tol: float, max_iterations: in
             basis = None  # retry with the matrix at this state
             continue
         # a fresh matrix only while far from the round-off floor of the map
-        slow = accepted[2] > max(0.25 * state.residual, 100.0 * tol)
+        slow = accepted[2] > max(0.25 * state.residual, NEAR_FLOOR * tol)
         state.section, end, state.residual = accepted
         fresh = False
         if slow:
             basis = None
+    smap.record_images = False
     return state
 
 
@@ -179,6 +190,7 @@ def contract(
     stops = smap.stops
     while state.residual > tol and state.iterations < max_iterations:
         trial = image_section(smap, end)
+        smap.record_images = state.residual < NEAR_FLOOR * tol
         tend = smap.run(trial, stops)
         if not tend.stats.success:
             break

@@ -24,7 +24,14 @@ from mechanism.core.model import assemble, initial_state
 from mechanism.core.scene import MotorDrive, Scene
 
 from ._modes import ContactPhase, contact_phases
-from ._newton import NewtonState, multiple, newton, refresh, run_ok
+from ._multiple import REFREEZE_ABOVE
+from ._newton import NewtonState, image_section, multiple, newton, refresh, run_ok
+from ._poincare import (
+    MOTOR_SECTION_LIMITS,
+    crank_section_orbit,
+    no_load_turn,
+    section_start,
+)
 from ._shooting import (
     Section,
     StroboscopicMap,
@@ -42,6 +49,10 @@ DEFAULT_PERTURBATION = 1e-7
 #: default shooting tolerance: residual / clearance; the round-off of a period of the rigid
 #: paper scene (16 000 steps at rtol 1e-10) leaves map(x) − x at 1e-10 – 1e-9 of it
 DEFAULT_SHOOTING_TOL = 1e-9
+#: settling stops once one orbit period moves the section state by at most this share of
+#: the clearance: where the shooting freezes its steps, so settling further only samples
+#: the adaptive steps' noise (about 1e-6 of the clearance at the default tolerances)
+SETTLED = REFREEZE_ABOVE
 #: share of the clearance within which a trajectory's section states count as on the orbit
 DEFAULT_APPROACH_TOLERANCE = 1e-3
 #: the monodromy matrix is recomputed at the converged state when the state it was
@@ -141,6 +152,15 @@ class PeriodicOrbit:
     floquet_latch_vectors : numpy.ndarray
         (joints, multipliers) complex: the same eigenvectors' latched impact velocity
         parts (m/s per unit of the vector; 0 for joints separated at the section).
+    section : str
+        ``"time"``: the stroboscopic section t ≡ 0 (mod kT) of a prescribed drive.
+        ``"crank angle"``: the Poincaré section of a motor-driven scene, the state each
+        time the crank angle has turned 2πk from its value in ``section_state``; then
+        ``period`` counts crank turns, ``drive_period`` is the time per turn found with
+        the orbit (the orbit's period is ``period`` × ``drive_period``, s), the
+        monodromy is the section map's (corrected for the return time) on the section's
+        tangent coordinates (δφ = 0), and the trivial multiplier 1 along the flow is not
+        among ``multipliers``.
     """
 
     scene_name: str
@@ -176,6 +196,7 @@ class PeriodicOrbit:
     segments: int = 1
     floquet_vectors: np.ndarray = field(default_factory=lambda: np.zeros((0, 0), complex))
     floquet_latch_vectors: np.ndarray = field(default_factory=lambda: np.zeros((0, 0), complex))
+    section: str = "time"
 
     @property
     def stable(self) -> bool:
@@ -391,8 +412,9 @@ def periodic_orbit(
     state when it was computed farther than 1e-5 of the clearance from it.
     Before the first matrix the map itself is iterated while each iteration cuts the
     residual tenfold, so a strongly attracting orbit needs one matrix, at the converged
-    state. Above 1e-5 of the clearance every run takes its own adaptive steps; below it
-    the steps of a run from the current state are frozen, so the map is smooth.
+    state (its run, recorded, is the orbit's record). Above 1e-5 of the clearance every
+    run takes its own adaptive steps; below it the steps of a run from the current state
+    are frozen, so the map is smooth.
 
     A latch that the orbit never renews (the journal stays in contact the whole period)
     is frozen: its multiplier is exactly 1 with the latch as eigenvector. It is held at
@@ -403,7 +425,11 @@ def periodic_orbit(
     ----------
     scene : mechanism.scene.Scene
         A rigid scene (``effects.flexibility = false`` for the paper scene) with a
-        periodic drive (constant crank speed).
+        periodic drive (constant crank speed), or driven by a motor: then the map is the
+        Poincaré section of the crank angle (its return after ``period`` crank turns,
+        the return time an unknown; ``settle`` counts crank turns; single shooting only),
+        and the result's ``section`` is ``"crank angle"`` (docs/periodic-orbits.md,
+        *Sections for motor drives*).
     period : int
         Drive periods per orbit period k (≥ 1).
     guess : PeriodicOrbit or numpy.ndarray, optional
@@ -417,7 +443,11 @@ def periodic_orbit(
     max_iterations : int
         Newton iterations at most (≥ 1).
     settle : int
-        Periods run before the guess is taken (≥ 0; ``guess=None`` only).
+        Most periods run before the guess is taken (≥ 0; ``guess=None`` only), in whole
+        orbit periods: settling stops once one orbit period moves the section state by
+        at most 1e-5 of the clearance (where the shooting freezes its steps), so a
+        settled motion costs no more periods. With ``search`` > k or ``segments`` > 1 all
+        are run.
     search : int
         With ``guess=None`` and ``search`` > k: after settling, the section state of the
         next ``search`` periods that returns closest to itself after k periods is the
@@ -471,9 +501,10 @@ def periodic_orbit(
     perturbation = check_positive(perturbation, name="perturbation")
     if perturbation > 1e-4:
         raise ValueError(f"perturbation must be in (0, 1e-4]; got {perturbation!r}.")
-    if isinstance(scene.drive, MotorDrive):
-        raise ValueError(MOTOR_REFUSAL.format(caller="periodic_orbit"))
-    big_t = drive_period(scene)
+    motor = isinstance(scene.drive, MotorDrive)
+    if motor and (search or segments not in (None, 1)):
+        raise ValueError(MOTOR_SECTION_LIMITS)
+    big_t = no_load_turn(scene) if motor else drive_period(scene)
     if big_t is None:
         raise ValueError(
             "periodic_orbit needs a periodic drive (a constant crank speed); the scene "
@@ -494,15 +525,36 @@ def periodic_orbit(
     q0, v0 = initial_state(model)
     y_init = np.concatenate([q0, v0])
     clearance = length_scale(model, y_init)
+    if motor:
+        # a Poincaré section on the crank angle: the period is an unknown
+        start = _motor_start(model, y_init, guess)
+        smap, solved = crank_section_orbit(
+            model, start, turns=period, settle=settle if guess is None else 0, tol=tol,
+            max_iterations=max_iterations,
+            map_settings={"rtol": rtol, "atol": atol, "max_step": max_step,
+                          "approach_floor": floor, "perturbation": perturbation,
+                          "clearance": clearance},
+        )  # fmt: skip
+        return _assemble_orbit(
+            smap, scene, solved, tol, cpu0,
+            {"rtol": rtol, "atol": atol, "max_step": max_step, "approach_floor": floor,
+             "perturbation": perturbation, "settle": settle, "search": search,
+             "guess": "given" if guess is not None else "settled", "shooting": "single",
+             "segments": 1, "section": "crank angle"},
+        )  # fmt: skip
     smap = StroboscopicMap(
         model, drive_period=big_t, period=period, rtol=rtol, atol=atol, max_step=max_step,
         approach_floor=floor, perturbation=perturbation, clearance=clearance,
     )  # fmt: skip
-    start = _start(smap, y_init, guess, settle, search)
+    # multiple shooting from scratch starts from all the settling periods: from the state
+    # settling stops at (up to 1e-5 of the clearance off) it freezes its segments' steps
+    # too far from the orbit and stalls (1.2e-8 against 3.4e-9 at 30 rpm)
+    early = segments in (None, 1)
+    start, first_image = _start(smap, y_init, guess, settle, search, early=early)
     shooting, used = "single", 1
     solved = None
     if segments in (None, 1):
-        solved = newton(smap, start, tol, max_iterations)
+        solved = newton(smap, start, tol, max_iterations, end=first_image)
     if segments not in (None, 1) or (segments is None and solved.residual > tol):
         used = AUTOMATIC_SEGMENTS if segments is None else segments
         solved = multiple(
@@ -529,14 +581,18 @@ def _start(
     guess: PeriodicOrbit | np.ndarray | None,
     settle: int,
     search: int,
-) -> Section:
-    """The first section state: from ``guess``, else after settling (closest return)."""
+    *,
+    early: bool = True,
+) -> tuple[Section, Any]:
+    """The first section state (from ``guess``, else after settling: the closest return,
+    or with ``early`` :func:`_settled`) and the map's run from it when settling made one
+    (else None)."""
     model = smap.model
     if isinstance(guess, PeriodicOrbit):
         if guess.section_state.shape != y_init.shape:
             raise ValueError("guess is an orbit of a scene with other coordinates.")
         latch, contact = section_latch(model, guess.section_state, guess.section_latch)
-        return Section(y=guess.section_state.copy(), latch=latch, contact=contact)
+        return Section(y=guess.section_state.copy(), latch=latch, contact=contact), None
     if guess is not None:
         y = np.asarray(guess, dtype=np.float64)
         if y.shape != y_init.shape or not np.all(np.isfinite(y)):
@@ -545,13 +601,15 @@ def _start(
                 f"(or a PeriodicOrbit); got shape {y.shape}."
             )
         latch, contact = section_latch(model, y)
-        return Section(y=y.copy(), latch=latch, contact=contact)
+        return Section(y=y.copy(), latch=latch, contact=contact), None
     latch0, contact0 = section_latch(model, y_init)
     first = Section(y=y_init, latch=latch0, contact=contact0)
     k = smap.period
+    if search <= k and early:
+        return _settled(smap, first, settle)
     total = settle + (search if search > k else 0)
     if total == 0:
-        return first
+        return first, None
     run = run_ok(
         smap, first, smap.drive_period * np.arange(total + 1, dtype=np.float64), record=True
     )
@@ -565,7 +623,46 @@ def _start(
     # the same phase of the drive at t = 0: angles back by whole turns
     turns = np.round((y - y_init)[smap.angles] / (2.0 * math.pi))
     y[smap.angles] -= 2.0 * math.pi * turns
-    return Section(y=y, latch=run.latches[pick].copy(), contact=run.contact[pick].copy())
+    sec = Section(y=y, latch=run.latches[pick].copy(), contact=run.contact[pick].copy())
+    return sec, None
+
+
+def _settled(smap: StroboscopicMap, first: Section, settle: int) -> tuple[Section, Any]:
+    """Iterate the map from ``first`` for up to ``settle`` periods (whole orbit periods),
+    stopping once an iteration moves the section state by at most ``SETTLED`` of the
+    clearance; returns the last state and the map's run from it (None when none was
+    made)."""
+    sec, end = first, None
+    for _ in range(-(-settle // smap.period)):
+        if end is not None:
+            sec = image_section(smap, end)
+        end = run_ok(smap, sec, smap.stops)
+        if smap.residual(sec, end, sec.contact != 0) <= SETTLED:
+            break
+    if end is not None and smap.residual(sec, end, sec.contact != 0) > SETTLED:
+        # settled for ``settle`` periods: the guess is the last image
+        sec, end = image_section(smap, end), None
+    return sec, end
+
+
+def _motor_start(
+    model: Any, y_init: np.ndarray, guess: PeriodicOrbit | np.ndarray | None
+) -> Section:
+    """The first crank-angle section state of a motor-driven scene: from ``guess``, else
+    the scene's initial state (settled by the caller)."""
+    if isinstance(guess, PeriodicOrbit):
+        if guess.section_state.shape != y_init.shape:
+            raise ValueError("guess is an orbit of a scene with other coordinates.")
+        return section_start(model, guess.section_state, guess.section_latch)
+    if guess is None:
+        return section_start(model, y_init)
+    y = np.asarray(guess, dtype=np.float64)
+    if y.shape != y_init.shape or not np.all(np.isfinite(y)):
+        raise ValueError(
+            f"guess must be a finite state [q; dq/dt] of {y_init.size} values "
+            f"(or a PeriodicOrbit); got shape {y.shape}."
+        )
+    return section_start(model, y)
 
 
 def _multipliers(
@@ -625,9 +722,9 @@ def _assemble_orbit(
         smap.freeze_steps(sec, smap.basis(sec))
     # the orbit on the map's own steps: it ends at the section state to the residual (and
     # serves the monodromy matrix as the map's run from the section)
-    rec = run_ok(smap, sec, smap.schedule, record=True)
+    rec = smap.recorded_image(sec)
     if state.jacobian is None or smap.distance(state.jacobian_at.y, sec.y) > MONODROMY_OFFSET:
-        refresh(smap, state, rec, rec)
+        refresh(smap, state, rec)
     offset = smap.distance(state.jacobian_at.y, sec.y)
     joints = tuple(model.clearance_joints)
     mult, vectors, neutral, what = _multipliers(state.jacobian, state.n_free, state.latches, joints)
@@ -658,6 +755,7 @@ def _assemble_orbit(
         segments=int(settings["segments"]),
         floquet_vectors=floquet,
         floquet_latch_vectors=floquet_latch,
+        section=str(settings.get("section", "time")),
         phases=phases,
         time=rec.t,
         position=rec.states[:, :n],

@@ -118,6 +118,11 @@ class StroboscopicMap:
         self.evaluations = 0
         self.function_evaluations = 0
         self.schedule: np.ndarray | None = None
+        #: record map evaluations on the frozen steps at every step (set by the Newton
+        #: iteration near its round-off floor, where a trial is likely the orbit)
+        self.record_images = False
+        #: (section, schedule, run) of the last map evaluation recorded so
+        self.last_image: tuple[Section, np.ndarray, TangentIntegration] | None = None
 
     @property
     def sections(self) -> np.ndarray:
@@ -137,8 +142,7 @@ class StroboscopicMap:
         tangent directions with its own error control, so the steps resolve the
         linearised flow as well as the reference."""
         self.schedule = None
-        d0 = basis.sum(axis=1)
-        d0 *= self.size / deviation_size(self.model, d0, time_scale=self.tau)
+        d0 = self.freeze_direction(basis)
         settings = replace(self.settings, deviation_rtol=self.deviation_rtol)
         run = integrate_tangent(
             self.model, section.y, d0, self.sections, settings=settings,
@@ -150,6 +154,21 @@ class StroboscopicMap:
             raise SimulationError(f"the integration failed: {run.stats.message}")
         self.schedule = run.step_times
 
+    def freeze_direction(self, basis: np.ndarray) -> np.ndarray:
+        """The deviation whose error control sets the frozen steps: the sum of the tangent
+        basis's columns, each turned so that its largest component (in the scaled norm)
+        is positive, at the perturbation's size.
+
+        The basis is orthonormal up to the sign of each column, which the factorization
+        may flip between two nearby states; unturned, the sum (and with it the steps and
+        the multipliers computed on them, by a few per cent) would jump with it."""
+        n = basis.shape[0] // 2
+        scale = np.concatenate([np.ones(n), np.full(n, self.tau)])
+        scaled = basis * scale[:, None]
+        big = scaled[np.argmax(np.abs(scaled), axis=0), np.arange(basis.shape[1])]
+        d0 = basis @ np.where(big < 0.0, -1.0, 1.0)
+        return d0 * (self.size / deviation_size(self.model, d0, time_scale=self.tau))
+
     def freeze_pieces(
         self, starts: list[Section], times: np.ndarray, bases: list[np.ndarray]
     ) -> None:
@@ -160,8 +179,7 @@ class StroboscopicMap:
         settings = replace(self.settings, deviation_rtol=self.deviation_rtol)
         pieces = []
         for i, (section, basis) in enumerate(zip(starts, bases, strict=True)):
-            d0 = basis.sum(axis=1)
-            d0 *= self.size / deviation_size(self.model, d0, time_scale=self.tau)
+            d0 = self.freeze_direction(basis)
             run = integrate_tangent(
                 self.model, section.y, d0, times[i : i + 2], settings=settings,
                 latch=(section.latch, section.contact), record_steps=True, label="orbit",
@@ -193,13 +211,44 @@ class StroboscopicMap:
             settings = replace(settings, deviation_rtol=self.deviation_rtol)
         if difference is not None:
             settings = replace(settings, difference=difference)
+        # with ``record_images``, a map evaluation on the frozen steps is recorded at every
+        # step (the same bits, about a quarter more CPU): when its start turns out to be
+        # the orbit, it is the orbit's record
+        whole = (
+            self.record_images
+            and d0 is None
+            and not record
+            and self.schedule is not None
+            and np.array_equal(stops, self.stops)
+        )
         run = integrate_tangent(
-            self.model, section.y, d, stops, settings=settings,
+            self.model, section.y, d, self.schedule if whole else stops, settings=settings,
             latch=(section.latch, section.contact), latch_deviation=latch_deviation,
-            step_schedule=self.schedule, record_states=record, label="orbit",
+            step_schedule=self.schedule, record_states=record or whole, label="orbit",
         )  # fmt: skip
         self.evaluations += 1
         self.function_evaluations += run.stats.function_evaluations
+        if whole:
+            self.last_image = (section, self.schedule, run)
+            keep = np.searchsorted(run.t, stops)
+            keep = keep[keep < run.t.size]
+            run = replace(run, t=run.t[keep], log_growth=run.log_growth[keep])
+        return run
+
+    def recorded_image(self, section: Section) -> TangentIntegration:
+        """The map's run from ``section`` recorded at every step of the frozen schedule:
+        the last map evaluation's when it started there, else a new run."""
+        last = self.last_image
+        if (
+            last is not None
+            and last[0] is section
+            and last[1] is self.schedule
+            and last[2].stats.success
+        ):
+            return last[2]
+        run = self.run(section, self.schedule, record=True)
+        if not run.stats.success:
+            raise SimulationError(f"the integration failed: {run.stats.message}")
         return run
 
     def residual(self, section: Section, end: TangentIntegration, active: np.ndarray) -> float:
@@ -235,23 +284,23 @@ class StroboscopicMap:
         dl = self.tau * (end.final_latch - section.latch)[latches]
         return np.concatenate([self.coordinates(basis, diff), dl])
 
-    def images(
+    def carry(
         self,
         section: Section,
         stops: np.ndarray,
         columns: np.ndarray,
         latch: np.ndarray,
-        basis: np.ndarray,
-        latches: np.ndarray,
-    ) -> tuple[np.ndarray, TangentIntegration]:
-        """Images of tangent vectors over ``stops`` from ``section``, by a block of
-        deviations on one reference run (:data:`COLUMNS_PER_RUN`).
+    ) -> tuple[np.ndarray, np.ndarray, TangentIntegration]:
+        """Images of tangent vectors over ``stops`` from ``section`` as state and latch
+        differences, by a block of deviations on one reference run
+        (:data:`COLUMNS_PER_RUN`).
 
         Column c of ``columns`` (2n, k), scaled to the perturbation's size, starts with a
         unit τ × latch deviation of joint ``latch[c]`` (none for −1), scaled alike. Each
         is carried without rescaling inside the stops (the growth read at the last one
-        restores its size); returns the images (rows: coordinates on ``basis``, then τ ×
-        the latches of the joints ``latches``; one column each) and the (first) run.
+        restores its size); returns the images' state parts (2n, k), their latch parts
+        (joints, k; m/s per unit of the column) and the (first) run, whose reference is
+        that of a run without deviations on the same steps, bit for bit.
         """
         k = columns.shape[1]
         scales = np.array(
@@ -263,7 +312,8 @@ class StroboscopicMap:
         for c in np.flatnonzero(latch >= 0):
             dl[latch[c], c] = scales[c] / self.tau
         width = k if COLUMNS_PER_RUN is None else COLUMNS_PER_RUN
-        out = np.empty((basis.shape[1] + latches.size, k))
+        states = np.empty_like(d0)
+        latches = np.empty_like(dl)
         first: TangentIntegration | None = None
         for lo in range(0, k, width):
             part = slice(lo, min(lo + width, k))
@@ -277,18 +327,42 @@ class StroboscopicMap:
                 raise SimulationError(f"the tangent run failed: {run.stats.message}")
             first = run if first is None else first
             dev = run.final_deviation.reshape(d0.shape[0], -1)
-            dlat = run.final_latch_deviation.reshape(section.latch.size, -1)
+            dlat = run.final_latch_deviation.reshape(section.latch.size, part.stop - part.start)
             logs = np.atleast_1d(run.log_growth[-1])
             for i, c in enumerate(range(part.start, part.stop)):
                 grow = math.exp(float(logs[i])) / scales[c]
-                out[:, c] = np.concatenate(
-                    [
-                        self.coordinates(basis, dev[:, i] * grow),
-                        self.tau * dlat[latches, i] * grow,
-                    ]
-                )
+                states[:, c] = dev[:, i] * grow
+                latches[:, c] = dlat[:, i] * grow
         assert first is not None
-        return out, first
+        return states, latches, first
+
+    def images(
+        self,
+        section: Section,
+        stops: np.ndarray,
+        columns: np.ndarray,
+        latch: np.ndarray,
+        basis: np.ndarray,
+        latches: np.ndarray,
+    ) -> tuple[np.ndarray, TangentIntegration]:
+        """Images of tangent vectors over ``stops`` from ``section`` (:meth:`carry`) as
+        rows of coordinates on ``basis``, then τ × the latches of the joints ``latches``
+        (one column each); and the (first) run."""
+        states, lat, run = self.carry(section, stops, columns, latch)
+        return self.project_images(states, lat, basis, latches), run
+
+    def project_images(
+        self, states: np.ndarray, lat: np.ndarray, basis: np.ndarray, latches: np.ndarray
+    ) -> np.ndarray:
+        """State and latch differences (columns) as coordinates on ``basis``, then τ × the
+        latches of the joints ``latches``."""
+        out = np.empty((basis.shape[1] + latches.size, states.shape[1]))
+        for c in range(states.shape[1]):
+            # column by column, as the products have always been taken (the same bits)
+            out[:, c] = np.concatenate(
+                [self.coordinates(basis, states[:, c]), self.tau * lat[latches, c]]
+            )
+        return out
 
     def monodromy(self, section: Section, basis: np.ndarray, latches: np.ndarray) -> np.ndarray:
         """Jacobian of the map in tangent coordinates (and τ × latch of the joints
@@ -322,37 +396,30 @@ class StroboscopicMap:
         Over a whole period every tangent deviation of a strongly contracting orbit turns
         into the dominant direction, and what the others carried is lost to round-off;
         piece by piece each Jacobian is better conditioned. For sections whose latches
-        are all frozen (or absent). ``recorded``: a run from ``section`` recorded at every
-        time of the step schedule, whose states at the cuts are the pieces' starts (the
-        same numbers as a run recorded at the cuts alone).
+        are all frozen (or absent). Each piece starts where the reference of the piece
+        before ended: on the frozen steps that reference is the map's own, bit for bit,
+        so no separate run finds the cuts (``recorded`` is accepted and not needed).
         """
         assert self.schedule is not None
         last = self.schedule.size - 1
         cut = np.unique(np.round(np.linspace(0, last, segments + 1)).astype(int))
-        if recorded is None:
-            ref = self.run(section, self.schedule[cut], record=True)
-            if not ref.stats.success:
-                raise SimulationError(f"the integration failed: {ref.stats.message}")
-        else:
-            ref = replace(
-                recorded, t=recorded.t[cut], states=recorded.states[cut],
-                latches=recorded.latches[cut], contact=recorded.contact[cut],
-            )  # fmt: skip
+        times = self.schedule[cut]
         # the end in the section's coordinates: the map's, so the product is its Jacobian
-        bases = [self.basis(section)] + [
-            tangent_basis(self.model, y, t=float(t), time_scale=self.tau)
-            for y, t in zip(ref.states[1:-1], ref.t[1:-1], strict=True)
-        ]
-        bases.append(bases[0])
+        first = self.basis(section)
         none = np.zeros(0, dtype=np.int64)
+        start, cols = section, first
         product: np.ndarray | None = None
         for j in range(cut.size - 1):
-            start = Section(y=ref.states[j], latch=ref.latches[j], contact=ref.contact[j])
-            cols = bases[j]
-            piece, _ = self.images(
-                start, ref.t[j : j + 2], cols, np.full(cols.shape[1], -1), bases[j + 1], none
+            states, lat, run = self.carry(start, times[j : j + 2], cols, np.full(cols.shape[1], -1))
+            end = Section(y=run.final_state, latch=run.final_latch, contact=run.final_contact)
+            after = (
+                first
+                if j == cut.size - 2
+                else tangent_basis(self.model, end.y, t=float(times[j + 1]), time_scale=self.tau)
             )
+            piece = self.project_images(states, lat, after, none)
             product = piece if product is None else piece @ product
+            start, cols = end, after
         assert product is not None
         return product
 
