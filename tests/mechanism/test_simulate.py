@@ -310,8 +310,10 @@ def test_one_status_table_for_the_model_kernels_and_the_time_loops() -> None:
     assert k.accelerations(model.kernel, ws, 0.0, y[:n], y[n:], vimp, acc, counters) == (
         st.STATUS_NONFINITE
     )
-    k1, state = np.zeros_like(y), np.zeros(4)
-    status = dk.dopri5_start(model.kernel, ws, 0.0, y, k1, vimp, state, counters, 1e-6, 1e-8, 1e-3)
+    k1, state, y1, f1 = np.zeros_like(y), np.zeros(4), np.zeros_like(y), np.zeros_like(y)
+    status = dk.dopri5_start(
+        model.kernel, ws, 0.0, y, k1, vimp, state, counters, 1e-6, 1e-8, 1e-3, y1, f1
+    )
     assert status == st.STATUS_NONFINITE
 
 
