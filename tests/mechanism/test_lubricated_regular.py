@@ -102,6 +102,7 @@ def check_dry_chaotic_and_wet_regular(shift: float, *, verdict: bool = False) ->
         assert (wet.verdict.label, wet.verdict.period) == ("periodic", 1)
 
 
+@pytest.mark.slow  # compiles the oiled scene's run and tangent kernels: about 90 s fresh
 def test_oil_film_makes_the_chaotic_journal_orbit_regular() -> None:
     """Measured from starts shifted by 0, ±1e-12 and ±2e-12 of a revolution. Dry: the
     exponent over revolutions 5–24 6.65 – 10.8 s⁻¹, its interval from 3.28 – 6.34 s⁻¹

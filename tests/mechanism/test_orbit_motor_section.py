@@ -70,6 +70,7 @@ def _reference_period(phi0: float) -> float:
     return float(turn(w)[1])
 
 
+@pytest.mark.slow  # the motor scene's tangent kernels: about 45 s to compile
 def test_motor_crank_orbit_period_and_multiplier_match_the_closed_form() -> None:
     """The section map's period agrees with scipy's within 1e-8 relative and its one
     multiplier with exp(−c T/J) within 1e-6 (finite-difference tangent at ε = 1e-9 of
@@ -88,6 +89,7 @@ def test_motor_crank_orbit_period_and_multiplier_match_the_closed_form() -> None
     assert orbit.to_dataset().attrs["setting_section"] == "crank angle"
 
 
+@pytest.mark.slow  # the motor scene's tangent kernels: about 45 s to compile
 def test_motor_crank_orbit_from_perturbed_starts_is_the_same() -> None:
     """Starts 1e-12 apart (relative) converge to the same orbit: period within 1e-10
     relative, multiplier within 1e-6, section state within 1e-9 of the length scale."""
