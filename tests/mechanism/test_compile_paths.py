@@ -165,6 +165,7 @@ def test_the_ideal_companion_of_a_run_has_the_runs_switches(make) -> None:
     )  # fmt: skip
 
 
+@pytest.mark.slow
 def test_the_contact_forces_and_energy_of_a_dry_rigid_scene_compile_no_absent_effect(
     tmp_path: Path,
 ) -> None:

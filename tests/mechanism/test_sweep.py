@@ -149,6 +149,7 @@ def test_discard_keeps_or_drops_the_first_revolution(scene, tmp_path):
     )
 
 
+@pytest.mark.slow
 def test_dask_sweep_equals_serial_sweep(scene, tmp_path, dask_client):
     grid = {CLEARANCE: [2e-4, 5e-4], "drive.speed_rpm": [3000.0, 4000.0, 5000.0]}
     kwargs = {"grid": grid, "revolutions": 2.5, "analysis": mechanism.Analysis(max_samples=400)}

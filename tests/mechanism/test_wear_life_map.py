@@ -122,6 +122,7 @@ def test_the_report_section_states_the_answer_first(speed_map, tmp_path):
 # ----------------------------------------------------------------------------- failures
 
 
+@pytest.mark.slow
 def test_a_failed_path_is_a_row_with_its_reason_and_the_checkpoints_before(tmp_path, monkeypatch):
     """At 150 rpm the third simulated wear state has its penetration inflated 50× (far
     beyond the clearance whatever the rounding): that path ends after 50 cycles, keeping

@@ -98,6 +98,7 @@ def test_the_worn_state_stays_within_the_clearance(ten_thousand_cycles):
         assert float(ds[name].max()) < 0.75, name
 
 
+@pytest.mark.slow
 def test_halving_the_depth_increment_leaves_the_end_profile_within_tolerance(
     ten_thousand_cycles,
 ):
