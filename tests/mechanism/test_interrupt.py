@@ -165,6 +165,7 @@ def _mechanism(*args: str) -> list[str]:
     return [sys.executable, "-c", code, *args]
 
 
+@pytest.mark.slow  # in a full run from an empty kernel cache its child outlives the 30 s
 def test_ctrl_c_ends_a_long_simulation_promptly_with_status_130(tmp_path: Path) -> None:
     env = {**os.environ, "NUMBA_NUM_THREADS": "1"}
     # the same command over a short time compiles (or loads) every kernel it runs
