@@ -174,14 +174,7 @@ def to_dataset(
         n = min(rec.t.size, ideal_run.recording.t.size)
         rec = rec.head(n)
         irec = ideal_run.recording.head(n)
-    data: dict[str, xr.Variable] = {}
-    if model.crank_points is not None:
-        data["crank_angle"] = variable(
-            ("time",),
-            rec.out[:, model_kernels.OUT_CRANK],
-            "rad",
-            "crank angle (relative angle of the crank joint, unwrapped)",
-        )
+    data: dict[str, xr.Variable] = crank_angle_variable(model, rec)
     data.update(_common(model, rec, "", ""))
     if irec is not None:
         data.update(_common(ideal_model, irec, "_ideal", " (ideal mechanism)"))
@@ -364,6 +357,20 @@ def _finish(
         source=f"mechanism (chaoskit {__version__})",
         history=f"mechanism.simulate({model.scene.name!r}, method={run.stats.method!r})",
     )
+
+
+def crank_angle_variable(model: Model, rec: Recording) -> dict[str, xr.Variable]:
+    """``{"crank_angle": ...}`` of a recording, or ``{}`` when the scene has no crank."""
+    if model.crank_points is None:
+        return {}
+    return {
+        "crank_angle": variable(
+            ("time",),
+            rec.out[:, model_kernels.OUT_CRANK],
+            "rad",
+            "crank angle (relative angle of the crank joint, unwrapped)",
+        )
+    }
 
 
 def finish_dataset(

@@ -13,7 +13,7 @@ from mechanism.core.integrate import Integration
 from mechanism.core.model import Model
 from mechanism.core.model import kernels as model_kernels
 
-from ._record import finish_dataset
+from ._record import crank_angle_variable, finish_dataset
 
 __all__ = ["WEAR_VARIABLES", "wear_dataset"]
 
@@ -41,14 +41,7 @@ def wear_dataset(model: Model, run: Integration, *, attrs: dict[str, Any]) -> xr
     """``crank_angle`` and :data:`WEAR_VARIABLES` of a run recorded with full grid
     samples, with the units and names of the full record."""
     rec = run.recording
-    data: dict[str, xr.Variable] = {}
-    if model.crank_points is not None:
-        data["crank_angle"] = variable(
-            ("time",),
-            rec.out[:, model_kernels.OUT_CRANK],
-            "rad",
-            "crank angle (relative angle of the crank joint, unwrapped)",
-        )
+    data: dict[str, xr.Variable] = crank_angle_variable(model, rec)
     for name, column, units, long_name in _JOINT_VARIABLES:
         values = rec.cj[:, :, column]
         if name == "penetration":
