@@ -394,7 +394,13 @@ def test_estimators_returning_to_python_in_chunks_are_bit_identical(
 
 
 def _chaoskit(*args: str) -> list[str]:
-    code = "import sys; from chaoskit.cli import app; sys.argv[0] = 'chaoskit'; app()"
+    """The command line as started from a terminal: a test run that is a background job
+    of a non-interactive shell starts with SIGINT ignored, which its children inherit, so
+    the child sets Python's default handler first."""
+    code = (
+        "import signal, sys; signal.signal(signal.SIGINT, signal.default_int_handler); "
+        "from chaoskit.cli import app; sys.argv[0] = 'chaoskit'; app()"
+    )
     return [sys.executable, "-c", code, *args]
 
 
