@@ -27,8 +27,9 @@ and ``--child CASE`` runs one case in this process (what the parent starts). A r
 case is appended to ``docs/benchmarks/compile-time.csv`` (``--csv`` to change).
 ``--kernels`` prints a table of every compiled dispatcher: the phase of the run that
 compiled it first (``simulate``, or ``lyapunov`` for the exponent's own), its number of
-signatures (``dispatcher.signatures``), its own CPU time, and, for a kernel compiled
-more than once, what its signatures differ in (argument by argument, the fields of a
+signatures (``dispatcher.signatures``), its own CPU time, whether it has the wrappers for
+calls from Python (``no``: a kernel of ``mechanism.core._jit.njit_inner``), and, for a
+kernel compiled more than once, what its signatures differ in (argument by argument, the fields of a
 named-tuple argument by field: array layout, readonly, integer width, ...).
 ``--json DIR`` writes the same per case to ``DIR/compile-CASE.json``.
 """
@@ -193,7 +194,8 @@ def child(case: str) -> dict[str, Any]:
         "top_kernels": "; ".join(f"{n.split('.', 2)[-1]} {v:.1f}" for n, v in top),
         "all_kernels": {n: [len(profile.dispatchers[n].signatures), round(profile.kernel[n], 2),
                             profile.phase_of[n],
-                            differences(profile.dispatchers[n].signatures)]
+                            differences(profile.dispatchers[n].signatures),
+                            not profile.dispatchers[n].targetoptions.get("no_cpython_wrapper")]
                         for n in profile.signatures},
         "passes": {n: round(v, 2) for (k, n), v in sorted(own.items(), key=lambda kv: -kv[1])
                    if v > 0.2},
@@ -226,13 +228,14 @@ def main() -> None:
         print(json.dumps(row, indent=1, ensure_ascii=False))
         print("passes (own CPU s):", passes)
         if args.kernels:
-            print("| kernel | phase | signatures | own CPU s | signatures differ in |")
-            print("|---|---|---:|---:|---|")
-            for name, (sigs, own, phase, diff) in sorted(
+            print("| kernel | phase | signatures | own CPU s | wrappers | signatures differ in |")
+            print("|---|---|---:|---:|---|---|")
+            for name, (sigs, own, phase, diff, wrapped) in sorted(
                 kernels.items(), key=lambda kv: (kv[1][2] != "simulate", -kv[1][1])
             ):
                 short = name.removeprefix("mechanism.core.")
-                print(f"| `{short}` | {phase} | {sigs} | {own:.2f} | {diff} |")
+                wrappers = "yes" if wrapped else "no"
+                print(f"| `{short}` | {phase} | {sigs} | {own:.2f} | {wrappers} | {diff} |")
         if args.json:
             folder = Path(args.json)
             folder.mkdir(parents=True, exist_ok=True)

@@ -24,13 +24,21 @@ repository root::
 ``--companion`` measures instead what the ideal companion's result (the slider of the
 mechanism with ideal joints, from which the displacement and speed errors are taken)
 costs and how far it moves with the model that gives it: the flexible ideal mechanism
-at the scene's step T/10000 (what ``simulate`` runs), at T/5000 and T/2500, and the
+at the scene's step T/10000, at T/5000 (what ``simulate`` runs) and T/2500, and the
 rigid ideal mechanism (dopri5). CPU per revolution of ``record="sections"`` on the ideal
 scene alone, and on the ``record="full"`` grid the largest slider position and speed
 differences from the T/10000 companion and the errors of the clearance run measured
 against each; writes ``docs/benchmarks/flexible-companion.csv``::
 
     NUMBA_NUM_THREADS=1 python benchmarks/flexible_cost.py --companion [--revolutions 2]
+
+``--ideal-step`` compares, in one process and alternated over ``--rounds``, the scene's
+``record="sections"`` run with its ideal companion at the main run's step and at
+``FLEXIBLE_IDEAL_STEP`` times it (what ``simulate`` runs): CPU per revolution (the least
+of the rounds), the companion's Newton iterations and, from ``record="metrics"`` runs,
+the displacement and speed errors; writes ``docs/benchmarks/flexible-ideal-step.csv``::
+
+    NUMBA_NUM_THREADS=1 python benchmarks/flexible_cost.py --ideal-step [--revolutions 1]
 """
 
 from __future__ import annotations
@@ -52,6 +60,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 OUT = ROOT / "docs" / "benchmarks" / "flexible-cost.csv"
 COMPANION_OUT = ROOT / "docs" / "benchmarks" / "flexible-companion.csv"
+IDEAL_STEP_OUT = ROOT / "docs" / "benchmarks" / "flexible-ideal-step.csv"
 PERTURBATION = 1e-12  # m, initial journal offset of the chaos reference
 
 
@@ -98,8 +107,8 @@ def _companion(revolutions: float) -> None:
     main = mechanism.simulate(scene, revolutions=revolutions, record="full")
     ideal = scene.replace({"effects.clearance": False})
     variants = {
-        "flexible T/10000 (simulate's companion)": ideal,
-        "flexible T/5000": ideal.replace({"solver.max_step": period / 5000}),
+        "flexible T/10000 (the main run's step)": ideal,
+        "flexible T/5000 (simulate's companion)": ideal.replace({"solver.max_step": period / 5000}),
         "flexible T/2500": ideal.replace({"solver.max_step": period / 2500}),
         "rigid (dopri5)": ideal.replace({"effects.flexibility": False}),
     }
@@ -125,6 +134,45 @@ def _companion(revolutions: float) -> None:
         print(json.dumps(row), flush=True)
     _write(COMPANION_OUT, rows)
     print(f"written: {COMPANION_OUT}")
+
+
+def _ideal_step(revolutions: float, rounds: int) -> None:
+    """The sections run with the ideal companion at the main run's step and at
+    ``FLEXIBLE_IDEAL_STEP`` times it, alternated in one process (module docstring)."""
+    import mechanism
+    import mechanism.core._simulate as simulate_module
+
+    scene = mechanism.load_scene("paper")
+    factors = (1.0, simulate_module.FLEXIBLE_IDEAL_STEP)
+    mechanism.simulate(scene, revolutions=0.02, record="sections")  # compile / load
+    best = dict.fromkeys(factors, float("inf"))
+    rows = {}
+    try:
+        for _ in range(rounds):
+            for factor in factors:
+                simulate_module.FLEXIBLE_IDEAL_STEP = factor
+                cpu = time.process_time()
+                ds = mechanism.simulate(scene, revolutions=revolutions, record="sections")
+                best[factor] = min(best[factor], time.process_time() - cpu)
+                rows[factor] = {
+                    "companion_step": f"{factor:g} x main step",
+                    "companion_newton_per_rev": ds.attrs["ideal_solver_newton_iterations"]
+                    / revolutions,
+                    "main_newton_per_rev": ds.attrs["solver_newton_iterations"] / revolutions,
+                }
+        for factor in factors:
+            simulate_module.FLEXIBLE_IDEAL_STEP = factor
+            metrics = mechanism.simulate(scene, revolutions=revolutions, record="metrics")
+            rows[factor] |= {
+                "cpu_s_per_rev": best[factor] / revolutions,
+                "max_displacement_error_m": float(metrics["max_displacement_error"]),
+                "max_speed_error_m_s": float(metrics["max_speed_error"]),
+            }
+            print(json.dumps(rows[factor]), flush=True)
+    finally:
+        simulate_module.FLEXIBLE_IDEAL_STEP = factors[1]
+    _write(IDEAL_STEP_OUT, list(rows.values()))
+    print(f"written: {IDEAL_STEP_OUT}")
 
 
 def _write(path: Path, rows: list[dict]) -> None:
@@ -165,7 +213,14 @@ def main() -> None:
     parser.add_argument(
         "--companion", action="store_true", help="measure the ideal companion's alternatives"
     )
+    parser.add_argument(
+        "--ideal-step", action="store_true",
+        help="the sections run with the companion at the main step and at the default",
+    )  # fmt: skip
     args = parser.parse_args()
+    if args.ideal_step:
+        _ideal_step(args.revolutions, args.rounds)
+        return
     if args.companion:
         _companion(args.revolutions)
         return

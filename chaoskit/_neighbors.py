@@ -22,6 +22,7 @@ from scipy.spatial import cKDTree
 from . import _neighbors_kernels as _nk
 
 __all__ = [
+    "GridSearch",
     "build_tree",
     "check_theiler_window",
     "default_theiler_window",
@@ -217,37 +218,65 @@ def grid_nearest_neighbors(
         If the window leaves some point without an admissible neighbour, or ``p`` is
         neither 2 nor inf.
     """
-    if p not in (2, 2.0, np.inf):
-        raise ValueError(f"p must be 2 or inf for the grid search; got {p!r}.")
-    points = np.ascontiguousarray(points, dtype=np.float64)
-    n_points = points.shape[0]
-    check_theiler_window(theiler_window, n_points)
-    q = np.arange(n_points, dtype=np.int64) if query is None else np.asarray(query, np.int64)
-    cols = _grid_columns(points.shape[1])
-    cell = _cell_size(points, cols)
-    lo, ncell, stride = _grid(points, cols, cell)
-    keys = _nk.cell_keys(points, cols, lo, cell, ncell, stride)
-    total = int(np.prod(ncell))
-    dense = total <= max(_GRID_TABLE, 8 * n_points)
-    # the order inside a cell does not matter (ties go to the smaller index)
-    order = _NO_ORDER if total <= _COUNTING_CELLS * n_points else np.argsort(keys)
-    members, spts, unique, starts, slot = _nk.bucket(points, keys, order, total, dense)
-    return _nk.grid_query(
-        points,
-        spts,
-        q,
-        int(theiler_window),
-        cols,
-        lo,
-        float(cell),
-        ncell,
-        stride,
-        unique,
-        slot,
-        starts,
-        members,
-        p == np.inf,
-    )
+    return GridSearch(points, theiler_window=theiler_window, p=p).query(query)
+
+
+class GridSearch:
+    """The grid of :func:`grid_nearest_neighbors`, built once and queried in parts.
+
+    A caller that may stop early (a decision reached on part of the query points) asks
+    for the neighbours of a few query points at a time; each answer is the one
+    :func:`grid_nearest_neighbors` gives for that point.
+
+    Parameters
+    ----------
+    points, theiler_window, p
+        As for :func:`grid_nearest_neighbors`.
+    """
+
+    def __init__(self, points: np.ndarray, *, theiler_window: int, p: float = 2.0) -> None:
+        if p not in (2, 2.0, np.inf):
+            raise ValueError(f"p must be 2 or inf for the grid search; got {p!r}.")
+        points = np.ascontiguousarray(points, dtype=np.float64)
+        n_points = points.shape[0]
+        check_theiler_window(theiler_window, n_points)
+        cols = _grid_columns(points.shape[1])
+        cell = _cell_size(points, cols)
+        lo, ncell, stride = _grid(points, cols, cell)
+        keys = _nk.cell_keys(points, cols, lo, cell, ncell, stride)
+        total = int(np.prod(ncell))
+        dense = total <= max(_GRID_TABLE, 8 * n_points)
+        # the order inside a cell does not matter (ties go to the smaller index)
+        order = _NO_ORDER if total <= _COUNTING_CELLS * n_points else np.argsort(keys)
+        members, spts, unique, starts, slot = _nk.bucket(points, keys, order, total, dense)
+        self.points = points
+        self.theiler_window = int(theiler_window)
+        self._grid = (cols, lo, float(cell), ncell, stride, unique, slot, starts, members)
+        self._spts = spts
+        self._maxnorm = p == np.inf
+
+    def query(self, query: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """Indices and distances of the nearest admissible neighbours of the rows ``query``
+        (default: every row)."""
+        n_points = self.points.shape[0]
+        q = np.arange(n_points, dtype=np.int64) if query is None else np.asarray(query, np.int64)
+        cols, lo, cell, ncell, stride, unique, slot, starts, members = self._grid
+        return _nk.grid_query(
+            self.points,
+            self._spts,
+            q,
+            self.theiler_window,
+            cols,
+            lo,
+            cell,
+            ncell,
+            stride,
+            unique,
+            slot,
+            starts,
+            members,
+            self._maxnorm,
+        )
 
 
 def radius_grid(points: np.ndarray, radius: float) -> tuple:

@@ -8,7 +8,12 @@ from typing import Any, Literal
 import numpy as np
 import xarray as xr
 
-from .._neighbors import check_theiler_window, default_theiler_window, grid_nearest_neighbors
+from .._neighbors import (
+    GridSearch,
+    check_theiler_window,
+    default_theiler_window,
+    grid_nearest_neighbors,
+)
 from .._progress import stage
 from .._validate import as_series, check_choice, check_int, check_positive
 from . import _kernels as _k
@@ -24,6 +29,8 @@ __all__ = [
 DEFAULT_FNN_THRESHOLD = 0.01
 DEFAULT_CAO_THRESHOLD = 0.8
 DEFAULT_MAX_POINTS = 20_000
+#: references searched before the first check of an early-stopping FNN curve (doubling)
+_FIRST_BLOCK = 64
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -191,18 +198,57 @@ def false_nearest_neighbors(
     return fnn_curve(arr, lag, max_dim, rtol, atol, w, threshold, max_points, stop_early=False)
 
 
+def _decided_fraction(arr, d, lag, n_points, w, max_points, rtol, atol, size, threshold):
+    """False fraction at dimension ``d``, or, once enough false neighbours are found for
+    the fraction to reach ``threshold`` whatever the rest give, the fraction over the
+    references examined so far (then at least ``threshold`` too: the choice is the same).
+
+    The references are searched in growing blocks in time order; the answer to
+    ``fraction < threshold`` is that of the full count. Returns (fraction, references).
+    """
+    pts = embed(arr[: n_points + (d - 1) * lag], d, lag)
+    ref = _references(n_points, max_points)
+    search = GridSearch(pts, theiler_window=w, p=2.0)
+    false = used = 0
+    start, block = 0, _FIRST_BLOCK
+    while start < ref.size:
+        part = ref[start : start + block]
+        nbr, dist = search.query(part)
+        f, u = _k.fnn_counts(arr, part, nbr, dist, d, lag, rtol, atol, size)
+        false, used = false + f, used + u
+        start += block
+        block *= 2
+        # false only grows, so the full fraction is at least false / ref.size
+        if start < ref.size and false / ref.size >= threshold:
+            break
+    return false / used, used
+
+
 def fnn_curve(arr, lag, max_dim, rtol, atol, w, threshold, max_points, *, stop_early):
-    """FNN fractions for d = 1 … max_dim on validated input; optionally stop at the choice."""
+    """FNN fractions for d = 1 … max_dim on validated input.
+
+    With ``stop_early``, the curve ends at the chosen dimension, and a dimension is left
+    as soon as its false fraction is decided to reach ``threshold``
+    (:func:`_decided_fraction`): the choice and the rule are those of the full curve, the
+    entries of the rejected dimensions are fractions over the references examined (each
+    at least ``threshold``).
+    """
     size = float(arr.std())
     fractions = []
     n_ref = 0
     for d in range(1, max_dim + 1):
         n_points = arr.size - d * lag  # the (d+1)-th coordinate must exist
-        ref, nbr, dist = _neighbours(arr, d, lag, n_points, w, max_points, 2.0)
-        false, used = _k.fnn_counts(arr, ref, nbr, dist, d, lag, rtol, atol, size)
-        fractions.append(false / used)
+        if stop_early:
+            fraction, used = _decided_fraction(
+                arr, d, lag, n_points, w, max_points, rtol, atol, size, threshold
+            )
+        else:
+            ref, nbr, dist = _neighbours(arr, d, lag, n_points, w, max_points, 2.0)
+            false, used = _k.fnn_counts(arr, ref, nbr, dist, d, lag, rtol, atol, size)
+            fraction = false / used
+        fractions.append(fraction)
         n_ref = max(n_ref, used)
-        if stop_early and fractions[-1] < threshold:
+        if stop_early and fraction < threshold:
             break
     curve = np.asarray(fractions)
     return _select(

@@ -125,38 +125,54 @@ def orbit_shifts(pts: np.ndarray, ref: np.ndarray, nbr: np.ndarray) -> np.ndarra
 TINY = 2.2250738585072014e-308  # smallest normal float64
 MANTISSA = 0xFFFFFFFFFFFFF
 ONE_BITS = 1023 << 52
-_SPAN_STEP = 3  # largest horizon step built over the contiguous span (gathered beyond)
 LOG_RUN = 512  # products of at most this many mantissas in [1, 2) stay below 2^512
+
+
+@njit(cache=True)
+def phase_columns(pts: np.ndarray, step: int) -> np.ndarray:
+    """The coordinates split by the phase of the sample index modulo ``step``:
+    ``out[r, c, u] = pts[r + step·u, c]`` (zero past the end), so that the samples of a
+    horizon grid on that step are contiguous in ``u``."""
+    n, m = pts.shape
+    size = (n + step - 1) // step
+    out = np.zeros((step, m, size))
+    for t in range(n):
+        r = t % step
+        u = t // step
+        for c in range(m):
+            out[r, c, u] = pts[t, c]
+    return out
 
 
 @njit(cache=True)
 def _euclidean_log_divergence(pts, ref, nbr, ks, orbit, shift):
     """:func:`log_divergence` for the EUCLIDEAN and ORBIT modes, vectorised over horizons.
 
-    The coordinates are transposed so that each one is a contiguous row, the squared
-    distances of one pair at every horizon are built column by column (for horizons on a
-    uniform step of at most 3, over the contiguous span of samples, of which every
-    step-th is kept: twice the arithmetic at step 2, but vectorised instead of gathered),
-    and each is split into its binary exponent and a mantissa in [1, 2) by its bits
-    (exact): the exponents are summed as integers and the mantissas multiplied, one log
-    per horizon every 512 pairs. Subnormal distances (below 2.2e-308) take the slow path.
+    The leading horizons on one uniform step read the coordinates split by phase
+    (:func:`phase_columns`), so a pair's samples at consecutive horizons are contiguous for
+    any step (a strided read does not vectorise; building the whole span and keeping every
+    step-th costs ``step`` times the arithmetic); the horizons after that run are gathered
+    one by one. The squared distances are summed over the coordinates in order, as the
+    scalar path does, and each is split into its binary exponent and a mantissa in [1, 2)
+    by its bits (exact): the exponents are summed as integers and the mantissas
+    multiplied, one log per horizon every 512 pairs. Subnormal distances (below 2.2e-308)
+    take the slow path.
     """
     n, m = pts.shape
     cols = np.ascontiguousarray(pts.T)
     nk = ks.size
     step = ks[1] - ks[0] if nk > 1 else 1
-    # leading horizons on one uniform step: their distances are built over the contiguous
-    # span of samples (vectorised) and every step-th one is taken
+    # leading horizons on one uniform step: contiguous in the phase-split coordinates
     uni = 1
-    while step <= _SPAN_STEP and uni < nk and ks[uni] == ks[0] + uni * step:
+    while uni < nk and ks[uni] == ks[0] + uni * step:
         uni += 1
+    phases = phase_columns(pts, step)
     total = np.zeros(nk)
     count = np.zeros(nk, dtype=np.int64)
     expo = np.zeros(nk, dtype=np.int64)
     prod = np.ones(nk)
     buf = np.empty(nk)
     bits = buf.view(np.int64)
-    full = np.empty((uni - 1) * step + 1)
     run = 0
     edge = 1 if orbit else 0  # the interpolated neighbour needs y_{j+k+1}
     k0 = ks[0]
@@ -172,25 +188,21 @@ def _euclidean_log_divergence(pts, ref, nbr, ks, orbit, shift):
         w_here = 1.0 - s * s
         w_next = 0.5 * s * (s + 1.0)
         head = min(lim, uni) if (j + k0 >= 1 or not orbit) else 0
-        span = (head - 1) * step + 1 if head > 0 else 0
         buf[:lim] = 0.0
-        if step != 1:
-            full[:span] = 0.0
+        ra, ua = (i + k0) % step, (i + k0) // step
+        rb, ub = (j + k0) % step, (j + k0) // step
         for c in range(m):
             col = cols[c]
-            a = col[i + k0 : i + k0 + span]
+            a = phases[ra, c, ua : ua + head]
             if orbit:
-                b0 = col[j + k0 - 1 : j + k0 - 1 + span]
-                b1 = col[j + k0 : j + k0 + span]
-                b2 = col[j + k0 + 1 : j + k0 + 1 + span]
-                if step == 1:
-                    for t in range(span):
-                        diff = w_prev * b0[t] + w_here * b1[t] + w_next * b2[t] - a[t]
-                        buf[t] += diff * diff
-                else:
-                    for t in range(span):
-                        diff = w_prev * b0[t] + w_here * b1[t] + w_next * b2[t] - a[t]
-                        full[t] += diff * diff
+                r0, u0 = (j + k0 - 1) % step, (j + k0 - 1) // step
+                r2, u2 = (j + k0 + 1) % step, (j + k0 + 1) // step
+                b0 = phases[r0, c, u0 : u0 + head]
+                b1 = phases[rb, c, ub : ub + head]
+                b2 = phases[r2, c, u2 : u2 + head]
+                for t in range(head):
+                    diff = w_prev * b0[t] + w_here * b1[t] + w_next * b2[t] - a[t]
+                    buf[t] += diff * diff
                 for q in range(head, lim):
                     jk = j + ks[q]
                     jp = max(jk - 1, 0)  # weight 0 when s = 0
@@ -198,21 +210,13 @@ def _euclidean_log_divergence(pts, ref, nbr, ks, orbit, shift):
                     diff -= col[i + ks[q]]
                     buf[q] += diff * diff
             else:
-                b = col[j + k0 : j + k0 + span]
-                if step == 1:
-                    for t in range(span):
-                        diff = b[t] - a[t]
-                        buf[t] += diff * diff
-                else:
-                    for t in range(span):
-                        diff = b[t] - a[t]
-                        full[t] += diff * diff
+                b = phases[rb, c, ub : ub + head]
+                for t in range(head):
+                    diff = b[t] - a[t]
+                    buf[t] += diff * diff
                 for q in range(head, lim):
                     diff = col[j + ks[q]] - col[i + ks[q]]
                     buf[q] += diff * diff
-        if step != 1:
-            for q in range(head):
-                buf[q] = full[q * step]
         odd = 0
         for q in range(lim):
             d2 = buf[q]
@@ -241,6 +245,128 @@ def _euclidean_log_divergence(pts, ref, nbr, ks, orbit, shift):
     ln2 = np.log(2.0)
     for q in range(nk):
         total[q] += 0.5 * (np.log(prod[q]) + expo[q] * ln2)
+    return total, count
+
+
+@njit(cache=True, inline="always")
+def _split(buf, bits, lim, expo, count, prod):
+    """Split the squared distances ``buf[:lim]`` into exponents (summed in ``expo``) and
+    mantissas (multiplied into ``prod``), counting them; returns how many are subnormal
+    (those take the slow path)."""
+    odd = 0
+    for q in range(lim):
+        d2 = buf[q]
+        ok = d2 >= TINY
+        odd += 1 if (d2 > 0.0 and not ok) else 0
+        word = bits[q]
+        expo[q] += ((word >> 52) - 1023) if ok else 0
+        count[q] += 1 if ok else 0
+        bits[q] = (word & MANTISSA) | ONE_BITS
+        prod[q] *= buf[q] if ok else 1.0
+    return odd
+
+
+@njit(cache=True)
+def sample_orbit_log_divergence(pts, ref, nbr, ks, shift):
+    """The EUCLIDEAN and ORBIT results of :func:`log_divergence` in one pass over the pairs
+    (rows 0 and 1 of the returned sums and counts): a pair's samples are read once for
+    both, and each curve's arithmetic is that of its own pass (the same sums, bit for
+    bit)."""
+    n, m = pts.shape
+    nk = ks.size
+    step = ks[1] - ks[0] if nk > 1 else 1
+    uni = 1
+    while uni < nk and ks[uni] == ks[0] + uni * step:
+        uni += 1
+    cols = np.ascontiguousarray(pts.T)
+    phases = phase_columns(pts, step)
+    total = np.zeros((2, nk))
+    count = np.zeros((2, nk), dtype=np.int64)
+    expo = np.zeros((2, nk), dtype=np.int64)
+    prod = np.ones((2, nk))
+    tot_s, tot_o = total[0], total[1]
+    cnt_s, cnt_o = count[0], count[1]
+    exp_s, exp_o = expo[0], expo[1]
+    prod_s, prod_o = prod[0], prod[1]
+    buf_s = np.empty(nk)
+    bits_s = buf_s.view(np.int64)
+    buf_o = np.empty(nk)
+    bits_o = buf_o.view(np.int64)
+    run = 0
+    k0 = ks[0]
+    for p in range(ref.size):
+        i = ref[p]
+        j = nbr[p]
+        lim_s = nk
+        while lim_s > 0 and (i + ks[lim_s - 1] >= n or j + ks[lim_s - 1] >= n):
+            lim_s -= 1
+        lim_o = lim_s
+        while lim_o > 0 and j + ks[lim_o - 1] + 1 >= n:
+            lim_o -= 1
+        s = shift[p]
+        w_prev = 0.5 * s * (s - 1.0)
+        w_here = 1.0 - s * s
+        w_next = 0.5 * s * (s + 1.0)
+        head_s = min(lim_s, uni)
+        head_o = min(lim_o, uni) if j + k0 >= 1 else 0
+        buf_s[:lim_s] = 0.0
+        buf_o[:lim_o] = 0.0
+        ra, ua = (i + k0) % step, (i + k0) // step
+        rb, ub = (j + k0) % step, (j + k0) // step
+        r0, u0 = (j + k0 - 1) % step, (j + k0 - 1) // step
+        r2, u2 = (j + k0 + 1) % step, (j + k0 + 1) // step
+        both_head = min(head_s, head_o)
+        for c in range(m):
+            col = cols[c]
+            a = phases[ra, c, ua : ua + head_s]
+            b1 = phases[rb, c, ub : ub + head_s]
+            b0 = phases[r0, c, u0 : u0 + both_head]
+            b2 = phases[r2, c, u2 : u2 + both_head]
+            for t in range(both_head):
+                at = a[t]
+                bt = b1[t]
+                diff = bt - at
+                buf_s[t] += diff * diff
+                diff = w_prev * b0[t] + w_here * bt + w_next * b2[t] - at
+                buf_o[t] += diff * diff
+            for t in range(both_head, head_s):
+                diff = b1[t] - a[t]
+                buf_s[t] += diff * diff
+            for q in range(head_s, lim_s):
+                diff = col[j + ks[q]] - col[i + ks[q]]
+                buf_s[q] += diff * diff
+            for q in range(both_head, lim_o):
+                jk = j + ks[q]
+                jp = max(jk - 1, 0)
+                diff = w_prev * col[jp] + w_here * col[jk] + w_next * col[jk + 1]
+                diff -= col[i + ks[q]]
+                buf_o[q] += diff * diff
+        odd = _split(buf_s, bits_s, lim_s, exp_s, cnt_s, prod_s)
+        if odd:
+            for q in range(lim_s):
+                d2 = _row_sq_distance(pts, j + ks[q], pts, i + ks[q])
+                if 0.0 < d2 < TINY:
+                    tot_s[q] += 0.5 * np.log(d2)
+                    cnt_s[q] += 1
+        odd = _split(buf_o, bits_o, lim_o, exp_o, cnt_o, prod_o)
+        if odd:
+            for q in range(lim_o):
+                d2 = orbit_sq_distance(pts, i + ks[q], j + ks[q], s)
+                if 0.0 < d2 < TINY:
+                    tot_o[q] += 0.5 * np.log(d2)
+                    cnt_o[q] += 1
+        run += 1
+        if run == LOG_RUN:
+            for q in range(nk):
+                tot_s[q] += 0.5 * np.log(prod_s[q])
+                prod_s[q] = 1.0
+                tot_o[q] += 0.5 * np.log(prod_o[q])
+                prod_o[q] = 1.0
+            run = 0
+    ln2 = np.log(2.0)
+    for q in range(nk):
+        tot_s[q] += 0.5 * (np.log(prod_s[q]) + exp_s[q] * ln2)
+        tot_o[q] += 0.5 * (np.log(prod_o[q]) + exp_o[q] * ln2)
     return total, count
 
 

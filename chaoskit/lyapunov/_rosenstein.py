@@ -89,9 +89,10 @@ def _fit(pts, ref, nbr, ks, fixed, w, period, mode, shift, sample_plateau) -> di
     """
     nbr_pair = None
     if mode == _k.SAMPLE_ORBIT:
-        y_sample, ok_s = _mean_curve(pts, ref, nbr, ks, _k.EUCLIDEAN, shift)
-        y_orbit, ok_o = _mean_curve(pts, ref, nbr, ks, _k.ORBIT, shift)
-        ok = ok_s & ok_o
+        # both curves in one pass over the pairs (each bit for bit its own pass's)
+        total, count = _k.sample_orbit_log_divergence(pts, ref, nbr, ks, shift)
+        y_sample, y_orbit = np.where(count > 0, total / np.maximum(count, 1), np.nan)
+        ok = (count[0] > 0) & (count[1] > 0)
         nbr_pair = (y_sample[ok], y_orbit[ok])
         curve = 0.5 * (y_sample + y_orbit)
     else:

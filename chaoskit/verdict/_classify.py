@@ -114,7 +114,7 @@ def classify(
       samples, drive periods for forced flows, maxima per period for autonomous flows;
     * for a forced series (``drive_period`` or ``phase_variable``) also *periodic* (period
       :math:`k`) if the section is :math:`k` tight clusters, the spectrum is not a torus's
-      and what varies from cycle to cycle beyond white noise (:func:`cycle_spread`) is at
+      and what varies from cycle to cycle beyond stationary noise (:func:`cycle_spread`) is at
       most ``rule.cluster_tol`` of the standard deviation: a periodic orbit plus noise,
       whatever the noise does to the spectrum and the exponents; and *periodic* when the
       mean cycle carries at least ``1 - rule.max_residual`` of the variance and the

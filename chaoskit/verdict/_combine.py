@@ -397,7 +397,7 @@ def _periodic(ev: _Evidence) -> tuple[int | None, str] | None:
         period = ev.structure.n_clusters
         return period, (
             f"the section is {period} tight cluster{'s' * (period != 1)} and what varies from "
-            f"cycle to cycle beyond white noise is {spread:.2g} of the standard "
+            f"cycle to cycle beyond stationary noise is {spread:.2g} of the standard "
             f"deviation (at most {rule.cluster_tol:g}): a periodic orbit plus noise "
             f"(measurement noise about {noise:.2g} of the standard deviation; the "
             "cycle-shuffled surrogate test "

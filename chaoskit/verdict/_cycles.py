@@ -343,8 +343,8 @@ def cycle_spread(
     in phase bins and interpolated instead.
 
     Coloured (linear, e.g. AR(1)) measurement noise is smooth over one sample too, so with
-    ``noise="stationary"`` (the default) the spread is the smaller of that reading and a
-    second one that holds for any stationary additive noise, white or coloured: such noise
+    ``noise="stationary"`` (the default) the spread is the smallest of that reading and
+    two that hold for any stationary additive noise, white or coloured. Such noise
     has the same variance at every phase of the cycle, while a deviation the dynamics
     produce (a chaotic wandering, a transient) is larger at some phases than at others.
     The second reading is :math:`\sqrt{\max(\bar v - v_0, 0)} / \sigma_x`, with
@@ -354,7 +354,13 @@ def cycle_spread(
     stationary noise of any colour and level, the phase-dependent part of the departure
     otherwise. A departure whose variance does not depend on the phase (a second frequency,
     a slow drift) reads small here; the cycle-shuffled test (:func:`cycle_surrogate_test`)
-    is the one that sees it carried over from cycle to cycle. Noise is discounted only up to
+    is the one that sees it carried over from cycle to cycle. A third reading discounts
+    the colour of stationary noise from the lag-one covariance itself: such noise has the
+    same lag-one covariance at every phase, so the departure's lag-one covariance in its
+    quietest phase bin (smallest variance), plus two standard errors, bounds the noise's;
+    the lag-one reading less that bound reads 0 for a periodic orbit plus AR(1) noise even
+    where the orbit's own departure (the ringing after an impact) makes the second reading
+    large. The spread is the smallest of the three. Noise is discounted only up to
     ``max_noise``: a departure whose RMS exceeds that fraction of the standard deviation
     is not all measurement noise, and the spread is then the larger of the two readings.
 
@@ -415,7 +421,10 @@ def cycle_spread(
     phased = _phase_dependent_spread(r, spc) / sigma
     if np.sqrt(power) > max_noise * sigma:
         return max(white, phased)  # too large to be measurement noise
-    return min(white, phased)  # either reading is a valid one for its kind of noise
+    # stationary noise has the same lag-one covariance at every phase: the quietest phase
+    # bounds it, whatever its colour
+    coloured = float(np.sqrt(max(c1 - _quiet_lag_one(r, spc), 0.0)) / sigma)
+    return min(white, phased, coloured)  # each reading is a valid one for its kind of noise
 
 
 PHASE_BINS = 10  # phase bins per cycle of the stationarity reading (fewer for short cycles)
@@ -441,26 +450,46 @@ def phase_spread(x: np.ndarray, period: float, *, dt: float = 1.0) -> float:
     return _phase_dependent_spread(x - _mean_cycle_at_samples(x, spc), spc) / sigma
 
 
+def _phase_binned(r: np.ndarray, spc: float, lag: int) -> tuple[np.ndarray, np.ndarray]:
+    """The mean of :math:`r_t r_{t+lag}` in each phase bin over whole cycles, and its
+    standard error from the scatter over the cycles (independent replicates under the
+    null: the noise does not carry over a cycle)."""
+    n = int(r.size // spc)
+    bins = min(PHASE_BINS, int(np.floor(spc)))
+    index = np.arange(min(int(n * spc), r.size - lag))  # whole cycles only
+    cycle = np.minimum((index / spc).astype(np.int64), n - 1)
+    phase = np.minimum((((index / spc) % 1.0) * bins).astype(np.int64), bins - 1)
+    key = cycle * bins + phase
+    count = np.bincount(key, minlength=n * bins).reshape(n, bins)
+    product = r[index] * r[index + lag]
+    sums = np.bincount(key, weights=product, minlength=n * bins).reshape(n, bins)
+    per_cycle = sums / np.maximum(count, 1)  # (cycle, bin): mean product in the bin
+    return per_cycle.mean(axis=0), per_cycle.std(axis=0, ddof=1) / np.sqrt(n)
+
+
 def _phase_dependent_spread(r: np.ndarray, spc: float) -> float:
     """RMS of the part of the departure ``r`` from the mean cycle whose variance depends on
     the phase: the mean over phase bins of the variance above the smallest one, which
     bounds the variance of any stationary noise (less two standard errors over the cycles,
     so that the scatter of noise alone reads 0)."""
-    n = int(r.size // spc)
-    bins = min(PHASE_BINS, int(np.floor(spc)))
-    index = np.arange(min(int(n * spc), r.size))  # whole cycles only
-    cycle = np.minimum((index / spc).astype(np.int64), n - 1)
-    phase = np.minimum((((index / spc) % 1.0) * bins).astype(np.int64), bins - 1)
-    key = cycle * bins + phase
-    count = np.bincount(key, minlength=n * bins).reshape(n, bins)
-    sums = np.bincount(key, weights=r[index] ** 2, minlength=n * bins).reshape(n, bins)
-    per_cycle = sums / np.maximum(count, 1)  # (cycle, bin): mean square in the bin
-    v = per_cycle.mean(axis=0)
-    # cycles are independent replicates under the null (the noise does not carry over a
-    # cycle), so their scatter gives each bin's standard error
-    se = per_cycle.std(axis=0, ddof=1) / np.sqrt(n)
+    v, se = _phase_binned(r, spc, 0)
     floor = float(np.min(v + 2.0 * se))
     return float(np.sqrt(max(float(np.mean(v)) - floor, 0.0)))
+
+
+def _quiet_lag_one(r: np.ndarray, spc: float) -> float:
+    """The lag-one covariance of the departure ``r`` in its quietest phase bin (the one
+    whose variance, plus two standard errors, is smallest), plus two standard errors.
+
+    Stationary measurement noise, white or coloured, has the same variance and lag-one
+    covariance at every phase; in the quietest bin the departure is mostly that noise, so
+    its lag-one covariance there bounds the noise's (the noise's colour, estimated from
+    the data). A smooth dynamic wandering in that bin raises the bound; a spiky one
+    (negative lag-one covariance) lowers it, which only keeps more of the spread."""
+    v, sv = _phase_binned(r, spc, 0)
+    c, sc = _phase_binned(r, spc, 1)
+    quiet = int(np.argmin(v + 2.0 * sv))
+    return float(c[quiet] + 2.0 * sc[quiet])
 
 
 def _mean_cycle_at_samples(x: np.ndarray, spc: float) -> np.ndarray:

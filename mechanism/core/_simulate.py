@@ -54,6 +54,14 @@ MEMORY_FRACTION = 0.8
 #: anyway.
 STEP_BUDGET = 20_000_000
 
+#: The ideal companion of a flexible model steps at this multiple of the main run's fixed
+#: step. It supplies only the ideal slider (the displacement and speed errors, the full
+#: record's ``*_ideal`` variables, on the output grid), which its rods' unresolved axial
+#: vibration leaves uncertain by a few µm at any such step: at twice the step the slider
+#: moves by 2.3e-6 m and 2.7e-3 m/s and the two errors by 0.1 % and 0.6 % (paper scene,
+#: one revolution), for 0.6 of the companion's cost (docs/performance.md, *Flexible rods*).
+FLEXIBLE_IDEAL_STEP = 2.0
+
 
 class SimulationError(RuntimeError):
     """The integrator failed (its status and message are in the exception text);
@@ -437,8 +445,11 @@ def _integrate(
     ideal_model = assemble(scene, ideal=True)
     iq0, iv0 = initial_state(ideal_model, eccentricity=False)
     # the companion has no impacts: its step is the error control's (the fixed-step
-    # generalized-α keeps the main run's step), as for an ideal mechanism on its own
+    # generalized-α keeps the main run's step, FLEXIBLE_IDEAL_STEP times it for ANCF
+    # rods), as for an ideal mechanism on its own
     ideal_max_step = size.max_step if _fixed_step(integrator) else math.inf
+    if _fixed_step(integrator) and ideal_model.kernel.beam_i.shape[0] > 0:
+        ideal_max_step *= FLEXIBLE_IDEAL_STEP
     # The ideal companion does not depend on the main run: it runs in a second thread
     # (the compiled integrators release the GIL), so on a machine with a free core it
     # adds no wall time.

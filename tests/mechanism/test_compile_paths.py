@@ -1,8 +1,9 @@
 """A scene compiles only the kernels of the effects it has.
 
 The compiled model carries one switch per optional effect (ANCF beams, force elements,
-worn contact, oil film), None when the scene lacks the effect; numba removes a branch on a
-None argument before type inference, so the kernels of that effect are never compiled.
+worn contact, oil film, the slider corners of a translational clearance joint), None when
+the scene lacks the effect; numba removes a branch on a None argument before type
+inference, so the kernels of that effect are never compiled.
 What a run compiles is seen in a child process with an empty numba cache
 (``NUMBA_CACHE_DIR`` a new folder): with a cache, a kernel loaded from it does not compile
 the kernels it calls, and the check would pass whatever they are.
@@ -31,6 +32,10 @@ EFFECT_KERNELS = {
     "forces": ("mechanism.core.forces", ("force_elements_add", "force_elements_potential")),
     "worn": ("mechanism.core.model._kernels", ("worn_contact", "worn_clearance_rate")),
     "film": ("mechanism.core.model._kernels", ("film_force_add",)),
+    "guide": (
+        "mechanism.core.joints",
+        ("guide_kinematics", "guide_force_add", "guide_acceleration"),
+    ),
 }
 
 #: child process, with the JSON of ``EFFECT_KERNELS`` and a mode: ``light`` compiles the
@@ -116,6 +121,7 @@ def _switched_on(scene: mechanism.Scene) -> set[str]:
         "forces": km.forces_on,
         "worn": km.worn_on,
         "film": km.film_on,
+        "guide": km.guide_on,
     }
     return {name for name, on in switches.items() if on is not None}
 
@@ -129,13 +135,19 @@ def _switched_on(scene: mechanism.Scene) -> set[str]:
         (lambda: rigid_paper({"joints.C.lubrication": {"viscosity": 0.04}}), {"film", "worn"}),
         (lambda: _worn(rigid_paper()), {"worn"}),
         # no revolute clearance joint: nothing can be worn
-        (lambda: mechanism.load_scene("slider-crank-translational-clearance"), set()),
+        (lambda: mechanism.load_scene("slider-crank-translational-clearance"), {"guide"}),
         (lambda: mechanism.load_scene("slider-crank"), set()),
         (lambda: rigid_paper({"effects.clearance": False}), set()),
+        (
+            lambda: mechanism.load_scene("slider-crank-translational-clearance").replace(
+                {"effects.clearance": False}
+            ),
+            set(),
+        ),
     ],
     ids=[
         "rigid-paper", "flexible-paper", "force-elements", "lubricated", "worn",
-        "translational-clearance", "ideal-joints", "clearance-off",
+        "translational-clearance", "ideal-joints", "clearance-off", "corners-off",
     ],
 )  # fmt: skip
 def test_each_effect_switch_is_on_exactly_when_the_scene_has_the_effect(make, expected) -> None:
@@ -160,9 +172,8 @@ def test_the_ideal_companion_of_a_run_has_the_runs_switches(make) -> None:
     ideal = assemble(scene, ideal=True).kernel
     assert main.cj_i.shape[0] > 0
     assert ideal.cj_i.shape[0] == 0
-    assert (main.beams_on, main.forces_on, main.worn_on, main.film_on) == (
-        ideal.beams_on, ideal.forces_on, ideal.worn_on, ideal.film_on
-    )  # fmt: skip
+    switches = ("beams_on", "forces_on", "worn_on", "film_on", "guide_on")
+    assert [getattr(main, s) for s in switches] == [getattr(ideal, s) for s in switches]
 
 
 @pytest.mark.slow
@@ -170,22 +181,24 @@ def test_the_contact_forces_and_energy_of_a_dry_rigid_scene_compile_no_absent_ef
     tmp_path: Path,
 ) -> None:
     """The clearance forces and mechanical energy (which call the worn-contact, oil-film,
-    ANCF and force-element kernels of the scenes that have them) of a dry rigid scene
-    without a revolute clearance joint compile none of them; the rigid paper scene's
-    revolute clearance joint (which a wear study wears) adds the worn-contact ones only."""
+    ANCF, force-element and slider-corner kernels of the scenes that have them) of a dry
+    rigid scene without a revolute clearance joint compile none of them but its corners';
+    the rigid paper scene's revolute clearance joint (which a wear study wears) adds the
+    worn-contact ones only (the counts add up over the two scenes)."""
     got = _compiled_in_child(tmp_path, "light")
-    assert got["corners"] == {"beams": 0, "forces": 0, "worn": 0, "film": 0}
-    assert got["dry"] == {"beams": 0, "forces": 0, "worn": 2, "film": 0}
+    assert got["corners"] == {"beams": 0, "forces": 0, "worn": 0, "film": 0, "guide": 2}
+    assert got["dry"] == {"beams": 0, "forces": 0, "worn": 2, "film": 0, "guide": 2}
 
 
 @pytest.mark.slow
 def test_a_fresh_rigid_simulate_compiles_no_kernel_of_an_absent_effect(tmp_path: Path) -> None:
     """A fresh ``simulate`` of the rigid paper scene compiles none of the ANCF,
-    force-element and oil-film kernels; the press scene with a lubricated
+    force-element, oil-film and slider-corner kernels; the press scene with a lubricated
     joint then compiles its force-element and film kernels, and still no ANCF one. Over
     20 s: it compiles a whole run from an empty cache."""
     got = _compiled_in_child(tmp_path, "simulate")
-    assert got["dry"] == {"beams": 0, "forces": 0, "worn": 2, "film": 0, "rhs": 1}
+    assert got["dry"] == {"beams": 0, "forces": 0, "worn": 2, "film": 0, "guide": 0, "rhs": 1}
     assert got["wet"]["beams"] == 0
+    assert got["wet"]["guide"] == 0
     assert got["wet"]["forces"] == 2  # one signature each of the force and the potential
     assert got["wet"]["film"] == 1

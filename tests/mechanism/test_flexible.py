@@ -281,3 +281,33 @@ def test_convergence_command_prints_the_table(tmp_path) -> None:
         assert list(ds.elements.values) == [2, 4]
     bad = CliRunner().invoke(app, ["convergence", "flexible-slider-crank", "--elements", "a"])
     assert bad.exit_code == 2
+
+
+def test_flexible_ideal_companion_takes_twice_the_main_step() -> None:
+    """The ideal companion of a flexible scene steps at twice the main run's fixed step
+    and still gives the ideal slider on the output grid: against the ideal mechanism
+    integrated at the main run's step it differs by 1.5e-7 m and 9.6e-4 m/s over 0.05
+    revolution (measured), within the 2.3e-6 m and 2.7e-3 m/s that the step moves it by
+    over two revolutions (its rods' unresolved axial vibration, docs/performance.md,
+    *Flexible rods*)."""
+    scene = mechanism.load_scene("paper")
+    ds = mechanism.simulate(scene, revolutions=0.05)
+    step = float(ds.attrs["max_step"])
+    assert float(ds.attrs["ideal_max_step"]) == pytest.approx(2.0 * step, rel=1e-12)
+    assert ds.attrs["ideal_solver_steps"] <= ds.attrs["solver_steps"] // 2 + 1
+    ideal = mechanism.simulate(scene.replace({"effects.clearance": False}), revolutions=0.05)
+    assert float(ideal.attrs["max_step"]) == pytest.approx(step, rel=1e-12)
+    np.testing.assert_array_equal(ds.time.values, ideal.time.values)
+    position = np.abs(ds.slider_position_ideal.values - ideal.slider_position.values)
+    speed = np.abs(ds.slider_velocity_ideal.values - ideal.slider_velocity.values)
+    assert position.max() < 2e-6
+    assert speed.max() < 5e-3
+
+
+def test_a_rigid_ideal_companion_keeps_the_main_step() -> None:
+    """Only ANCF rods make the fixed-step companion step coarser: a rigid model run by
+    the fixed-step generalized-α keeps its companion at the main run's step."""
+    ds = mechanism.simulate(
+        rigid_paper(), revolutions=0.02, method="generalized-alpha-fixed", record="sections"
+    )
+    assert float(ds.attrs["ideal_max_step"]) == float(ds.attrs["max_step"])

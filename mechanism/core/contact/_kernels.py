@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import math
 
-from mechanism.core._jit import njit_noalloc
+from mechanism.core._jit import njit_inner, njit_noalloc
 
 LAW_LANKARANI_NIKRAVESH = 0
 LAW_HERTZ = 1
@@ -39,7 +39,7 @@ FORM_CONFORMAL = 0
 FORM_SUM_OF_RADII = 1
 
 
-@njit_noalloc()
+@njit_inner()
 def hysteresis_factor(law: int, restitution: float) -> float:
     """Dimensionless factor χ̂ of F = Kδⁿ(1 + χ̂ δ̇/δ̇⁻) for each law (0 for Hertz)."""
     ce = restitution
@@ -53,7 +53,7 @@ def hysteresis_factor(law: int, restitution: float) -> float:
     return 0.0
 
 
-@njit_noalloc()
+@njit_inner()
 def normal_force(
     law: int,
     stiffness: float,
@@ -88,7 +88,7 @@ def normal_force(
     return force if force > 0.0 else 0.0
 
 
-@njit_noalloc()
+@njit_inner()
 def contact_potential(stiffness: float, exponent: float, delta: float) -> float:
     """Elastic energy K δ^(n+1)/(n+1) (J) stored in the contact; 0 when δ ≤ 0."""
     if not delta > 0.0:
@@ -96,7 +96,7 @@ def contact_potential(stiffness: float, exponent: float, delta: float) -> float:
     return stiffness * delta ** (exponent + 1.0) / (exponent + 1.0)
 
 
-@njit_noalloc()
+@njit_inner()
 def ambrosio_factor(speed: float, v0: float, v1: float) -> float:
     """Dynamic correction c_d(|v_t|): 0 below v0, linear to 1 at v1, 1 above."""
     if speed <= v0:
@@ -106,7 +106,7 @@ def ambrosio_factor(speed: float, v0: float, v1: float) -> float:
     return (speed - v0) / (v1 - v0)
 
 
-@njit_noalloc()
+@njit_inner()
 def friction_force(
     law: int,
     coefficient: float,

@@ -26,6 +26,7 @@ from numba import (
 )
 
 from mechanism.core._jit import (
+    njit_inner,
     njit_noalloc,
 )
 from mechanism.core._status import (
@@ -97,7 +98,7 @@ D6 = -1453857185.0 / 822651844.0
 D7 = 69997945.0 / 29380423.0
 
 
-@njit_noalloc()
+@njit_inner()
 def wrms(err, y0, y1, rtol, atol):
     """Weighted RMS norm of the error estimate ``err``, each component scaled by
     ``atol + rtol·max(|y0|, |y1|)`` (≤ 1 accepts the step)."""

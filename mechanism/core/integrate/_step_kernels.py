@@ -37,6 +37,7 @@ from numba import (
 )
 
 from mechanism.core._jit import (
+    njit_inner,
     njit_noalloc,
 )
 from mechanism.core._status import (
@@ -180,7 +181,7 @@ def record_batch(model, ws, rec, i0, times, states, vimp, counters):
     return STATUS_OK
 
 
-@njit_noalloc()
+@njit_inner()
 def _dense_eval(kind, dense, th, h, yout):
     """The continuous extension of the last step at θ = (t − t₀)/h into ``yout``."""
     n2 = yout.shape[0]

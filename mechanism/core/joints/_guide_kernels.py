@@ -23,7 +23,7 @@ from __future__ import annotations
 
 import math
 
-from mechanism.core._jit import njit_noalloc
+from mechanism.core._jit import njit_inner
 
 from ._kernels import (
     PC_ANG,
@@ -40,12 +40,12 @@ from ._kernels import (
 __all__ = ["guide_acceleration", "guide_force_add", "guide_kinematics"]
 
 
-@njit_noalloc()
+@njit_inner()
 def _wrap(a):
     return math.atan2(math.sin(a), math.cos(a))
 
 
-@njit_noalloc()
+@njit_inner()
 def guide_kinematics(pcf, guide, corner, normal_x, normal_y, offset):
     """Kinematics of one slider corner against one guide surface from the point cache.
 
@@ -75,7 +75,7 @@ def guide_kinematics(pcf, guide, corner, normal_x, normal_y, offset):
     return ex, ey, nx, ny, delta, delta_dot, v_t, phi_b, phi_j
 
 
-@njit_noalloc()
+@njit_inner()
 def guide_force_add(gen, pci, pcf, guide, corner, ex, ey, nx, ny, f_n, f_t):
     """Apply f = −Fₙ n + F_t t to the corner and −f, at the corner's place, to the guide
     body (its guide point's force plus the moment e × (−f))."""
@@ -85,7 +85,7 @@ def guide_force_add(gen, pci, pcf, guide, corner, ex, ey, nx, ny, f_n, f_t):
     apply_point_force(gen, -fx, -fy, ey * fx - ex * fy, pci, pcf, guide)
 
 
-@njit_noalloc()
+@njit_inner()
 def guide_acceleration(acc, pci, pcf, guide, corner, ex, ey, nx, ny):
     """δ̈ (m/s²) of a corner against a guide surface for generalised accelerations ``acc``.
 

@@ -39,7 +39,7 @@ from __future__ import annotations
 
 import math
 
-from mechanism.core._jit import njit_noalloc
+from mechanism.core._jit import njit_inner, njit_noalloc
 
 POINT_GROUND = 0
 POINT_RIGID = 1
@@ -88,13 +88,13 @@ def update_points(q, v, pt_i, pt_f, pci, pcf):
     _fill_points(q, v, pt_i, pt_f, pci, pcf, None)
 
 
-@njit_noalloc()
+@njit_inner()
 def update_point_rows(q, v, pt_i, pt_f, pci, pcf, rows):
     """Refresh only the cached points ``rows`` at (q, q̇) (the others keep their values)."""
     _fill_points(q, v, pt_i, pt_f, pci, pcf, rows)
 
 
-@njit_noalloc()
+@njit_inner()
 def _fill_points(q, v, pt_i, pt_f, pci, pcf, rows):
     # one loop for both callers: numba compiles ``rows = None`` as its own specialisation
     # with the test pruned (a call per point would cost a reference-count pair each)
@@ -199,7 +199,7 @@ def _fill_points(q, v, pt_i, pt_f, pci, pcf, rows):
             ci[PCI_AN] = 0
 
 
-@njit_noalloc()
+@njit_inner()
 def point_acceleration(a, pci, pcf, k):
     """r̈ of cached point ``k`` for generalised accelerations ``a``."""
     ax = pcf[k, PC_QX]
@@ -211,7 +211,7 @@ def point_acceleration(a, pci, pcf, k):
     return ax, ay
 
 
-@njit_noalloc()
+@njit_inner()
 def angle_acceleration(a, pci, pcf, k):
     """θ̈ of the frame at cached point ``k`` for generalised accelerations ``a``."""
     al = pcf[k, PC_AQUAD]
@@ -220,7 +220,7 @@ def angle_acceleration(a, pci, pcf, k):
     return al
 
 
-@njit_noalloc()
+@njit_inner()
 def apply_point_force(gen, fx, fy, moment, pci, pcf, k):
     """gen += J_pᵀ f + moment ∂θ_p/∂q for a force f at cached point ``k``.
 
@@ -236,7 +236,7 @@ def apply_point_force(gen, fx, fy, moment, pci, pcf, k):
             gen[pci[k, PCI_ADOF + e]] += pcf[k, PC_AC + e] * moment
 
 
-@njit_noalloc()
+@njit_inner()
 def drive_angle(t, drive_i, drive_f, spline_x, spline_c):
     """Prescribed relative angle f(t) and its first two derivatives (rad, rad/s, rad/s²).
 
@@ -272,7 +272,7 @@ def drive_angle(t, drive_i, drive_f, spline_x, spline_c):
     return 0.0, 0.0, 0.0
 
 
-@njit_noalloc()
+@njit_inner()
 def constraint_rows(
     t, con_i, con_f, drive_i, drive_f, spline_x, spline_c, pci, pcf, phi, phiq, phit, gam
 ):
@@ -347,12 +347,12 @@ def constraint_rows(
             gam[r] = -quad
 
 
-@njit_noalloc()
+@njit_inner()
 def _wrap(a):
     return math.atan2(math.sin(a), math.cos(a))
 
 
-@njit_noalloc()
+@njit_inner()
 def clearance_kinematics(pcf, bearing, journal, r_bearing, r_journal, clearance):
     """Kinematics of a journal in a bearing from the point cache (docs/paper-model.md §5).
 
@@ -385,7 +385,7 @@ def clearance_kinematics(pcf, bearing, journal, r_bearing, r_journal, clearance)
     return ex, ey, nx, ny, delta, delta_dot, v_t, phi_b, phi_j
 
 
-@njit_noalloc()
+@njit_inner()
 def clearance_force_add(gen, pci, pcf, bearing, journal, r_bearing, r_journal, nx, ny, f_n, f_t):
     """Apply the contact pair to both bodies (docs/paper-model.md §5).
 

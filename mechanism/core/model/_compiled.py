@@ -12,7 +12,7 @@ import numpy as np
 from mechanism.core.bodies import AncfLayout
 from mechanism.core.forces import FO_COLUMNS, force_elements_add
 from mechanism.core.joints import PCF_COLUMNS, PCI_COLUMNS, update_points
-from mechanism.core.scene import ClearanceRevolute, Scene
+from mechanism.core.scene import ClearancePrismatic, ClearanceRevolute, Scene
 
 from . import _kernels as model_kernels
 
@@ -74,6 +74,7 @@ class KernelModel(NamedTuple):
     forces_on: bool | None = True
     worn_on: bool | None = True
     film_on: bool | None = True
+    guide_on: bool | None = True  # slider corners of a translational clearance joint
 
 
 def with_effect_switches(km: KernelModel, scene: Scene) -> KernelModel:
@@ -81,7 +82,8 @@ def with_effect_switches(km: KernelModel, scene: Scene) -> KernelModel:
 
     Beams: no ANCF beam rows. Force elements: no element rows. Worn contact: no revolute
     clearance joint (the joints a wear profile applies to) or ``effects.clearance`` off.
-    Oil film: no lubricated revolute clearance joint, or ``effects.clearance`` off. The
+    Oil film: no lubricated revolute clearance joint, or ``effects.clearance`` off. Slider
+    corners: no translational clearance joint, or ``effects.clearance`` off. The
     switches follow the scene, not the tables, so every model assembled from one scene has
     the same switches and compiles the same kernels: the ideal companion of a run (its
     clearance joints made ideal) and the initial assembly compile nothing new. An unworn
@@ -91,13 +93,16 @@ def with_effect_switches(km: KernelModel, scene: Scene) -> KernelModel:
     anyway, so the switches change what is compiled, never a result.
     """
     joints = [j for j in scene.joints.values() if isinstance(j, ClearanceRevolute)]
+    guides = any(isinstance(j, ClearancePrismatic) for j in scene.joints.values())
     if not scene.effects.clearance:
         joints = []
+        guides = False
     return km._replace(
         beams_on=True if km.beam_i.shape[0] > 0 else None,
         forces_on=True if km.fe_i.shape[0] > 0 else None,
         worn_on=True if joints else None,
         film_on=True if any(j.lubrication is not None for j in joints) else None,
+        guide_on=True if guides else None,
     )
 
 

@@ -18,7 +18,10 @@ built from each row's nonzero columns.
 
 Kernels that allocate nothing are compiled without numba's reference counting
 (:func:`mechanism.core._jit.njit_noalloc`; here and in the joint, contact, wear and
-integrator kernels they call), which halves the cost of a right-hand side.
+integrator kernels they call), which halves the cost of a right-hand side. Those the
+compiled loops call and a run never calls from Python are also compiled without the
+wrappers for calls from Python (:func:`mechanism.core._jit.njit_inner`; a call from
+Python runs a twin that has them).
 """
 
 from __future__ import annotations
@@ -28,7 +31,7 @@ import math
 import numpy as np
 from numba import njit
 
-from mechanism.core._jit import njit_noalloc
+from mechanism.core._jit import njit_inner, njit_noalloc
 from mechanism.core._status import STATUS_NONFINITE, STATUS_OK, STATUS_SINGULAR
 from mechanism.core.bodies import beams_force_add, beams_strain_energy
 from mechanism.core.contact import (
@@ -178,7 +181,7 @@ def evaluate_constraints(model, ws, t, q, v):
 # the kernels would have skipped at run time: results are unchanged.
 
 
-@njit_noalloc()
+@njit_inner()
 def beams_force_if(on, beam_i, beam_f, q, v, scale, gen):
     """:func:`~mechanism.core.bodies.beams_force_add` unless ``on`` is None."""
     if on is None:
@@ -186,7 +189,7 @@ def beams_force_if(on, beam_i, beam_f, q, v, scale, gen):
     beams_force_add(beam_i, beam_f, q, v, scale, gen)
 
 
-@njit_noalloc()
+@njit_inner()
 def beams_energy_if(on, beam_i, beam_f, q):
     """:func:`~mechanism.core.bodies.beams_strain_energy` (J), 0 when ``on`` is None."""
     if on is None:
@@ -194,7 +197,7 @@ def beams_energy_if(on, beam_i, beam_f, q):
     return beams_strain_energy(beam_i, beam_f, q)
 
 
-@njit_noalloc()
+@njit_inner()
 def forces_add_if(on, fe_i, fe_f, fe_t, t, pci, pcf, gen, fe):
     """:func:`~mechanism.core.forces.force_elements_add` unless ``on`` is None."""
     if on is None:
@@ -202,7 +205,7 @@ def forces_add_if(on, fe_i, fe_f, fe_t, t, pci, pcf, gen, fe):
     force_elements_add(fe_i, fe_f, fe_t, t, pci, pcf, gen, fe)
 
 
-@njit_noalloc()
+@njit_inner()
 def forces_energy_if(on, fe_i, fe_f, fe_t, pcf):
     """:func:`~mechanism.core.forces.force_elements_potential` (J), 0 when ``on`` is None."""
     if on is None:
@@ -210,7 +213,7 @@ def forces_energy_if(on, fe_i, fe_f, fe_t, pcf):
     return force_elements_potential(fe_i, fe_f, fe_t, pcf)
 
 
-@njit_noalloc()
+@njit_inner()
 def worn_contact_if(on, cw_i, cw_f, cw_h, cw_k, j, r_bearing, r_journal, clearance,
                     stiffness, phi_b, phi_j):  # fmt: skip
     """:func:`worn_contact`, or the unworn (c₀, K) when ``on`` is None."""
@@ -220,7 +223,7 @@ def worn_contact_if(on, cw_i, cw_f, cw_h, cw_k, j, r_bearing, r_journal, clearan
                         phi_b, phi_j)  # fmt: skip
 
 
-@njit_noalloc()
+@njit_inner()
 def worn_clearance_rate_if(on, cw_i, cw_h, j, pcf, bearing, journal, ex, ey, phi_b, phi_j):
     """:func:`worn_clearance_rate`, or 0 (an unworn joint's) when ``on`` is None."""
     if on is None:
@@ -228,7 +231,23 @@ def worn_clearance_rate_if(on, cw_i, cw_h, j, pcf, bearing, journal, ex, ey, phi
     return worn_clearance_rate(cw_i, cw_h, j, pcf, bearing, journal, ex, ey, phi_b, phi_j)
 
 
-@njit_noalloc()
+@njit_inner()
+def guide_force_if(on, gen, pci, pcf, guide, corner, ex, ey, nx, ny, f_n, f_t):
+    """:func:`~mechanism.core.joints.guide_force_add` unless ``on`` is None."""
+    if on is None:
+        return
+    guide_force_add(gen, pci, pcf, guide, corner, ex, ey, nx, ny, f_n, f_t)
+
+
+@njit_inner()
+def guide_acceleration_if(on, acc, pci, pcf, guide, corner, ex, ey, nx, ny):
+    """:func:`~mechanism.core.joints.guide_acceleration`, 0 when ``on`` is None."""
+    if on is None:
+        return 0.0
+    return guide_acceleration(acc, pci, pcf, guide, corner, ex, ey, nx, ny)
+
+
+@njit_inner()
 def worn_contact(cw_i, cw_f, cw_h, cw_k, j, r_bearing, r_journal, clearance, stiffness,
                  phi_b, phi_j):  # fmt: skip
     """Local clearance c(φ_b, φ_j) (m) and stiffness K_n of clearance joint ``j``.
@@ -255,7 +274,7 @@ def worn_contact(cw_i, cw_f, cw_h, cw_k, j, r_bearing, r_journal, clearance, sti
     return c, kn
 
 
-@njit_noalloc()
+@njit_inner()
 def worn_clearance_rate(cw_i, cw_h, j, pcf, bearing, journal, ex, ey, phi_b, phi_j):
     """dc/dt = h_b'(φ_b) φ̇_b + h_j'(φ_j) φ̇_j (m/s) of a worn joint (0 when unworn).
 
@@ -284,20 +303,24 @@ def worn_clearance_rate(cw_i, cw_h, j, pcf, bearing, journal, ex, ey, phi_b, phi
     return out
 
 
-@njit_noalloc()
-def contact_kinematics(cj_i, cj_f, pcf, j):
+@njit_inner()
+def contact_kinematics(cj_i, cj_f, pcf, j, guide_on=True):
     """``clearance_kinematics`` of row ``j`` of the clearance table: a journal in its
-    bearing, or a slider corner against its guide surface (``guide_kinematics``)."""
-    if cj_i[j, CI_KIND] == CONTACT_GUIDE:
-        return guide_kinematics(
-            pcf, cj_i[j, 0], cj_i[j, 1], cj_f[j, CF_NX], cj_f[j, CF_NY], cj_f[j, CF_RB]
-        )
+    bearing, or a slider corner against its guide surface (``guide_kinematics``).
+
+    ``guide_on`` is the model's switch of slider corners (``KernelModel.guide_on``): with
+    None the table has no corner row and the corner's kernels are not compiled."""
+    if guide_on is not None:
+        if cj_i[j, CI_KIND] == CONTACT_GUIDE:
+            return guide_kinematics(
+                pcf, cj_i[j, 0], cj_i[j, 1], cj_f[j, CF_NX], cj_f[j, CF_NY], cj_f[j, CF_RB]
+            )
     return clearance_kinematics(
         pcf, cj_i[j, 0], cj_i[j, 1], cj_f[j, CF_RB], cj_f[j, CF_RJ], cj_f[j, CF_C]
     )
 
 
-@njit_noalloc()
+@njit_inner()
 def film_force_add(cj_f, j, pci, pcf, b, jn, ex, ey, nx, ny, e_dot, gen):
     """gen += the oil-film force of lubricated clearance joint ``j``: the short-bearing
     force (``mechanism.core.contact._lubrication``) on the journal centre, its opposite on
@@ -327,7 +350,7 @@ def film_force_add(cj_f, j, pci, pcf, b, jn, ex, ey, nx, ny, e_dot, gen):
     apply_point_force(gen, -fx, -fy, 0.0, pci, pcf, b)
 
 
-@njit_noalloc()
+@njit_inner()
 def film_force_if(on, cj_f, j, pci, pcf, b, jn, ex, ey, nx, ny, e_dot, gen):
     """:func:`film_force_add` unless ``on`` is None (no lubricated joint)."""
     if on is None:
@@ -335,7 +358,7 @@ def film_force_if(on, cj_f, j, pci, pcf, b, jn, ex, ey, nx, ny, e_dot, gen):
     film_force_add(cj_f, j, pci, pcf, b, jn, ex, ey, nx, ny, e_dot, gen)
 
 
-@njit_noalloc()
+@njit_inner()
 def clearance_forces(model, pci, pcf, vimp, gen, cj, counters):
     cj_i = model.cj_i
     cj_f = model.cj_f
@@ -346,7 +369,9 @@ def clearance_forces(model, pci, pcf, vimp, gen, cj, counters):
         rb = cj_f[j, CF_RB]
         rj = cj_f[j, CF_RJ]
         c0 = cj_f[j, CF_C]
-        ex, ey, nx, ny, delta, ddot, vt, phib, phij = contact_kinematics(cj_i, cj_f, pcf, j)
+        ex, ey, nx, ny, delta, ddot, vt, phib, phij = contact_kinematics(
+            cj_i, cj_f, pcf, j, model.guide_on
+        )
         if cj_f[j, CF_VISC] > 0.0:
             film_force_if(model.film_on, cj_f, j, pci, pcf, b, jn, ex, ey, nx, ny, ddot, gen)
         kn = cj_f[j, CF_K]
@@ -370,7 +395,7 @@ def clearance_forces(model, pci, pcf, vimp, gen, cj, counters):
                     cj_i[j, 3], cj_f[j, CF_MU], cj_f[j, CF_V0], cj_f[j, CF_V1], fn, vt
                 )
             if cj_i[j, CI_KIND] == CONTACT_GUIDE:
-                guide_force_add(gen, pci, pcf, b, jn, ex, ey, nx, ny, fn, ft)
+                guide_force_if(model.guide_on, gen, pci, pcf, b, jn, ex, ey, nx, ny, fn, ft)
             else:
                 clearance_force_add(gen, pci, pcf, b, jn, rb, rj, nx, ny, fn, ft)
         cj[j, CJ_EX] = ex
@@ -385,7 +410,7 @@ def clearance_forces(model, pci, pcf, vimp, gen, cj, counters):
         cj[j, CJ_K] = kn
 
 
-@njit_noalloc()
+@njit_inner()
 def cholesky_solve(s, b, m):
     """Solve S x = b in place (S symmetric positive definite, overwritten by its factor).
 
@@ -418,7 +443,7 @@ def cholesky_solve(s, b, m):
     return True
 
 
-@njit_noalloc()
+@njit_inner()
 def _schur_arrays(phiq, minv, blk_lo, blk_hi, nzn, nzj, w, s):
     m, n = phiq.shape
     for k in range(m):
@@ -492,7 +517,7 @@ def accelerations(model, ws, t, q, v, vimp, acc, counters):
     )  # fmt: skip
 
 
-@njit_noalloc()
+@njit_inner()
 def _block_solve(minv, blk_lo, blk_hi, x, out):
     """out = M⁻¹x block by block, as a sum of the columns of the symmetric M⁻¹ (read as
     its contiguous rows) over slices: no reduction and no bounds read per element, so the
@@ -512,7 +537,7 @@ def _block_solve(minv, blk_lo, blk_hi, x, out):
         j = hi
 
 
-@njit_noalloc()
+@njit_inner()
 def solve(minv, blk_lo, blk_hi, alpha, beta, phi, phiq, phit, gam, gen, v, a0, w, s, lam,
           nzn, nzj, acc):  # fmt: skip
     n = a0.shape[0]
@@ -566,14 +591,14 @@ def rhs(model, ws, t, y, vimp, dydt, counters):
     return accelerations(model, ws, t, y[:n], y[n:], vimp, dydt[n:], counters)
 
 
-@njit_noalloc()
+@njit_inner()
 def clearance_state(model, ws, y, j):
     """(δ, δ̇, K) of clearance joint ``j`` at state ``y`` (point cache must be current);
     δ and K from the local clearance and stiffness on a worn profile."""
     rb = model.cj_f[j, CF_RB]
     rj = model.cj_f[j, CF_RJ]
     c0 = model.cj_f[j, CF_C]
-    res = contact_kinematics(model.cj_i, model.cj_f, ws.pcf, j)
+    res = contact_kinematics(model.cj_i, model.cj_f, ws.pcf, j, model.guide_on)
     c, kn = worn_contact_if(
         model.worn_on, model.cw_i, model.cw_f, model.cw_h, model.cw_k, j, rb, rj, c0,
         model.cj_f[j, CF_K], res[7], res[8],
@@ -622,7 +647,7 @@ def update_latch(model, ws, y, vimp, contact, counters, carry_worn=False):
             vimp[j] = ddot if ddot > floor else floor
 
 
-@njit_noalloc()
+@njit_inner()
 def entry_depth_ratio(model, ws, y, contact):
     """Largest δ/c at state ``y`` over the clearance joints that were separated
     (``contact`` = 0) at the last accepted state, or −inf; the implicit integrator rejects
@@ -645,7 +670,7 @@ def entry_depth_ratio(model, ws, y, contact):
     return worst
 
 
-@njit_noalloc()
+@njit_inner()
 def approach_step(model, ws, y, acc, fraction):
     """Longest step (s) in which no separated clearance joint's journal can travel more
     than ``fraction`` of its gap to the bearing wall, at state ``y`` with accelerations
@@ -706,16 +731,21 @@ def _corner_approach(model, ws, acc, j, delta, fraction):
     gap = -fraction * delta
     if not gap > 0.0:
         return 0.0
-    ex, ey, nx, ny, _, ddot, _, _, _ = contact_kinematics(model.cj_i, model.cj_f, ws.pcf, j)
+    ex, ey, nx, ny, _, ddot, _, _, _ = contact_kinematics(
+        model.cj_i, model.cj_f, ws.pcf, j, model.guide_on
+    )
     speed = abs(ddot)
     accel = abs(
-        guide_acceleration(acc, ws.pci, ws.pcf, model.cj_i[j, 0], model.cj_i[j, 1], ex, ey, nx, ny)
-    )
+        guide_acceleration_if(
+            model.guide_on, acc, ws.pci, ws.pcf, model.cj_i[j, 0], model.cj_i[j, 1], ex, ey,
+            nx, ny,
+        )
+    )  # fmt: skip
     denom = speed + math.sqrt(speed * speed + 2.0 * accel * gap)
     return 2.0 * gap / denom if denom > 0.0 else np.inf
 
 
-@njit_noalloc()
+@njit_inner()
 def journal_travel_ratio(model, ws, y0, y1):
     """Largest |e(y1) − e(y0)|/c₀ over the clearance joints: how far, in nominal radial
     clearances, a journal centre moved relative to its bearing between two states (0
@@ -730,9 +760,9 @@ def journal_travel_ratio(model, ws, y0, y1):
         update_point_rows(y0[:n], y0[n:], model.pt_i, model.pt_f, ws.pci, pcf, rows)
         if model.cj_i[j, CI_KIND] == CONTACT_GUIDE:
             # a corner's travel towards or away from its surface: sliding along it is free
-            d0 = contact_kinematics(model.cj_i, model.cj_f, pcf, j)[4]
+            d0 = contact_kinematics(model.cj_i, model.cj_f, pcf, j, model.guide_on)[4]
             update_point_rows(y1[:n], y1[n:], model.pt_i, model.pt_f, ws.pci, pcf, rows)
-            d1 = contact_kinematics(model.cj_i, model.cj_f, pcf, j)[4]
+            d1 = contact_kinematics(model.cj_i, model.cj_f, pcf, j, model.guide_on)[4]
             r = abs(d1 - d0) / model.cj_f[j, CF_C]
             if r > worst:
                 worst = r
@@ -795,7 +825,7 @@ def project(model, ws, t, y, tol, max_iter):
     return True
 
 
-@njit_noalloc()
+@njit_inner()
 def mechanical_energy(model, ws, y):
     """Kinetic + gravity + contact potential + beam strain energy + the potential of the
     force elements (J) of state ``y``.
@@ -858,7 +888,7 @@ def violation_series(model, ws, t, q, v, out):
         out[i] = worst
 
 
-@njit_noalloc()
+@njit_inner()
 def crank_angle(model, pcf):
     """Crank angle (rad, unwrapped) from the point cache; 0 without a crank joint."""
     pa = model.out_i[0]
@@ -866,7 +896,7 @@ def crank_angle(model, pcf):
     return pcf[pb, PC_ANG] - pcf[pa, PC_ANG] if pa >= 0 else 0.0
 
 
-@njit_noalloc()
+@njit_inner()
 def _slider_kinematics(model, pcf):
     """Slider position s and velocity ṡ along its guide from the point cache, with the
     guide direction (gx, gy), its rate ω and the relative position and velocity (d, ḋ)."""
@@ -916,7 +946,7 @@ def light_outputs(model, ws, y, out):
             out[LIGHT_COLUMNS + 2 * j + 1] = pcf[cj_i[j, 1], PC_Y] - pcf[cj_i[j, 0], PC_Y]
 
 
-@njit_noalloc()
+@njit_inner()
 def derived_outputs(model, ws, q, v, a, out, jf):
     """Output quantities of the state whose right-hand side was just evaluated.
 

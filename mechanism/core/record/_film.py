@@ -57,7 +57,10 @@ def _film_history(q, v, pt_i, pt_f, pci, pcf, cj_i, cj_f, rows, out):
             j = rows[r]
             b = cj_i[j, 0]
             jn = cj_i[j, 1]
-            ex, ey, nx, ny, _, e_dot, _, _, _ = model_kernels.contact_kinematics(cj_i, cj_f, pcf, j)
+            # journal rows only (``lubricated_rows``): no slider corner's kernels
+            ex, ey, nx, ny, _, e_dot, _, _, _ = model_kernels.contact_kinematics(
+                cj_i, cj_f, pcf, j, None
+            )
             c = cj_f[j, model_kernels.CF_C]
             ne = math.sqrt(ex * ex + ey * ey)
             eps = ne / c
