@@ -52,8 +52,6 @@ DEFAULT_PERTURBATION = 1e-7
 DEFAULT_DEVIATION_RTOL = 1e-4
 #: how the deviation's rate is differenced (``LyapunovSettings.difference``)
 DIFFERENCES = ("directional", "split")
-#: how the deviation is carried over a step (``LyapunovSettings.deviation_scheme``)
-DEVIATION_SCHEMES = ("dopri5", "rosenbrock")
 
 
 def _optional_positive(value: Any, name: str) -> float | None:
@@ -110,15 +108,6 @@ class LyapunovSettings:
         than 10 ε; ``"split"``, one along each part, each scaled to ε (twice the
         evaluations; on the reference's own steps the per-revolution exponents of the two
         agree within 2.5 % on the paper scene, docs/mechanism-lyapunov.md §1).
-    deviation_scheme : {"dopri5", "rosenbrock"}
-        How the deviation is carried over a step (rigid scenes): ``"dopri5"``, on the
-        reference's Dormand–Prince stages, its own error (``deviation_rtol``) in the step
-        control; ``"rosenbrock"``, after each of the reference's steps by an L-stable
-        linearly implicit update with the Jacobian on the constraints' tangent space
-        (``deviation_rtol`` then bounds its first-order error estimate; 0 leaves the
-        steps to the reference). Not the default: on the reference's own steps it damps
-        the deviation's nearly undamped contact oscillation and misses λ₁
-        (docs/mechanism-lyapunov.md §1, *The implicit update*).
 
     Examples
     --------
@@ -136,7 +125,6 @@ class LyapunovSettings:
     atol: float | None = None
     max_step: float | None = None
     difference: str = "directional"
-    deviation_scheme: str = "dopri5"
 
     def __post_init__(self) -> None:
         perturbation = check_positive(self.perturbation, name="perturbation")
@@ -148,11 +136,6 @@ class LyapunovSettings:
         if self.difference not in DIFFERENCES:
             raise ValueError(
                 f"difference must be one of {', '.join(DIFFERENCES)}; got {self.difference!r}."
-            )
-        if self.deviation_scheme not in DEVIATION_SCHEMES:
-            raise ValueError(
-                f"deviation_scheme must be one of {', '.join(DEVIATION_SCHEMES)}; "
-                f"got {self.deviation_scheme!r}."
             )
         checked = {
             "perturbation": perturbation,
@@ -421,7 +404,6 @@ def lyapunov_exponent(
         "deviation_rtol": float(settings.deviation_rtol),
         "seed": int(settings.seed),
         "difference": settings.difference if not model.beams else "copy",
-        "deviation_scheme": settings.deviation_scheme if not model.beams else "genalpha",
         "model": "flexible" if model.beams else "rigid",
     }
     return _estimate(scene, run, period, t_discard, settings.batches, recorded)
@@ -502,7 +484,7 @@ def _tangent_settings(
     return TangentSettings(
         steps=steps, time_scale=tau, renormalize_every=settings.renormalize_every,
         deviation_rtol=settings.deviation_rtol, neutral_latch_after=segment,
-        difference=settings.difference, deviation_scheme=settings.deviation_scheme,
+        difference=settings.difference,
     )  # fmt: skip
 
 

@@ -69,7 +69,6 @@ def test_settings_need_step_settings_and_are_frozen() -> None:
         ({"deviation_rtol": 1e-4}, "settings.deviation_rtol must be 0 on generalized-alpha"),
         ({"neutral_latch_after": 0.4}, "settings.neutral_latch_after must be None on"),
         ({"difference": "directional"}, "settings.difference must be 'split' on"),
-        ({"deviation_scheme": "rosenbrock"}, "settings.deviation_scheme must be 'dopri5' on"),
     ],
 )
 def test_flexible_tangent_refuses_the_dormand_prince_options(changes: dict, message: str) -> None:

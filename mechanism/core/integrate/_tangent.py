@@ -56,8 +56,6 @@ __all__ = [
 
 #: how :class:`TangentSettings` differences the deviation's rate
 DIFFERENCES = ("split", "directional")
-#: how :class:`TangentSettings` carries the deviation over a step
-DEVIATION_SCHEMES = ("dopri5", "rosenbrock")
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -82,8 +80,7 @@ class TangentSettings:
         ``log_growth`` is the deviation carried without renormalisation.
     deviation_rtol : float
         In [0, 1]. > 0: a step is also rejected when the deviation's error estimate
-        (of its ``deviation_scheme``) exceeds this fraction of its size (mass-weighted
-        norm); 0: the reference's error
+        exceeds this fraction of its size (mass-weighted norm); 0: the reference's error
         alone decides, and the steps are those of ``simulate`` at the same settings (and
         the same for every deviation of one reference). Dormand–Prince only.
     neutral_latch_after : float, optional
@@ -113,17 +110,6 @@ class TangentSettings:
         right-hand side per stage; the rate at the start of a step is the last stage's of
         the step before unless a renormalisation or a projection moved the deviation).
         Dormand–Prince only.
-    deviation_scheme : {"dopri5", "rosenbrock"}
-        How the deviation is carried over a step: ``"dopri5"``, on the reference's
-        Dormand–Prince stages (explicit: along the stiff contact-friction directions it
-        is stable only at steps ``deviation_rtol`` keeps small); ``"rosenbrock"``, after
-        each of the reference's own steps by a linearly implicit, L-stable second-order
-        Rosenbrock W-method with the Jacobian on the constraint manifold's tangent space
-        (one directional difference per basis direction and step, two along the
-        deviation): with ``deviation_rtol`` = 0 the reference's error alone sets the
-        steps; > 0 compares the update with its embedded first-order solution (a
-        first-order measure: on the rigid paper scene 1e-2 takes 1.7 times the steps of
-        the Dormand–Prince update at 1e-4). Dormand–Prince only.
 
     Examples
     --------
@@ -145,7 +131,6 @@ class TangentSettings:
     max_steps: int = 200_000_000
     chunk_steps: int = CHUNK_STEPS["tangent"]
     difference: str = "split"
-    deviation_scheme: str = "dopri5"
 
     def __post_init__(self) -> None:
         if not isinstance(self.steps, StepSettings):
@@ -161,11 +146,6 @@ class TangentSettings:
         if self.difference not in DIFFERENCES:
             raise ValueError(
                 f"difference must be one of {', '.join(DIFFERENCES)}; got {self.difference!r}."
-            )
-        if self.deviation_scheme not in DEVIATION_SCHEMES:
-            raise ValueError(
-                f"deviation_scheme must be one of {', '.join(DEVIATION_SCHEMES)}; "
-                f"got {self.deviation_scheme!r}."
             )
         checked = {
             "time_scale": check_positive(self.time_scale, name="time_scale"),
@@ -462,10 +442,6 @@ def integrate_tangent(
     d = _deviation_rows(d0, y.size)
     tau2 = float(time_scale) ** 2
     inv_mass = inverse_total_mass(model)
-    # the implicit update's basis of the tangent space (rows; zeros: built by the loop)
-    free = model.n_dof - model.n_rows
-    rows = 2 * free if settings.deviation_scheme == "rosenbrock" and free > 0 else 0
-    basis = np.zeros((rows, y.size))
     size = np.array([tangent_kernels.deviation_size(km, row, tau2, inv_mass) for row in d])
     k1 = np.zeros_like(y)
     kd1 = np.zeros_like(d)
@@ -516,7 +492,7 @@ def integrate_tangent(
             growth, stop, t_end, rtol, atol, max_step, steps_in.projection,
             settings.max_steps, settings.renormalize_every, size, tau2, inv_mass,
             float(steps_in.approach_floor), APPROACH_FRACTION, settings.deviation_rtol,
-            chunk_steps, schedule, directional, basis, taken.buffer, taken.count,
+            chunk_steps, schedule, directional, taken.buffer, taken.count,
         ))  # fmt: skip
         taken.drain(steps)
         return st
@@ -529,7 +505,7 @@ def integrate_tangent(
             counters_p, growth, stop, t_end, rtol, atol, max_step, steps_in.projection,
             settings.max_steps, settings.renormalize_every, size, tau2, inv_mass,
             float(steps_in.approach_floor), APPROACH_FRACTION, settings.deviation_rtol,
-            chunk_steps, schedule, directional, basis,
+            chunk_steps, schedule, directional,
         ))  # fmt: skip
         if hold.drop(float(state[0]), contact, counters, dvimp) and st == STATUS_RUNNING:
             st = rate()  # the deviation's rate without the dropped latch
@@ -548,7 +524,7 @@ def integrate_tangent(
             growth, stops[1:], t_end, rtol, atol, max_step, steps_in.projection,
             settings.max_steps, settings.renormalize_every, size, tau2, inv_mass,
             float(steps_in.approach_floor), APPROACH_FRACTION, settings.deviation_rtol,
-            chunk_steps, schedule, directional, basis, rows.cursor, rows.t, rows.log, rows.y,
+            chunk_steps, schedule, directional, rows.cursor, rows.t, rows.log, rows.y,
             rows.contact, rows.events, rows.latch,
         ))  # fmt: skip
 

@@ -60,11 +60,6 @@ def _check_flexible_settings(
             "settings.difference must be 'split' on generalized-alpha steps (the copy takes "
             f"its own implicit step); got {settings.difference!r}."
         )
-    if settings.deviation_scheme != "dopri5":
-        raise ValueError(
-            "settings.deviation_scheme must be 'dopri5' on generalized-alpha steps (the copy "
-            f"takes its own implicit step); got {settings.deviation_scheme!r}."
-        )
     if settings.neutral_latch_after is not None:
         raise ValueError(
             "settings.neutral_latch_after must be None on generalized-alpha steps; got "

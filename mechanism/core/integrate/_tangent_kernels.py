@@ -165,14 +165,6 @@ _G_STEP = 1e-7
 #: the smaller one still moves the coordinates far above their round-off
 DIRECTIONAL_REACH = 10.0
 
-#: γ of the implicit deviation update (two-stage Rosenbrock W-method ROS2, Verwer et al.
-#: 1999): 1 + 1/√2, L-stable (stiff directions damped, not carried at amplification ≈ 1)
-#: and second order whatever the matrix W
-ROS2_GAMMA = 1.0 + 1.0 / math.sqrt(2.0)
-# a tangent basis carried to the next step is rebuilt from scratch when one of its rows
-# keeps less than this fraction of its size after the projection and orthogonalisation
-_BASIS_KEEP = 1e-3
-
 # ``growth`` (float64[GROWTH_COLUMNS]) accumulated by :func:`tangent_advance`
 GROWTH_LOG = 0  # Σ ln(|d| / size) over the renormalisations
 GROWTH_COUNT = 1  # renormalisations done
@@ -554,7 +546,6 @@ def tangent_advance(
     chunk_steps,
     schedule,
     directional,
-    basis,
 ):
     """Advance the reference and a block of deviations to ``t_stop`` (≤ ``t_end``),
     landing on it, and renormalise there.
@@ -580,28 +571,9 @@ def tangent_advance(
     goes from ``t`` to the next schedule time and is accepted whatever its error
     estimate, so the end state is a smooth function of the start, with no adaptive
     choice to jump.
-
-    A ``basis`` with rows (an orthonormal basis of the constraint manifold's tangent
-    space, updated in place; zeros: built here) switches the deviations to the implicit
-    update: every attempted step carries every deviation by :func:`_rosenbrock_update`
-    with the Jacobian on that basis (:func:`_tangent_jacobian`), and with
-    ``deviation_rtol`` > 0 the update's difference from its embedded first-order
-    solution (relative to the deviation's size) joins the error passed to the
-    controller; with 0 the reference takes its own steps. Zero rows: the deviations ride
-    on the Dormand–Prince stages.
     """
     n2 = y.shape[0]
     nc = d.shape[0]
-    implicit = basis.shape[0] > 0
-    # deviations carried on the Dormand–Prince stages (none with the implicit update)
-    ns = 0 if implicit else nc
-    u = np.empty_like(basis)
-    cand = np.empty((n2 if implicit else 0, n2))
-    cm = np.empty((basis.shape[0], basis.shape[0]))
-    zv = np.empty(basis.shape[0])
-    ka = np.empty(n2)
-    kb = np.empty(n2)
-    zl = np.zeros_like(vimp)
     k2 = np.empty(n2)
     k3 = np.empty(n2)
     k4 = np.empty(n2)
@@ -635,13 +607,6 @@ def tangent_advance(
     since = int(state[4])
     attempted = counters[CNT_STEPS] + counters[CNT_REJECTED]
     status = STATUS_RUNNING
-    if implicit and t < t_stop and t < t_end:
-        status = _tangent_jacobian(
-            model, ws, ws2, t, y, k1, vimp, zl, vimp_p, yp, fp, ref, True, basis, cand, u,
-            scratch, size[0], tau, tau2, inv_mass, counters_p, directional,
-        )  # fmt: skip
-        if status != STATUS_RUNNING:
-            return status
     while True:
         stop, status = chunk_end(t, t_end, t_stop, counters, max_steps, chunk_steps, attempted)
         if stop:
@@ -666,7 +631,7 @@ def tangent_advance(
         for i in range(n2):
             ytmp[i] = y[i] + h * A21 * k1[i]
         st |= rhs(model, ws, t + C2 * h, ytmp, vimp, k2, counters)
-        for c in range(ns):
+        for c in range(nc):
             for i in range(n2):
                 dtmp[i] = d[c, i] + h * A21 * kd1[c, i]
             st |= _deviation_rate(
@@ -676,7 +641,7 @@ def tangent_advance(
         for i in range(n2):
             ytmp[i] = y[i] + h * (A31 * k1[i] + A32 * k2[i])
         st |= rhs(model, ws, t + C3 * h, ytmp, vimp, k3, counters)
-        for c in range(ns):
+        for c in range(nc):
             for i in range(n2):
                 dtmp[i] = d[c, i] + h * (A31 * kd1[c, i] + A32 * kd2[c, i])
             st |= _deviation_rate(
@@ -686,7 +651,7 @@ def tangent_advance(
         for i in range(n2):
             ytmp[i] = y[i] + h * (A41 * k1[i] + A42 * k2[i] + A43 * k3[i])
         st |= rhs(model, ws, t + C4 * h, ytmp, vimp, k4, counters)
-        for c in range(ns):
+        for c in range(nc):
             for i in range(n2):
                 dtmp[i] = d[c, i] + h * (A41 * kd1[c, i] + A42 * kd2[c, i] + A43 * kd3[c, i])
             st |= _deviation_rate(
@@ -696,7 +661,7 @@ def tangent_advance(
         for i in range(n2):
             ytmp[i] = y[i] + h * (A51 * k1[i] + A52 * k2[i] + A53 * k3[i] + A54 * k4[i])
         st |= rhs(model, ws, t + C5 * h, ytmp, vimp, k5, counters)
-        for c in range(ns):
+        for c in range(nc):
             for i in range(n2):
                 dtmp[i] = d[c, i] + h * (
                     A51 * kd1[c, i] + A52 * kd2[c, i] + A53 * kd3[c, i] + A54 * kd4[c, i]
@@ -710,7 +675,7 @@ def tangent_advance(
                 A61 * k1[i] + A62 * k2[i] + A63 * k3[i] + A64 * k4[i] + A65 * k5[i]
             )
         st |= rhs(model, ws, t + h, ytmp, vimp, k6, counters)
-        for c in range(ns):
+        for c in range(nc):
             for i in range(n2):
                 dtmp[i] = d[c, i] + h * (
                     A61 * kd1[c, i] + A62 * kd2[c, i] + A63 * kd3[c, i] + A64 * kd4[c, i]
@@ -725,7 +690,7 @@ def tangent_advance(
                 A71 * k1[i] + A73 * k3[i] + A74 * k4[i] + A75 * k5[i] + A76 * k6[i]
             )
         st |= rhs(model, ws, t + h, ynew, vimp, k7, counters)
-        for c in range(ns):
+        for c in range(nc):
             for i in range(n2):
                 dnew[c, i] = d[c, i] + h * (
                     A71 * kd1[c, i] + A73 * kd3[c, i] + A74 * kd4[c, i] + A75 * kd5[c, i]
@@ -743,28 +708,7 @@ def tangent_advance(
                 E1 * k1[i] + E3 * k3[i] + E4 * k4[i] + E5 * k5[i] + E6 * k6[i] + E7 * k7[i]
             )
         e = wrms(err, y, ynew, rtol, atol)
-        if implicit:
-            # ws still holds the evaluation at ynew: the first column reads its branches
-            for c in range(nc):
-                st |= _rosenbrock_update(
-                    model, ws, t + h, h, ynew, k7, d[c], kd1[c], dvimp[c], vimp, vimp_p,
-                    yp, fp, ref, c == 0, basis, u, cm, zv, ka, kb, size[c], tau, tau2,
-                    inv_mass, counters_p, directional, dnew[c],
-                )  # fmt: skip
-                if deviation_rtol > 0.0:
-                    # the embedded first-order solution d + h·ka against the second-order one
-                    for i in range(n2):
-                        err[i] = dnew[c, i] - d[c, i] - h * ka[i]
-                    scale = max(deviation_size(model, d[c], tau2, inv_mass),
-                                deviation_size(model, dnew[c], tau2, inv_mass))  # fmt: skip
-                    e = max(
-                        e,
-                        deviation_size(model, err, tau2, inv_mass) / (deviation_rtol * scale),
-                    )
-            if st != STATUS_OK:
-                status = STATUS_SINGULAR
-                break
-        elif deviation_rtol > 0.0:
+        if deviation_rtol > 0.0:
             # every deviation's own error estimate, relative to its size
             for c in range(nc):
                 for i in range(n2):
@@ -815,13 +759,8 @@ def tangent_advance(
             status = _after_step(
                 model, ws, ws2, t, y, d, k1, kd1, kd7, vimp, dvimp, vimp_p, yp, fp, ref,
                 scratch, size, tau, tau2, inv_mass, growth, counters_p, projection,
-                directional, implicit, since >= every or t >= t_stop or t >= t_end,
+                directional, since >= every or t >= t_stop or t >= t_end,
             )  # fmt: skip
-            if status == STATUS_RUNNING and implicit:
-                status = _tangent_jacobian(
-                    model, ws, ws2, t, y, k1, vimp, zl, vimp_p, yp, fp, ref, False, basis,
-                    cand, u, scratch, size[0], tau, tau2, inv_mass, counters_p, directional,
-                )  # fmt: skip
             if status != STATUS_RUNNING:
                 break
             if since >= every or t >= t_stop or t >= t_end:
@@ -847,7 +786,7 @@ def tangent_stops(
     model, ws, ws2, y, d, k1, kd1, state, vimp, dvimp, contact, counters, counters_p, growth,
     stops, t_end, rtol, atol, max_step, projection, max_steps, every, size, tau2, inv_mass,
     approach_floor, approach_fraction, deviation_rtol, chunk_steps, schedule, directional,
-    basis, cursor, out_t, out_log, out_y, out_contact, out_events, out_latch,
+    cursor, out_t, out_log, out_y, out_contact, out_events, out_latch,
 ):  # fmt: skip
     """:func:`tangent_advance` over the stops ``stops[cursor[0]:]`` in one call, writing
     at every stop reached row ``cursor[1]`` of the outputs (time, the log growth of each
@@ -867,7 +806,7 @@ def tangent_stops(
             model, ws, ws2, y, d, k1, kd1, state, vimp, dvimp, contact, counters,
             counters_p, growth, t_stop, t_end, rtol, atol, max_step, projection, max_steps,
             every, size, tau2, inv_mass, approach_floor, approach_fraction, deviation_rtol,
-            left, schedule, directional, basis,
+            left, schedule, directional,
         )  # fmt: skip
         if status != STATUS_RUNNING and status != STATUS_OK:
             return status
@@ -895,7 +834,7 @@ def tangent_steps(
     model, ws, ws2, y, d, k1, kd1, state, vimp, dvimp, contact, counters, counters_p, growth,
     t_stop, t_end, rtol, atol, max_step, projection, max_steps, every, size, tau2, inv_mass,
     approach_floor, approach_fraction, deviation_rtol, chunk_steps, schedule, directional,
-    basis, times, count,
+    times, count,
 ):  # fmt: skip
     """:func:`tangent_advance` towards ``t_stop`` one attempted step per call, writing the
     time of every accepted step to ``times[count[0]]`` and counting it: the numbers of
@@ -912,7 +851,7 @@ def tangent_steps(
             model, ws, ws2, y, d, k1, kd1, state, vimp, dvimp, contact, counters,
             counters_p, growth, t_stop, t_end, rtol, atol, max_step, projection, max_steps,
             every, size, tau2, inv_mass, approach_floor, approach_fraction, deviation_rtol,
-            1, schedule, directional, basis,
+            1, schedule, directional,
         )  # fmt: skip
         if state[0] > t:
             times[count[0]] = state[0]
@@ -938,14 +877,14 @@ def clearance_rows(model, ws, times, states, latch, columns, out):
 @njit_noalloc()
 def _after_step(model, ws, ws2, t, y, d, k1, kd1, kd7, vimp, dvimp, vimp_p, yp, fp, ref,
                 scratch, size, tau, tau2, inv_mass, growth, counters_p, projection,
-                directional, implicit, due):  # fmt: skip
+                directional, due):  # fmt: skip
     """After an accepted step: renormalise every deviation when ``due``, then the rate at
     the new point of each (anew, or first same as last). Returns ``STATUS_RUNNING``, or
     the failure status."""
     n2 = y.shape[0]
     # the split difference recomputes the rate after every step (as it always has: the
     # periodic orbits' monodromy matrices are those numbers)
-    changed = projection or not directional or implicit
+    changed = projection or not directional
     if due:
         for c in range(d.shape[0]):
             if not renormalize(model, ws, ws2, t, y, d[c], dvimp[c], scratch, size[c], tau2,
@@ -969,183 +908,6 @@ def _after_step(model, ws, ws2, t, y, d, k1, kd1, kd7, vimp, dvimp, vimp_p, yp, 
             for i in range(n2):
                 kd1[c, i] = kd7[c, i]
     return STATUS_RUNNING
-
-
-@njit_noalloc()
-def _weighted_dot(a, b, tau2):
-    """⟨a, b⟩ = aqᵀbq + τ² avᵀbv, the inner product the tangent basis is orthonormal in."""
-    n = a.shape[0] // 2
-    sq = 0.0
-    sv = 0.0
-    for i in range(n):
-        sq += a[i] * b[i]
-        sv += a[n + i] * b[n + i]
-    return sq + tau2 * sv
-
-
-@njit_noalloc()
-def _orthonormalize(basis, tau2):
-    """Modified Gram–Schmidt of the rows of ``basis`` in :func:`_weighted_dot`; returns
-    the smallest ratio of a row's norm after and before its orthogonalisation (0 for a
-    row that vanished)."""
-    worst = 1.0
-    for i in range(basis.shape[0]):
-        before = math.sqrt(max(_weighted_dot(basis[i], basis[i], tau2), 0.0))
-        for j in range(i):
-            p = _weighted_dot(basis[i], basis[j], tau2)
-            for k in range(basis.shape[1]):
-                basis[i, k] -= p * basis[j, k]
-        r = math.sqrt(max(_weighted_dot(basis[i], basis[i], tau2), 0.0))
-        if not (before > 0.0 and r > 0.0):
-            return 0.0
-        worst = min(worst, r / before)
-        for k in range(basis.shape[1]):
-            basis[i, k] /= r
-    return worst
-
-
-@njit_noalloc()
-def _rebuild_basis(model, ws, ws2, t, y, basis, cand, scratch, tau2):
-    """Fill the rows of ``basis`` with an orthonormal basis of the constraint manifold's
-    tangent space at y: the projected unit vectors, picked greedily by their remaining
-    size (Gram–Schmidt with pivoting). False on a singular constraint matrix or when
-    fewer independent directions exist than rows."""
-    n2 = y.shape[0]
-    n = n2 // 2
-    for i in range(n2):
-        for j in range(n2):
-            cand[i, j] = 0.0
-        cand[i, i] = 1.0 if i < n else 1.0 / math.sqrt(tau2)
-        if not project_tangent(model, ws, ws2, t, y, cand[i], scratch):
-            return False
-    for r in range(basis.shape[0]):
-        best = -1
-        big = 1e-20
-        for i in range(n2):
-            s = _weighted_dot(cand[i], cand[i], tau2)
-            if s > big:
-                big = s
-                best = i
-        if best < 0:
-            return False
-        norm = math.sqrt(big)
-        for k in range(n2):
-            basis[r, k] = cand[best, k] / norm
-        for i in range(n2):
-            p = _weighted_dot(cand[i], basis[r], tau2)
-            for k in range(n2):
-                cand[i, k] -= p * basis[r, k]
-    return True
-
-
-@njit_noalloc()
-def _tangent_jacobian(model, ws, ws2, t, y, k1, vimp, zl, vimp_p, yp, fp, ref, fresh, basis,
-                      cand, u, scratch, size, tau, tau2, inv_mass, counters_p,
-                      directional):  # fmt: skip
-    """u[i] = (∂f/∂y)(t, y)·basis[i], the Jacobian on the tangent space (the implicit
-    deviation update's W, :func:`_w_solve`).
-
-    With ``fresh`` (the start of a call) the reference's branches are read from a new
-    evaluation at y and the basis is kept (built when still zero); otherwise (after an
-    accepted step, ``ref`` holding the branches at y) the basis of the step before is
-    projected onto the new tangent space and re-orthonormalised, rebuilt when a row
-    nearly vanished. Returns a status."""
-    zero = not _weighted_dot(basis[0], basis[0], tau2) > 0.0
-    ok = not zero
-    if ok and not fresh:
-        for i in range(basis.shape[0]):
-            if not project_tangent(model, ws, ws2, t, y, basis[i], scratch):
-                return STATUS_SINGULAR
-        ok = _orthonormalize(basis, tau2) > _BASIS_KEEP
-    if not ok and not _rebuild_basis(model, ws, ws2, t, y, basis, cand, scratch, tau2):
-        return STATUS_SINGULAR
-    if fresh:
-        st = rhs(model, ws, t, y, vimp, fp, counters_p)
-        if st != STATUS_OK:
-            return STATUS_SINGULAR
-    st = STATUS_OK
-    for i in range(basis.shape[0]):
-        st |= _deviation_rate(
-            model, ws, t, y, basis[i], k1, vimp, zl, vimp_p, yp, fp, u[i], ref,
-            fresh and i == 0, size, tau, inv_mass, counters_p, directional,
-        )  # fmt: skip
-    return STATUS_RUNNING if st == STATUS_OK else STATUS_SINGULAR
-
-
-@njit_noalloc()
-def _w_solve(basis, u, gh, tau2, r, x, cm, z):
-    """x = (I − gh·W)⁻¹ r for W = Σᵢ u[i]⟨basis[i], ·⟩ (in place when x is r): by the
-    Woodbury identity a (rows × rows) solve, (I − gh·C) z = ⟨basis, r⟩ with
-    C[i, j] = ⟨basis[i], u[j]⟩, then x = r + gh Σ u[j] z[j]. False when singular."""
-    rows = basis.shape[0]
-    for i in range(rows):
-        z[i] = _weighted_dot(basis[i], r, tau2)
-        for j in range(rows):
-            cm[i, j] = (1.0 if i == j else 0.0) - gh * _weighted_dot(basis[i], u[j], tau2)
-    # Gaussian elimination with partial pivoting
-    for k in range(rows):
-        p = k
-        for i in range(k + 1, rows):
-            if abs(cm[i, k]) > abs(cm[p, k]):
-                p = i
-        if not abs(cm[p, k]) > 0.0:
-            return False
-        if p != k:
-            for j in range(rows):
-                tmp = cm[k, j]
-                cm[k, j] = cm[p, j]
-                cm[p, j] = tmp
-            tmp = z[k]
-            z[k] = z[p]
-            z[p] = tmp
-        for i in range(k + 1, rows):
-            f = cm[i, k] / cm[k, k]
-            for j in range(k, rows):
-                cm[i, j] -= f * cm[k, j]
-            z[i] -= f * z[k]
-    for k in range(rows - 1, -1, -1):
-        s = z[k]
-        for j in range(k + 1, rows):
-            s -= cm[k, j] * z[j]
-        z[k] = s / cm[k, k]
-    for k in range(r.shape[0]):
-        s = r[k]
-        for j in range(rows):
-            s += gh * u[j, k] * z[j]
-        x[k] = s
-    return True
-
-
-@njit_noalloc()
-def _rosenbrock_update(model, ws, t_new, h, y_new, f_new, d, kd1, dvimp, vimp, vimp_p, yp, fp,
-                       ref, fresh, basis, u, cm, z, ka, kb, size, tau, tau2, inv_mass,
-                       counters_p, directional, dnew):  # fmt: skip
-    """dnew = the deviation ``d`` carried over the reference's accepted step h (to
-    ``y_new``, ``f_new`` = f(t_new, y_new)) by the two-stage Rosenbrock W-method ROS2:
-
-        (I − γhW) ka = J(t)d,  (I − γhW) kb = J(t_new)(d + h ka) − 2 ka,
-        dnew = d + h (3/2 ka + 1/2 kb),
-
-    ``kd1`` = J(t)d the rate at the start, J(t_new)(d + h ka) one directional difference
-    (:func:`_deviation_rate`, on the reference's branch, with the latch deviation), W the
-    Jacobian on the tangent space at the start (:func:`_tangent_jacobian`). Returns a
-    status."""
-    gh = ROS2_GAMMA * h
-    if not _w_solve(basis, u, gh, tau2, kd1, ka, cm, z):
-        return STATUS_SINGULAR
-    for i in range(d.shape[0]):
-        dnew[i] = d[i] + h * ka[i]
-    st = _deviation_rate(
-        model, ws, t_new, y_new, dnew, f_new, vimp, dvimp, vimp_p, yp, fp, kb, ref, fresh,
-        size, tau, inv_mass, counters_p, directional,
-    )  # fmt: skip
-    for i in range(d.shape[0]):
-        kb[i] -= 2.0 * ka[i]
-    if not _w_solve(basis, u, gh, tau2, kb, kb, cm, z):
-        return STATUS_SINGULAR
-    for i in range(d.shape[0]):
-        dnew[i] = d[i] + h * (1.5 * ka[i] + 0.5 * kb[i])
-    return st
 
 
 class Deviation(NamedTuple):
