@@ -9,10 +9,15 @@ workers: ≤ 10 min on two idle cores. The run writes the map
 and the report (``docs/benchmarks/wear-life-speed.md``), and adds a row to
 ``docs/benchmarks/wear-life-cost.csv``: wall time, the CPU time of the paths (summed over
 the paths' tasks; whichever run of a resumed store computed them) and the load average at
-the start, sampled every 10 s during the run (mean and largest) and at the end. Run with
+the start, sampled every 10 s during the run (mean and largest) and at the end.
+``docs/benchmarks/wear-life-paths.csv`` is rewritten with one row per path: how far it
+went, its CPU and wall time and where its CPU went (the simulations, averaging their wear,
+the exponent, the verdict: the path's ``phase_cpu_*`` attributes). Run with
 
     NUMBA_NUM_THREADS=1 python benchmarks/wear_life.py [--store FOLDER] [--workers 2]
-    python benchmarks/wear_life.py --replot       # figures and report from the stored map
+    python benchmarks/wear_life.py --replot       # map, tables, figures, report from the store
+
+(``--replot`` runs here, serially, any path the store does not hold yet.)
 """
 
 from __future__ import annotations
@@ -28,6 +33,7 @@ import time
 from pathlib import Path
 
 import matplotlib
+import xarray as xr
 
 import mechanism
 from chaoskit.contract import atomic_write
@@ -35,8 +41,10 @@ from chaoskit.contract import atomic_write
 OUT = Path(__file__).resolve().parents[1] / "docs" / "benchmarks"
 MAP = OUT / "wear-life-speed.nc"
 COST = OUT / "wear-life-cost.csv"
-# slowest first: a slower path costs more (longer revolutions, docs/wear.md §7) and the
-# paths start in this order, so the longest starts first and the two workers end close
+PATHS = OUT / "wear-life-paths.csv"
+# slowest first: a slower path costs more (longer revolutions with more impacts each,
+# docs/wear.md §7) and the paths start in this order, so the longest starts first (the
+# 30 rpm path is estimated at more than the other four together)
 SPEEDS = [30.0, 60.0, 90.0, 120.0, 150.0]
 CYCLES = 40000.0
 CHECKPOINTS = [5000.0 * k for k in range(1, 9)]
@@ -44,6 +52,8 @@ FIELDS = [
     "date", "values", "cycles", "checkpoints", "workers", "complete", "wall_s", "path_cpu_s",
     "load_start", "load_mean", "load_max", "load_end",
 ]  # fmt: skip
+#: the phases of a path's CPU time (its ``phase_cpu_*`` attributes)
+PHASES = ["runs", "wear", "exponent", "verdict", "total"]
 
 
 class LoadSampler(threading.Thread):
@@ -51,14 +61,15 @@ class LoadSampler(threading.Thread):
 
     def __init__(self, every: float = 10.0) -> None:
         super().__init__(daemon=True)
-        self.every, self.samples, self._stop = every, [os.getloadavg()[0]], threading.Event()
+        # not ``_stop``: that name is a method of threading.Thread, which join() calls
+        self.every, self.samples, self._done = every, [os.getloadavg()[0]], threading.Event()
 
     def run(self) -> None:
-        while not self._stop.wait(self.every):
+        while not self._done.wait(self.every):
             self.samples.append(os.getloadavg()[0])
 
     def stop(self) -> None:
-        self._stop.set()
+        self._done.set()
         self.join()
 
 
@@ -66,8 +77,49 @@ def scene() -> mechanism.Scene:
     return mechanism.load_scene("paper").replace({"effects.flexibility": False})
 
 
+def write_map(life: mechanism.WearLifeMap) -> xr.Dataset:
+    """The map as NetCDF (``wear-life-speed.nc``), written atomically; returns its Dataset."""
+    ds = life.to_dataset()
+    buffer = io.BytesIO(ds.to_netcdf(engine="h5netcdf"))
+    atomic_write(MAP, lambda p: p.write_bytes(buffer.getvalue()))
+    return ds
+
+
+def path_rows(life: mechanism.WearLifeMap) -> list[dict[str, object]]:
+    """One row per path: status, checkpoints reached, CPU and wall time, CPU by phase."""
+    rows = []
+    for value, path, cpu, wall in zip(
+        life.values, life.paths, life.cpu_times, life.wall_times, strict=True
+    ):
+        attrs = {} if path is None else path.dataset.attrs
+        reached = float(path.checkpoints[-1]) if path is not None and path.checkpoints.size else 0
+        row = {
+            "value": value, "status": attrs.get("status", "failed"), "reached_cycles": reached,
+            "states": 0 if path is None else int(path.checkpoints.size),
+            "cycles_to_chaos": "" if path is None or path.cycles_to_chaos is None
+            else path.cycles_to_chaos,
+            "cpu_s": round(cpu, 1), "wall_s": round(wall, 1),
+        }  # fmt: skip
+        for phase in PHASES:
+            row[f"{phase}_cpu_s"] = round(float(attrs.get(f"phase_cpu_{phase}", "nan")), 1)
+        rows.append(row)
+    return rows
+
+
+def write_paths(life: mechanism.WearLifeMap) -> None:
+    """``wear-life-paths.csv``: :func:`path_rows` of every path, rewritten atomically."""
+    buffer = io.StringIO()
+    rows = path_rows(life)
+    writer = csv.DictWriter(buffer, fieldnames=list(rows[0]), lineterminator="\n")
+    writer.writeheader()
+    writer.writerows(rows)
+    atomic_write(PATHS, lambda p: p.write_text(buffer.getvalue(), encoding="utf-8"))
+
+
 def write_outputs(life: mechanism.WearLifeMap) -> None:
-    """The figures (PNG) and the report (Markdown twin, figures as files) into docs."""
+    """The per-path table, the figures (PNG) and the report (Markdown twin, figures as
+    files) into docs."""
+    write_paths(life)
     matplotlib.use("Agg")
     rep = mechanism.wear_life_report(life, title="Wear paths of the rigid paper scene over speed")
     for fig in rep.figures:
@@ -87,6 +139,7 @@ def main() -> None:
             scene(), parameter="drive.speed_rpm", values=SPEEDS, cycles=CYCLES,
             checkpoints=CHECKPOINTS, store=args.store, scheduler="serial",
         )  # fmt: skip
+        write_map(life)
         write_outputs(life)
         return
     sampler = LoadSampler()
@@ -98,9 +151,7 @@ def main() -> None:
     )  # fmt: skip
     wall = time.perf_counter() - start
     sampler.stop()
-    ds = life.to_dataset()
-    buffer = io.BytesIO(ds.to_netcdf(engine="h5netcdf"))
-    atomic_write(MAP, lambda p: p.write_bytes(buffer.getvalue()))
+    ds = write_map(life)
     loads = sampler.samples
     row = {
         "date": datetime.datetime.now(datetime.UTC).isoformat(timespec="seconds"),
@@ -121,6 +172,8 @@ def main() -> None:
     print(row)
     for value, cpu, wall_time in zip(life.values, life.cpu_times, life.wall_times, strict=True):
         print(f"  {value:g} rpm: CPU {cpu:.0f} s, wall {wall_time:.0f} s")
+    for path_row in path_rows(life):
+        print("  " + ", ".join(f"{k} {v}" for k, v in path_row.items()))
     write_outputs(life)
 
 

@@ -56,7 +56,7 @@ def _table(life: WearLifeMap) -> ReportTable:
         )
     frame = pd.DataFrame(rows).set_index("value")
     notes = [
-        f"{label}: {reason}"
+        f"{label}: {reason.rstrip('.')}"  # the notes are joined by "; "
         for label, reason, status in zip(life.labels(), life.reasons, life.statuses, strict=True)
         if status != "complete"
     ]
@@ -104,7 +104,8 @@ def wear_life_section(life: WearLifeMap) -> ReportSection:
     if not isinstance(life, WearLifeMap):
         raise TypeError(f"life must be a mechanism.WearLifeMap; got {type(life).__name__}.")
     ds = life.to_dataset()
-    text = " ".join(f"{a[0].upper()}{a[1:]}." for a in life.answers())
+    # an answer may end with a reason's own full stop
+    text = " ".join(f"{a[0].upper()}{a[1:].rstrip('.')}." for a in life.answers())
     footer = (
         f"{len(life.values)} wear paths of scene {life.scene.name!r} over {life.parameter}, "
         f"{format_cycles(life.cycles)} cycles each, checkpoints at "

@@ -162,6 +162,11 @@ def test_a_failed_path_is_a_row_with_its_reason_and_the_checkpoints_before(tmp_p
     answers = life.answers()
     assert answers[0] == "at 120 rpm the path did not run: " + life.reasons[0]
     assert "the path ended after 50 cycles: joint C:" in answers[1]
+    # the report's sentences and notes end each reason with one full stop, not two
+    section = mechanism.wear_life_section(life)
+    (table,) = [i for i in section.items if isinstance(i, chaoskit.ReportTable)]
+    assert ".." not in section.text and ".;" not in table.notes
+    assert section.text.endswith("cycles.") and not table.notes.endswith(".")
 
     monkeypatch.setattr(map_module, "wear_life", real_wear_life)
     (ended_file,) = (tmp_path / "points").glob("speed_rpm-150.0_*.nc")

@@ -15,6 +15,7 @@ from multiprocessing import get_context
 from pathlib import Path
 from typing import Any
 
+from .._wear_life import LYAPUNOV_FIRST_REVOLUTIONS
 from ..sweep import dask_client
 from ._published import (
     BEFORE_SPEEDS,
@@ -89,17 +90,24 @@ WEAR_PATHS_STAGE = "wear paths: cycles to chaos at 3 speeds and 3 clearances"
 
 def wear_path_cost(rpm: float, settings: StudySettings, *, flexible: bool | None = None) -> float:
     """Prior CPU seconds of one wear path at ``rpm`` (one core; ``flexible`` overrides the
-    settings' rods).
+    settings' rods), as :func:`mechanism.wear_life` runs it with its default settings.
 
-    Per analysed state (unworn, every checkpoint and the end): the settled and analysed
-    revolutions, the exponent's revolutions and the motion verdict; per checkpoint
-    interval: the increments (one per 500 cycles at 150 rpm, fewer at a slower speed,
-    which wears less per cycle), each its settled and averaged revolutions. Calibrated on
-    the stages of a profiled rigid path (docs/wear.md §7: 150 rpm, unworn and 5 000
-    cycles, 8 averaged revolutions, 66.9 s of CPU; the prior gives 0.95 of it, and 0.96 of
-    the 98.1 s of the same path at 30 rpm); flexible rods take the study's fixed step in
-    time, so a slower speed costs more per revolution (1.2 s per revolution at 150 rpm,
-    2.8 for the exponent).
+    Per analysed state (unworn, every checkpoint and the end): one run of the settled and
+    analysed revolutions (it also gives the first increment worn from that state), the
+    exponent (the unworn state both runs, the first and the full one — its sign is
+    undecided after the first at most speeds —, a worn state the first run alone) and the
+    motion verdict; per checkpoint interval: the increments after the first (one per 800
+    cycles at any speed: the worn depth grows by 5–11 µm per 1 000 cycles at 30–150 rpm,
+    faster as the grooves deepen, and an increment adds at most 0.025 of the 0.2 mm
+    clearance), each its own run of
+    settled and averaged revolutions. The rigid constants are fitted to the benchmark's
+    five paths (``benchmarks/wear_life.py``, ``docs/wear.md`` §7; each ended early by the
+    model's limit: 30 rpm after 35 000 cycles, 698.5 CPU s; 60 rpm after 15 000, 369.7 s;
+    90 rpm after 25 000, 217.4 s; 120 rpm after 25 000, 253.2 s; 150 rpm after 15 000,
+    139.9 s; the prior gives 0.66–1.34 of them); a path that stops before the deep
+    grooves costs less (60 rpm to 5 000 cycles: 68 CPU s against the prior's 114).
+    Flexible rods take the study's fixed step in time, so a slower speed costs more per
+    revolution (1.2 s per revolution at 150 rpm, 2.8 for the exponent).
     """
     flexible = settings.wear_path_flexible_rods if flexible is None else flexible
     points = [0.0, *settings.wear_path_checkpoints]
@@ -109,23 +117,31 @@ def wear_path_cost(rpm: float, settings: StudySettings, *, flexible: bool | None
     if flexible:
         revolution, exponent = 1.2 * slower, 2.8 * slower
     else:
-        # the error control's steps follow the impacts, whose number per revolution grows
-        # less than the revolution's length (30 rpm: 98 s against 67 s for the same path)
-        revolution = _RIGID_REVOLUTION * slower**0.75
-        exponent = _RIGID_EXPONENT * slower**0.25
-    analysed = (2.0 + settings.wear_path_analysis_revolutions) * revolution
-    per_state = analysed + settings.wear_path_lyapunov_revolutions * exponent + _VERDICT
-    increments = sum(max(1.0, (b - a) / 500.0 / slower) for a, b in itertools.pairwise(points))
+        revolution = _RIGID_REVOLUTION * slower**_RIGID_REVOLUTION_POWER
+        exponent = _RIGID_EXPONENT * slower**_RIGID_EXPONENT_POWER
+    full = settings.wear_path_lyapunov_revolutions
+    first = min(LYAPUNOV_FIRST_REVOLUTIONS, full)
+    exponent_revolutions = (first + full if first < full else full) + (len(points) - 1) * first
+    states = len(points) * ((2.0 + settings.wear_path_analysis_revolutions) * revolution + _VERDICT)
+    increments = sum(
+        max(1.0, (b - a) / _CYCLES_PER_INCREMENT) - 1.0 for a, b in itertools.pairwise(points)
+    )
     return (
-        len(points) * per_state
+        states
+        + exponent_revolutions * exponent
         + increments * (2.0 + settings.wear_path_averaged_revolutions) * revolution
     )
 
 
-#: CPU seconds of the rigid paper scene at 150 rpm: one worn revolution with the default
-#: tolerances and the full record, one revolution of the exponent, one motion verdict
-#: (measured stage by stage on one path, docs/wear.md §7)
-_RIGID_REVOLUTION, _RIGID_EXPONENT, _VERDICT = 0.24, 0.77, 5.7
+#: CPU seconds of the rigid paper scene at 150 rpm along a wear path: one simulated
+#: revolution (with averaging its wear) and one revolution of the exponent, each times
+#: (150 rpm / speed) to its power; one motion verdict (fitted to the benchmark's measured
+#: paths by phase, docs/wear.md §7)
+_RIGID_REVOLUTION, _RIGID_REVOLUTION_POWER = 0.32, 0.7
+_RIGID_EXPONENT, _RIGID_EXPONENT_POWER = 0.685, 0.87
+_VERDICT = 8.0
+#: Crank cycles per wear increment (the depth cap reached about every 800 cycles)
+_CYCLES_PER_INCREMENT = 800.0
 
 
 def stage_weights(settings: StudySettings, n_conv: int) -> dict[str, float]:
