@@ -55,11 +55,10 @@ MEMORY_FRACTION = 0.8
 STEP_BUDGET = 20_000_000
 
 #: The ideal companion of a flexible model steps at this multiple of the main run's fixed
-#: step. It supplies only the ideal slider (the displacement and speed errors, the full
-#: record's ``*_ideal`` variables, on the output grid), which its rods' unresolved axial
-#: vibration leaves uncertain by a few µm at any such step: at twice the step the slider
-#: moves by 2.3e-6 m and 2.7e-3 m/s and the two errors by 0.1 % and 0.6 % (paper scene,
-#: one revolution), for 0.6 of the companion's cost (docs/performance.md, *Flexible rods*).
+#: step. It supplies only the ideal slider on the output grid (the displacement and speed
+#: errors, the full record's ``*_ideal`` variables), which its rods' unresolved axial
+#: vibration leaves uncertain by a few µm at any such step (its accuracy and cost:
+#: docs/performance.md, *Flexible rods*).
 FLEXIBLE_IDEAL_STEP = 2.0
 
 
@@ -447,9 +446,10 @@ def _integrate(
     # the companion has no impacts: its step is the error control's (the fixed-step
     # generalized-α keeps the main run's step, FLEXIBLE_IDEAL_STEP times it for ANCF
     # rods), as for an ideal mechanism on its own
-    ideal_max_step = size.max_step if _fixed_step(integrator) else math.inf
-    if _fixed_step(integrator) and ideal_model.kernel.beam_i.shape[0] > 0:
-        ideal_max_step *= FLEXIBLE_IDEAL_STEP
+    ideal_max_step = math.inf
+    if _fixed_step(integrator):
+        flexible = ideal_model.kernel.beam_i.shape[0] > 0
+        ideal_max_step = size.max_step * (FLEXIBLE_IDEAL_STEP if flexible else 1.0)
     # The ideal companion does not depend on the main run: it runs in a second thread
     # (the compiled integrators release the GIL), so on a machine with a free core it
     # adds no wall time.
