@@ -43,6 +43,9 @@ REF_CHUNK = 256
 #: ≈ 0.07 ms, a twelfth of the estimate on 10^4 samples when every call held 256
 REF_CALLS = 8
 _NO_SERIES = np.empty(0)
+#: most per-reference values of the smallest radius the neighbourhood pass keeps for the
+#: interval (64 MB; more are computed again by a pass of their own)
+KEEP_VALUES = 2**23
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -267,6 +270,10 @@ class _Search:
         self.rank = rank
         n = head.shape[0]
         self.work = (np.empty(n, dtype=np.int64), np.empty(n), np.empty(n, dtype=np.int64))
+        #: horizons ``ks[q0 : q0 + w]`` of the smallest radius kept by the neighbourhood
+        #: pass (None: not kept), and per distance the kept rows (see ``first_curves``)
+        self.keep: tuple[int, int] | None = None
+        self.first: dict[bool, np.ndarray] = {}
 
     def log_distances(self, transverse: bool, upto: int | None = None, ks=None):
         """The neighbours used per reference and radius, and the sum and count of the
@@ -294,6 +301,12 @@ class _Search:
         prod = np.ones((n_e, nk))
         run = np.zeros(1, dtype=np.int64)
         members, spts, keys, starts, slot, grid = self.grids[eps.size - 1]
+        # the neighbourhood pass keeps the smallest radius's per-reference S (rows of the
+        # reference points that have a neighbour within it; pages never written cost no
+        # memory): the interval's pass is then not needed when that radius is chosen
+        q0, width = self.keep if upto is None and self.keep is not None else (0, 0)
+        first = np.empty((ref.size if width else 0, width))
+        n_first = np.zeros(1, dtype=np.int64)
         chunk = max(REF_CHUNK, -(-ref.size // REF_CALLS))
         for r0 in range(0, ref.size, chunk):
             part = slice(r0, min(r0 + chunk, ref.size))
@@ -324,11 +337,40 @@ class _Search:
                 expo,
                 prod,
                 run,
+                first,
+                n_first,
+                q0,
             )
+        if width:
+            self.first[transverse] = first[: n_first[0]]
         total += np.log(prod) + expo * np.log(2.0)
         if self.squared:  # the sums hold ln of mean squares: S is half of it
             total *= 0.5
         return (logd if upto is not None else None), used, total, count
+
+    def first_curves(self, transverse: bool, a: int, b: int) -> np.ndarray | None:
+        """The kept per-reference ``S`` of the smallest radius at ``ks[a : b + 1]`` (rows:
+        the reference points with a neighbour within it, in order), or None when the
+        neighbourhood pass did not keep those horizons."""
+        if self.keep is None or transverse not in self.first:
+            return None
+        q0, width = self.keep
+        if a < q0 or b >= q0 + width:
+            return None
+        return np.ascontiguousarray(self.first[transverse][:, a - q0 : b - q0 + 1])
+
+
+def _kept_horizons(ks: np.ndarray, fixed, n_ref: int) -> tuple[int, int] | None:
+    """Horizons ``ks[q0 : q0 + w]`` as ``(q0, w)`` that the neighbourhood pass keeps for
+    the interval: the fit range when it is given, else every horizon; None when that is
+    more than ``KEEP_VALUES`` values."""
+    if fixed:
+        a = int(np.searchsorted(ks, fixed[0]))
+        b = int(np.searchsorted(ks, fixed[1], side="right")) - 1
+        q0, width = a, b - a + 1
+    else:
+        q0, width = 0, ks.size
+    return (q0, width) if 0 < width and n_ref * width <= KEEP_VALUES else None
 
 
 def _with_distance(run, distance: str, prep) -> tuple[dict, str, str]:
@@ -352,11 +394,15 @@ def _interval(prep, res, search, ks, fixed, min_span) -> tuple[tuple[float, floa
     """95 % interval of the exponent, its wording, and its half-widths (per unit of dt)."""
     fit, e_star, pick = res["fits"][res["e_star"]], res["e_star"], res["pick"]
     a, b, slope = fit["a"], fit["b"], fit["slope"]
-    # each reference point's own curve of the chosen radius over the fit range, computed
-    # again rather than kept for every radius and horizon (a cheap pass: the smallest
-    # radii have the fewest neighbours)
-    logd = search.log_distances(res["transverse"], e_star, ks[a : b + 1])[0]
-    per_ref = _ref_slopes(logd[:, e_star, :], ks[a : b + 1], 0, b - a)
+    # each reference point's own curve of the chosen radius over the fit range: kept by
+    # the neighbourhood pass for the smallest radius, else computed again rather than
+    # kept for every radius and horizon (a cheap pass: the small radii have the fewest
+    # neighbours). The kept rows leave out the reference points without a neighbour,
+    # whose slopes are NaN and dropped either way.
+    kept = search.first_curves(res["transverse"], a, b) if e_star == 0 else None
+    if kept is None:
+        kept = search.log_distances(res["transverse"], e_star, ks[a : b + 1])[0][:, e_star, :]
+    per_ref = _ref_slopes(kept, ks[a : b + 1], 0, b - a)
     _, half, n_batches = batch_means_ci(per_ref)
     fit_below = fit_above = 0.0
     if not fixed and fit["found"]:
@@ -579,6 +625,7 @@ def lyapunov_kantz(
         ball=ball,
         squared=squared,
     )
+    search.keep = _kept_horizons(ks, fixed, ref.size)
     pairs = rng.integers(0, pts.shape[0], (2, _PLATEAU_PAIRS))
     pairs = pairs[:, np.abs(pairs[0] - pairs[1]) > w]
     min_span = max(3.0, SPAN_PERIODS * prep.period)

@@ -13,9 +13,12 @@ from dataclasses import dataclass, field
 from typing import Literal
 
 import numpy as np
+from scipy.linalg import solve_triangular
 from scipy.optimize import minimize_scalar
 from scipy.signal import find_peaks
 from scipy.stats import chi2
+
+from ._line_kernels import householder_qr
 
 __all__ = ["LineSpectrum", "line_spectrum"]
 
@@ -215,7 +218,7 @@ def _extract(x0: np.ndarray, max_lines: int) -> tuple[np.ndarray, np.ndarray, np
         freqs.append(f)
         if len(freqs) <= JOINT_LINES:  # joint amplitudes: no leakage between lines
             basis = _basis(np.array(freqs), n)
-            coef, *_ = np.linalg.lstsq(basis, x0, rcond=None)
+            coef = _lstsq(basis, x0)
             resid = x0 - basis @ coef
             coefs = [np.array([coef[1 + i], coef[1 + len(freqs) + i]]) for i in range(len(freqs))]
         else:
@@ -256,8 +259,33 @@ def _distinct(freqs: np.ndarray, coefs: np.ndarray, resid: np.ndarray, n: int) -
 
 
 def _basis(freqs: np.ndarray, n: int) -> np.ndarray:
-    phase = 2 * np.pi * np.arange(n, dtype=np.float64)[:, None] * freqs[None, :]
-    return np.concatenate([np.ones((n, 1)), np.cos(phase), np.sin(phase)], axis=1)
+    """The n × (2m + 1) basis (constant, cosines, sines) as the transpose of a C-order
+    array: its columns are contiguous, as :func:`_lstsq` wants them."""
+    phase = 2 * np.pi * np.arange(n, dtype=np.float64)[None, :] * freqs[:, None]
+    return np.concatenate([np.ones((1, n)), np.cos(phase), np.sin(phase)], axis=0).T
+
+
+def _lstsq(basis: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """Least-squares coefficients of ``y`` in the columns of ``basis`` (n × m).
+
+    The same solution as ``numpy.linalg.lstsq(basis, y, rcond=None)`` to rounding: a
+    Householder QR on one thread, solved by back substitution when the singular values of
+    R (those of ``basis``) are all well above the cut-off below which the SVD solver
+    drops them; otherwise that solver itself, so a rank-deficient basis gets the same
+    minimum-norm answer.
+    """
+    n, m = basis.shape
+    if n < m:  # more columns than samples: the SVD solver's minimum-norm answer
+        coef, *_ = np.linalg.lstsq(basis, y, rcond=None)
+        return coef
+    r, qty = householder_qr(np.ascontiguousarray(basis.T), y)
+    s = np.linalg.svd(r, compute_uv=False)
+    # 1e3 above the cut-off (eps · max(n, m) of the largest): no rounding can put a
+    # singular value on the other side of it
+    if s[0] > 0.0 and s[-1] > 1e3 * np.finfo(np.float64).eps * max(n, m) * s[0]:
+        return solve_triangular(r, qty)
+    coef, *_ = np.linalg.lstsq(basis, y, rcond=None)
+    return coef
 
 
 def _gauss_newton(
@@ -269,14 +297,14 @@ def _gauss_newton(
 
     def fit(f: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         basis = _basis(f, n)
-        coef, *_ = np.linalg.lstsq(basis, x0, rcond=None)
+        coef = _lstsq(basis, x0)
         return coef, x0 - basis @ coef, basis, 2 * np.pi * t[:, None] * f[None, :]
 
     for _ in range(iterations):
         coef, resid, basis, phase = fit(freqs)
         a, b = coef[1 : m + 1], coef[m + 1 :]
         dfreq = 2 * np.pi * t[:, None] * (b * np.cos(phase) - a * np.sin(phase))
-        step, *_ = np.linalg.lstsq(np.concatenate([basis, dfreq], axis=1), resid, rcond=None)
+        step = _lstsq(np.concatenate([basis.T, dfreq.T], axis=0).T, resid)
         delta = np.clip(step[2 * m + 1 :], -0.25 / n, 0.25 / n)
         freqs = np.clip(freqs + delta, 1e-12, 0.5)
         if np.max(np.abs(delta)) < 1e-10 / n:
@@ -388,7 +416,7 @@ def _drive_harmonics(
         basis = _basis(hf, n)
         if basis.shape[1] > n // 2:
             continue
-        coef, *_ = np.linalg.lstsq(basis, x0, rcond=None)
+        coef = _lstsq(basis, x0)
         resid = x0 - basis @ coef
         frac = float(np.var(resid)) / var0
         p = ljung_box_p(resid)

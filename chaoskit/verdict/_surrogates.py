@@ -197,18 +197,58 @@ def prediction_error(
     points = np.stack([x[idx - k * lag] for k in range(embedding_dim)], axis=1)
     tree = cKDTree(points)
     ref = np.unique(np.linspace(0, n_points - 1, min(n_reference, n_points)).astype(np.int64))
-    # At most 2w + 1 points fall inside the window, so this many candidates leave n_neighbors.
-    k = min(n_neighbors + 2 * theiler_window + 1, n_points)
-    _, cand = tree.query(points[ref], k=k)
-    admissible = np.abs(cand - ref[:, None]) > theiler_window
-    order = np.cumsum(admissible, axis=1)
-    keep = admissible & (order <= n_neighbors)
-    future = x[idx[cand] + horizon]
-    forecast = np.sum(np.where(keep, future, 0.0), axis=1) / n_neighbors
+    forecast = _forecast(x[idx + horizon], points, tree, ref, theiler_window, n_neighbors)
     err = forecast - x[idx[ref] + horizon]
     spread = float(np.std(x))
     # a series constant over the part used (its ends trimmed) is predicted exactly
     return float(np.sqrt(np.mean(err**2)) / spread) if spread > 0.0 else 0.0
+
+
+def _forecast(
+    future: np.ndarray,
+    points: np.ndarray,
+    tree: cKDTree,
+    ref: np.ndarray,
+    theiler_window: int,
+    n_neighbors: int,
+) -> np.ndarray:
+    """Mean ``future`` of the ``n_neighbors`` nearest points outside the Theiler window of
+    each reference point (rows ``ref`` of ``points``).
+
+    At most 2w + 1 points fall inside the window, so that many candidates more than
+    ``n_neighbors`` always suffice; a few are tried first and the rows they leave short
+    are asked again with four times as many. Only a smooth series, whose nearest points
+    are its own neighbours in time, needs the long lists: a noise-like surrogate's
+    nearest points are far apart in time. A short list decides a row only when the next
+    admissible candidate lies strictly farther than the last one taken: with a tie there
+    (repeated points: a periodic series sampled a whole number of times per period), which
+    of the tied points the tree lists first depends on how many it is asked for, so such a
+    row is decided by the full list, as if it had been asked for at once.
+    """
+    k_full = min(n_neighbors + 2 * theiler_window + 1, points.shape[0])
+    k = min(4 * n_neighbors + 4, k_full)
+    out = np.empty(ref.size)
+    pending = np.arange(ref.size)
+    while pending.size:
+        rows = ref[pending]
+        dist, cand = tree.query(points[rows], k=k)
+        dist, cand = dist.reshape(rows.size, k), cand.reshape(rows.size, k)
+        admissible = np.abs(cand - rows[:, None]) > theiler_window
+        order = np.cumsum(admissible, axis=1)
+        keep = admissible & (order <= n_neighbors)
+        # summed over rows as long as the full list's (zeros after the k candidates): the
+        # pairwise sum groups the terms as it did over that list, so the sums are the same
+        terms = np.zeros((rows.size, k_full))
+        terms[:, :k] = np.where(keep, future[cand], 0.0)
+        mean = np.sum(terms, axis=1) / n_neighbors
+        last = np.take_along_axis(dist, np.argmax(order >= n_neighbors, axis=1)[:, None], 1)
+        after = np.take_along_axis(dist, np.argmax(order > n_neighbors, axis=1)[:, None], 1)
+        done = (order[:, -1] > n_neighbors) & (after[:, 0] > last[:, 0])
+        done |= k >= k_full
+        out[pending[done]] = mean[done]
+        pending = pending[~done]
+        k = min(4 * k, k_full)
+    return out
 
 
 @dataclass(frozen=True, kw_only=True)
