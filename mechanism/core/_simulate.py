@@ -28,11 +28,13 @@ from .integrate import (
     resolve_method,
 )
 from .model import Model, assemble, initial_state
+from .model import kernels as model_kernels
 from .record import FullRecord, MetricsRecord, RecordMode, RunTimes, SectionsRecord, record_mode
 from .scene import AngleProfileDrive, ConstantSpeedDrive, Scene, validate_scene
 
 __all__ = [
     "MEMORY_FRACTION",
+    "START_TOLERANCE",
     "STEP_BUDGET",
     "SimulationError",
     "default_step",
@@ -410,6 +412,67 @@ def _prepare(
     )  # fmt: skip
 
 
+#: Largest violation of the joints at t = 0 a ``start`` state may have, relative to its
+#: largest coordinate (m or rad; at least 1) for the positions and its largest velocity
+#: (at least 1) for the velocities: a finished run's state keeps its joints far closer
+#: (the constraint stabilisation leaves drifts of about 1e-6 of the velocities), while a
+#: state of another scene, of another speed or not after whole drive periods misses them
+#: by far more.
+START_TOLERANCE = 1e-4
+
+
+def _start_pair(start: Any) -> tuple[Any, Any]:
+    """The (positions, velocities) of a ``start`` argument, before any check."""
+    if isinstance(start, xr.Dataset):
+        if "final_q" not in start.attrs or "final_v" not in start.attrs:
+            raise ValueError(
+                "start must be a Dataset returned by mechanism.simulate (it carries the "
+                "run's last state in the attributes final_q and final_v) or a (q, v) "
+                "pair; this Dataset has no final_q / final_v."
+            )
+        return start.attrs["final_q"], start.attrs["final_v"]
+    if isinstance(start, tuple | list) and len(start) == 2:
+        return start[0], start[1]
+    raise TypeError(
+        "start must be a Dataset returned by mechanism.simulate or a (q, v) pair of "
+        f"arrays; got {type(start).__name__}."
+    )
+
+
+def _start_state(model: Model, start: Any) -> np.ndarray | None:
+    """The state ``start`` as the integrators' y0 = (q, v), its body angles brought within
+    a half turn of the scene's pose (whole turns change no joint but the drive's angle),
+    or None for None; a ValueError when it does not fit ``model`` at t = 0."""
+    if start is None:
+        return None
+    q_in, v_in = _start_pair(start)
+    q = np.array(q_in, dtype=np.float64).ravel()
+    v = np.array(v_in, dtype=np.float64).ravel()
+    n = model.n_dof
+    if q.shape != (n,) or v.shape != (n,):
+        raise ValueError(
+            f"start must hold {n} positions and {n} velocities (the coordinates of scene "
+            f"{model.scene.name!r}, {', '.join(model.dof_names)}); got {q.size} and {v.size}."
+        )
+    if not (np.isfinite(q).all() and np.isfinite(v).all()):
+        raise ValueError("start must hold finite positions and velocities.")
+    turns = np.array([name.endswith(".theta") for name in model.dof_names])
+    q[turns] -= 2.0 * math.pi * np.round((q[turns] - model.q_guess[turns]) / (2.0 * math.pi))
+    if model.n_rows:
+        ws = model.workspace()
+        model_kernels.evaluate_constraints(model.kernel, ws, 0.0, q, v)
+        position = float(np.max(np.abs(ws.phi))) / max(1.0, float(np.max(np.abs(q))))
+        velocity = float(np.max(np.abs(ws.phiq @ v + ws.phit))) / max(1.0, float(np.max(np.abs(v))))
+        if not max(position, velocity) <= START_TOLERANCE:
+            raise ValueError(
+                f"start does not satisfy the joints of scene {model.scene.name!r} at t = 0 "
+                f"(largest relative violation {position:.3g} of the positions, "
+                f"{velocity:.3g} of the velocities; at most {START_TOLERANCE:g}): pass the "
+                "last state of a run of the same scene that ended after whole drive periods."
+            )
+    return np.concatenate([q, v])
+
+
 @dataclass(frozen=True)
 class _Outcome:
     """The integrations of a run: the main one and the ideal mechanism's (None: none ran;
@@ -422,15 +485,23 @@ class _Outcome:
 
 
 def _integrate(
-    size: _Run, t_out: np.ndarray, *, progress: bool, force: bool, **tol: float
+    size: _Run,
+    t_out: np.ndarray,
+    *,
+    progress: bool,
+    force: bool,
+    start: np.ndarray | None = None,
+    **tol: float,
 ) -> _Outcome:
-    """Integrate the model of ``size`` on ``t_out`` and, when its mode asks for it and the
-    model has clearance joints, the ideal companion alongside."""
+    """Integrate the model of ``size`` on ``t_out`` from ``start`` (None: the scene's
+    initial state) and, when its mode asks for it and the model has clearance joints, the
+    ideal companion alongside (always from its own initial state)."""
     model, integrator, scene = size.model, size.integrator, size.model.scene
     plan, ideal_plan = size.mode.plans(model, size.times)
     budget = math.inf if force else STEP_BUDGET
-    q0, v0 = initial_state(model)
-    start = np.concatenate([q0, v0])
+    if start is None:
+        q0, v0 = initial_state(model)
+        start = np.concatenate([q0, v0])
     if not (model.clearance_joints and size.mode.companion):
         run = _run(
             model, integrator, start, t_out, max_step=size.max_step, progress=progress,
@@ -556,12 +627,14 @@ def simulate(
     progress: bool = False,
     throw: bool = True,
     force: bool = False,
+    start: xr.Dataset | tuple[Any, Any] | None = None,
 ) -> xr.Dataset:
     """Simulate a mechanism and return its trajectory, its response metrics or its
     stroboscopic section.
 
     The initial state is the ideal-mechanism configuration at t = 0 with the journals at
-    their ``initial_eccentricity``, at rest relative to their bearings; the same scene
+    their ``initial_eccentricity``, at rest relative to their bearings (or ``start``, the
+    last state of an earlier run); the same scene
     with every clearance joint ideal (the ideal companion) is integrated alongside, in a
     second thread, for the ``*_ideal`` outputs and the errors. What is recorded never
     changes the integration. Costs and sizes: ``docs/simulator.md``.
@@ -603,12 +676,24 @@ def simulate(
         Run even when the run is estimated to hold more than ``MEMORY_FRACTION`` of
         the memory available, or to take more than ``STEP_BUDGET`` (2e7) attempted steps
         (default False: refused up front, or stopped after its first compiled chunk).
+    start : xarray.Dataset or (q, v), optional
+        Start from this state at t = 0 instead of the scene's initial state: a Dataset
+        returned by ``simulate`` (its ``final_q``, ``final_v``) or a pair of arrays of
+        the model's coordinates and velocities. The drive restarts at t = 0, so a run of
+        a periodic drive continues where an earlier one of the same scene left off when
+        that one ended after whole drive periods (body angles are taken modulo whole
+        turns); a state that misses the scene's joints at t = 0 by more than
+        ``START_TOLERANCE`` (relative) is refused (ValueError). The impact-velocity latch of a
+        journal in contact restarts at its floor, and the ideal companion starts from its
+        own initial state.
 
     Returns
     -------
     xarray.Dataset
         The variables the record mode lists; solver statistics in the ``solver_*``
-        attributes, the mode's name in ``record``. See ``docs/simulator.md``.
+        attributes, the mode's name in ``record``, and the last state of the run in
+        ``final_q``, ``final_v`` (coordinates and velocities at ``final_time``, s; what
+        ``start`` takes). See ``docs/simulator.md``.
 
     Raises
     ------
@@ -652,16 +737,22 @@ def simulate(
     atol = check_positive(scene.solver.atol if atol is None else atol, name="atol")
     text = _duration_text(scene, revolutions, t_end)
     size = _prepare(scene, mode, method, duration, output_step, text)
+    y0 = _start_state(size.model, start)
     # refused before anything of the run's size is allocated
     _refuse_absurd_step_counts(size)
     if not force:
         _refuse_runs_larger_than_memory(size)
     t_out = mode.output_times(output_grid(duration, size.times.output_step), size.times)
     cpu_start = time.process_time()
-    done = _integrate(size, t_out, progress=progress, force=force, rtol=rtol, atol=atol)
+    done = _integrate(size, t_out, progress=progress, force=force, start=y0, rtol=rtol, atol=atol)
     if throw:
         _raise_failure(size, done)
     attrs = _attrs(size, done, t_out, time.process_time() - cpu_start, rtol, atol)
-    return mode.dataset(
+    ds = mode.dataset(
         size.model, done.run, done.ideal_model, done.ideal_run, t_out, size.times, attrs
     )
+    n = size.model.n_dof
+    final = np.asarray(done.run.final_state, dtype=np.float64)
+    ds.attrs["final_q"], ds.attrs["final_v"] = final[:n].copy(), final[n : 2 * n].copy()
+    ds.attrs["final_time"] = float(done.run.final_time)
+    return ds

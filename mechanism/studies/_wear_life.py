@@ -40,6 +40,9 @@ from ._wear_settings import (
     DEFAULT_MAX_DEPTH_INCREMENT,
     check_averaged_revolutions,
     check_depth_increment,
+    check_first_revolutions,
+    check_fraction,
+    check_increment_settle,
 )
 from ._wear_statistics import contact_modes
 
@@ -58,7 +61,7 @@ DEFAULT_WEAR_LIFE_AVERAGED_REVOLUTIONS = 8
 #: Default of ``verdict_samples_per_revolution``: the trajectory handed to the motion
 #: verdict is thinned to about this many samples per drive period (its cost grows with the
 #: samples, its evidence with the periods; docs/accuracy-vs-cost.md, "Wear path").
-VERDICT_SAMPLES_PER_PERIOD = 250
+VERDICT_SAMPLES_PER_PERIOD = 125
 #: Default of ``lyapunov_first_revolutions``: the revolutions of the exponent's first run.
 LYAPUNOV_FIRST_REVOLUTIONS = 6.0
 #: The first run's exponent is kept when its 95 % interval lies beyond zero by at least
@@ -225,7 +228,13 @@ class WearLifeSettings:
         from it (default True; False: two runs, whose samples differ only by rounding).
     verdict_samples_per_revolution : int
         Samples per drive period handed to the motion verdict, in [20, 100000]
-        (default 250; the trajectory is thinned to about this many).
+        (default 125; the trajectory is thinned to about this many).
+    increment_settle_revolutions : int or None
+        With a periodic drive, the run of an increment that is not a checkpoint state
+        starts from the last state of the previous run (``mechanism.simulate``'s
+        ``start``) and settles this many whole revolutions, in [0, 100]; None: it starts
+        from the scene's initial state and settles ``settle_revolutions``, like a
+        checkpoint state (which always does).
 
     Examples
     --------
@@ -245,6 +254,7 @@ class WearLifeSettings:
     lyapunov_first_revolutions: float | None = LYAPUNOV_FIRST_REVOLUTIONS
     share_state_run: bool = True
     verdict_samples_per_revolution: int = VERDICT_SAMPLES_PER_PERIOD
+    increment_settle_revolutions: int | None = None
 
     def __post_init__(self) -> None:
         settle = check_positive(self.settle_revolutions, name="settle_revolutions", allow_zero=True)
@@ -265,17 +275,20 @@ class WearLifeSettings:
             "analysis_revolutions": analysis,
             "lyapunov_revolutions": lyap_revs,
             "lyapunov_discard": lyap_discard,
-            "continuous_contact": _fraction(self.continuous_contact, "continuous_contact"),
+            "continuous_contact": check_fraction(self.continuous_contact, "continuous_contact"),
             "averaged_revolutions": check_averaged_revolutions(self.averaged_revolutions),
             "max_depth_increment": check_depth_increment(self.max_depth_increment),
             "exponent": _flag(self.exponent, "exponent"),
-            "lyapunov_first_revolutions": _first_revolutions(
+            "lyapunov_first_revolutions": check_first_revolutions(
                 self.lyapunov_first_revolutions, lyap_discard
             ),
             "share_state_run": _flag(self.share_state_run, "share_state_run"),
             "verdict_samples_per_revolution": check_int(
                 self.verdict_samples_per_revolution, name="verdict_samples_per_revolution",
                 minimum=20, maximum=100000,
+            ),
+            "increment_settle_revolutions": check_increment_settle(
+                self.increment_settle_revolutions
             ),
         }  # fmt: skip
         for name, value in checked.items():
@@ -355,33 +368,6 @@ def _flag(value: Any, name: str) -> bool:
     if not isinstance(value, bool | np.bool_):
         raise ValueError(f"{name} must be True or False; got {value!r}.")
     return bool(value)
-
-
-def _first_revolutions(value: Any, discard: float) -> float | None:
-    if value is None:
-        return None
-    try:
-        out = float(value)
-    except (TypeError, ValueError):
-        out = math.nan
-    if not (math.isfinite(out) and out > discard):
-        raise ValueError(
-            "lyapunov_first_revolutions must be None or a number of revolutions > "
-            f"lyapunov_discard ({discard:g}); got {value!r}."
-        )
-    return out
-
-
-def _fraction(value: Any, name: str) -> float:
-    try:
-        out = float(value)
-    except (TypeError, ValueError):
-        out = math.nan
-    if not 0.0 < out < 1.0:
-        raise ValueError(
-            f"{name} must be in (0, 1) (a fraction of the drive period); got {value!r}."
-        )
-    return out
 
 
 # --------------------------------------------------------------------------- one checkpoint
@@ -613,6 +599,7 @@ def wear_life(
     )  # fmt: skip
     if settings.share_state_run:
         loop.state_revolutions = float(how.revolutions)
+    loop.warm_settle = settings.increment_settle_revolutions
     records: list[dict[str, Any]] = []
     analysis_failure: list[str] = []
 
@@ -644,6 +631,10 @@ def wear_life(
         "continuous_contact": how.continuous_fraction,
         "share_state_run": int(settings.share_state_run),
         "verdict_samples_per_revolution": how.verdict_samples,
+        # -1: increments start from the scene's initial state (no warm start)
+        "increment_settle_revolutions": -1
+        if settings.increment_settle_revolutions is None
+        else settings.increment_settle_revolutions,
         # where the path's CPU time went (s, this process): the runs, averaging their wear,
         # the exponent, the verdict; the rest is the analysis's bookkeeping
         **{f"phase_cpu_{k}": float(loop.cpu.get(k, 0.0))

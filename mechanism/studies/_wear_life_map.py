@@ -597,7 +597,8 @@ def _map_dataset(life_map: WearLifeMap) -> xr.Dataset:
                                   "settle_revolutions", "analysis_revolutions", "exponent",
                                   "lyapunov_revolutions", "lyapunov_discard",
                                   "lyapunov_first_revolutions", "continuous_contact",
-                                  "share_state_run", "verdict_samples_per_revolution")
+                                  "share_state_run", "verdict_samples_per_revolution",
+                                  "increment_settle_revolutions")
          if k in settings}
     )  # fmt: skip
     merged.attrs.update(

@@ -26,7 +26,7 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from mechanism.core import Scene, SimulationError
+from mechanism.core import Scene, SimulationError, drive_period
 from mechanism.core.record import response_metrics, window_start
 from mechanism.core.scene import ClearanceRevolute
 from mechanism.core.wear import WornProfile, clearance_joint, run_wear
@@ -291,6 +291,12 @@ class UpdateLoop:
         # CPU seconds (this process) of the runs and of averaging their wear, and of what
         # a hook adds under its own keys
         self.cpu: dict[str, float] = {"runs": 0.0, "wear": 0.0}
+        # whole revolutions settled by a run that is not an update state when it starts
+        # from the last state of the previous run (a periodic drive; None: every run
+        # starts from the scene's initial state and settles ``settle``)
+        self.warm_settle: int | None = None
+        self.end_state: tuple[np.ndarray, np.ndarray] | None = None  # after whole periods
+        self.run_settle = settle  # the settle of the last run
 
     # -- one simulated state
     def _simulate(
@@ -307,24 +313,40 @@ class UpdateLoop:
         shared = extra is not None
         span = self.averaged if extra is None else max(extra, float(self.averaged))
         longer = span > self.averaged
-        revolutions = self.settle + span
+        warm = not update_state and self.warm_settle is not None and self.end_state is not None
+        settle = self.run_settle = float(self.warm_settle) if warm else self.settle
+        revolutions = settle + span
+        kwargs = {**self.kwargs, "start": self.end_state} if warm else self.kwargs
         cpu = time.process_time()
         try:
-            traj = simulate_turns(self.current, revolutions, **self.kwargs)
+            traj = simulate_turns(self.current, revolutions, **kwargs)
         except SimulationError as exc:
             self.failure = f"the simulation of {label} failed: {exc}"
             return None
         finally:
             self.cpu["runs"] += time.process_time() - cpu
+        self.end_state = self._end_state(traj, revolutions)
         self.state_traj = traj if shared else None
         if longer:
-            end = window_start(traj, self.settle + self.averaged)
+            end = window_start(traj, settle + self.averaged)
             traj = traj.isel(time=slice(0, end + 1))
         check = self.last_check = _check_state(traj, self.current)
         if not check.passed:
             self.failure = self._check_message(check, label)
             return None
-        return traj, window_start(traj, self.settle), check
+        return traj, window_start(traj, settle), check
+
+    def _end_state(
+        self, traj: xr.Dataset, revolutions: float
+    ) -> tuple[np.ndarray, np.ndarray] | None:
+        """The last state of ``traj`` when the next run may start from it: warm starts on,
+        a periodic drive, and the run ended after whole drive periods (the drive's phase
+        at t = 0); else None."""
+        if self.warm_settle is None or drive_period(self.current) is None:
+            return None
+        if abs(revolutions - round(revolutions)) > 1e-9 or "final_q" not in traj.attrs:
+            return None
+        return traj.attrs["final_q"], traj.attrs["final_v"]
 
     def _check_message(self, check: _Check, label: str) -> str:
         if not check.finite:
@@ -448,7 +470,7 @@ class UpdateLoop:
             self.cpu["wear"] += time.process_time() - cpu
 
     def _averaged_rates(self, traj: xr.Dataset, start: int, *, label: str) -> _Rates | None:
-        bounds = revolution_bounds(traj, self.settle, self.averaged)
+        bounds = revolution_bounds(traj, self.run_settle, self.averaged)
         per_rev: dict[str, list[np.ndarray]] = {n: [] for n in self.names}
         for k in range(self.averaged):
             # each revolution's window ends on the sample that starts the next, so the

@@ -70,3 +70,40 @@ def check_averaged_revolutions(value: Any) -> int:
     return check_int(
         value, name="averaged_revolutions", minimum=1, maximum=MAX_AVERAGED_REVOLUTIONS
     )
+
+
+def check_first_revolutions(value: Any, discard: float) -> float | None:
+    """``lyapunov_first_revolutions`` as a float (None kept), or a ValueError naming it."""
+    if value is None:
+        return None
+    try:
+        out = float(value)
+    except (TypeError, ValueError):
+        out = math.nan
+    if not (math.isfinite(out) and out > discard):
+        raise ValueError(
+            "lyapunov_first_revolutions must be None or a number of revolutions > "
+            f"lyapunov_discard ({discard:g}); got {value!r}."
+        )
+    return out
+
+
+def check_fraction(value: Any, name: str) -> float:
+    """``value`` as a fraction of the drive period in (0, 1), or a ValueError naming it."""
+    try:
+        out = float(value)
+    except (TypeError, ValueError):
+        out = math.nan
+    if not 0.0 < out < 1.0:
+        raise ValueError(
+            f"{name} must be in (0, 1) (a fraction of the drive period); got {value!r}."
+        )
+    return out
+
+
+def check_increment_settle(value: Any) -> int | None:
+    """``increment_settle_revolutions`` as an int in [0, 100] (None kept), or a ValueError
+    naming it."""
+    if value is None:
+        return None
+    return check_int(value, name="increment_settle_revolutions", minimum=0, maximum=100)

@@ -26,11 +26,13 @@ def _quiet(fn, *args, **kwargs):
 
 def test_the_cost_knobs_default_to_the_measured_settings():
     """The defaults whose accuracy docs/accuracy-vs-cost.md shows: a first exponent run of 6
-    revolutions, one run per checkpoint state, 250 verdict samples per revolution."""
+    revolutions, one run per checkpoint state, 125 verdict samples per revolution, every
+    increment started from the scene's initial state."""
     settings = mechanism.WearLifeSettings()
     assert settings.lyapunov_first_revolutions == 6.0
     assert settings.share_state_run is True
-    assert settings.verdict_samples_per_revolution == 250
+    assert settings.verdict_samples_per_revolution == 125
+    assert settings.increment_settle_revolutions is None
 
 
 @pytest.mark.parametrize(
@@ -180,3 +182,49 @@ def test_the_lean_record_gives_the_path_of_the_full_record():
                 "impact_fraction", "continuous_contact_fraction", "motion_confidence")  # fmt: skip
     for name in compared:
         np.testing.assert_array_equal(runs[True][name].values, runs[False][name].values)
+
+
+def test_the_increment_settle_is_validated_in_one_line():
+    assert mechanism.WearLifeSettings().increment_settle_revolutions is None
+    with pytest.raises(ValueError) as info:
+        mechanism.WearLifeSettings(increment_settle_revolutions=0.5)
+    assert str(info.value) == "increment_settle_revolutions must be an integer; got 0.5."
+
+
+@pytest.mark.slow
+def test_warm_started_increments_start_where_the_previous_run_ended(monkeypatch):
+    """With ``increment_settle_revolutions`` the runs between checkpoints start from the
+    last state of the run before (which ended after whole drive periods) and settle that
+    many revolutions; the checkpoint states start from the scene's initial state with the
+    full settle. The path still only deepens (150 rpm, 500 cycles in increments of at most
+    0.005 c₀, so that several increments run between the two states)."""
+    calls = []
+    real = prediction_module.simulate_turns
+
+    def spy(scene, revolutions, **kwargs):
+        traj = real(scene, revolutions, **kwargs)
+        calls.append((revolutions, kwargs.get("start"), traj.attrs["final_q"]))
+        return traj
+
+    monkeypatch.setattr(prediction_module, "simulate_turns", spy)
+    settings = mechanism.WearLifeSettings(
+        settle_revolutions=1.0, analysis_revolutions=4, increment_settle_revolutions=0
+    )
+    life = _quiet(
+        mechanism.wear_life, rigid_paper({"drive.speed_rpm": 150.0}), cycles=500,
+        checkpoints=[500], averaged_revolutions=2, exponent=False, max_depth_increment=0.005,
+        settings=settings,
+    )  # fmt: skip
+    assert life.status == "complete", life.reason
+    # the unworn state, then increments of 0 + 2 revolutions each from the run before,
+    # then the state after 500 cycles from the initial state again (1 + 4 revolutions)
+    assert calls[0][0] == 5.0 and calls[0][1] is None
+    assert calls[-1][0] == 5.0 and calls[-1][1] is None
+    warm = calls[1:-1]
+    assert len(warm) >= 2 and all(c[0] == 2.0 for c in warm)
+    for before, (_, start, _) in zip(calls, warm, strict=False):
+        np.testing.assert_array_equal(start[0], before[2])
+    ds = life.to_dataset()
+    assert ds.attrs["increment_settle_revolutions"] == 0
+    assert (np.diff(ds["wear_depth"].values, axis=0) >= 0.0).all()
+    assert ds["max_wear_depth"].sel(joint="C", surface="bearing").values[-1] > 0.0
