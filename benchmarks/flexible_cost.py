@@ -21,6 +21,9 @@ repository root::
 
     python benchmarks/flexible_cost.py --baseline 897d698 [--revolutions 2] [--rounds 2]
 
+or, against another checkout (which keeps its compiled cache between runs),
+``--baseline-tree ../other-clone``.
+
 ``--companion`` measures instead what the ideal companion's result (the slider of the
 mechanism with ideal joints, from which the displacement and speed errors are taken)
 costs and how far it moves with the model that gives it: the flexible ideal mechanism
@@ -92,6 +95,8 @@ def _worker(out: str, revolutions: float, offset: float) -> None:
         out,
         strobe=np.stack([ds.eccentricity_x.values.ravel(), ds.eccentricity_y.values.ravel()]),
         orbit=np.stack([full.eccentricity_x.values.ravel(), full.eccentricity_y.values.ravel()]),
+        slider=full.slider_position.values.ravel(),
+        force=full.contact_force.values.ravel(),
     )
     print(json.dumps(row))
 
@@ -206,6 +211,10 @@ def _run(tree: Path, out: Path, revolutions: float, offset: float = 0.0) -> dict
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--baseline", default="main", help="git revision to compare with")
+    parser.add_argument(
+        "--baseline-tree", type=Path,
+        help="a checkout to compare with instead of --baseline (its compiled cache is kept)",
+    )  # fmt: skip
     parser.add_argument("--revolutions", type=float, default=2.0)
     parser.add_argument("--rounds", type=int, default=2)
     parser.add_argument("--worker", help=argparse.SUPPRESS)
@@ -228,7 +237,10 @@ def main() -> None:
         _worker(args.worker, args.revolutions, args.offset)
         return
     with tempfile.TemporaryDirectory() as tmp:
-        base = _export(args.baseline, Path(tmp) / "baseline")
+        if args.baseline_tree is not None:
+            base = args.baseline_tree.resolve()
+        else:
+            base = _export(args.baseline, Path(tmp) / "baseline")
         trees = {"baseline": base, "this": ROOT}
         rows = []
         files = {}
@@ -247,9 +259,17 @@ def main() -> None:
             other = np.load(files[name])
             strobe = np.hypot(*(other["strobe"] - ref["strobe"]))
             orbit = np.hypot(*(other["orbit"] - ref["orbit"]))
+            eccentricity = np.abs(np.hypot(*other["orbit"]) - np.hypot(*ref["orbit"]))
             for row in rows:
                 if row["tree"].startswith(name if name == "this" else "baseline, journal"):
                     row["orbit_rev1_max_diff_m"] = float(orbit.max())
+                    row["eccentricity_rev1_max_diff_m"] = float(eccentricity.max())
+                    row["slider_rev1_max_diff_m"] = float(
+                        np.abs(other["slider"] - ref["slider"]).max()
+                    )
+                    row["force_rev1_max_diff_N"] = float(
+                        np.abs(other["force"] - ref["force"]).max()
+                    )
                     row["strobe_diff_m"] = " ".join(f"{d:.2e}" for d in strobe)
         uptime = subprocess.run(["uptime"], capture_output=True, text=True).stdout.strip()
     for row in rows:

@@ -134,5 +134,6 @@ def test_the_flexible_trajectory_is_unchanged() -> None:
     _check_digest(
         mechanism.load_scene("paper"),
         0.05,
-        "53e124301d52f894a5ce152b5aa897779420c74cfff8710b7245a6438b9335ff",
+        # analytic contact derivatives in the Newton loop: iterates move at the tolerance
+        "0cfa9be38de058db88bcf32c571c2f36695a1d6bfbf5b60640420a6e8daa5689",
     )

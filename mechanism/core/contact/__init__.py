@@ -19,8 +19,10 @@ from ._kernels import (
     contact_potential,
     effective_curvature,
     friction_force,
+    friction_force_derivatives,
     hertz_half_width,
     normal_force,
+    normal_force_derivatives,
 )
 from ._laws import (
     APPROACH_SPEEDS,

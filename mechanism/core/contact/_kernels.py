@@ -89,6 +89,47 @@ def normal_force(
 
 
 @njit_inner()
+def normal_force_derivatives(
+    law: int,
+    stiffness: float,
+    exponent: float,
+    restitution: float,
+    delta: float,
+    delta_dot: float,
+    impact_velocity: float,
+) -> tuple[float, float, float]:
+    """:func:`normal_force` and its partials: ``(F, ∂F/∂δ, ∂F/∂δ̇)`` (N, N/m, N s/m).
+
+    One evaluation of the law, the same branches as :func:`normal_force` (F bit for bit
+    the same). Where the law has a kink the partials are those of the branch the force
+    takes at that point: 0 for δ ≤ 0 (for n > 1 the right-hand limit nKδⁿ⁻¹ → 0 too),
+    0 where the force is clamped at 0 (including the point F = 0 itself), and, with
+    :data:`APPROACH_BOUNDED`, the bounded branch's ∂F/∂δ̇ = 0 only for
+    δ̇ > ``APPROACH_RATIO`` × ``impact_velocity`` (at equality the latched one).
+    """
+    if not delta > 0.0:
+        return 0.0, 0.0, 0.0
+    elastic = stiffness * delta**exponent
+    d_elastic = exponent * elastic / delta
+    base = law & LAW_MASK
+    if base == LAW_HERTZ or not impact_velocity > 0.0:
+        return elastic, d_elastic, 0.0
+    speed = impact_velocity
+    bounded = (law & APPROACH_BOUNDED) != 0 and delta_dot > APPROACH_RATIO * speed
+    if bounded:
+        speed = delta_dot / APPROACH_RATIO
+    chi = hysteresis_factor(base, restitution)
+    factor = 1.0 + chi * delta_dot / speed
+    force = elastic * factor
+    if not force > 0.0:
+        return 0.0, 0.0, 0.0
+    if bounded:
+        # δ̇/δ̇⁻ = APPROACH_RATIO whatever δ̇: the damping term no longer moves with δ̇
+        return force, d_elastic * factor, 0.0
+    return force, d_elastic * factor, elastic * chi / speed
+
+
+@njit_inner()
 def contact_potential(stiffness: float, exponent: float, delta: float) -> float:
     """Elastic energy K δ^(n+1)/(n+1) (J) stored in the contact; 0 when δ ≤ 0."""
     if not delta > 0.0:
@@ -132,6 +173,46 @@ def friction_force(
             return coefficient * cd * normal_force
         return 0.0
     return 0.0
+
+
+@njit_inner()
+def friction_force_derivatives(
+    law: int,
+    coefficient: float,
+    v0: float,
+    v1: float,
+    normal_force: float,
+    tangential_velocity: float,
+) -> tuple[float, float, float]:
+    """:func:`friction_force` and its partials: ``(F_t, ∂F_t/∂Fₙ, ∂F_t/∂v_t)``.
+
+    One evaluation, the same branches as :func:`friction_force` (F_t bit for bit the
+    same). At the kinks the partials are those of the branch taken at that point:
+    0 for Fₙ ≤ 0; for Ambrósio, ∂F_t/∂v_t = 0 at |v_t| ≤ v0 and |v_t| ≥ v1 (the
+    ramp's slope −μFₙ/(v1 − v0) only strictly inside it) and ∂F_t/∂Fₙ = 0 at v_t = 0.
+    """
+    if law == FRICTION_NONE or not normal_force > 0.0:
+        return 0.0, 0.0, 0.0
+    vt = tangential_velocity
+    if law == FRICTION_COULOMB:
+        th = math.tanh(vt / v0)
+        return (
+            -coefficient * normal_force * th,
+            -coefficient * th,
+            -coefficient * normal_force * (1.0 - th * th) / v0,
+        )
+    if law == FRICTION_AMBROSIO:
+        speed = abs(vt)
+        cd = ambrosio_factor(speed, v0, v1)
+        slope = 0.0
+        if v0 < speed < v1:
+            slope = -coefficient * normal_force / (v1 - v0)
+        if vt > 0.0:
+            return -coefficient * cd * normal_force, -coefficient * cd, slope
+        if vt < 0.0:
+            return coefficient * cd * normal_force, coefficient * cd, slope
+        return 0.0, 0.0, 0.0
+    return 0.0, 0.0, 0.0
 
 
 @njit_noalloc()

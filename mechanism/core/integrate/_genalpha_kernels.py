@@ -164,8 +164,9 @@ def genalpha_advance(model, ws, loop, out, ctl, jac, t_stop, dev):
     stick–slip ramp of regularised friction acting on a light journal), so a Jacobian
     taken at the start of the step can be useless at its end. The columns ``cc`` that
     those forces read (the bearing and journal coordinates) are therefore re-linearised
-    at every Newton iterate that touches (:func:`contact_derivatives`, a few contact-law
-    evaluations; kept while the contact state moved by less than ``RELINEARISE`` since,
+    at every Newton iterate that touches (:func:`contact_derivatives`: one evaluation of
+    the contact law and its partials for dry journals, a few differenced evaluations
+    otherwise; kept while the contact state moved by less than ``RELINEARISE`` since,
     :func:`linearisation_holds`), and the change, mapped by the constrained response
     P M⁻¹ frozen at the Jacobian's state, enters the factorised matrix as a rank-len(cc)
     Sherman–Morrison–Woodbury correction (:func:`contact_newton_solve`): a semi-smooth

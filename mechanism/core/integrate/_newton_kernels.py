@@ -7,6 +7,8 @@ perturbed copy of the flexible tangent integration (``_tangent_kernels.py``).
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numba import (
     njit,
@@ -20,8 +22,17 @@ from mechanism.core.contact import (
     FRICTION_NONE,
     film_engaged,
     film_moved,
+    friction_force_derivatives,
+    normal_force_derivatives,
 )
 from mechanism.core.joints import (
+    ANGLE_SLOPE,
+    PC_VX,
+    PC_VY,
+    PC_X,
+    PC_Y,
+    POINT_RIGID,
+    apply_point_force,
     update_point_rows,
 )
 from mechanism.core.model import (
@@ -39,6 +50,7 @@ from mechanism.core.model import (
     accelerations,
     clearance_forces,
 )
+from mechanism.core.model import kernels as model_kernels
 
 __all__: list[str] = []
 
@@ -280,18 +292,199 @@ def _contact_rows(model):
     return rows
 
 
+# clearance-table layout, bound here for the compiled kernels below
+_CF_RB = model_kernels.CF_RB
+_CF_RJ = model_kernels.CF_RJ
+_CF_K = model_kernels.CF_K
+_CF_EXP = model_kernels.CF_EXP
+_CF_CE = model_kernels.CF_CE
+_CF_MU = model_kernels.CF_MU
+_CI_KIND = model_kernels.CI_KIND
+_CONTACT_JOURNAL = model_kernels.CONTACT_JOURNAL
+_CJ_EX = model_kernels.CJ_EX
+_CJ_EY = model_kernels.CJ_EY
+# rows of the analytic-derivative scratch (``contact_scratch``), each over the columns cc
+_W_EX = 0  # ∂e_x/∂q_cc of e = r_j − r_b (= ∂ė_x/∂q̇_cc)
+_W_EY = 1
+_W_DX = 2  # ∂ė_x/∂q_cc (a rigid point's velocity turns with its angle)
+_W_DY = 3
+_W_TH = 4  # R_j ∂θ_j/∂q_cc − R_b ∂θ_b/∂q_cc (= ∂(R_j ω_j − R_b ω_b)/∂q̇_cc)
+_W_OM = 5  # ∂(R_j ω_j − R_b ω_b)/∂q_cc
+_W_ROWS = 6
+
+
+@njit(cache=True)
+def analytic_contact_supported(model):
+    """Whether :func:`contact_derivatives` takes the analytic path for this model: every
+    clearance joint is a dry, unworn journal in a bearing. Translational clearance
+    corners, worn profiles and oil films keep the forward differences."""
+    for j in range(model.cj_i.shape[0]):
+        if model.cj_i[j, _CI_KIND] != _CONTACT_JOURNAL:
+            return False
+        if model.cw_i[j, CW_WORN] != 0 or model.cj_f[j, CF_VISC] > 0.0:
+            return False
+    return True
+
+
+@njit(cache=True)
+def _cc_index(cc, d):
+    """Position of coordinate ``d`` in the sorted contact columns ``cc`` (−1 if absent)."""
+    lo = 0
+    hi = cc.shape[0] - 1
+    while lo <= hi:
+        mid = (lo + hi) // 2
+        if cc[mid] < d:
+            lo = mid + 1
+        elif cc[mid] > d:
+            hi = mid - 1
+        else:
+            return mid
+    return -1
+
+
+@njit(cache=True, error_model="numpy")
+def _point_maps(model, q, v, cc, pci, pcf, k, sign, radius, g, wk, dq, f_x, f_y, f_t):
+    """Add point ``k``'s maps to the rows of ``wk`` (``sign`` +1 journal, −1 bearing;
+    ``radius`` its contact radius) and the parts of ∂Q/∂q that come from the point's
+    configuration-dependent maps (a rigid point's lever arm, a slope angle's ∂θ/∂q) under
+    the force (f_x, f_y) and friction force f_t on the journal. ``g`` (length n, zero on
+    entry and on return) is scratch; the maps are read off :func:`apply_point_force`, the
+    same kernel that applies the force."""
+    nc = cc.shape[0]
+    for r in range(3):
+        apply_point_force(g, 1.0 if r == 0 else 0.0, 1.0 if r == 1 else 0.0,
+                          1.0 if r == 2 else 0.0, pci, pcf, k)  # fmt: skip
+        row = _W_EX if r == 0 else (_W_EY if r == 1 else _W_TH)
+        scale = sign if r < 2 else sign * radius
+        for a in range(nc):
+            wk[row, a] += scale * g[cc[a]]
+            g[cc[a]] = 0.0
+    kind = model.pt_i[k, 0]
+    base = model.pt_i[k, 1]
+    if kind == POINT_RIGID:
+        # r = R + A(θ)s̄: ∂r/∂θ = (−u_y, u_x) turns with θ, ∂²r/∂θ² = −u, ∂ṙ/∂θ = −ω u
+        a = _cc_index(cc, base + 2)
+        ux = pcf[k, PC_X] - q[base]
+        uy = pcf[k, PC_Y] - q[base + 1]
+        w = v[base + 2]
+        wk[_W_DX, a] -= sign * w * ux
+        wk[_W_DY, a] -= sign * w * uy
+        dq[a, a] -= sign * (ux * f_x + uy * f_y)
+    if model.pt_i[k, 2] == ANGLE_SLOPE:
+        # θ = atan2(g_y, g_x): ∂θ/∂g = (−g_y, g_x)/|g|² with the symmetric Hessian
+        # [[2g_xg_y, g_y² − g_x²], [g_y² − g_x², −2g_xg_y]]/|g|⁴, and ω = ∂θ/∂g · ġ
+        sl = model.pt_i[k, 3]
+        a0 = _cc_index(cc, sl)
+        a1 = _cc_index(cc, sl + 1)
+        gx = q[sl]
+        gy = q[sl + 1]
+        g4 = (gx * gx + gy * gy) ** 2
+        h00 = 2.0 * gx * gy / g4
+        h01 = (gy * gy - gx * gx) / g4
+        sr = sign * radius
+        wk[_W_OM, a0] += sr * (h00 * v[sl] + h01 * v[sl + 1])
+        wk[_W_OM, a1] += sr * (h01 * v[sl] - h00 * v[sl + 1])
+        m = sr * f_t
+        dq[a0, a0] += m * h00
+        dq[a0, a1] += m * h01
+        dq[a1, a0] += m * h01
+        dq[a1, a1] -= m * h00
+
+
+@njit(cache=True, error_model="numpy")
+def _analytic_derivatives(model, q, v, vimp, cc, pci, pcf, cj0, dq, dv, gt, g, wk):
+    """∂Q_cc/∂q_cc, ∂Q_cc/∂q̇_cc and ∂v_t/∂q̇_cc of the dry, unworn journal joints from
+    one evaluation (``cj0``, the point cache at (q, q̇)): the contact law's own partials
+    (:func:`~mechanism.core.contact.normal_force_derivatives`,
+    :func:`~mechanism.core.contact.friction_force_derivatives`) chained with the exact
+    derivatives of δ, δ̇, v_t and of the force's direction and point maps."""
+    nc = cc.shape[0]
+    dq[:, :] = 0.0
+    dv[:, :] = 0.0
+    for j in range(model.cj_i.shape[0]):
+        b = model.cj_i[j, 0]
+        jn = model.cj_i[j, 1]
+        rb = model.cj_f[j, _CF_RB]
+        rj = model.cj_f[j, _CF_RJ]
+        ex = cj0[j, _CJ_EX]
+        ey = cj0[j, _CJ_EY]
+        delta = cj0[j, CJ_DELTA]
+        ddot = cj0[j, CJ_DELTA_DOT]
+        vt = cj0[j, CJ_VT]
+        fn = 0.0
+        n_d = 0.0
+        n_dd = 0.0
+        ft = 0.0
+        t_fn = 0.0
+        t_vt = 0.0
+        if delta > 0.0:
+            fn, n_d, n_dd = normal_force_derivatives(
+                model.cj_i[j, 2], model.cj_f[j, _CF_K], model.cj_f[j, _CF_EXP],
+                model.cj_f[j, _CF_CE], delta, ddot, vimp[j],
+            )  # fmt: skip
+            if model.cj_i[j, 3] != FRICTION_NONE:
+                ft, t_fn, t_vt = friction_force_derivatives(
+                    model.cj_i[j, 3], model.cj_f[j, _CF_MU], model.cj_f[j, CF_V0],
+                    model.cj_f[j, CF_V1], fn, vt,
+                )  # fmt: skip
+        ne = math.sqrt(ex * ex + ey * ey)
+        if ne > 0.0:
+            nx = ex / ne
+            ny = ey / ne
+        else:
+            nx = 1.0
+            ny = 0.0
+        tx = -ny
+        ty = nx
+        # force on the journal f = −Fₙ n + F_t t (clearance_force_add)
+        f_x = -fn * nx + ft * tx
+        f_y = -fn * ny + ft * ty
+        wk[:, :nc] = 0.0
+        _point_maps(model, q, v, cc, pci, pcf, jn, 1.0, rj, g, wk, dq, f_x, f_y, ft)
+        _point_maps(model, q, v, cc, pci, pcf, b, -1.0, rb, g, wk, dq, f_x, f_y, ft)
+        dvx = pcf[jn, PC_VX] - pcf[b, PC_VX]
+        dvy = pcf[jn, PC_VY] - pcf[b, PC_VY]
+        slip = dvx * tx + dvy * ty  # ė·t
+        for c in range(nc):
+            gt[j, c] = tx * wk[_W_EX, c] + ty * wk[_W_EY, c] + wk[_W_TH, c]
+        if not (fn > 0.0 or ft != 0.0):
+            continue
+        for c in range(nc):
+            t_e = tx * wk[_W_EX, c] + ty * wk[_W_EY, c]
+            n_e = nx * wk[_W_EX, c] + ny * wk[_W_EY, c]
+            t_ed = tx * wk[_W_DX, c] + ty * wk[_W_DY, c]
+            n_ed = nx * wk[_W_DX, c] + ny * wk[_W_DY, c]
+            turn = t_e / ne  # ∂n/∂q_c = t·turn, ∂t/∂q_c = −n·turn
+            # position column: δ, δ̇, v_t and the direction move
+            dfn = n_d * n_e + n_dd * (n_ed + slip * turn)
+            dft = t_fn * dfn + t_vt * (t_ed - ddot * turn + wk[_W_OM, c])
+            dfx = -nx * dfn - fn * tx * turn + tx * dft - ft * nx * turn
+            dfy = -ny * dfn - fn * ty * turn + ty * dft - ft * ny * turn
+            for a in range(nc):
+                dq[a, c] += wk[_W_EX, a] * dfx + wk[_W_EY, a] * dfy + wk[_W_TH, a] * dft
+            # velocity column: δ̇ and v_t move
+            dfn = n_dd * n_e
+            dft = t_fn * dfn + t_vt * gt[j, c]
+            dfx = -nx * dfn + tx * dft
+            dfy = -ny * dfn + ty * dft
+            for a in range(nc):
+                dv[a, c] += wk[_W_EX, a] * dfx + wk[_W_EY, a] * dfy + wk[_W_TH, a] * dft
+
+
 @njit(cache=True, error_model="numpy")
 def contact_derivatives(model, ws, q, v, vimp, cc, dq, dv, gt, cs):
     """Derivatives of the clearance-joint forces with respect to the coordinates ``cc``
     they read (bearing and journal points): ``dq[a, c] = ∂Q_cc[a]/∂q_cc[c]``,
-    ``dv[a, c] = ∂Q_cc[a]/∂q̇_cc[c]`` and ``gt[j, c] = ∂v_t/∂q̇_cc[c]`` of joint j, by
-    forward differences of the contact law alone (2·len(cc) + 1 contact evaluations; the
-    generalized contact force is nonzero only on ``cc``). Returns whether any clearance
-    joint is in contact, or floats on an engaged oil film, at (q, q̇) (the forces include
-    the film's); zeros when none is. ``cs`` holds the scratch
-    (:func:`contact_scratch`), so the call allocates nothing.
+    ``dv[a, c] = ∂Q_cc[a]/∂q̇_cc[c]`` and ``gt[j, c] = ∂v_t/∂q̇_cc[c]`` of joint j (the
+    generalized contact force is nonzero only on ``cc``). When every clearance joint is a
+    dry, unworn journal (:func:`analytic_contact_supported`) they are exact, from one
+    evaluation of the contact law and its partials (:func:`_analytic_derivatives`);
+    otherwise forward differences of the contact forces alone (2·len(cc) + 1
+    evaluations). Returns whether any clearance joint is in contact, or floats on an
+    engaged oil film, at (q, q̇) (the forces include the film's); zeros when none is.
+    ``cs`` holds the scratch (:func:`contact_scratch`), so the call allocates nothing.
     """
-    rows, pci, pcf, cj0, cj, cnt, g0, g1, qp, vp = cs
+    rows, pci, pcf, cj0, cj, cnt, g0, g1, qp, vp, wk, analytic = cs
     nc = cc.shape[0]
     n_cj = ws.cj.shape[0]
     _contact_force(model, q, v, vimp, rows, pci, pcf, g0, cj0, cnt)
@@ -305,6 +498,10 @@ def contact_derivatives(model, ws, q, v, vimp, cc, dq, dv, gt, cs):
         dq[:, :] = 0.0
         dv[:, :] = 0.0
         return False
+    if analytic:
+        g1[:] = 0.0
+        _analytic_derivatives(model, q, v, vimp, cc, pci, pcf, cj0, dq, dv, gt, g1, wk)
+        return True
     qp[:] = q
     vp[:] = v
     for c in range(nc):
@@ -393,12 +590,13 @@ def record_linearisation(cj, vimp, lin):
 
 @njit(cache=True)
 def contact_scratch(model, ws):
-    """Scratch of :func:`contact_derivatives`, allocated once per integration call."""
+    """Scratch of :func:`contact_derivatives`, allocated once per integration call, and
+    whether it takes the analytic path (:func:`analytic_contact_supported`)."""
     n = model.n_dof
     return (
         _contact_rows(model), ws.pci.copy(), ws.pcf.copy(), ws.cj.copy(), ws.cj.copy(),
         np.zeros(CNT_COLUMNS, dtype=np.int64), np.empty(n), np.empty(n), np.empty(n),
-        np.empty(n),
+        np.empty(n), np.zeros((_W_ROWS, n)), analytic_contact_supported(model),
     )  # fmt: skip
 
 
