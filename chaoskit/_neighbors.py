@@ -255,17 +255,47 @@ class GridSearch:
         self._spts = spts
         self._maxnorm = p == np.inf
 
-    def query(self, query: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    def query(
+        self,
+        query: np.ndarray | None = None,
+        *,
+        limit: int | None = None,
+        known: np.ndarray | None = None,
+    ) -> tuple[np.ndarray, np.ndarray]:
         """Indices and distances of the nearest admissible neighbours of the rows ``query``
-        (default: every row)."""
+        (default: every row).
+
+        Parameters
+        ----------
+        query
+            Row indices (default: every row).
+        limit
+            Only rows ``j < limit`` are candidates (default: every row): the answers are
+            those of a grid built over ``points[:limit]``, so one grid serves searches over
+            leading parts of the same points.
+        known
+            ``int64`` array, one entry per row: a neighbour already found for this
+            ``limit`` (−1: none). Those rows are answered without a search and seed the
+            others; every answer found is written into it, so that a later call over
+            more rows reuses them.
+        """
         n_points = self.points.shape[0]
         q = np.arange(n_points, dtype=np.int64) if query is None else np.asarray(query, np.int64)
+        limit = n_points if limit is None else int(limit)
+        if not 0 < limit <= n_points:
+            raise ValueError(f"limit must be in 1 … {n_points}; got {limit}.")
+        if known is None:
+            known = np.full(n_points, -1, dtype=np.int64)
+        elif known.shape != (n_points,) or known.dtype != np.int64:
+            raise ValueError(f"known must be an int64 array of {n_points} entries.")
         cols, lo, cell, ncell, stride, unique, slot, starts, members = self._grid
         return _nk.grid_query(
             self.points,
             self._spts,
             q,
             self.theiler_window,
+            limit,
+            known,
             cols,
             lo,
             cell,

@@ -147,14 +147,14 @@ def _point_distance(points, i, j, maxnorm):
 
 
 @njit(cache=True, inline="always")
-def _scan_cell(points, spts, i, w, lo_m, hi_m, members, best, best_j, maxnorm):
+def _scan_cell(points, spts, i, w, limit, lo_m, hi_m, members, best, best_j, maxnorm):
     """Members ``lo_m … hi_m − 1`` (rows of ``spts``, the points in cell order) against row
-    ``i`` of ``points``: the best admissible one so far (each distance abandoned once it
-    exceeds ``best``; ties to the smaller index)."""
+    ``i`` of ``points``: the best admissible one (``|i − j| > w`` and ``j < limit``) so far
+    (each distance abandoned once it exceeds ``best``; ties to the smaller index)."""
     m = points.shape[1]
     for q in range(lo_m, hi_m):
         j = members[q]
-        if abs(i - j) <= w:
+        if abs(i - j) <= w or j >= limit:
             continue
         d = 0.0
         for c in range(m):
@@ -172,7 +172,7 @@ def _scan_cell(points, spts, i, w, lo_m, hi_m, members, best, best_j, maxnorm):
 
 
 @njit(cache=True, inline="always")
-def _scan_sorted(points, spts, i, w, lo_m, hi_m, members, best, best_j, maxnorm):
+def _scan_sorted(points, spts, i, w, limit, lo_m, hi_m, members, best, best_j, maxnorm):
     """:func:`_scan_cell` over a cell whose members are sorted by the first coordinate:
     from the query's place in that order outwards, each way until the first-coordinate
     gap alone exceeds ``best`` (the distance's first term is that gap, and adding the
@@ -196,7 +196,7 @@ def _scan_sorted(points, spts, i, w, lo_m, hi_m, members, best, best_j, maxnorm)
             if (gap if maxnorm else dx * dx) > best:
                 break
             j = members[q]
-            if abs(i - j) > w:
+            if abs(i - j) > w and j < limit:
                 d = 0.0
                 for c in range(m):
                     diff = spts[q, c] - points[i, c]
@@ -214,10 +214,10 @@ def _scan_sorted(points, spts, i, w, lo_m, hi_m, members, best, best_j, maxnorm)
 
 
 @njit(cache=True)
-def _scan_all(points, spts, i, w, members, best, best_j, maxnorm):
+def _scan_all(points, spts, i, w, limit, members, best, best_j, maxnorm):
     """Every point against row ``i`` (a query whose rings would cover more cells than
     there are points)."""
-    return _scan_cell(points, spts, i, w, 0, members.size, members, best, best_j, maxnorm)
+    return _scan_cell(points, spts, i, w, limit, 0, members.size, members, best, best_j, maxnorm)
 
 
 @njit(cache=True, inline="always")
@@ -239,11 +239,10 @@ def _grid_cell(value, lo, cell, n):
 
 
 @njit(cache=True, inline="always")
-def _seeded(points, i, w, answer, prev_j, maxnorm):
+def _seeded(points, i, w, limit, answer, prev_j, maxnorm):
     """The better of two exact candidates, so that most cells are skipped unseen: the
     successor of the neighbour of the point before (neighbouring trajectories stay close)
     and the neighbour of the query answered just before (same or next cell)."""
-    n_points = points.shape[0]
     best = np.inf
     best_j = -1
     for k in range(2):
@@ -251,7 +250,7 @@ def _seeded(points, i, w, answer, prev_j, maxnorm):
             seed = answer[i - 1] + 1 if i > 0 and answer[i - 1] >= 0 else -1
         else:
             seed = prev_j
-        if 0 <= seed < n_points and abs(i - seed) > w:
+        if 0 <= seed < limit and abs(i - seed) > w:
             d = _point_distance(points, i, seed, maxnorm)
             if d < best or (d == best and seed < best_j):
                 best = d
@@ -261,9 +260,29 @@ def _seeded(points, i, w, answer, prev_j, maxnorm):
 
 @njit(cache=True)
 def grid_query(
-    points, spts, query, w, cols, lo, cell, ncell, stride, keys, slot, starts, members, maxnorm
+    points,
+    spts,
+    query,
+    w,
+    limit,
+    answer,
+    cols,
+    lo,
+    cell,
+    ncell,
+    stride,
+    keys,
+    slot,
+    starts,
+    members,
+    maxnorm,
 ):
-    """Nearest admissible neighbour (``|i − j| > w``) of each row in ``query``.
+    """Nearest admissible neighbour (``|i − j| > w`` and ``j < limit``) of each row in
+    ``query``.
+
+    ``answer`` holds, per row of ``points``, a neighbour already known for this ``w`` and
+    ``limit`` (−1: none): such a row is not searched again, and the known neighbours seed
+    the search of the rows after them; the answers found are written into it.
 
     ``spts`` holds the points in cell order (``points[members]``), so that a cell's
     members are read from contiguous memory; ``slot`` maps every cell id to its position in
@@ -278,7 +297,6 @@ def grid_query(
     nq = query.size
     out_j = np.full(nq, -1, dtype=np.int64)
     out_d = np.full(nq, np.inf)
-    answer = np.full(points.shape[0], -1, dtype=np.int64)  # neighbour of each point answered
     # the grid's shape as scalars (kept in registers); unused coordinates have one cell
     ca, cb, cz = cols[0], cols[1 % g], cols[2 % g]
     n0 = ncell[0]
@@ -292,6 +310,12 @@ def grid_query(
     prev_j = -1
     for t in range(nq):
         i = query[t]
+        if answer[i] >= 0:  # known (exact, so the search would return it)
+            d = _point_distance(points, i, answer[i], maxnorm)
+            out_j[t] = answer[i]
+            out_d[t] = d if maxnorm else np.sqrt(d)
+            prev_j = answer[i]
+            continue
         c0, f0 = _grid_cell(points[i, ca], lo[0], cell, n0)
         c1, f1, c2, f2 = 0, 0.5, 0, 0.5
         if g > 1:
@@ -300,14 +324,14 @@ def grid_query(
             c2, f2 = _grid_cell(points[i, cz], lo[2], cell, n2)
         fmin = min(min(f0, 1.0 - f0), min(min(f1, 1.0 - f1), min(f2, 1.0 - f2)))
         fmin = min(0.5, max(0.0, fmin))
-        best, best_j = _seeded(points, i, w, answer, prev_j, maxnorm)
+        best, best_j = _seeded(points, i, w, limit, answer, prev_j, maxnorm)
         r = 0
         visited = 0
         while True:
             side = 2 * r + 1
             visited += side if g == 1 else (side * side if g == 2 else side * side * side)
             if visited > members.size:
-                best, best_j = _scan_all(points, spts, i, w, members, best, best_j, maxnorm)
+                best, best_j = _scan_all(points, spts, i, w, limit, members, best, best_j, maxnorm)
                 break
             # the cells at Chebyshev distance r from the query's, skipping those farther
             # than the best candidate; off the ring's faces only the cells at ±r of the
@@ -350,6 +374,7 @@ def grid_query(
                                 spts,
                                 i,
                                 w,
+                                limit,
                                 starts[pos],
                                 starts[pos + 1],
                                 members,

@@ -204,16 +204,22 @@ def _decided_fraction(arr, d, lag, n_points, w, max_points, rtol, atol, size, th
     references examined so far (then at least ``threshold`` too: the choice is the same).
 
     The references are searched in growing blocks in time order; the answer to
-    ``fraction < threshold`` is that of the full count. Returns (fraction, references).
+    ``fraction < threshold`` is that of the full count. The grid is laid over every point
+    of the dimension-``d`` embedding and the candidates limited to the first ``n_points``
+    (the same neighbours), so that a caller embedding in ``d`` can search it again.
+    Returns (fraction, references, (grid, answers)): ``answers`` holds the neighbour found
+    for each row searched (−1 elsewhere), for candidates ``j < n_points``.
     """
-    pts = embed(arr[: n_points + (d - 1) * lag], d, lag)
+    pts = embed(arr, d, lag)
     ref = _references(n_points, max_points)
+    check_theiler_window(w, n_points)  # for the candidates searched, not the whole grid
     search = GridSearch(pts, theiler_window=w, p=2.0)
+    known = np.full(pts.shape[0], -1, dtype=np.int64)
     false = used = 0
     start, block = 0, _FIRST_BLOCK
     while start < ref.size:
         part = ref[start : start + block]
-        nbr, dist = search.query(part)
+        nbr, dist = search.query(part, limit=n_points, known=known)
         f, u = _k.fnn_counts(arr, part, nbr, dist, d, lag, rtol, atol, size)
         false, used = false + f, used + u
         start += block
@@ -221,17 +227,23 @@ def _decided_fraction(arr, d, lag, n_points, w, max_points, rtol, atol, size, th
         # false only grows, so the full fraction is at least false / ref.size
         if start < ref.size and false / ref.size >= threshold:
             break
-    return false / used, used
+    return false / used, used, (search, known)
 
 
-def fnn_curve(arr, lag, max_dim, rtol, atol, w, threshold, max_points, *, stop_early):
+def fnn_curve(
+    arr, lag, max_dim, rtol, atol, w, threshold, max_points, *, stop_early, searches=None
+):
     """FNN fractions for d = 1 … max_dim on validated input.
 
     With ``stop_early``, the curve ends at the chosen dimension, and a dimension is left
     as soon as its false fraction is decided to reach ``threshold``
     (:func:`_decided_fraction`): the choice and the rule are those of the full curve, the
     entries of the rejected dimensions are fractions over the references examined (each
-    at least ``threshold``).
+    at least ``threshold``). A dict ``searches`` (with ``stop_early``) receives, per
+    dimension ``d`` tested, ``(grid, answers, limit)``: the
+    :class:`~chaoskit._neighbors.GridSearch` over every point of ``embed(arr, d, lag)``
+    with the Theiler window ``w``, and the neighbours it found among the first ``limit``
+    points (−1 where not searched), which an estimator embedding in ``d`` reuses.
     """
     size = float(arr.std())
     fractions = []
@@ -239,9 +251,11 @@ def fnn_curve(arr, lag, max_dim, rtol, atol, w, threshold, max_points, *, stop_e
     for d in range(1, max_dim + 1):
         n_points = arr.size - d * lag  # the (d+1)-th coordinate must exist
         if stop_early:
-            fraction, used = _decided_fraction(
+            fraction, used, found = _decided_fraction(
                 arr, d, lag, n_points, w, max_points, rtol, atol, size, threshold
             )
+            if searches is not None:
+                searches[d] = (*found, n_points)
         else:
             ref, nbr, dist = _neighbours(arr, d, lag, n_points, w, max_points, 2.0)
             false, used = _k.fnn_counts(arr, ref, nbr, dist, d, lag, rtol, atol, size)

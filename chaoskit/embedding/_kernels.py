@@ -40,17 +40,24 @@ def mutual_information_curve(codes: np.ndarray, bins: int, lag0: int, lag1: int)
     joint = np.empty((bins, bins), dtype=np.int64)
     pa = np.empty(bins, dtype=np.int64)
     pb = np.empty(bins, dtype=np.int64)
+    flat = joint.reshape(bins * bins)
     for lag in range(lag0, lag1):
-        joint[:, :] = 0
-        pa[:] = 0
-        pb[:] = 0
+        flat[:] = 0
         m = n - lag
         for i in range(m):
-            a = codes[i]
-            b = codes[i + lag]
-            joint[a, b] += 1
-            pa[a] += 1
-            pb[b] += 1
+            flat[codes[i] * bins + codes[i + lag]] += 1
+        # the marginal counts as the joint's row and column sums (integers: the same
+        # counts as incrementing them per pair, at a third of the increments)
+        for a in range(bins):
+            t = 0
+            for b in range(bins):
+                t += joint[a, b]
+            pa[a] = t
+        for b in range(bins):
+            t = 0
+            for a in range(bins):
+                t += joint[a, b]
+            pb[b] = t
         # I = Σ p_ab ln(p_ab / (p_a p_b)) with p = count / m
         s = 0.0
         for a in range(bins):

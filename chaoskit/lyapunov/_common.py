@@ -29,6 +29,9 @@ class Prepared:
     dim_rule: str
     period: float
     scale: float
+    # the automatic dimension's grid over ``pts`` (Theiler window ``theiler_window``), the
+    # neighbours it found and their candidate limit (see ``fnn_curve``); None otherwise
+    neighbors: tuple | None = None
 
 
 def _theiler_window(period: float, n_points: int) -> int:
@@ -66,13 +69,23 @@ def prepare(
     # one periodogram for the period and both default Theiler windows
     period = mean_period(arr)
     lag, lag_rule = lag_or_estimate(arr, lag)
+    searches: dict[int, tuple] = {}
     if embedding_dim is None:
         max_dim = min(10, (n - 10) // lag - 1)
         if max_dim < 1:
             raise _too_short(n, 2 * lag + 11, f"estimating the embedding dimension at lag={lag}")
         w_fnn = _theiler_window(period, n - max_dim * lag)
         dim = fnn_curve(
-            arr, lag, max_dim, 15.0, 2.0, w_fnn, DEFAULT_FNN_THRESHOLD, _DIM_POINTS, stop_early=True
+            arr,
+            lag,
+            max_dim,
+            15.0,
+            2.0,
+            w_fnn,
+            DEFAULT_FNN_THRESHOLD,
+            _DIM_POINTS,
+            stop_early=True,
+            searches=searches,
         )
         embedding_dim, dim_rule = dim.embedding_dim, f"estimated: FNN, {dim.rule}"
     else:
@@ -92,9 +105,13 @@ def prepare(
             f"embedding_dim={embedding_dim}, lag={lag}, a horizon of {min_future} samples and "
             f"theiler_window={w} (every reference point needs an admissible neighbour)",
         )
+    # the dimension's search reused when its window is the estimator's
+    neighbors = searches.get(embedding_dim)
+    if neighbors is not None and neighbors[0].theiler_window != w:
+        neighbors = None
     return Prepared(
         arr=arr,
-        pts=embed(arr, embedding_dim, lag),
+        pts=embed(arr, embedding_dim, lag) if neighbors is None else neighbors[0].points,
         dt=dt,
         lag=lag,
         embedding_dim=embedding_dim,
@@ -103,6 +120,7 @@ def prepare(
         dim_rule=dim_rule,
         period=period,
         scale=scale,
+        neighbors=neighbors,
     )
 
 

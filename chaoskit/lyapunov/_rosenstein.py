@@ -6,7 +6,7 @@ from typing import Any, Literal
 
 import numpy as np
 
-from .._neighbors import grid_nearest_neighbors
+from .._neighbors import GridSearch, check_theiler_window
 from .._progress import stage
 from .._validate import check_choice, check_int
 from . import _kernels as _k
@@ -187,11 +187,31 @@ def _grid(h: int) -> np.ndarray:
     return ks
 
 
-def _auto_horizon(pts: np.ndarray, w: int, period: float, plateau: float, cap: int) -> int:
+def grid_search(prep: Prepared) -> GridSearch:
+    """The nearest-neighbour grid over ``prep.pts`` with its Theiler window: the automatic
+    dimension's own when it has that window, else a new one."""
+    if prep.neighbors is not None:
+        return prep.neighbors[0]
+    return GridSearch(prep.pts, theiler_window=prep.theiler_window)
+
+
+def _known_neighbors(prep: Prepared, usable: int) -> np.ndarray | None:
+    """The neighbours the automatic dimension found that hold for candidates ``j <
+    usable`` (−1 elsewhere), or None. A nearest neighbour among the first ``limit`` points
+    that lies below ``usable <= limit`` is also the nearest (ties: the smallest index)
+    among the first ``usable``."""
+    if prep.neighbors is None or usable > prep.neighbors[2]:
+        return None
+    answers = prep.neighbors[1]
+    return np.where(answers < usable, answers, -1)
+
+
+def _auto_horizon(search: GridSearch, period: float, plateau: float, cap: int) -> int:
     """Grow the horizon (doubling) on a pilot set until the curve nears its plateau."""
+    pts = search.points
     n = pts.shape[0]
     ref = references(n, _PILOT_POINTS)
-    nbr, _ = grid_nearest_neighbors(pts, theiler_window=w, query=ref)
+    nbr, _ = search.query(ref)
     h = int(min(cap, max(16, np.ceil(4 * period))))
     while True:
         ks = _grid(h)
@@ -213,14 +233,17 @@ def horizon_for(
     min_future: int,
     max_horizon: int | None,
     fixed: tuple[int, int] | None,
+    search: GridSearch | None = None,
 ) -> int:
     """``max_horizon`` if given, else the automatic horizon (capped at 20 mean periods, at
-    least 64, and half the usable points), never short of a given fit range."""
+    least 64, and half the usable points), never short of a given fit range; the pilot's
+    neighbours come from ``search`` (default: :func:`grid_search`)."""
     if max_horizon is not None:
         return max_horizon
     pts, w = prep.pts, prep.theiler_window
     cap = int(min((pts.shape[0] - 2 * w - 2) // 2, max(64, np.ceil(20 * prep.period))))
-    horizon = _auto_horizon(pts, w, prep.period, plateau, max(cap, min_future))
+    search = grid_search(prep) if search is None else search
+    horizon = _auto_horizon(search, prep.period, plateau, max(cap, min_future))
     return max(horizon, fixed[1]) if fixed else horizon
 
 
@@ -393,7 +416,9 @@ def lyapunov_rosenstein(
     pts, w = prep.pts, prep.theiler_window
     n_pts = pts.shape[0]
     plateau = plateau_level(pts, w, np.random.default_rng(12345), False)
-    horizon_max = horizon_for(prep, plateau, min_future, max_horizon, fixed)
+    # one grid for the pilot and the main search (the dimension's, when it can be reused)
+    search = grid_search(prep)
+    horizon_max = horizon_for(prep, plateau, min_future, max_horizon, fixed, search)
     usable = n_pts - horizon_max
     ks = _grid(horizon_max)
     if fixed:
@@ -403,8 +428,9 @@ def lyapunov_rosenstein(
             else ks
         )
     ref = references(usable, max_points)
-    head = np.ascontiguousarray(pts[:usable])
-    nbr, _ = grid_nearest_neighbors(head, theiler_window=w, query=ref)
+    check_theiler_window(w, usable)
+    # candidates among the first ``usable`` points: those with a future of the horizon
+    nbr, _ = search.query(ref, limit=usable, known=_known_neighbors(prep, usable))
     flow = prep.lag > 1
     shift = np.zeros(ref.size)
     if neighbor in ("orbit", "mean") or (neighbor == "auto" and flow):
