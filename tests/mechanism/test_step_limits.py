@@ -87,7 +87,7 @@ def test_bound_is_the_time_the_journal_takes_to_cross_its_gap() -> None:
 def test_first_impact_as_with_the_fixed_limit_in_far_fewer_steps(friction, worn) -> None:
     """The first impact of the clearance slider-crank (45.9 kN fresh, 49.1 kN on the worn
     arc) within 0.5 % of the default output step as a fixed limit, in a tenth of its steps
-    on the fresh profile and a third on the worn one (61 and 274 of 834 without friction)."""
+    (61 and 41 of 834 without friction, fresh and worn)."""
     scene = s3(friction=friction)
     if worn:
         scene = _worn(scene)

@@ -66,6 +66,12 @@ from mechanism.core.joints import (
 )
 from mechanism.core.wear import local_clearance, local_stiffness_tabulated, surface_slope
 
+# a worn joint in contact: in one step its contact direction slides over at most
+# SLIDE_REGIONS regions of a worn surface, and its local clearance changes by at most
+# SLIDE_CLEARANCE × c₀ (``_slide_step_if``)
+SLIDE_REGIONS = 1
+SLIDE_CLEARANCE = 0.05
+
 # light samples: crank angle, slider s, ṡ, then e_x, e_y of each clearance joint
 LIGHT_COLUMNS = 3
 # columns of the per-clearance-joint table ``ws.cj`` filled by every force evaluation
@@ -674,17 +680,19 @@ def entry_depth_ratio(model, ws, y, contact):
 def approach_step(model, ws, y, acc, fraction):
     """Longest step (s) in which no separated clearance joint's journal can travel more
     than ``fraction`` of its gap to the bearing wall, at state ``y`` with accelerations
-    ``acc`` (q̈); inf when every joint is in contact (local δ > 0: the step is then the
-    error control's, which sees the contact force in its stages) on an unworn profile.
+    ``acc`` (q̈); inf when every joint is in contact (local δ > 0) on an unworn profile:
+    the step is then the error control's, which sees the contact force in its stages. A
+    worn joint in contact is bounded only by the slide of its contact direction over its
+    worn surfaces (:func:`_slide_step_if`).
 
-    The gap is g = c₀ − |e| to the nominal clearance c₀, the smallest local clearance of
-    a worn profile (wear only deepens), so a journal moving over a worn bearing towards a
-    shallower region is never given a step that crosses its wall. With the relative
-    speed v = |ė| and acceleration a = |ë| of the journal centre, v h + ½ a h² = f g
-    (f = ``fraction``) gives h = 2 f g / (v + √(v² + 2 a f g)). A separated joint beyond
-    c₀ (in a worn groove, g ≤ 0), or a joint in contact on a worn profile (whose
-    tabulated depths step from one region to the next as the journal slides), returns 0:
-    the caller's floor applies.
+    The gap g is a lower bound on the distance from the journal centre to the wall. With
+    the relative speed v = |ė| and acceleration a = |ë| of the journal centre,
+    v h + ½ a h² = f g (f = ``fraction``) gives h = 2 f g / (v + √(v² + 2 a f g)). On an
+    unworn joint g = c₀ − |e|. On a worn one the wall is the local clearance
+    c = c₀ + h_b + h_j, and g is the larger of c₀ − |e| (wear only deepens) and
+    :func:`_worn_gap`, the smallest local clearance the journal can face during the step
+    minus |e|, positive for a journal in a worn groove beyond c₀.
+    A grazing joint (g = 0) returns 0: the caller's floor applies.
     """
     ncj = model.cj_i.shape[0]
     if ncj == 0:
@@ -696,10 +704,7 @@ def approach_step(model, ws, y, acc, fraction):
     for j in range(ncj):
         delta, _, _ = clearance_state(model, ws, y, j)
         if delta > 0.0:
-            if model.cw_i[j, CW_WORN] != 0:
-                # sliding over a worn profile crosses the steps of its tabulated depths,
-                # which the error control sees only as they are crossed
-                return 0.0
+            limit = min(limit, _slide_step_if(model.worn_on, model, ws, j))
             continue
         b = model.cj_i[j, 0]
         jn = model.cj_i[j, 1]
@@ -708,19 +713,166 @@ def approach_step(model, ws, y, acc, fraction):
             continue
         ex = pcf[jn, PC_X] - pcf[b, PC_X]
         ey = pcf[jn, PC_Y] - pcf[b, PC_Y]
-        gap = fraction * (model.cj_f[j, CF_C] - math.sqrt(ex * ex + ey * ey))
-        if not gap > 0.0:
-            return 0.0
+        ne = math.sqrt(ex * ex + ey * ey)
         vx = pcf[jn, PC_VX] - pcf[b, PC_VX]
         vy = pcf[jn, PC_VY] - pcf[b, PC_VY]
         ajx, ajy = point_acceleration(acc, ws.pci, pcf, jn)
         abx, aby = point_acceleration(acc, ws.pci, pcf, b)
         speed = math.sqrt(vx * vx + vy * vy)
         accel = math.sqrt((ajx - abx) ** 2 + (ajy - aby) ** 2)
-        denom = speed + math.sqrt(speed * speed + 2.0 * accel * gap)
-        if denom > 0.0:
-            limit = min(limit, 2.0 * gap / denom)
+        gap = model.cj_f[j, CF_C] - ne
+        gap = _worn_gap_if(model.worn_on, model, ws, acc, j, -delta, ne, gap, speed, accel,
+                           fraction)  # fmt: skip
+        gap = fraction * gap
+        if not gap > 0.0:
+            return 0.0
+        limit = min(limit, _reach(gap, speed, accel))
     return limit
+
+
+@njit_noalloc(inline="always")
+def _reach(gap, speed, accel):
+    """Time (s) to travel ``gap`` from ``speed`` at ``accel``: v h + ½ a h² = g."""
+    denom = speed + math.sqrt(speed * speed + 2.0 * accel * gap)
+    return 2.0 * gap / denom if denom > 0.0 else np.inf
+
+
+@njit_inner()
+def _slide_step_if(on, model, ws, j):
+    """Step (s) in which the depth of each worn surface of joint ``j`` in contact changes
+    by at most ``SLIDE_CLEARANCE`` × c₀ as its contact direction slides (inf when unworn or
+    when ``on`` is None).
+
+    The surface is C1, but a flank may be as deep as the clearance and one region wide; a
+    step that slid across it in one go would reach the far side with the error control
+    seeing the force change only there. Between region centres the surface is monotone,
+    so over one region it changes by at most D, the largest difference of neighbouring
+    region depths within ``SLIDE_REGIONS`` + 1 regions of the direction; the direction
+    moves over a surface at φ̇ = (e × ė)/|e|² minus the part's rate, so
+    h = min(SLIDE_CLEARANCE c₀ / D, ``SLIDE_REGIONS``) regions / |φ̇|.
+    """
+    if on is None:
+        return np.inf
+    cw_i = model.cw_i
+    if cw_i[j, CW_WORN] == 0:
+        return np.inf
+    pcf = ws.pcf
+    b = model.cj_i[j, 0]
+    jn = model.cj_i[j, 1]
+    ex = pcf[jn, PC_X] - pcf[b, PC_X]
+    ey = pcf[jn, PC_Y] - pcf[b, PC_Y]
+    e2 = ex * ex + ey * ey
+    if not e2 > 0.0:
+        return np.inf
+    vx = pcf[jn, PC_VX] - pcf[b, PC_VX]
+    vy = pcf[jn, PC_VY] - pcf[b, PC_VY]
+    turn = (ex * vy - ey * vx) / e2
+    phi = math.atan2(ey, ex)
+    allowed = SLIDE_CLEARANCE * model.cj_f[j, CF_C]
+    out = np.inf
+    for part, off, regions in (
+        (b, cw_i[j, CW_B_OFF], cw_i[j, CW_B_N]), (jn, cw_i[j, CW_J_OFF], cw_i[j, CW_J_N])
+    ):  # fmt: skip
+        rate = abs(turn - pcf[part, PC_RATE])
+        if regions == 0 or not rate > 0.0:
+            continue
+        values = model.cw_h[off : off + regions]
+        here = math.floor((phi - pcf[part, PC_ANG]) * regions / (2.0 * math.pi))
+        jump = 0.0
+        for k in range(here - SLIDE_REGIONS - 1, here + SLIDE_REGIONS + 2):
+            k0 = (k % regions + regions) % regions
+            jump = max(jump, abs(values[(k0 + 1) % regions] - values[k0]))
+        cells = SLIDE_REGIONS if not jump * SLIDE_REGIONS > allowed else allowed / jump
+        out = min(out, cells * 2.0 * math.pi / regions / rate)
+    return out
+
+
+@njit_inner()
+def _worn_gap_if(on, model, ws, acc, j, radial, ne, gap, speed, accel, fraction):
+    """:func:`_worn_gap` of a worn joint ``j``, else ``gap`` (also when ``on`` is None)."""
+    if on is None:
+        return gap
+    if model.cw_i[j, CW_WORN] == 0:
+        return gap
+    return max(gap, _worn_gap(model, ws, acc, j, radial, ne, speed, accel, fraction))
+
+
+@njit_inner()
+def _worn_gap(model, ws, acc, j, radial, ne, speed, accel, fraction):
+    """Lower bound (m) on the distance from a separated worn journal's centre to its wall
+    during the step of :func:`approach_step`.
+
+    ``radial`` = c(φ) − |e| > 0 is the radial gap at the current contact direction φ. A
+    wall point at an angle Δ from φ is at least |e| sin Δ away (beyond 90°: at least c₀),
+    so the walls outside ±W, sin W = ``radial``/|e|, are farther than ``radial``; inside,
+    the wall is at least min c − |e| away, with min c = c₀ + min h_b + min h_j over the
+    window in each part's frame, widened by the part's rotation |θ̇| h + ½ |θ̈| h² over the
+    step h. The step depends on the gap, so the rotation is taken over the step of the
+    narrower window first: the wider window gives a smaller gap, hence a shorter step
+    than the one its rotation was taken over.
+    """
+    if not radial > 0.0:
+        return 0.0
+    c0 = model.cj_f[j, CF_C]
+    half = 0.5 * math.pi if not radial < ne else math.asin(radial / ne)
+    pcf = ws.pcf
+    b = model.cj_i[j, 0]
+    jn = model.cj_i[j, 1]
+    phi = math.atan2(pcf[jn, PC_Y] - pcf[b, PC_Y], pcf[jn, PC_X] - pcf[b, PC_X])
+    phi_b = phi - pcf[b, PC_ANG]
+    phi_j = phi - pcf[jn, PC_ANG]
+    first = min(_window_clearance(model, j, c0, phi_b, half, phi_j, half) - ne, c0)
+    if not first > 0.0:
+        return first
+    h = _reach(fraction * first, speed, accel)
+    turn_b = abs(pcf[b, PC_RATE]) * h + 0.5 * abs(angle_acceleration(acc, ws.pci, pcf, b)) * h * h
+    turn_j = abs(pcf[jn, PC_RATE]) * h + 0.5 * abs(angle_acceleration(acc, ws.pci, pcf, jn)) * h * h
+    wall = _window_clearance(model, j, c0, phi_b, half + turn_b, phi_j, half + turn_j)
+    return min(wall - ne, c0)
+
+
+@njit_inner()
+def _window_clearance(model, j, c0, phi_b, half_b, phi_j, half_j):
+    """c₀ + min h_b over φ_b ± ``half_b`` + min h_j over φ_j ± ``half_j`` (m) of joint ``j``."""
+    cw_i = model.cw_i
+    cw_h = model.cw_h
+    bo = cw_i[j, CW_B_OFF]
+    jo = cw_i[j, CW_J_OFF]
+    none = cw_h[0:0]
+    return (
+        c0
+        + _surface_min(cw_h[bo : bo + cw_i[j, CW_B_N]], none, phi_b, half_b)
+        + _surface_min(cw_h[jo : jo + cw_i[j, CW_J_N]], none, phi_j, half_j)
+    )
+
+
+@njit_inner()
+def _surface_min(values, none, angle, half):
+    """Smallest value over angle ± ``half`` of the continuous surface through per-region
+    ``values`` (0 when empty; ``none`` is an empty array).
+
+    The surface is monotone between neighbouring region centres, so its minimum over an
+    arc is at an end of the arc or at a region centre inside it.
+    """
+    n = values.size
+    if n == 0:
+        return 0.0
+    low = np.inf
+    if not half < math.pi:
+        for k in range(n):
+            low = min(low, values[k])
+        return low
+    # local_clearance with c₀ = 0 and no second surface is the value of one surface
+    low = min(
+        local_clearance(0.0, values, none, angle - half, 0.0),
+        local_clearance(0.0, values, none, angle + half, 0.0),
+    )
+    scale = n / (2.0 * math.pi)
+    first = math.ceil((angle - half) * scale - 0.5)
+    last = math.floor((angle + half) * scale - 0.5)
+    for k in range(first, last + 1):
+        low = min(low, values[((k % n) + n) % n])
+    return low
 
 
 @njit_noalloc(inline="always")
