@@ -10,6 +10,7 @@ for a flexible one); see ``docs/mechanism-lyapunov.md``.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -52,6 +53,9 @@ DEFAULT_PERTURBATION = 1e-7
 DEFAULT_DEVIATION_RTOL = 1e-4
 #: how the deviation's rate is differenced (``LyapunovSettings.difference``)
 DIFFERENCES = ("directional", "split")
+#: an interval decides the exponent's sign when it lies beyond zero by this many of its
+#: half-widths (``SceneLyapunov.sign_decided``, ``decide_after``)
+DECIDED_MARGIN = 1.0
 
 
 def _optional_positive(value: Any, name: str) -> float | None:
@@ -203,6 +207,12 @@ class SceneLyapunov:
     scene_name: str = ""
 
     @property
+    def sign_decided(self) -> bool:
+        """True when ``ci`` lies beyond zero by at least its half-width (above: chaotic by
+        the equations; below: regular); False for an interval that is not finite."""
+        return _sign_decided(self.ci)
+
+    @property
     def exponent_per_period(self) -> float:
         """λ₁ T: nats per drive period (NaN without a periodic drive)."""
         return self.exponent * self.drive_period if self.drive_period else math.nan
@@ -250,6 +260,14 @@ class SceneLyapunov:
         )
 
 
+def _sign_decided(ci: tuple[float, float]) -> bool:
+    lo, hi = (float(x) for x in ci)
+    if not (math.isfinite(lo) and math.isfinite(hi)):
+        return False
+    half = 0.5 * (hi - lo)
+    return lo > DECIDED_MARGIN * half or hi < -DECIDED_MARGIN * half
+
+
 def _batch_interval(
     t: np.ndarray, log_growth: np.ndarray, batches: int
 ) -> tuple[tuple[float, float], int]:
@@ -273,6 +291,7 @@ def lyapunov_exponent(
     revolutions: float | None = None,
     t_end: float | None = None,
     discard: float = 0.0,
+    decide_after: float | None = None,
     settings: LyapunovSettings | None = None,
     progress: bool = False,
 ) -> SceneLyapunov:
@@ -317,6 +336,14 @@ def lyapunov_exponent(
     discard : float
         Transient left out of the estimate (the deviation still evolves through it):
         drive periods with ``revolutions``, seconds with ``t_end``.
+    decide_after : float, optional
+        End the run early when its sign is already clear: at the first segment end at
+        or after ``decide_after`` (drive periods with ``revolutions``, seconds with
+        ``t_end``; in (``discard``, the run's length)) the interval of the segments kept
+        so far is read once, and when it lies beyond zero by at least its half-width
+        (:attr:`SceneLyapunov.sign_decided`) the estimate of those segments is the
+        result; otherwise the run goes on to its end, with the numbers of a run without
+        ``decide_after``. ``settings["revolutions"]``/``t_end`` state the length run.
     settings : LyapunovSettings, optional
         The deviation (``perturbation`` ε / L, ``renormalize_every``, ``deviation_rtol``,
         ``seed``), the interval (``batches``) and the integration (``rtol``, ``atol``,
@@ -354,6 +381,8 @@ def lyapunov_exponent(
         raise TypeError(f"scene must be a mechanism Scene; got {type(scene).__name__}.")
     period = drive_period(scene)
     duration, t_discard = _run_time(period, revolutions, t_end, discard)
+    t_decide = _decide_time(decide_after, period if revolutions is not None else None,
+                            t_discard, duration)  # fmt: skip
     if settings is None:
         settings = LyapunovSettings()
     elif not isinstance(settings, LyapunovSettings):
@@ -373,25 +402,29 @@ def lyapunov_exponent(
     n_seg = max(1, round((duration - t_discard) / segment))
     kept = t_discard + (duration - t_discard) * np.arange(n_seg + 1) / n_seg
     stops = np.concatenate([[0.0], kept]) if t_discard > 0.0 else kept
-    label = f"{scene.name} (lyapunov)"
+    shown = f"{scene.name} (lyapunov)" if progress else False
+    until = None if t_decide is None else _decision(t_decide, t_discard, segment, settings.batches)
     if isinstance(method, GeneralizedAlpha):
         run = integrate_tangent_flexible(
-            model, y0, d0, stops, method=method, settings=tangent, progress=progress,
-            label=label,
+            model, y0, d0, stops, method=method, settings=tangent, until=until,
+            progress=shown,
         )  # fmt: skip
     else:
-        run = integrate_tangent(
-            model, y0, d0, stops, settings=tangent, progress=progress, label=label
-        )
+        run = integrate_tangent(model, y0, d0, stops, settings=tangent, until=until, progress=shown)
     if not run.stats.success:
         raise SimulationError(
             f"exponent of {scene.name!r}: the integration failed after t = {run.t[-1]:.6g} s: "
             f"{run.stats.message}"
         )
+    if run.t.size < stops.size:  # ended by decide_after: the length run
+        duration = float(run.t[-1])
+        if revolutions is not None:
+            revolutions = round(duration / period, 9)  # type: ignore[operator]
     recorded = {
         "revolutions": None if revolutions is None else float(revolutions),
         "t_end": float(duration),
         "discard": float(t_discard),
+        "decide_after": math.nan if decide_after is None else float(decide_after),
         "perturbation": float(settings.perturbation),
         "length_scale": float(length),
         "perturbation_size": float(size),
@@ -433,6 +466,43 @@ def _run_time(
     if not discard < duration:
         raise ValueError(f"discard must be smaller than t_end ({duration!r} s); got {discard!r}.")
     return duration, discard
+
+
+def _decide_time(
+    decide_after: float | None, period: float | None, t_discard: float, duration: float
+) -> float | None:
+    """``decide_after`` in seconds (drive periods with a ``period``), checked to lie in
+    (discard, duration); None stays None."""
+    if decide_after is None:
+        return None
+    value = check_positive(decide_after, name="decide_after")
+    t = value * period if period is not None else value
+    if not t_discard < t < duration:
+        unit = period if period is not None else 1.0
+        raise ValueError(
+            f"decide_after must lie in (discard, the run's length) = ({t_discard / unit:g}, "
+            f"{duration / unit:g}); got {decide_after!r}."
+        )
+    return t
+
+
+def _decision(
+    t_decide: float, t_discard: float, segment: float, batches: int
+) -> Callable[[np.ndarray, np.ndarray], bool]:
+    """The ``until`` of the tangent integration for ``decide_after``: at the first
+    segment end at or after ``t_decide`` (once), whether the kept segments' interval
+    decides the sign."""
+    read: list[bool] = []
+
+    def until(t: np.ndarray, log_growth: np.ndarray) -> bool:
+        if read or t[-1] < t_decide - 1e-9 * segment:
+            return False
+        read.append(True)
+        first = 1 if t_discard > 0.0 else 0
+        ci, _ = _batch_interval(t[first:], log_growth[first:], batches)
+        return _sign_decided(ci)
+
+    return until
 
 
 def _integrator(scene: Scene, model: Model) -> Dopri5 | GeneralizedAlpha:

@@ -10,9 +10,11 @@ flight, impacts and continuous contact. See ``docs/wear.md`` §6.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 from collections.abc import Sequence
+from concurrent.futures import Executor
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -20,21 +22,15 @@ import numpy as np
 import xarray as xr
 from tqdm.auto import tqdm
 
-import chaoskit
 from chaoskit.contract import __version__, check_int, check_positive, stamp, variable
 from mechanism.core import Scene, SimulationError, scene_from_json
-from mechanism.core.record import WearRecord, window_start
+from mechanism.core.record import WearRecord
 from mechanism.core.scene import ClearanceRevolute
 from mechanism.core.wear import SURFACES, WornProfile, surface_angle
 
-from ._lyapunov import SceneLyapunov, lyapunov_exponent
-from ._turns import (
-    cut_at_turns,
-    exponent_revolutions,
-    exponent_span,
-    revolution_time,
-    simulate_turns,
-)
+from ._lyapunov import SceneLyapunov
+from ._turns import revolution_time
+from ._wear_life_analysis import CheckpointAnalysis, Judgements, observe
 from ._wear_prediction import update_loop
 from ._wear_settings import (
     DEFAULT_MAX_DEPTH_INCREMENT,
@@ -44,7 +40,6 @@ from ._wear_settings import (
     check_fraction,
     check_increment_settle,
 )
-from ._wear_statistics import contact_modes
 
 __all__ = [
     "DEFAULT_WEAR_LIFE_AVERAGED_REVOLUTIONS",
@@ -62,11 +57,9 @@ DEFAULT_WEAR_LIFE_AVERAGED_REVOLUTIONS = 8
 #: verdict is thinned to about this many samples per drive period (its cost grows with the
 #: samples, its evidence with the periods; docs/accuracy-vs-cost.md, "Wear path").
 VERDICT_SAMPLES_PER_PERIOD = 125
-#: Default of ``lyapunov_first_revolutions``: the revolutions of the exponent's first run.
+#: Default of ``lyapunov_first_revolutions``: the revolutions after which the exponent's
+#: run ends when their interval decides the sign.
 LYAPUNOV_FIRST_REVOLUTIONS = 6.0
-#: The first run's exponent is kept when its 95 % interval lies beyond zero by at least
-#: this many of its half-widths (the interval widened by 1 + this factor excludes zero).
-EXPONENT_DECIDED_MARGIN = 1.0
 #: The path ends when a state fails, with this status (as :class:`mechanism.WearPrediction`).
 _COMPLETE, _FAILED = "complete", "failed"
 
@@ -218,11 +211,11 @@ class WearLifeSettings:
         Compute the exponent from the equations at each checkpoint (an explicit argument
         of :func:`wear_life` wins).
     lyapunov_first_revolutions : float or None
-        Revolutions of a first, shorter exponent run (> ``lyapunov_discard``; default 6).
-        When its 95 % interval lies beyond zero by at least its half-width (the sign is
-        decided), it is the checkpoint's exponent; otherwise the run of
-        ``lyapunov_revolutions`` is made and reported. None, or a value of at least
-        ``lyapunov_revolutions``: always the full run.
+        Revolutions after which the exponent's run ends when the 95 % interval of their
+        kept part lies beyond zero by at least its half-width (the sign is decided;
+        ``decide_after`` of :func:`mechanism.lyapunov_exponent`), > ``lyapunov_discard``,
+        default 6; otherwise the same run goes on to ``lyapunov_revolutions``. None, or a
+        value of at least ``lyapunov_revolutions``: always the full run.
     share_state_run : bool
         One run per checkpoint state gives both its analysis and the first increment worn
         from it (default True; False: two runs, whose samples differ only by rounding).
@@ -370,109 +363,6 @@ def _flag(value: Any, name: str) -> bool:
     return bool(value)
 
 
-# --------------------------------------------------------------------------- one checkpoint
-
-
-@dataclass(frozen=True)
-class _Analysis:
-    """How each checkpoint's state is analysed (see :func:`wear_life`)."""
-
-    discard: float
-    revolutions: int
-    exponent: bool
-    lyapunov_revolutions: float
-    lyapunov_discard: float
-    lyapunov_first: float | None
-    continuous_fraction: float
-    verdict_samples: int
-    simulate_kwargs: dict[str, Any]
-
-
-def exponent_decided(lam: SceneLyapunov, margin: float = EXPONENT_DECIDED_MARGIN) -> bool:
-    """True when the exponent's 95 % interval lies beyond zero by at least ``margin`` of
-    its half-widths (above: chaotic by the equations; below: regular); False for an
-    interval that is not finite."""
-    lo, hi = (float(x) for x in lam.ci)
-    if not (math.isfinite(lo) and math.isfinite(hi)):
-        return False
-    half = 0.5 * (hi - lo)
-    return lo > margin * half or hi < -margin * half
-
-
-def checkpoint_exponent(scene: Scene, how: _Analysis) -> SceneLyapunov | None:
-    """The exponent of one state: the first, shorter run when its sign is decided
-    (:func:`exponent_decided`), else the full run; None when an integration fails."""
-    first = how.lyapunov_first
-    try:
-        if first is not None and first < how.lyapunov_revolutions:
-            lam = lyapunov_exponent(scene, **exponent_span(scene, first, how.lyapunov_discard))
-            if exponent_decided(lam):
-                return lam
-        return lyapunov_exponent(
-            scene, **exponent_span(scene, how.lyapunov_revolutions, how.lyapunov_discard)
-        )
-    except SimulationError:
-        return None
-
-
-def _analyse(
-    scene: Scene,
-    names: list[str],
-    how: _Analysis,
-    traj: xr.Dataset | None = None,
-    cpu: dict[str, float] | None = None,
-) -> dict[str, Any]:
-    """The motion of one worn state (a SimulationError propagates). ``traj``: the state's
-    run when it is shared with the increment (it may run longer than the analysis).
-    ``cpu``: CPU seconds of this process are added to its ``"runs"``, ``"exponent"`` and
-    ``"verdict"``."""
-    cpu = {} if cpu is None else cpu
-    period = float(revolution_time(scene))  # type: ignore[arg-type]
-    span = how.discard + how.revolutions
-    if traj is None:
-        start_cpu = time.process_time()
-        traj = simulate_turns(scene, span, **how.simulate_kwargs)
-        cpu["runs"] = cpu.get("runs", 0.0) + time.process_time() - start_cpu
-    else:
-        traj = cut_at_turns(traj, span)
-    start = window_start(traj, how.discard)
-    window = traj.isel(time=slice(start, None))
-    strobe = chaoskit.stroboscopic_map(
-        window[["eccentricity_x", "eccentricity_y", "crank_angle"]],
-        phase_variable="crank_angle",
-    )
-    start_cpu = time.process_time()
-    lam = checkpoint_exponent(scene, how) if how.exponent else None
-    cpu["exponent"] = cpu.get("exponent", 0.0) + time.process_time() - start_cpu
-    samples = int(window.sizes["time"])
-    stride = max(1, int(samples / (how.revolutions * how.verdict_samples)))
-    start_cpu = time.process_time()
-    verdict = chaoskit.classify_motion(
-        window[["eccentricity_x", "eccentricity_y", "crank_angle"]].isel(
-            time=slice(None, None, stride)
-        ),
-        phase_variable="crank_angle",
-        exponent=lam,
-        rng=0,
-    )
-    cpu["verdict"] = cpu.get("verdict", 0.0) + time.process_time() - start_cpu
-    force = traj["contact_force"].isel(time=slice(start, None))
-    modes = [
-        contact_modes(traj, n, start=start, continuous_time=how.continuous_fraction * period)
-        for n in names
-    ]
-    return {
-        "strobe_x": np.asarray(strobe["eccentricity_x"].transpose("joint", ...).values),
-        "strobe_y": np.asarray(strobe["eccentricity_y"].transpose("joint", ...).values),
-        "lyapunov": lam,
-        "lyapunov_run": math.nan if lam is None else exponent_revolutions(lam.settings, scene),
-        "verdict": verdict,
-        "peak_force": [float(force.sel(joint=n).max()) for n in names],
-        "mean_force": [float(force.sel(joint=n).mean()) for n in names],
-        "modes": modes,
-    }
-
-
 # --------------------------------------------------------------------------- the path
 
 
@@ -568,63 +458,88 @@ def wear_life(
     >>> life = mechanism.wear_life(scene, cycles=20000, checkpoints=[5000, 10000])  # doctest: +SKIP
     >>> print(life.summary())  # doctest: +SKIP
     """
-    cpu_start = time.process_time()
     scene = _checked_scene(scene)
     total, targets = _checked_path(cycles, checkpoints)
     settings = checked_settings(settings)
-    averaged = check_averaged_revolutions(
-        settings.averaged_revolutions if averaged_revolutions is None else averaged_revolutions
-    )
-    limit = check_depth_increment(
-        settings.max_depth_increment if max_depth_increment is None else max_depth_increment
-    )
-    exponent = settings.exponent if exponent is None else _flag(exponent, "exponent")
+    overrides = {"averaged_revolutions": averaged_revolutions, "exponent": exponent,
+                 "max_depth_increment": max_depth_increment}  # fmt: skip
+    given = {k: v for k, v in overrides.items() if v is not None}
+    if given:
+        settings = dataclasses.replace(settings, **given)
+    kwargs = {"method": method, "rtol": rtol, "atol": atol, "output_step": output_step}
+    return wear_path(scene, total, targets, settings, PathRun(kwargs, progress=progress))
+
+
+@dataclass(frozen=True)
+class PathRun:
+    """How a wear path runs, besides its settings: the keywords of
+    :func:`mechanism.simulate` (``method``, ``rtol``, ``atol``, ``output_step``), a
+    progress bar, and the executor the checkpoints' exponents and verdicts are submitted
+    to while the path wears on (None: computed in turn; the numbers are the same)."""
+
+    simulate_kwargs: dict[str, Any] = field(default_factory=dict)
+    progress: bool = False
+    executor: Executor | None = None
+
+
+def wear_path(
+    scene: Scene, cycles: float, targets: list[float], settings: WearLifeSettings, run: PathRun
+) -> WearLife:
+    """:func:`wear_life` of checked arguments (:func:`check_wear_path`, a
+    :class:`WearLifeSettings`)."""
+    cpu_start = time.thread_time()
     settle = settings.settle_revolutions
     lyap_revs, lyap_discard = settings.lyapunov_revolutions, settings.lyapunov_discard
     # the runs keep only what the wear and the analysis read (the same samples as the
     # full record, without the ideal companion: docs/wear.md §7)
-    kwargs = {"method": method, "rtol": rtol, "atol": atol, "output_step": output_step,
-              "record": WearRecord()}  # fmt: skip
+    kwargs = {**run.simulate_kwargs, "record": WearRecord()}
     first = settings.lyapunov_first_revolutions
     first = lyap_revs if first is None else min(first, lyap_revs)
-    how = _Analysis(
-        discard=settle, revolutions=settings.analysis_revolutions, exponent=bool(exponent),
-        lyapunov_revolutions=lyap_revs, lyapunov_discard=lyap_discard, lyapunov_first=first,
+    how = CheckpointAnalysis(
+        discard=settle, revolutions=settings.analysis_revolutions,
+        exponent=bool(settings.exponent), lyapunov_revolutions=lyap_revs,
+        lyapunov_discard=lyap_discard, lyapunov_first=first,
         continuous_fraction=settings.continuous_contact,
         verdict_samples=settings.verdict_samples_per_revolution, simulate_kwargs=kwargs,
     )  # fmt: skip
     loop = update_loop(
-        scene, targets=targets, limit=limit, settle=settle, averaged=averaged,
-        simulate_kwargs=kwargs, caller="wear_life",
+        scene, targets=targets, limit=settings.max_depth_increment, settle=settle,
+        averaged=settings.averaged_revolutions, simulate_kwargs=kwargs, caller="wear_life",
     )  # fmt: skip
     if settings.share_state_run:
         loop.state_revolutions = float(how.revolutions)
     loop.warm_settle = settings.increment_settle_revolutions
     records: list[dict[str, Any]] = []
+    judgements = Judgements(run.executor)
     analysis_failure: list[str] = []
 
     def on_state(current: Scene, update: int, at: float) -> bool:
         try:
             traj, loop.state_traj = loop.state_traj, None  # not held while it wears on
-            records.append(_analyse(current, loop.names, how, traj, loop.cpu))
+            record, motion = observe(current, loop.names, how, traj, loop.cpu)
         except SimulationError as exc:
             analysis_failure.append(
                 f"the analysis of the state after {at:.6g} cycles failed: {exc}"
             )
             return False
+        records.append(record)
+        judgements.add(current, how, motion)
         return True
 
     loop.on_state = on_state
     bar = tqdm(total=len(targets) + 1, desc=f"wear_life {scene.name}", unit="checkpoint",
-               disable=not progress)  # fmt: skip
+               disable=not run.progress)  # fmt: skip
     try:
         loop.run(len(targets), bar)
     finally:
         bar.close()
+    for record, judged in zip(records, judgements.collect(loop.cpu), strict=True):
+        record.update(judged)
     failure = loop.failure or (analysis_failure[0] if analysis_failure else "")
     states = loop.states[: len(records)]
-    settings = {
-        "cycles": total, "averaged_revolutions": averaged, "max_depth_increment": limit,
+    recorded = {
+        "cycles": cycles, "averaged_revolutions": settings.averaged_revolutions,
+        "max_depth_increment": settings.max_depth_increment,
         "settle_revolutions": settle, "analysis_revolutions": how.revolutions,
         "exponent": int(how.exponent), "lyapunov_revolutions": lyap_revs,
         "lyapunov_discard": lyap_discard, "lyapunov_first_revolutions": first,
@@ -635,13 +550,15 @@ def wear_life(
         "increment_settle_revolutions": -1
         if settings.increment_settle_revolutions is None
         else settings.increment_settle_revolutions,
-        # where the path's CPU time went (s, this process): the runs, averaging their wear,
-        # the exponent, the verdict; the rest is the analysis's bookkeeping
+        # where the path's CPU time went (s, every thread it used): the runs, averaging
+        # their wear, the exponent, the verdict; the rest is the analysis's bookkeeping
         **{f"phase_cpu_{k}": float(loop.cpu.get(k, 0.0))
            for k in ("runs", "wear", "exponent", "verdict")},
-        "phase_cpu_total": time.process_time() - cpu_start,
+        "phase_cpu_total": time.thread_time() - cpu_start + judgements.elsewhere,
+        # of which on other threads (the executor's)
+        "phase_cpu_elsewhere": judgements.elsewhere,
     }  # fmt: skip
-    return _result(scene, loop, states, records, total, failure, settings)
+    return _result(scene, loop, states, records, cycles, failure, recorded)
 
 
 def _first_chaotic(cum: np.ndarray, records: list[dict[str, Any]]) -> float | None:

@@ -21,7 +21,8 @@ import os
 import tempfile
 import time
 import warnings
-from collections.abc import Iterator, Sequence
+from collections.abc import Callable, Iterator, Sequence
+from concurrent.futures import Executor
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -32,7 +33,14 @@ import xarray as xr
 from chaoskit.contract import __version__, safe_filename, stamp, variable, write_netcdf
 from mechanism.core import Scene
 
-from ._wear_life import WearLife, WearLifeSettings, check_wear_path, checked_settings, wear_life
+from ._wear_life import (
+    PathRun,
+    WearLife,
+    WearLifeSettings,
+    check_wear_path,
+    checked_settings,
+    wear_path,
+)
 from .sweep import (
     MANIFEST_FORMAT,
     check_or_write_manifest,
@@ -50,6 +58,9 @@ MAP_FILE = "wear-life-map.nc"
 #: The per-value path files in a store.
 POINTS = "points"
 _STUDY = "mechanism.wear_life_map"
+#: dask priorities: every path starts before the checkpoints' exponents and verdicts it
+#: hands on (a path is a chain of runs that cannot be split; the analyses fill the gaps)
+_PATH_PRIORITY, _ANALYSIS_PRIORITY = 1, 0
 
 
 def format_cycles(n: float) -> str:
@@ -246,24 +257,63 @@ def _failure(reason: str) -> xr.Dataset:
 
 def run_path(task: _PathTask) -> str:
     """Run one value's wear path and write it to the store; never raises for the path's
-    own errors (they are written as the value's reason). Returns the point id."""
-    cpu0, wall0 = time.process_time(), time.perf_counter()
+    own errors (they are written as the value's reason). Returns the point id. On a dask
+    worker the checkpoints' exponents and verdicts run as tasks of their own
+    (:class:`_ClusterExecutor`)."""
+    cpu0, wall0 = time.thread_time(), time.perf_counter()
     with warnings.catch_warnings(record=True) as caught:
         # a worker's warnings would be lost on its stderr: they are kept in the file
         warnings.simplefilter("always")
         try:
             scene = task.scene.replace({task.parameter: task.value})
-            life = wear_life(
-                scene, cycles=task.cycles, checkpoints=list(task.checkpoints),
-                settings=task.settings,
-            )  # fmt: skip
+            run = PathRun(executor=_ClusterExecutor.on_this_worker())
+            life = wear_path(scene, task.cycles, list(task.checkpoints), task.settings, run)
             ds = life.to_dataset()
             ds.attrs["path_error"] = 0
         except Exception as exc:  # failure is data: the value's reason, run again next time
             ds = _failure(f"the path could not run: {type(exc).__name__}: {exc}")
     notes = [f"{w.category.__name__}: {w.message}" for w in caught]
-    _write_path(task, ds, time.process_time() - cpu0, time.perf_counter() - wall0, notes)
+    cpu = time.thread_time() - cpu0 + float(ds.attrs.get("phase_cpu_elsewhere", 0.0))
+    _write_path(task, ds, cpu, time.perf_counter() - wall0, notes)
     return task.point_id
+
+
+class _ClusterExecutor(Executor):
+    """The dask cluster a path task runs on, as the executor of its checkpoints'
+    exponents and verdicts: they run on any worker, after every path has started (a lower
+    priority). Shutting it down waits for them without this task's worker thread
+    (``secede``), so that they can run there too."""
+
+    def __init__(self, client: Any) -> None:
+        self._client = client
+        self._futures: list[Any] = []
+
+    @classmethod
+    def on_this_worker(cls) -> _ClusterExecutor | None:
+        """The executor of the dask cluster this task runs on; None outside a worker."""
+        try:
+            from distributed import get_client, get_worker
+
+            get_worker()
+        except (ImportError, ValueError):
+            return None
+        return cls(get_client())
+
+    def submit(self, fn: Callable[..., Any], /, *args: Any, **kwargs: Any) -> Any:
+        """``fn(*args, **kwargs)`` as a dask task; a future with ``result()``."""
+        future = self._client.submit(fn, *args, pure=False, priority=_ANALYSIS_PRIORITY, **kwargs)
+        self._futures.append(future)
+        return future
+
+    def shutdown(self, wait: bool = True, *, cancel_futures: bool = False) -> None:
+        from distributed import secede
+        from distributed import wait as wait_for
+
+        if cancel_futures:
+            self._client.cancel(self._futures)
+        elif wait and not all(f.done() for f in self._futures):
+            secede()  # this thread only waits from here: the worker may run other tasks
+            wait_for(self._futures)
 
 
 def _record_lost(task: _PathTask, exc: BaseException) -> str:
@@ -313,7 +363,13 @@ def _run_dask(tasks: Sequence[_PathTask], scheduler: Any, workers: int | None, b
     with dask_client(scheduler, workers, len(tasks)) as client:
         run = os.urandom(4).hex()
         futures = {
-            client.submit(run_path, t, key=f"wear-life-{t.point_id}-{run}", pure=False): t
+            client.submit(
+                run_path,
+                t,
+                key=f"wear-life-{t.point_id}-{run}",
+                pure=False,
+                priority=_PATH_PRIORITY,
+            ): t
             for t in tasks
         }
         for future in as_completed(futures):

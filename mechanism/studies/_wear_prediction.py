@@ -317,14 +317,14 @@ class UpdateLoop:
         settle = self.run_settle = float(self.warm_settle) if warm else self.settle
         revolutions = settle + span
         kwargs = {**self.kwargs, "start": self.end_state} if warm else self.kwargs
-        cpu = time.process_time()
+        cpu = time.thread_time()
         try:
             traj = simulate_turns(self.current, revolutions, **kwargs)
         except SimulationError as exc:
             self.failure = f"the simulation of {label} failed: {exc}"
             return None
         finally:
-            self.cpu["runs"] += time.process_time() - cpu
+            self.cpu["runs"] += time.thread_time() - cpu
         self.end_state = self._end_state(traj, revolutions)
         self.state_traj = traj if shared else None
         if longer:
@@ -463,11 +463,11 @@ class UpdateLoop:
         """The wear per cycle of the state ``traj`` (mean of the revolutions after
         ``start``) by joint, smoothed like the profile, with its interval; None (and
         ``self.failure`` set) when it is not finite."""
-        cpu = time.process_time()
+        cpu = time.thread_time()
         try:
             return self._averaged_rates(traj, start, label=label)
         finally:
-            self.cpu["wear"] += time.process_time() - cpu
+            self.cpu["wear"] += time.thread_time() - cpu
 
     def _averaged_rates(self, traj: xr.Dataset, start: int, *, label: str) -> _Rates | None:
         bounds = revolution_bounds(traj, self.run_settle, self.averaged)

@@ -479,3 +479,42 @@ def test_cli_prints_and_writes_the_estimate(tmp_path) -> None:
     with xr.open_dataset(out, engine="h5netcdf") as ds:
         assert ds.attrs["scene"] == "paper"
         assert math.isfinite(ds.attrs["exponent"])
+
+
+def test_a_decided_sign_ends_the_run_early() -> None:
+    """The stable period-1 orbit at 30 rpm (λ₁ ≈ −3.17 s⁻¹, interval ±0.01): with
+    ``decide_after=6`` the run of 10 revolutions ends after 6, whose interval lies below
+    zero by far more than its half-width; its segments are the first four of the whole
+    run, to the last bit. A look after 3 revolutions (one kept segment: no interval)
+    decides nothing, so that run goes on and is the whole run exactly."""
+    scene = rigid_paper({"drive.speed_rpm": 30.0})
+    full = mechanism.lyapunov_exponent(scene, revolutions=10, discard=2)
+    early = mechanism.lyapunov_exponent(scene, revolutions=10, discard=2, decide_after=6)
+    assert full.sign_decided and full.ci[1] < 0.0
+    assert early.sign_decided and early.ci[1] < 0.0
+    assert early.time.size == 4 and early.settings["revolutions"] == 6.0
+    assert early.settings["decide_after"] == 6.0
+    np.testing.assert_array_equal(early.segment_exponent, full.segment_exponent[:4])
+    assert early.stats.steps < 0.7 * full.stats.steps
+    assert full.ci[0] <= early.exponent <= full.ci[1] + 0.02
+    late = mechanism.lyapunov_exponent(scene, revolutions=10, discard=2, decide_after=3)
+    assert late.settings["revolutions"] == 10.0
+    assert late.exponent == full.exponent and late.ci == full.ci
+    np.testing.assert_array_equal(late.segment_exponent, full.segment_exponent)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "message"),
+    [
+        ({"revolutions": 10, "discard": 2, "decide_after": 2},
+         "decide_after must lie in (discard, the run's length) = (2, 10); got 2."),
+        ({"revolutions": 10, "discard": 2, "decide_after": 10.0},
+         "decide_after must lie in (discard, the run's length) = (2, 10); got 10.0."),
+        ({"t_end": 1.0, "decide_after": 1.5},
+         "decide_after must lie in (discard, the run's length) = (0, 1); got 1.5."),
+    ],
+)  # fmt: skip
+def test_decide_after_outside_the_run_is_refused(kwargs, message) -> None:
+    with pytest.raises(ValueError) as info:
+        mechanism.lyapunov_exponent(rigid_paper(), **kwargs)
+    assert str(info.value) == message

@@ -219,3 +219,21 @@ def test_norm_counts_the_rods_and_is_the_rigid_norm() -> None:
     expected = mechanism.core.integrate.deviation_size(flexible, d, time_scale=0.1)
     got = tk.deviation_size(flexible.kernel, d, 0.01, inverse_total_mass(flexible))
     assert got == pytest.approx(expected, rel=1e-14)
+
+
+def test_decide_after_reads_the_flexible_run_once() -> None:
+    """The chaotic beam pendulum over 3 s, 1 s discarded (100 segments of 0.02 s), with a
+    look after 2 s: whether or not that look decides the sign, the result's segments are
+    the first ones of the run without a look, to the last bit (the same end time, so the
+    same generalized-α steps); a decided look ends the run at the first segment end at or
+    after 2 s."""
+    scene = beam_double_pendulum()
+    full = mechanism.lyapunov_exponent(scene, t_end=3.0, discard=1.0)
+    early = mechanism.lyapunov_exponent(scene, t_end=3.0, discard=1.0, decide_after=2.0)
+    n = early.time.size
+    np.testing.assert_array_equal(early.segment_exponent, full.segment_exponent[:n])
+    if n < full.time.size:
+        assert early.sign_decided and n == 50
+        assert early.settings["t_end"] == pytest.approx(2.0, abs=2.5e-4)
+    else:
+        assert early.exponent == full.exponent and early.ci == full.ci

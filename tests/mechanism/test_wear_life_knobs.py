@@ -13,6 +13,7 @@ import pytest
 
 import mechanism
 from mechanism.studies import _wear_life as life_module
+from mechanism.studies import _wear_life_analysis as analysis_module
 from mechanism.studies import _wear_prediction as prediction_module
 from tests.mechanism.scenes import rigid_paper
 
@@ -81,11 +82,11 @@ def _estimate(lo: float, hi: float, revolutions: float) -> mechanism.SceneLyapun
     ],
 )
 def test_the_exponent_is_decided_beyond_zero_by_its_half_width(lo, hi, decided):
-    assert life_module.exponent_decided(_estimate(lo, hi, 6.0)) is decided
+    assert _estimate(lo, hi, 6.0).sign_decided is decided
 
 
 def _how(first):
-    return life_module._Analysis(
+    return analysis_module.CheckpointAnalysis(
         discard=2.0, revolutions=25, exponent=True, lyapunov_revolutions=10.0,
         lyapunov_discard=2.0, lyapunov_first=first, continuous_fraction=0.01,
         verdict_samples=250, simulate_kwargs={},
@@ -93,28 +94,26 @@ def _how(first):
 
 
 @pytest.mark.parametrize(
-    ("first_interval", "first", "runs"),
+    ("first", "decide_after"),
     [
-        ((34.0, 59.3), 6.0, [6.0]),  # decided: the first run is the answer
-        ((-5.0, 13.0), 6.0, [6.0, 10.0]),  # undecided: the full run is made and reported
-        ((34.0, 59.3), 10.0, [10.0]),  # no shorter first run
+        (6.0, 6.0),  # one run, ended after 6 revolutions when their sign is decided
+        (10.0, None),  # no shorter first look: the full run
+        (None, None),
     ],
 )
-def test_the_exponent_runs_the_full_revolutions_only_when_undecided(
-    monkeypatch, first_interval, first, runs
-):
+def test_the_checkpoint_exponent_is_one_run_that_may_end_early(monkeypatch, first, decide_after):
     calls = []
 
-    def fake(scene, *, revolutions, discard):
-        calls.append(revolutions)
-        assert discard == 2.0
-        lo, hi = first_interval if len(calls) == 1 else (20.0, 40.0)
-        return _estimate(lo, hi, revolutions)
+    def fake(scene, **span):
+        calls.append(span)
+        return _estimate(20.0, 40.0, span["revolutions"])
 
-    monkeypatch.setattr(life_module, "lyapunov_exponent", fake)
-    lam = life_module.checkpoint_exponent(rigid_paper(), _how(first))
-    assert calls == runs
-    assert float(lam.settings["revolutions"]) == runs[-1]
+    monkeypatch.setattr(analysis_module, "lyapunov_exponent", fake)
+    analysis_module.checkpoint_exponent(rigid_paper(), _how(first))
+    expected = {"revolutions": 10.0, "discard": 2.0}
+    if decide_after is not None:
+        expected["decide_after"] = decide_after
+    assert calls == [expected]
 
 
 @pytest.mark.slow

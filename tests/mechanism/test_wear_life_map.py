@@ -318,3 +318,38 @@ def test_the_command_writes_the_map_the_report_and_the_answers(tmp_path):
         assert (out / name).is_file(), name
     with xr.open_dataset(out / "wear-life-map.nc", engine="h5netcdf") as f:
         assert f["value"].values.tolist() == [90.0, 150.0]
+
+
+@pytest.mark.slow
+def test_on_a_dask_cluster_the_analyses_run_as_tasks_with_the_same_numbers(tmp_path):
+    """Two paths with the exponent on a local cluster of two workers, where each path
+    hands its checkpoints' exponents and verdicts to the cluster as tasks of their own
+    and waits for them without holding its worker: the same numbers, bit for bit, as the
+    same paths computed in turn in this process; the exponent's and the verdict's CPU
+    are counted in the path wherever they ran."""
+    settings = mechanism.WearLifeSettings(
+        settle_revolutions=1.0, analysis_revolutions=4, averaged_revolutions=1,
+        lyapunov_revolutions=3.0, lyapunov_discard=1.0, lyapunov_first_revolutions=2.0,
+    )  # fmt: skip
+    serial = _map(tmp_path / "serial", [90.0, 150.0], settings=settings)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", mechanism.SimulationWarning)
+        cluster = mechanism.wear_life_map(
+            rigid_paper(), parameter="drive.speed_rpm", values=[90.0, 150.0],
+            store=tmp_path / "cluster", settings=settings, workers=2, **PATH,
+        )  # fmt: skip
+    a, b = _numbers(serial.to_dataset()), _numbers(cluster.to_dataset())
+    assert np.isfinite(a["lyapunov_exponent"].values).all()
+    for name in ("lyapunov_exponent", "lyapunov_ci_low", "motion", "motion_confidence",
+                 "wear_depth", "strobe_x", "peak_contact_force"):  # fmt: skip
+        np.testing.assert_array_equal(b[name].values, a[name].values)
+    for value in (90.0, 150.0):
+        stored = xr.open_dataset(
+            tmp_path / "cluster" / "points" / f"{map_module.path_id('drive.speed_rpm', value)}.nc",
+            engine="h5netcdf",
+        ).load()
+        assert stored.attrs["phase_cpu_exponent"] > 0.0 and stored.attrs["phase_cpu_verdict"] > 0.0
+        assert stored.attrs["phase_cpu_elsewhere"] == pytest.approx(
+            stored.attrs["phase_cpu_exponent"] + stored.attrs["phase_cpu_verdict"]
+        )
+        assert stored.attrs["cpu_time"] >= stored.attrs["phase_cpu_total"] - 1e-6

@@ -24,17 +24,19 @@ from ._scipy_ivp import ScipyIVP
 from ._tangent import (
     TangentIntegration,
     TangentSettings,
-    clearance_kinematics,
     deviation_size,
     initial_deviation,
     integrate_tangent,
     length_scale,
+)
+from ._tangent_flexible import integrate_tangent_flexible
+from ._tangent_space import (
+    clearance_kinematics,
     project_state,
     section_latch,
     state_derivative,
     tangent_basis,
 )
-from ._tangent_flexible import integrate_tangent_flexible
 
 __all__ = [
     "METHODS",

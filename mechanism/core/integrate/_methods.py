@@ -295,12 +295,12 @@ class GeneralizedAlpha(Integrator):
         label: str = "simulate",
         deviation: tangent_kernels.Deviation | None = None,
         stops: np.ndarray | None = None,
-        on_stop: Callable[[float], None] | None = None,
+        on_stop: Callable[[float], bool] | None = None,
     ) -> Integration:
         """:meth:`integrate`, optionally carrying a :class:`~._kernels.Deviation` along
         (the largest Lyapunov exponent): the loop then stops at every time of ``stops``
         (the first accepted step at or after it; the steps do not depend on the stops)
-        and calls ``on_stop`` with the time reached."""
+        and calls ``on_stop`` with the time reached; a true return ends the run there."""
         km = model.kernel
         n = model.n_dof
         ws = model.workspace()
@@ -358,7 +358,8 @@ class GeneralizedAlpha(Integrator):
                         loop.step, t_stop, bar, since, forecast,
                     )  # fmt: skip
                     if on_stop is not None and status in (STATUS_RUNNING, STATUS_OK):
-                        on_stop(float(loop.step[0]))
+                        if on_stop(float(loop.step[0])):
+                            status = STATUS_OK
                     if status != STATUS_RUNNING:
                         break
             finally:

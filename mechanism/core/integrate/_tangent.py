@@ -37,20 +37,17 @@ from ._methods import (
 )
 
 if TYPE_CHECKING:
+    from collections.abc import Callable
+
     from mechanism.core.model import Model
 
 __all__ = [
     "TangentIntegration",
     "TangentSettings",
-    "clearance_kinematics",
     "deviation_size",
     "initial_deviation",
     "integrate_tangent",
     "length_scale",
-    "project_state",
-    "section_latch",
-    "state_derivative",
-    "tangent_basis",
 ]
 
 
@@ -354,8 +351,8 @@ def integrate_tangent(
     step_schedule: np.ndarray | None = None,
     record_states: bool = False,
     record_steps: bool = False,
-    progress: bool = False,
-    label: str = "lyapunov",
+    until: Callable[[np.ndarray, np.ndarray], bool] | None = None,
+    progress: bool | str = False,
 ) -> TangentIntegration:
     """Integrate ``y0`` from ``t_stops[0]`` and its deviation ``d0`` to ``t_stops[-1]``.
 
@@ -401,13 +398,19 @@ def integrate_tangent(
         ``step_schedule`` they freeze the steps, so the end state is a smooth function
         of the start (the adaptive choice of steps, otherwise a source of jumps at the
         tolerance's level, is frozen).
-    progress, label
-        Show a progress bar with this label.
+    until
+        Called at every stop before the last with the times and log growths read so far
+        (as the result's ``t`` and ``log_growth``); a true return ends the run there, a
+        successful run with fewer rows than ``t_stops``. The steps never depend on the
+        stops ahead, so the rows are those of the whole run.
+    progress
+        Show a progress bar: True, or its label (default ``"lyapunov"``).
 
     Returns
     -------
     TangentIntegration
-        Fewer rows than ``t_stops`` when the run failed (``stats.status`` < 0).
+        Fewer rows than ``t_stops`` when the run failed (``stats.status`` < 0) or
+        ``until`` ended it.
 
     Examples
     --------
@@ -515,7 +518,10 @@ def integrate_tangent(
 
     # recording at many stops (e.g. every step of a schedule): one compiled loop over
     # them, the same numbers without a return to Python at each stop
-    compiled_stops = record_states and settings.neutral_latch_after is None and not record_steps
+    compiled_stops = (
+        record_states and settings.neutral_latch_after is None and not record_steps
+        and until is None
+    )  # fmt: skip
     rows = _StopRows(stops.size - 1, y.size, d.shape[0], contact.size)
 
     def through(_: float) -> int:
@@ -528,7 +534,7 @@ def integrate_tangent(
             rows.contact, rows.events, rows.latch,
         ))  # fmt: skip
 
-    bar = ProgressBar(progress, t0, t_end, label)
+    bar = ProgressBar(bool(progress), t0, t_end, progress_label(progress))
     try:
         if compiled_stops and status == STATUS_RUNNING and stops.size > 1:
             status = advance_to(through, state, t_end, bar, since)
@@ -541,6 +547,10 @@ def integrate_tangent(
                 times.append(float(state[0]))
                 logs.append(growth[:, tangent_kernels.GROWTH_LOG].copy())
                 record.add(y, contact, vimp, counters)
+                if status == STATUS_RUNNING and until is not None:
+                    read = np.array(logs)
+                    if until(np.array(times), read if block else read[:, 0]):
+                        status = 0
     finally:
         bar.close()
     wall = time.perf_counter() - start
@@ -662,127 +672,6 @@ class _StopRecord:
         return {name: np.concatenate([b[i] for b in self.blocks]) for i, name in enumerate(names)}
 
 
-def section_latch(
-    model: Model, y: np.ndarray, held: np.ndarray | None = None
-) -> tuple[np.ndarray, np.ndarray]:
-    """The latch a run from state ``y`` continues with: (impact velocities (m/s), contact
-    flags) of the clearance joints.
-
-    A separated joint tracks its approach speed (floored, as the integrators do); a joint
-    in contact keeps its value from ``held`` (the impact velocity latched when the contact
-    began), or the floor without it, as :func:`mechanism.simulate` starts.
-    """
-    vimp, contact = initial_latch(model, np.ascontiguousarray(y, dtype=np.float64))
-    if held is not None:
-        inside = contact != 0
-        vimp[inside] = np.asarray(held, dtype=np.float64)[inside]
-    return vimp, contact
-
-
-def tangent_basis(model: Model, y: np.ndarray, *, t: float, time_scale: float) -> np.ndarray:
-    """Orthonormal basis of the tangent space of the constraint manifold at ``y``.
-
-    Returns
-    -------
-    numpy.ndarray
-        (2n, 2f) columns, f = n − m the scene's degrees of freedom, orthonormal in the
-        scaled norm ``|δq|² + τ²|δq̇|²`` (τ = ``time_scale``): the directions a state of the
-        scene can move in (:func:`initial_deviation` projects a random one onto it).
-
-    Raises
-    ------
-    ValueError
-        Without a degree of freedom, or with a singular constraint Jacobian at ``y``.
-    """
-    n = model.n_dof
-    free = n - model.n_rows
-    if free <= 0:
-        raise ValueError(
-            f"the scene has no degree of freedom ({n} coordinates, {model.n_rows} "
-            "constraint equations): its motion is prescribed by the drive."
-        )
-    y = np.ascontiguousarray(y, dtype=np.float64)
-    ws, ws2 = model.workspace(), model.workspace()
-    scale = np.concatenate([np.ones(n), np.full(n, float(time_scale))])
-    columns = np.empty((2 * n, 2 * n))
-    for i in range(2 * n):
-        e = np.zeros(2 * n)
-        e[i] = 1.0 / scale[i]
-        if not tangent_kernels.project_tangent(
-            model.kernel, ws, ws2, float(t), y, e, np.empty(2 * n)
-        ):
-            raise ValueError("the constraint Jacobian is singular at the state.")
-        columns[:, i] = e * scale
-    u, _, _ = np.linalg.svd(columns)
-    return u[:, : 2 * free] / scale[:, None]
-
-
-def project_state(model: Model, y: np.ndarray, *, t: float, tol: float = 1e-14) -> np.ndarray:
-    """``y`` moved onto the constraint manifold Φ(q, t) = 0, Φq q̇ + Φt = 0 at time ``t``
-    (minimum-mass-norm corrections, as the simulator's projection).
-
-    Raises
-    ------
-    ValueError
-        On a singular constraint Jacobian.
-    """
-    out = np.ascontiguousarray(y, dtype=np.float64).copy()
-    if not model_kernels.project(model.kernel, model.workspace(), float(t), out, float(tol), 20):
-        raise ValueError("the constraint Jacobian is singular at the state.")
-    return out
-
-
-def clearance_kinematics(
-    model: Model, states: np.ndarray, *, t: np.ndarray, latch: np.ndarray
-) -> np.ndarray:
-    """Relative journal position and penetration of every clearance joint at states.
-
-    Parameters
-    ----------
-    states : numpy.ndarray
-        (samples, 2n) states [q; q̇].
-    t : numpy.ndarray
-        (samples,) times (s).
-    latch : numpy.ndarray
-        (samples, joints) latched impact velocities (m/s).
-
-    Returns
-    -------
-    numpy.ndarray
-        (samples, joints, 4): eccentricity x and y (m, journal centre relative to the
-        bearing centre, as ``simulate`` records them), penetration δ (m, > 0 in contact)
-        and its rate δ̇ (m/s).
-    """
-    km = model.kernel
-    ws = model.workspace()
-    states = np.ascontiguousarray(np.atleast_2d(states), dtype=np.float64)
-    latch = np.ascontiguousarray(np.atleast_2d(latch), dtype=np.float64)
-    times = np.broadcast_to(np.asarray(t, dtype=np.float64), (states.shape[0],))
-    columns = np.array(
-        [model_kernels.CJ_EX, model_kernels.CJ_EY, model_kernels.CJ_DELTA,
-         model_kernels.CJ_DELTA_DOT], dtype=np.int64,
-    )  # fmt: skip
-    out = np.empty((states.shape[0], km.cj_i.shape[0], 4))
-    tangent_kernels.clearance_rows(km, ws, np.ascontiguousarray(times), states, latch, columns, out)
-    return out
-
-
-def state_derivative(model: Model, y: np.ndarray, *, t: float, latch: np.ndarray) -> np.ndarray:
-    """The right-hand side f(t, y) = [q̇; q̈] of the rigid equations of motion, with the
-    clearance joints' latched impact velocities ``latch`` (m/s).
-
-    Raises
-    ------
-    ValueError
-        When the constraint matrix is singular at ``y``.
-    """
-    y = np.ascontiguousarray(y, dtype=np.float64)
-    out = np.zeros_like(y)
-    counters = np.zeros(model_kernels.CNT_COLUMNS, dtype=np.int64)
-    vimp = np.ascontiguousarray(latch, dtype=np.float64)
-    if (
-        model_kernels.rhs(model.kernel, model.workspace(), float(t), y, vimp, out, counters)
-        != model_kernels.STATUS_OK
-    ):
-        raise ValueError("the constraint matrix is singular at the state.")
-    return out
+def progress_label(progress: bool | str) -> str:
+    """The label of a tangent integration's progress bar (``progress``: True or a label)."""
+    return progress if isinstance(progress, str) else "lyapunov"

@@ -23,9 +23,11 @@ from mechanism.core.model import kernels as model_kernels
 
 from . import _tangent_kernels as tangent_kernels
 from ._methods import GeneralizedAlpha, RecordPlan, initial_latch
-from ._tangent import TangentIntegration, TangentSettings, inverse_total_mass
+from ._tangent import TangentIntegration, TangentSettings, inverse_total_mass, progress_label
 
 if TYPE_CHECKING:
+    from collections.abc import Callable
+
     from mechanism.core.model import Model
 
 __all__ = ["integrate_tangent_flexible"]
@@ -79,8 +81,8 @@ def integrate_tangent_flexible(
     settings: TangentSettings,
     newton_tolerance: float = NEWTON_TOLERANCE,
     max_newton: int = MAX_NEWTON,
-    progress: bool = False,
-    label: str = "lyapunov",
+    until: Callable[[np.ndarray, np.ndarray], bool] | None = None,
+    progress: bool | str = False,
 ) -> TangentIntegration:
     """Integrate ``y0`` by ``method`` from ``t_stops[0]`` and its deviation ``d0`` along.
 
@@ -107,14 +109,20 @@ def integrate_tangent_flexible(
     newton_tolerance, max_newton
         The copy's Newton test (relative to the deviation's size, > 0) and iteration
         limit (≥ 1).
-    progress, label
-        Show a progress bar with this label.
+    until
+        Called at every stop before the last with the times and log growths read so far
+        (as the result's ``t`` and ``log_growth``); a true return ends the run there, a
+        successful run with fewer rows than ``t_stops`` (its steps are those the whole
+        run would take only where the step control does not look at the end time).
+    progress
+        Show a progress bar: True, or its label (default ``"lyapunov"``).
 
     Returns
     -------
     TangentIntegration
         ``t`` holds the times reached at the stops; ``stats`` are the reference's (its
-        ``function_evaluations`` count both copies); fewer rows when the run failed.
+        ``function_evaluations`` count both copies); fewer rows when the run failed or
+        ``until`` ended it.
 
     Raises
     ------
@@ -154,14 +162,16 @@ def integrate_tangent_flexible(
     times = [t0]
     logs = [0.0]
 
-    def read(t: float) -> None:
+    def read(t: float) -> bool:
         times.append(t)
         logs.append(float(dev.growth[tangent_kernels.DEV_LOG]))
+        return until is not None and t < stops[-1] and bool(until(np.array(times), np.array(logs)))
 
     start = time.perf_counter()
     run = method._advance(
-        model, y, stops, steps=settings.steps, progress=progress, label=label,
-        record=RecordPlan(grid="light"), deviation=dev, stops=stops[1:], on_stop=read,
+        model, y, stops, steps=settings.steps, progress=bool(progress),
+        label=progress_label(progress), record=RecordPlan(grid="light"), deviation=dev,
+        stops=stops[1:], on_stop=read,
     )  # fmt: skip
     wall = time.perf_counter() - start
     stats = dataclasses.replace(
