@@ -13,7 +13,7 @@ import pytest
 import xarray as xr
 
 import chaoskit
-from benchmarks.machine_corpus import Regime, observe, recorded, row_seed
+from benchmarks.machine_corpus import Regime, evidence_table, observe, recorded, row_seed
 
 
 def _journal(tmp_path_factory, rpm: float, shift: float = 0.0) -> xr.Dataset:
@@ -90,3 +90,23 @@ def test_30_rpm_journal_with_coloured_noise_is_a_noisy_orbit(slow_machine) -> No
     assert v.votes["cycles"] == "supports"
     assert v.cycle_spread <= v.rule.cluster_tol
     assert "periodic orbit plus coloured noise" in v.reason
+
+
+def test_evidence_table_gives_each_group_its_range() -> None:
+    """The ``--evidence`` table: the range of each piece of evidence per group, a dash for
+    a group without rows or without a finite value."""
+    groups = {
+        "chaotic, called periodic": [{"wolf": 0.5, "zero_one_k": 0.2, "positive": 2},
+                                     {"wolf": 8.6, "zero_one_k": float("nan"), "positive": 1}],
+        "periodic, phase against": [],
+        "periodic, tight cluster": [{"wolf": 2.0, "zero_one_k": float("nan"), "positive": 3}],
+    }  # fmt: skip
+    assert evidence_table(groups).splitlines() == [
+        "| evidence | chaotic, called periodic (2) | periodic, phase against (0) "
+        "| periodic, tight cluster (1) |",
+        "|---|---|---|---|",
+        "| wolf | 0.5 – 8.6 | — | 2 – 2 |",
+        "| zero_one_k | 0.2 – 0.2 | — | — |",
+        "| positive | 1 – 2 | — | 3 – 3 |",
+        "| two or three clearly positive | 1/2 | 0/0 | 1/1 |",
+    ]
