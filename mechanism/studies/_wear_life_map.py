@@ -33,6 +33,7 @@ import xarray as xr
 from chaoskit.contract import __version__, safe_filename, stamp, variable, write_netcdf
 from mechanism.core import Scene
 
+from ._turns import revolution_time
 from ._wear_life import (
     PathRun,
     WearLife,
@@ -58,9 +59,12 @@ MAP_FILE = "wear-life-map.nc"
 #: The per-value path files in a store.
 POINTS = "points"
 _STUDY = "mechanism.wear_life_map"
-#: dask priorities: every path starts before the checkpoints' exponents and verdicts it
-#: hands on (a path is a chain of runs that cannot be split; the analyses fill the gaps)
-_PATH_PRIORITY, _ANALYSIS_PRIORITY = 1, 0
+#: dask priority of a path: every path starts before any checkpoint's exponent and verdict
+#: it hands on (a path is a chain of runs that cannot be split; the analyses fill the
+#: gaps). An analysis's priority is −1 / (its revolution's duration in s), below 0: it runs
+#: a fixed number of revolutions, so the slowest drive's analyses are the longest and run
+#: first, and the last ones to finish are short.
+_PATH_PRIORITY = 1.0
 
 
 def format_cycles(n: float) -> str:
@@ -266,7 +270,8 @@ def run_path(task: _PathTask) -> str:
         warnings.simplefilter("always")
         try:
             scene = task.scene.replace({task.parameter: task.value})
-            run = PathRun(executor=_ClusterExecutor.on_this_worker())
+            turn = float(revolution_time(scene))  # type: ignore[arg-type]
+            run = PathRun(executor=_ClusterExecutor.on_this_worker(-1.0 / turn))
             life = wear_path(scene, task.cycles, list(task.checkpoints), task.settings, run)
             ds = life.to_dataset()
             ds.attrs["path_error"] = 0
@@ -284,24 +289,26 @@ class _ClusterExecutor(Executor):
     priority). Shutting it down waits for them without this task's worker thread
     (``secede``), so that they can run there too."""
 
-    def __init__(self, client: Any) -> None:
+    def __init__(self, client: Any, priority: float) -> None:
         self._client = client
+        self._priority = priority
         self._futures: list[Any] = []
 
     @classmethod
-    def on_this_worker(cls) -> _ClusterExecutor | None:
-        """The executor of the dask cluster this task runs on; None outside a worker."""
+    def on_this_worker(cls, priority: float) -> _ClusterExecutor | None:
+        """The executor of the dask cluster this task runs on, submitting at ``priority``
+        (below the paths'); None outside a worker."""
         try:
             from distributed import get_client, get_worker
 
             get_worker()
         except (ImportError, ValueError):
             return None
-        return cls(get_client())
+        return cls(get_client(), priority)
 
     def submit(self, fn: Callable[..., Any], /, *args: Any, **kwargs: Any) -> Any:
         """``fn(*args, **kwargs)`` as a dask task; a future with ``result()``."""
-        future = self._client.submit(fn, *args, pure=False, priority=_ANALYSIS_PRIORITY, **kwargs)
+        future = self._client.submit(fn, *args, pure=False, priority=self._priority, **kwargs)
         self._futures.append(future)
         return future
 
