@@ -94,18 +94,17 @@ def wear_path_cost(rpm: float, settings: StudySettings, *, flexible: bool | None
 
     Per analysed state (unworn, every checkpoint and the end): one run of the settled and
     analysed revolutions (it also gives the first increment worn from that state), the
-    exponent (the unworn state both runs, the first and the full one — its sign is
-    undecided after the first at most speeds —, a worn state the first run alone) and the
+    exponent (the unworn state the full run — its sign is undecided after the first
+    revolutions at most speeds —, a worn state those first revolutions alone) and the
     motion verdict; per checkpoint interval: the increments after the first (one per 800
     cycles at any speed: the worn depth grows by 5–11 µm per 1 000 cycles at 30–150 rpm,
     faster as the grooves deepen, and an increment adds at most 0.025 of the 0.2 mm
     clearance), each its own run of
     settled and averaged revolutions. The rigid constants are fitted to the benchmark's
-    five paths (``benchmarks/wear_life.py``, ``docs/wear.md`` §7; each ended early by the
-    model's limit: 30 rpm after 35 000 cycles, 698.5 CPU s; 60 rpm after 15 000, 369.7 s;
-    90 rpm after 25 000, 217.4 s; 120 rpm after 25 000, 253.2 s; 150 rpm after 15 000,
-    139.9 s; the prior gives 0.66–1.34 of them); a path that stops before the deep
-    grooves costs less (60 rpm to 5 000 cycles: 68 CPU s against the prior's 114).
+    five paths by phase (``benchmarks/wear_life.py``, ``docs/wear.md`` §7; each ended early
+    by the model's limit: 30 rpm after 35 000 cycles, 566.4 CPU s; 60 rpm after 20 000,
+    199.9 s; 90 rpm after 25 000, 148.7 s; 120 rpm after 20 000, 113.7 s; 150 rpm after
+    15 000, 115.3 s; the prior gives 0.76–1.24 of them).
     Flexible rods take the study's fixed step in time, so a slower speed costs more per
     revolution (1.2 s per revolution at 150 rpm, 2.8 for the exponent).
     """
@@ -121,7 +120,7 @@ def wear_path_cost(rpm: float, settings: StudySettings, *, flexible: bool | None
         exponent = _RIGID_EXPONENT * slower**_RIGID_EXPONENT_POWER
     full = settings.wear_path_lyapunov_revolutions
     first = min(LYAPUNOV_FIRST_REVOLUTIONS, full)
-    exponent_revolutions = (first + full if first < full else full) + (len(points) - 1) * first
+    exponent_revolutions = full + (len(points) - 1) * first
     states = len(points) * ((2.0 + settings.wear_path_analysis_revolutions) * revolution + _VERDICT)
     increments = sum(
         max(1.0, (b - a) / _CYCLES_PER_INCREMENT) - 1.0 for a, b in itertools.pairwise(points)
@@ -137,9 +136,9 @@ def wear_path_cost(rpm: float, settings: StudySettings, *, flexible: bool | None
 #: revolution (with averaging its wear) and one revolution of the exponent, each times
 #: (150 rpm / speed) to its power; one motion verdict (fitted to the benchmark's measured
 #: paths by phase, docs/wear.md §7)
-_RIGID_REVOLUTION, _RIGID_REVOLUTION_POWER = 0.32, 0.7
-_RIGID_EXPONENT, _RIGID_EXPONENT_POWER = 0.685, 0.87
-_VERDICT = 8.0
+_RIGID_REVOLUTION, _RIGID_REVOLUTION_POWER = 0.202, 0.72
+_RIGID_EXPONENT, _RIGID_EXPONENT_POWER = 0.647, 0.72
+_VERDICT = 3.9
 #: Crank cycles per wear increment (the depth cap reached about every 800 cycles)
 _CYCLES_PER_INCREMENT = 800.0
 
