@@ -686,7 +686,7 @@ def _continued_value(
     )
     run = integrate_tangent(
         model, y_start, np.zeros_like(y_start), stops, settings=tangent, latch=latch,
-        record_states=True, label="bifurcation",
+        record_states=True,
     )  # fmt: skip
     joints = tuple(model.clearance_joints)
     if not run.stats.success:

@@ -153,7 +153,8 @@ class WearLife:
         path's phases (``phase_cpu_runs``: the simulations; ``phase_cpu_wear``: averaging
         their wear; ``phase_cpu_exponent``; ``phase_cpu_verdict``; ``phase_cpu_total``;
         of which ``phase_cpu_elsewhere`` on other threads than the path's, where an
-        executor ran the exponents and verdicts) in attrs. Every variable has ``units`` and ``long_name``.
+        executor ran the exponents and verdicts) in attrs. Every variable has ``units``
+        and ``long_name``.
         """
         return self.dataset.copy()
 

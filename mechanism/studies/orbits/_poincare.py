@@ -137,7 +137,7 @@ class CrankSection(StroboscopicMap):
         run = integrate_tangent(
             self.model, y, np.zeros_like(y) if d0 is None else d0, stops,
             settings=self.settings if settings is None else settings, latch=latch,
-            step_schedule=schedule, record_states=record, record_steps=steps, label="orbit",
+            step_schedule=schedule, record_states=record, record_steps=steps,
         )  # fmt: skip
         self.evaluations += 1
         self.function_evaluations += run.stats.function_evaluations

@@ -146,7 +146,7 @@ class StroboscopicMap:
         settings = replace(self.settings, deviation_rtol=self.deviation_rtol)
         run = integrate_tangent(
             self.model, section.y, d0, self.sections, settings=settings,
-            latch=(section.latch, section.contact), record_steps=True, label="orbit",
+            latch=(section.latch, section.contact), record_steps=True,
         )  # fmt: skip
         self.evaluations += 1
         self.function_evaluations += run.stats.function_evaluations
@@ -182,7 +182,7 @@ class StroboscopicMap:
             d0 = self.freeze_direction(basis)
             run = integrate_tangent(
                 self.model, section.y, d0, times[i : i + 2], settings=settings,
-                latch=(section.latch, section.contact), record_steps=True, label="orbit",
+                latch=(section.latch, section.contact), record_steps=True,
             )  # fmt: skip
             self.evaluations += 1
             self.function_evaluations += run.stats.function_evaluations
@@ -224,7 +224,7 @@ class StroboscopicMap:
         run = integrate_tangent(
             self.model, section.y, d, self.schedule if whole else stops, settings=settings,
             latch=(section.latch, section.contact), latch_deviation=latch_deviation,
-            step_schedule=self.schedule, record_states=record or whole, label="orbit",
+            step_schedule=self.schedule, record_states=record or whole,
         )  # fmt: skip
         self.evaluations += 1
         self.function_evaluations += run.stats.function_evaluations
