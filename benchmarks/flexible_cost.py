@@ -42,6 +42,16 @@ of the rounds), the companion's Newton iterations and, from ``record="metrics"``
 the displacement and speed errors; writes ``docs/benchmarks/flexible-ideal-step.csv``::
 
     NUMBA_NUM_THREADS=1 python benchmarks/flexible_cost.py --ideal-step [--revolutions 1]
+
+``--without-companion`` runs, in fresh processes of this checkout alternated over
+``--rounds``, ``record=SectionsRecord(companion=True)`` and
+``SectionsRecord(companion=False)``: CPU per revolution of each ``simulate`` call and
+whether the two runs' stroboscopic journal positions are identical (the main run must
+not depend on the companion), with their largest distance; writes
+``docs/benchmarks/flexible-sections-companion.csv``::
+
+    NUMBA_NUM_THREADS=1 python benchmarks/flexible_cost.py --without-companion \
+        [--revolutions 2] [--rounds 3]
 """
 
 from __future__ import annotations
@@ -64,6 +74,7 @@ ROOT = Path(__file__).resolve().parents[1]
 OUT = ROOT / "docs" / "benchmarks" / "flexible-cost.csv"
 COMPANION_OUT = ROOT / "docs" / "benchmarks" / "flexible-companion.csv"
 IDEAL_STEP_OUT = ROOT / "docs" / "benchmarks" / "flexible-ideal-step.csv"
+SECTIONS_COMPANION_OUT = ROOT / "docs" / "benchmarks" / "flexible-sections-companion.csv"
 PERTURBATION = 1e-12  # m, initial journal offset of the chaos reference
 
 
@@ -99,6 +110,62 @@ def _worker(out: str, revolutions: float, offset: float) -> None:
         force=full.contact_force.values.ravel(),
     )
     print(json.dumps(row))
+
+
+def _sections_worker(out: str, revolutions: float, companion: bool) -> None:
+    """One ``record="sections"`` run of the paper scene with or without the companion."""
+    import mechanism
+
+    scene = mechanism.load_scene("paper")
+    record = mechanism.SectionsRecord(companion=companion)
+    mechanism.simulate(scene, revolutions=0.02, record=record)  # compile / load
+    cpu = time.process_time()
+    ds = mechanism.simulate(scene, revolutions=revolutions, record=record)
+    cpu = time.process_time() - cpu
+    row = {
+        "companion": companion,
+        "cpu_s_per_rev": cpu / revolutions,
+        "newton_per_rev": ds.attrs["solver_newton_iterations"] / revolutions,
+        "companion_newton_per_rev": ds.attrs.get("ideal_solver_newton_iterations", 0) / revolutions,
+        "max_displacement_error_m": float(ds["max_displacement_error"]),
+        "max_speed_error_m_s": float(ds["max_speed_error"]),
+    }
+    np.savez(out, strobe=np.stack([ds.eccentricity_x.values, ds.eccentricity_y.values]))
+    print(json.dumps(row))
+
+
+def _without_companion(revolutions: float, rounds: int) -> None:
+    """The sections run with and without the companion, alternated (module docstring)."""
+    env = dict(os.environ, NUMBA_NUM_THREADS="1")
+    rows, strobes = [], {}
+    with tempfile.TemporaryDirectory() as tmp:
+        for r in range(rounds):
+            for companion in (True, False):
+                out = Path(tmp) / f"{companion}.npz"
+                cmd = [sys.executable, str(Path(__file__).resolve()), "--sections-worker",
+                       str(out), "--revolutions", str(revolutions),
+                       "--with-companion", str(int(companion))]  # fmt: skip
+                done = subprocess.run(
+                    cmd, cwd=ROOT, env=env, check=True, capture_output=True, text=True
+                )
+                row = {"round": r, **json.loads(done.stdout.strip().splitlines()[-1])}
+                strobes[companion] = np.load(out)["strobe"]
+                rows.append(row)
+                print(json.dumps(row), flush=True)
+            same = strobes[True].shape == strobes[False].shape
+            diff = np.hypot(*(strobes[True] - strobes[False])).max() if same else np.inf
+            uptime = subprocess.run(["uptime"], capture_output=True, text=True).stdout.strip()
+            for row in rows[-2:]:
+                row["strobe_points"] = strobes[True][0].size  # crossings x joints
+                row["strobe_identical"] = bool(np.array_equal(strobes[True], strobes[False]))
+                row["strobe_max_diff_m"] = float(diff)
+                row["load"] = uptime.split("load average:")[-1].strip()
+    _write(SECTIONS_COMPANION_OUT, rows)
+    for companion in (True, False):
+        cpu = [row["cpu_s_per_rev"] for row in rows if row["companion"] == companion]
+        print(f"companion={companion}: CPU s/rev {' '.join(f'{c:.3f}' for c in cpu)}")
+    print(f"strobe points identical: {' '.join(str(row['strobe_identical']) for row in rows[::2])}")
+    print(f"written: {SECTIONS_COMPANION_OUT}")
 
 
 def _companion(revolutions: float) -> None:
@@ -226,7 +293,19 @@ def main() -> None:
         "--ideal-step", action="store_true",
         help="the sections run with the companion at the main step and at the default",
     )  # fmt: skip
+    parser.add_argument(
+        "--without-companion", action="store_true",
+        help="the sections run with and without the ideal companion, alternated",
+    )  # fmt: skip
+    parser.add_argument("--sections-worker", help=argparse.SUPPRESS)
+    parser.add_argument("--with-companion", type=int, default=1, help=argparse.SUPPRESS)
     args = parser.parse_args()
+    if args.sections_worker:
+        _sections_worker(args.sections_worker, args.revolutions, bool(args.with_companion))
+        return
+    if args.without_companion:
+        _without_companion(args.revolutions, args.rounds)
+        return
     if args.ideal_step:
         _ideal_step(args.revolutions, args.rounds)
         return
