@@ -181,11 +181,12 @@ class SceneLyapunov:
     batches : int
         Number of batches of consecutive segments behind ``ci``.
     settings : dict
-        Everything the estimate depends on: ``revolutions``/``t_end``, ``discard``
-        (s), ``perturbation`` (relative), ``length_scale`` (m), ``perturbation_size`` (m),
-        ``time_scale`` (s), ``renormalize_every`` (accepted steps), ``rtol``, ``atol``,
-        ``max_step`` (s), ``approach_floor`` (s), ``deviation_rtol``, ``seed``,
-        ``difference`` (``"copy"`` for a flexible scene: a perturbed copy's own step).
+        Everything the estimate depends on: ``revolutions``/``t_end`` (of the run made),
+        ``discard`` (s), ``decide_after`` (as given; NaN: none), ``perturbation``
+        (relative), ``length_scale`` (m), ``perturbation_size`` (m), ``time_scale`` (s),
+        ``renormalize_every`` (accepted steps), ``rtol``, ``atol``, ``max_step`` (s),
+        ``approach_floor`` (s), ``deviation_rtol``, ``seed``, ``difference`` (``"copy"``
+        for a flexible scene: a perturbed copy's own step).
     renormalizations : int
     stats : SolverStats
         Cost of the whole run (discarded part included); ``function_evaluations``
