@@ -320,6 +320,44 @@ def test_the_command_writes_the_map_the_report_and_the_answers(tmp_path):
         assert f["value"].values.tolist() == [90.0, 150.0]
 
 
+def test_on_a_threaded_dask_client_the_analyses_are_tasks_with_the_same_numbers(tmp_path):
+    """The same hand-over on a client of two in-process workers (threads: no process to
+    start, the kernels already loaded): one path with a short exponent gives the numbers
+    of the same path computed in turn, and its exponent's and verdict's CPU is counted as
+    spent on other threads."""
+    distributed = pytest.importorskip("distributed")
+    settings = mechanism.WearLifeSettings(
+        settle_revolutions=1.0, analysis_revolutions=4, averaged_revolutions=1,
+        lyapunov_revolutions=2.0, lyapunov_discard=1.0, lyapunov_first_revolutions=None,
+    )  # fmt: skip
+    serial = _map(tmp_path / "serial", [150.0], settings=settings)
+    with (
+        distributed.LocalCluster(
+            n_workers=2, threads_per_worker=1, processes=False, dashboard_address=None
+        ) as cluster,
+        distributed.Client(cluster) as client,
+        warnings.catch_warnings(),
+    ):
+        warnings.simplefilter("ignore", mechanism.SimulationWarning)
+        threaded = mechanism.wear_life_map(
+            rigid_paper(), parameter="drive.speed_rpm", values=[150.0],
+            store=tmp_path / "threaded", settings=settings, scheduler=client, **PATH,
+        )  # fmt: skip
+    a, b = _numbers(serial.to_dataset()), _numbers(threaded.to_dataset())
+    assert np.isfinite(a["lyapunov_exponent"].values).all()
+    for name in ("lyapunov_exponent", "lyapunov_ci_high", "motion", "motion_confidence",
+                 "wear_depth", "strobe_y", "mean_contact_force"):  # fmt: skip
+        np.testing.assert_array_equal(b[name].values, a[name].values)
+    stored = xr.open_dataset(
+        tmp_path / "threaded" / "points" / f"{map_module.path_id('drive.speed_rpm', 150.0)}.nc",
+        engine="h5netcdf",
+    ).load()
+    assert stored.attrs["phase_cpu_elsewhere"] > 0.0
+    assert stored.attrs["phase_cpu_elsewhere"] == pytest.approx(
+        stored.attrs["phase_cpu_exponent"] + stored.attrs["phase_cpu_verdict"]
+    )
+
+
 @pytest.mark.slow
 def test_on_a_dask_cluster_the_analyses_run_as_tasks_with_the_same_numbers(tmp_path):
     """Two paths with the exponent on a local cluster of two workers, where each path
