@@ -343,19 +343,27 @@ def test_on_a_threaded_dask_client_the_analyses_are_tasks_with_the_same_numbers(
             rigid_paper(), parameter="drive.speed_rpm", values=[150.0],
             store=tmp_path / "threaded", settings=settings, scheduler=client, **PATH,
         )  # fmt: skip
-    a, b = _numbers(serial.to_dataset()), _numbers(threaded.to_dataset())
-    assert np.isfinite(a["lyapunov_exponent"].values).all()
-    for name in ("lyapunov_exponent", "lyapunov_ci_high", "motion", "motion_confidence",
-                 "wear_depth", "strobe_y", "mean_contact_force"):  # fmt: skip
-        np.testing.assert_array_equal(b[name].values, a[name].values)
-    stored = xr.open_dataset(
-        tmp_path / "threaded" / "points" / f"{map_module.path_id('drive.speed_rpm', 150.0)}.nc",
-        engine="h5netcdf",
-    ).load()
+    _assert_same_numbers(serial, threaded)
+    stored = _stored_path(tmp_path / "threaded", 150.0)
     assert stored.attrs["phase_cpu_elsewhere"] > 0.0
     assert stored.attrs["phase_cpu_elsewhere"] == pytest.approx(
         stored.attrs["phase_cpu_exponent"] + stored.attrs["phase_cpu_verdict"]
     )
+
+
+def _assert_same_numbers(serial, handed_over):
+    """The analysed numbers of two maps, bit for bit (with a finite exponent)."""
+    a, b = _numbers(serial.to_dataset()), _numbers(handed_over.to_dataset())
+    assert np.isfinite(a["lyapunov_exponent"].values).all()
+    for name in ("lyapunov_exponent", "lyapunov_ci_low", "lyapunov_ci_high", "motion",
+                 "motion_confidence", "wear_depth", "strobe_x", "strobe_y",
+                 "peak_contact_force", "mean_contact_force"):  # fmt: skip
+        np.testing.assert_array_equal(b[name].values, a[name].values)
+
+
+def _stored_path(store, value):
+    path = store / "points" / f"{map_module.path_id('drive.speed_rpm', value)}.nc"
+    return xr.open_dataset(path, engine="h5netcdf").load()
 
 
 @pytest.mark.slow
@@ -376,16 +384,9 @@ def test_on_a_dask_cluster_the_analyses_run_as_tasks_with_the_same_numbers(tmp_p
             rigid_paper(), parameter="drive.speed_rpm", values=[90.0, 150.0],
             store=tmp_path / "cluster", settings=settings, workers=2, **PATH,
         )  # fmt: skip
-    a, b = _numbers(serial.to_dataset()), _numbers(cluster.to_dataset())
-    assert np.isfinite(a["lyapunov_exponent"].values).all()
-    for name in ("lyapunov_exponent", "lyapunov_ci_low", "motion", "motion_confidence",
-                 "wear_depth", "strobe_x", "peak_contact_force"):  # fmt: skip
-        np.testing.assert_array_equal(b[name].values, a[name].values)
+    _assert_same_numbers(serial, cluster)
     for value in (90.0, 150.0):
-        stored = xr.open_dataset(
-            tmp_path / "cluster" / "points" / f"{map_module.path_id('drive.speed_rpm', value)}.nc",
-            engine="h5netcdf",
-        ).load()
+        stored = _stored_path(tmp_path / "cluster", value)
         assert stored.attrs["phase_cpu_exponent"] > 0.0 and stored.attrs["phase_cpu_verdict"] > 0.0
         assert stored.attrs["phase_cpu_elsewhere"] == pytest.approx(
             stored.attrs["phase_cpu_exponent"] + stored.attrs["phase_cpu_verdict"]
