@@ -105,8 +105,14 @@ def lu_factor(a, piv):
 
 @njit(cache=True, error_model="numpy")
 def lu_solve(lt, piv, b):
-    """Solve A x = b in place from :func:`lu_factor`'s transposed factors, column by
-    column (contiguous rows of ``lt``)."""
+    """Solve A x = b in place from :func:`lu_factor`'s transposed factors.
+
+    Both substitutions take the columns four at a time: each entry of ``b`` below (above)
+    a block receives the block's four updates in one pass, in the order of the column
+    by column substitution, so the result is the same to the last bit while ``b`` is
+    swept a quarter as often. The passes run over contiguous row slices of ``lt``, which
+    the compiler vectorises.
+    """
     n = lt.shape[0]
     for k in range(n):
         p = piv[k]
@@ -114,21 +120,47 @@ def lu_solve(lt, piv, b):
             tmp = b[k]
             b[k] = b[p]
             b[p] = tmp
-    # the updates run over slices (no bounds read per element): the compiler vectorises
-    # them, 2.6× faster on 145 × 145 than indexing the rows
-    for j in range(n):
-        bj = b[j]
-        col = lt[j, j + 1 :]
-        rest = b[j + 1 :]
-        for i in range(n - j - 1):
-            rest[i] -= col[i] * bj
-    for j in range(n - 1, -1, -1):
-        bj = b[j] / lt[j, j]
-        b[j] = bj
-        col = lt[j, :j]
-        rest = b[:j]
-        for i in range(j):
-            rest[i] -= col[i] * bj
+    # forward, unit L: column j of L below the diagonal is lt[j, j + 1 :]
+    j0 = 0
+    while j0 < n:
+        j1 = min(j0 + 4, n)
+        for jj in range(j0, j1):
+            bj = b[jj]
+            for i in range(jj + 1, j1):
+                b[i] -= lt[jj, i] * bj
+        if j1 - j0 == 4:
+            b0, b1, b2, b3 = b[j0], b[j0 + 1], b[j0 + 2], b[j0 + 3]
+            c0, c1, c2, c3 = lt[j0, j1:], lt[j0 + 1, j1:], lt[j0 + 2, j1:], lt[j0 + 3, j1:]
+            rest = b[j1:]
+            for i in range(n - j1):
+                rest[i] = (((rest[i] - c0[i] * b0) - c1[i] * b1) - c2[i] * b2) - c3[i] * b3
+        else:
+            for jj in range(j0, j1):
+                bj = b[jj]
+                for i in range(j1, n):
+                    b[i] -= lt[jj, i] * bj
+        j0 = j1
+    # backward: column j of U above the diagonal is lt[j, :j], its diagonal lt[j, j]
+    j1 = n
+    while j1 > 0:
+        j0 = max(j1 - 4, 0)
+        for jj in range(j1 - 1, j0 - 1, -1):
+            bj = b[jj] / lt[jj, jj]
+            b[jj] = bj
+            for i in range(j0, jj):
+                b[i] -= lt[jj, i] * bj
+        if j1 - j0 == 4:
+            b3, b2, b1, b0 = b[j1 - 1], b[j1 - 2], b[j1 - 3], b[j0]
+            c3, c2, c1, c0 = lt[j1 - 1, :j0], lt[j1 - 2, :j0], lt[j1 - 3, :j0], lt[j0, :j0]
+            rest = b[:j0]
+            for i in range(j0):
+                rest[i] = (((rest[i] - c3[i] * b3) - c2[i] * b2) - c1[i] * b1) - c0[i] * b0
+        else:
+            for jj in range(j1 - 1, j0 - 1, -1):
+                bj = b[jj]
+                for i in range(j0):
+                    b[i] -= lt[jj, i] * bj
+        j1 = j0
 
 
 @njit(cache=True)
