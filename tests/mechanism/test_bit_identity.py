@@ -32,7 +32,7 @@ from mechanism import FullRecord, MetricsRecord, SectionsRecord
 from tests.mechanism.scenes import rigid_paper
 
 #: The machine the digests were recorded on: host CPU (numba compiles for it), numba, numpy.
-RECORDED_ON = ("x86_64", "znver5", "0.68.1", "2.4.6")
+RECORDED_ON = ("x86_64", "znver4", "0.68.1", "2.4.6")
 #: Dataset attributes that describe the run's timing and creation, not its results.
 TIMING_ATTRS = (
     "solver_cpu_time",
@@ -98,12 +98,12 @@ DIGESTS = {
     "rigid paper, 2 revolutions": (
         rigid_paper,
         2.0,
-        "3b7369f7c8a5460e5a1a8280b5b5bb80cc1c6348e802b02a3ad486f240dd1d1d",
+        "312181b3d16033d66d51471fd204038141bb89b83ebc973c7f7aa78b949e1d2f",
     ),
     "slider-crank-clearance, 1 revolution": (
         lambda: mechanism.load_scene("slider-crank-clearance"),
         1.0,
-        "1bdb2e138d353c76cea0c3c54b271b4fc99f817d94faf23b016c55d340aab142",
+        "c9b815777b53a7385f86c47c7d3975a30e4d2e530772b81014fd74830342e103",
     ),
 }
 
@@ -134,6 +134,7 @@ def test_the_flexible_trajectory_is_unchanged() -> None:
     _check_digest(
         mechanism.load_scene("paper"),
         0.05,
-        # analytic contact derivatives in the Newton loop: iterates move at the tolerance
-        "0cfa9be38de058db88bcf32c571c2f36695a1d6bfbf5b60640420a6e8daa5689",
+        # the elastic forces summed per element before they are added to Q: the forces
+        # move by round-off (2.5e-16 of their size)
+        "61a1a0726318bd4532b970f6c96b2c69564a011023a1e08e5bc2fe053ada2a59",
     )
