@@ -11,8 +11,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from mechanism.core.bodies import AncfMesh, beam_modes, solve_beam_static
 from mechanism.core.bodies import _ancf_kernels as kernels
-from mechanism.core.bodies._ancf import AncfMesh, beam_modes, solve_beam_static
 
 
 def _rod(n_elements: int, **kw) -> AncfMesh:
