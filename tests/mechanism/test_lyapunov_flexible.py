@@ -85,15 +85,14 @@ def test_stiff_rods_give_the_rigid_exponent() -> None:
     enough that the trajectories coincide over the window yet soft enough that Newton
     never fails. The four-second window is short for a chaotic pendulum, so the estimate
     moves with the last bit: over five starts whose release angles differ by 0, ±1e-12
-    and ±3e-12 of themselves, computed by two builds whose elastic forces differ by
-    round-off (summed point by point into Q, or per element first), flexible / rigid − 1
-    ran from −19 % to +16 % on one machine (the unperturbed start: +0.4 % and +8.6 %) and
-    from −0.1 to +2.7 % on another; the rigid value lay inside every run's interval. The
-    bound of 25 % keeps 6 points of margin and still fails a flexible estimate that
-    measures the integrator instead of the pendulum: at a step of 1e-3 s these rods
-    make the reference reject 11 000 steps in 6 s; rods of a tenth of this section at
-    48 × steel's modulus made it reject about 1 000 steps at 2.5e-4 s and moved the
-    estimate by up to 35 % under 1e-12 changes of the start."""
+    and ±3e-12 of themselves, flexible / rigid − 1 ran from −19 % to +16 % on one machine
+    (the unperturbed start: +0.4 %; a build whose elastic forces differed by round-off
+    gave −12 % to +9 %) and from −0.1 to +2.7 % on another; the rigid value lay inside
+    every run's interval. The bound of 25 % keeps 6 points of margin and still fails a
+    flexible estimate that measures the integrator instead of the pendulum: at a step of
+    1e-3 s these rods make the reference reject 11 000 steps in 6 s; rods of a tenth of
+    this section at 48 × steel's modulus made it reject about 1 000 steps at 2.5e-4 s and
+    moved the estimate by up to 35 % under 1e-12 changes of the start."""
     scene = beam_double_pendulum()
     flex = mechanism.lyapunov_exponent(scene, t_end=6.0, discard=2.0)
     ref = mechanism.lyapunov_exponent(
