@@ -23,6 +23,8 @@ repository root::
 
 or, against another checkout (which keeps its compiled cache between runs),
 ``--baseline-tree ../other-clone``.
+With ``--main-only`` both trees run ``SectionsRecord(companion=False)``: the main run
+alone, without the ideal companion's integration.
 
 ``--companion`` measures instead what the ideal companion's result (the slider of the
 mechanism with ideal joints, from which the displacement and speed errors are taken)
@@ -78,15 +80,16 @@ SECTIONS_COMPANION_OUT = ROOT / "docs" / "benchmarks" / "flexible-sections-compa
 PERTURBATION = 1e-12  # m, initial journal offset of the chaos reference
 
 
-def _worker(out: str, revolutions: float, offset: float) -> None:
+def _worker(out: str, revolutions: float, offset: float, companion: bool = True) -> None:
     import mechanism
 
     scene = mechanism.load_scene("paper")
     if offset:
         scene = scene.replace({"joints.C.initial_eccentricity": [offset, 0.0]})
-    mechanism.simulate(scene, revolutions=0.02, record="sections")  # compile / load
+    record = mechanism.SectionsRecord(companion=companion)
+    mechanism.simulate(scene, revolutions=0.02, record=record)  # compile / load
     cpu = time.process_time()
-    ds = mechanism.simulate(scene, revolutions=revolutions, record="sections")
+    ds = mechanism.simulate(scene, revolutions=revolutions, record=record)
     cpu = time.process_time() - cpu
     full = mechanism.simulate(scene, revolutions=1.0, record="full")
     row = {
@@ -94,7 +97,7 @@ def _worker(out: str, revolutions: float, offset: float) -> None:
         "steps_per_rev": ds.attrs["solver_steps"] / revolutions,
         "newton_per_rev": ds.attrs["solver_newton_iterations"] / revolutions,
         "jacobians_per_rev": ds.attrs["solver_jacobian_evaluations"] / revolutions,
-        "companion_newton_per_rev": ds.attrs["ideal_solver_newton_iterations"] / revolutions,
+        "companion_newton_per_rev": ds.attrs.get("ideal_solver_newton_iterations", 0) / revolutions,
         "peak_contact_force_N": float(full.contact_force.max()),
         "max_penetration_m": float(full.penetration.max()),
     }
@@ -267,10 +270,13 @@ def _export(revision: str, into: Path) -> Path:
     return into
 
 
-def _run(tree: Path, out: Path, revolutions: float, offset: float = 0.0) -> dict:
+def _run(
+    tree: Path, out: Path, revolutions: float, offset: float = 0.0, companion: bool = True
+) -> dict:
     env = dict(os.environ, PYTHONPATH=str(tree), NUMBA_NUM_THREADS="1")
     cmd = [sys.executable, str(Path(__file__).resolve()), "--worker", str(out),
-           "--revolutions", str(revolutions), "--offset", str(offset)]  # fmt: skip
+           "--revolutions", str(revolutions), "--offset", str(offset),
+           "--with-companion", str(int(companion))]  # fmt: skip
     done = subprocess.run(cmd, cwd=tree, env=env, check=True, capture_output=True, text=True)
     return json.loads(done.stdout.strip().splitlines()[-1])
 
@@ -297,6 +303,10 @@ def main() -> None:
         "--without-companion", action="store_true",
         help="the sections run with and without the ideal companion, alternated",
     )  # fmt: skip
+    parser.add_argument(
+        "--main-only", action="store_true",
+        help="compare the trees on the sections run without its ideal companion",
+    )  # fmt: skip
     parser.add_argument("--sections-worker", help=argparse.SUPPRESS)
     parser.add_argument("--with-companion", type=int, default=1, help=argparse.SUPPRESS)
     args = parser.parse_args()
@@ -313,7 +323,7 @@ def main() -> None:
         _companion(args.revolutions)
         return
     if args.worker:
-        _worker(args.worker, args.revolutions, args.offset)
+        _worker(args.worker, args.revolutions, args.offset, bool(args.with_companion))
         return
     with tempfile.TemporaryDirectory() as tmp:
         if args.baseline_tree is not None:
@@ -326,12 +336,14 @@ def main() -> None:
         for r in range(args.rounds):
             for name, tree in trees.items():
                 files[name] = Path(tmp) / f"{name}.npz"
-                row = {"tree": name, "round": r, **_run(tree, files[name], args.revolutions)}
+                run = _run(tree, files[name], args.revolutions, companion=not args.main_only)
+                row = {"tree": name, "round": r, "companion": not args.main_only, **run}
                 rows.append(row)
                 print(json.dumps(row))
         files["perturbed"] = Path(tmp) / "perturbed.npz"
         row = {"tree": "baseline, journal 1e-12 m off", "round": 0,
-               **_run(base, files["perturbed"], args.revolutions, PERTURBATION)}  # fmt: skip
+               **_run(base, files["perturbed"], args.revolutions, PERTURBATION,
+                      companion=not args.main_only)}  # fmt: skip
         rows.append(row)
         ref = np.load(files["baseline"])
         for name in ("this", "perturbed"):

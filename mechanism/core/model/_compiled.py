@@ -9,7 +9,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from mechanism.core.bodies import AncfLayout
+from mechanism.core.bodies import AncfLayout, beam_work
 from mechanism.core.forces import FO_COLUMNS, force_elements_add
 from mechanism.core.joints import PCF_COLUMNS, PCI_COLUMNS, update_points
 from mechanism.core.scene import ClearancePrismatic, ClearanceRevolute, Scene
@@ -35,6 +35,10 @@ class KernelModel(NamedTuple):
     minv: np.ndarray  # (n, n) its inverse (block diagonal)
     blk_lo: np.ndarray  # (n,) first coordinate of the mass block of coordinate i
     blk_hi: np.ndarray  # (n,) one past its last coordinate
+    # (n,) 2 where coordinate i's mass block couples only coordinates of the same parity
+    # (an ANCF rod's x and y planes), else 1; minv_h[i] is then row i of M⁻¹ over them
+    blk_st: np.ndarray
+    minv_h: np.ndarray  # (n, largest such block / 2)
     gravity_force: np.ndarray  # (n,) constant generalised gravity
     pt_i: np.ndarray
     pt_f: np.ndarray
@@ -124,6 +128,7 @@ class Workspace(NamedTuple):
     nz_n: np.ndarray
     nz_j: np.ndarray
     fe: np.ndarray  # (n_elements, FO_COLUMNS) force, coordinate and rate of each element
+    beam: np.ndarray  # scratch of the beams' elastic forces (``beam_work``)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -266,4 +271,5 @@ class Model:
             nz_n=np.zeros(m, dtype=np.int64),
             nz_j=np.zeros((m, n), dtype=np.int64),
             fe=np.zeros((self.kernel.fe_i.shape[0], FO_COLUMNS)),
+            beam=beam_work(self.kernel.beam_i),
         )

@@ -292,6 +292,8 @@ class MassTables:
     minv: np.ndarray
     blk_lo: np.ndarray
     blk_hi: np.ndarray
+    blk_st: np.ndarray
+    minv_h: np.ndarray
     gravity: np.ndarray
     q_guess: np.ndarray
     dof_names: list[str]
@@ -304,6 +306,8 @@ def mass_tables(scene: Scene, layouts: list[Any], offsets: dict[str, int], n: in
         minv=np.zeros((n, n)),
         blk_lo=np.zeros(n, dtype=np.int64),
         blk_hi=np.zeros(n, dtype=np.int64),
+        blk_st=np.ones(n, dtype=np.int64),
+        minv_h=np.zeros((n, 1)),
         gravity=np.zeros(n),
         q_guess=np.zeros(n),
         dof_names=[],
@@ -323,7 +327,33 @@ def mass_tables(scene: Scene, layouts: list[Any], offsets: dict[str, int], n: in
         t.q_guess[sl] = lay.initial_coordinates()
         t.dof_names.extend(f"{lay.name}.{c}" for c in lay.coordinate_names)
     _add_flywheel(scene, layouts, offsets, t)
+    _split_planes(t)
     return t
+
+
+def _split_planes(t: MassTables) -> None:
+    """Mark the mass blocks whose inverse couples only coordinates of the same parity (an
+    ANCF rod's x and y DOFs alternate and its mass matrix is the same for both) and keep,
+    for each of their coordinates, the row of M⁻¹ over that parity only (``minv_h``), so
+    the kernels skip the exact zeros between the planes."""
+    n = t.minv.shape[0]
+    split = []
+    lo = 0
+    while lo < n:
+        hi = int(t.blk_hi[lo])
+        blk = t.minv[lo:hi, lo:hi]
+        size = hi - lo
+        parity = np.add.outer(np.arange(size), np.arange(size)) % 2
+        if size >= 4 and size % 2 == 0 and not np.any(blk[parity == 1]):
+            split.append((lo, hi))
+        lo = hi
+    half = max([(hi - lo) // 2 for lo, hi in split], default=1)
+    t.minv_h = np.zeros((n, half))
+    for lo, hi in split:
+        t.blk_st[lo:hi] = 2
+        for j in range(lo, hi):
+            p = (j - lo) % 2
+            t.minv_h[j, : (hi - lo) // 2] = t.minv[j, lo + p : hi : 2]
 
 
 def _add_flywheel(scene: Scene, layouts: list[Any], offsets: dict[str, int], t: MassTables) -> None:
@@ -571,6 +601,8 @@ def kernel_model(
         minv=mass.minv,
         blk_lo=mass.blk_lo,
         blk_hi=mass.blk_hi,
+        blk_st=mass.blk_st,
+        minv_h=mass.minv_h,
         gravity_force=mass.gravity,
         pt_i=_arr_i(b.pt_i, 8),
         pt_f=_arr_f(b.pt_f, 6),
