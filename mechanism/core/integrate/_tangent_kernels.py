@@ -1011,9 +1011,9 @@ def copy_accelerations(model, dev, t, q, v, dq, dv, vimp, acc):
         # perturbed state like the contact, as the reference's accelerations add them
         force_elements_add(model.fe_i, model.fe_f, model.fe_t, t, ws.pci, ws.pcf, gen, ws.fe)
     return solve(
-        model.minv, model.minv_h, model.blk_lo, model.blk_hi, model.blk_st, model.alpha,
-        model.beta, ws.phi, ws.phiq, ws.phit, ws.gam, gen, yp[n:], ws.a0, ws.w, ws.s, ws.lam,
-        ws.nz_n, ws.nz_j, acc,
+        model.minv, model.minv_h, model.blk_lo, model.blk_hi, model.blk_st, model.con_i, ws.pci,
+        model.alpha, model.beta, ws.phi, ws.phiq, ws.phit, ws.gam, gen, yp[n:], ws.a0, ws.w,
+        ws.s, ws.lam, ws.nz_n, ws.nz_j, acc,
     )  # fmt: skip
 
 

@@ -33,6 +33,7 @@ from ._kernels import (
     apply_point_force,
     clearance_force_add,
     clearance_kinematics,
+    constraint_columns,
     constraint_rows,
     point_acceleration,
     update_point_rows,

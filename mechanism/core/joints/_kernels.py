@@ -272,6 +272,55 @@ def drive_angle(t, drive_i, drive_f, spline_x, spline_c):
     return 0.0, 0.0, 0.0
 
 
+@njit_inner(inline="always")
+def _insert_column(cols, count, j):
+    """Insert column ``j`` into the ascending list ``cols[:count]`` unless it is there;
+    returns the new count."""
+    i = count
+    while i > 0 and cols[i - 1] > j:
+        i -= 1
+    if i > 0 and cols[i - 1] == j:
+        return count
+    for k in range(count, i, -1):
+        cols[k] = cols[k - 1]
+    cols[i] = j
+    return count + 1
+
+
+@njit_inner()
+def constraint_columns(con_i, pci, phiq, nzn, nzj):
+    """The nonzero columns of every row of Φq, ascending (row r: ``nzj[r, :nzn[r]]``).
+
+    A primitive's rows are nonzero only at the Jacobian and angle columns of its two
+    points (those :func:`constraint_rows` writes from the point cache), so each row is
+    filtered over that short list instead of scanned over all coordinates: the same
+    lists. ``nzj`` has a row of room for every row of Φq.
+    """
+    for c in range(con_i.shape[0]):
+        typ = con_i[c, 0]
+        r = con_i[c, 3]
+        last = r + CON_ROWS[typ] - 1
+        # the candidates, ascending and unique, in the primitive's last row of nzj
+        cand = nzj[last]
+        cnt = 0
+        for side in range(2):
+            p = con_i[c, 1 + side]
+            for e in range(pci[p, PCI_JN]):
+                cnt = _insert_column(cand, cnt, pci[p, PCI_JDOF + e])
+            for e in range(pci[p, PCI_AN]):
+                cnt = _insert_column(cand, cnt, pci[p, PCI_ADOF + e])
+        # the other rows first; the last row is filtered in place (it writes at or
+        # before the entry it reads)
+        for rr in range(r, last + 1):
+            out = nzj[rr]
+            k = 0
+            for e in range(cnt):
+                j = cand[e]
+                out[k] = j
+                k += phiq[rr, j] != 0.0
+            nzn[rr] = k
+
+
 @njit_inner()
 def constraint_rows(
     t, con_i, con_f, drive_i, drive_f, spline_x, spline_c, pci, pcf, phi, phiq, phit, gam

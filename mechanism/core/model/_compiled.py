@@ -38,7 +38,7 @@ class KernelModel(NamedTuple):
     # (n,) 2 where coordinate i's mass block couples only coordinates of the same parity
     # (an ANCF rod's x and y planes), else 1; minv_h[i] is then row i of M⁻¹ over them
     blk_st: np.ndarray
-    minv_h: np.ndarray  # (n, largest such block / 2)
+    minv_h: np.ndarray | None  # (n, largest such block / 2); None without such blocks
     gravity_force: np.ndarray  # (n,) constant generalised gravity
     pt_i: np.ndarray
     pt_f: np.ndarray

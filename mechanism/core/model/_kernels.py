@@ -56,6 +56,7 @@ from mechanism.core.joints import (
     apply_point_force,
     clearance_force_add,
     clearance_kinematics,
+    constraint_columns,
     constraint_rows,
     guide_acceleration,
     guide_force_add,
@@ -450,30 +451,38 @@ def cholesky_solve(s, b, m):
 
 
 @njit_inner()
-def _schur_arrays(phiq, minv, minv_h, blk_lo, blk_hi, blk_st, nzn, nzj, w, s):
+def _schur_arrays(phiq, minv, minv_h, blk_lo, blk_hi, blk_st, con_i, pci, nzn, nzj, w, s):
     m, n = phiq.shape
-    for k in range(m):
-        # branch-free compaction of the nonzero columns (the row of nzj has room for n)
-        cnt = 0
-        row = phiq[k]
-        idx = nzj[k]
-        for j in range(n):
-            idx[cnt] = j
-            cnt += row[j] != 0.0
-        nzn[k] = cnt
+    if minv_h is not None:
+        # rods: a row's few nonzero columns among many coordinates, listed from the
+        # columns of its primitive's points
+        constraint_columns(con_i, pci, phiq, nzn, nzj)
+    else:
+        # rigid bodies: a scan of the few coordinates is cheaper than the lists
+        for k in range(m):
+            # branch-free compaction of the nonzero columns (the row of nzj has room for n)
+            cnt = 0
+            row = phiq[k]
+            idx = nzj[k]
+            for j in range(n):
+                idx[cnt] = j
+                cnt += row[j] != 0.0
+            nzn[k] = cnt
     w[:, :] = 0.0
     for k in range(m):
         for e in range(nzn[k]):
             j = nzj[k, e]
             pj = phiq[k, j]
             lo = blk_lo[j]
-            if blk_st[j] == 2:
-                # only the rows of j's plane: the others are exact zeros of M⁻¹
-                mh = minv_h[j]
-                lo += (j - lo) % 2
-                for a in range((blk_hi[j] - blk_lo[j]) // 2):
-                    w[lo + 2 * a, k] += mh[a] * pj
-                continue
+            # (a model without such blocks has minv_h None and compiles no branch here)
+            if minv_h is not None:
+                if blk_st[j] == 2:
+                    # only the rows of j's plane: the others are exact zeros of M⁻¹
+                    mh = minv_h[j]
+                    lo += (j - lo) % 2
+                    for a in range((blk_hi[j] - blk_lo[j]) // 2):
+                        w[lo + 2 * a, k] += mh[a] * pj
+                    continue
             mj = minv[j]  # column j of the symmetric M⁻¹, read as its contiguous row
             for i in range(lo, blk_hi[j]):
                 w[i, k] += mj[i] * pj
@@ -491,7 +500,7 @@ def _schur_arrays(phiq, minv, minv_h, blk_lo, blk_hi, blk_st, nzn, nzj, w, s):
 def schur(model, ws):
     """W = M⁻¹Φqᵀ and S = Φq W from the current Φq, using each row's nonzero columns."""
     _schur_arrays(ws.phiq, model.minv, model.minv_h, model.blk_lo, model.blk_hi, model.blk_st,
-                  ws.nz_n, ws.nz_j, ws.w, ws.s)  # fmt: skip
+                  model.con_i, ws.pci, ws.nz_n, ws.nz_j, ws.w, ws.s)  # fmt: skip
 
 
 @njit_noalloc()
@@ -527,9 +536,9 @@ def accelerations(model, ws, t, q, v, vimp, acc, counters):
     if model.fe_i.shape[0] > 0:
         forces_add_if(model.forces_on, model.fe_i, model.fe_f, model.fe_t, t, pci, pcf, gen, ws.fe)
     return solve(
-        model.minv, model.minv_h, model.blk_lo, model.blk_hi, model.blk_st, model.alpha,
-        model.beta, phi, phiq, phit, gam, gen, v, ws.a0, ws.w, ws.s, ws.lam, ws.nz_n, ws.nz_j,
-        acc,
+        model.minv, model.minv_h, model.blk_lo, model.blk_hi, model.blk_st, model.con_i, pci,
+        model.alpha, model.beta, phi, phiq, phit, gam, gen, v, ws.a0, ws.w, ws.s, ws.lam,
+        ws.nz_n, ws.nz_j, acc,
     )  # fmt: skip
 
 
@@ -539,7 +548,8 @@ def _block_solve(minv, minv_h, blk_lo, blk_hi, blk_st, x, out):
     its contiguous rows) over slices: no reduction and no bounds read per element, so the
     compiler vectorises it (5× faster than row dot products on a 68 × 68 ANCF block). A
     block of two planes (``blk_st`` 2) sums each plane's columns over its own rows only
-    (``minv_h``): the same nonzero terms in the same order, at half the arithmetic."""
+    (``minv_h``, None in a model without such blocks): the same nonzero terms in the same
+    order, at half the arithmetic."""
     n = x.shape[0]
     out[:] = 0.0
     j = 0
@@ -547,18 +557,19 @@ def _block_solve(minv, minv_h, blk_lo, blk_hi, blk_st, x, out):
         lo = blk_lo[j]
         hi = blk_hi[j]
         o = out[lo:hi]
-        if blk_st[j] == 2:
-            half = (hi - lo) // 2
-            for b in range(half):
-                xe = x[lo + 2 * b]
-                xo = x[lo + 2 * b + 1]
-                me = minv_h[lo + 2 * b]
-                mo = minv_h[lo + 2 * b + 1]
-                for a in range(half):
-                    o[2 * a] += me[a] * xe
-                    o[2 * a + 1] += mo[a] * xo
-            j = hi
-            continue
+        if minv_h is not None:
+            if blk_st[j] == 2:
+                half = (hi - lo) // 2
+                for b in range(half):
+                    xe = x[lo + 2 * b]
+                    xo = x[lo + 2 * b + 1]
+                    me = minv_h[lo + 2 * b]
+                    mo = minv_h[lo + 2 * b + 1]
+                    for a in range(half):
+                        o[2 * a] += me[a] * xe
+                        o[2 * a + 1] += mo[a] * xo
+                j = hi
+                continue
         for jj in range(lo, hi):
             xj = x[jj]
             mj = minv[jj, lo:hi]
@@ -568,8 +579,8 @@ def _block_solve(minv, minv_h, blk_lo, blk_hi, blk_st, x, out):
 
 
 @njit_inner()
-def solve(minv, minv_h, blk_lo, blk_hi, blk_st, alpha, beta, phi, phiq, phit, gam, gen, v, a0,
-          w, s, lam, nzn, nzj, acc):  # fmt: skip
+def solve(minv, minv_h, blk_lo, blk_hi, blk_st, con_i, pci, alpha, beta, phi, phiq, phit, gam,
+          gen, v, a0, w, s, lam, nzn, nzj, acc):  # fmt: skip
     n = a0.shape[0]
     m = phi.shape[0]
     _block_solve(minv, minv_h, blk_lo, blk_hi, blk_st, gen, a0)
@@ -577,7 +588,7 @@ def solve(minv, minv_h, blk_lo, blk_hi, blk_st, alpha, beta, phi, phiq, phit, ga
         for i in range(n):
             acc[i] = a0[i]
         return STATUS_OK
-    _schur_arrays(phiq, minv, minv_h, blk_lo, blk_hi, blk_st, nzn, nzj, w, s)
+    _schur_arrays(phiq, minv, minv_h, blk_lo, blk_hi, blk_st, con_i, pci, nzn, nzj, w, s)
     two_alpha = 2.0 * alpha
     beta2 = beta * beta
     for k in range(m):

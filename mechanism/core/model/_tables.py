@@ -293,7 +293,7 @@ class MassTables:
     blk_lo: np.ndarray
     blk_hi: np.ndarray
     blk_st: np.ndarray
-    minv_h: np.ndarray
+    minv_h: np.ndarray | None
     gravity: np.ndarray
     q_guess: np.ndarray
     dof_names: list[str]
@@ -307,7 +307,7 @@ def mass_tables(scene: Scene, layouts: list[Any], offsets: dict[str, int], n: in
         blk_lo=np.zeros(n, dtype=np.int64),
         blk_hi=np.zeros(n, dtype=np.int64),
         blk_st=np.ones(n, dtype=np.int64),
-        minv_h=np.zeros((n, 1)),
+        minv_h=None,
         gravity=np.zeros(n),
         q_guess=np.zeros(n),
         dof_names=[],
@@ -333,7 +333,7 @@ def mass_tables(scene: Scene, layouts: list[Any], offsets: dict[str, int], n: in
 
 def _split_planes(t: MassTables) -> None:
     """Mark the mass blocks whose inverse couples only coordinates of the same parity (an
-    ANCF rod's x and y DOFs alternate and its mass matrix is the same for both) and keep,
+    ANCF rod's x and y DOFs alternate and its mass matrix does not couple them) and keep,
     for each of their coordinates, the row of M⁻¹ over that parity only (``minv_h``), so
     the kernels skip the exact zeros between the planes."""
     n = t.minv.shape[0]
@@ -347,7 +347,10 @@ def _split_planes(t: MassTables) -> None:
         if size >= 4 and size % 2 == 0 and not np.any(blk[parity == 1]):
             split.append((lo, hi))
         lo = hi
-    half = max([(hi - lo) // 2 for lo, hi in split], default=1)
+    if not split:
+        t.minv_h = None  # the kernels then compile no code for such blocks
+        return
+    half = max((hi - lo) // 2 for lo, hi in split)
     t.minv_h = np.zeros((n, half))
     for lo, hi in split:
         t.blk_st[lo:hi] = 2
