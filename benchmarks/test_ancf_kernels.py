@@ -39,7 +39,7 @@ def test_elastic_force(benchmark, n_elements: int, curvature: str) -> None:
     mesh = _rod(n_elements, curvature=curvature)
     e, _ = _state(mesh)
     out = np.zeros(mesh.n_dofs)
-    args = (e, *mesh.kernel_parameters, 1.0, out, 0)
+    args = (e, *mesh.kernel_parameters, 1.0, out, 0, kernels.beam_work(n_elements))
     kernels.beam_elastic_force(*args)  # JIT warm-up
     benchmark(kernels.beam_elastic_force, *args)
 
@@ -97,8 +97,9 @@ def test_two_rods_force_with_damping(benchmark) -> None:
     for m, o in zip(meshes, (9, 77), strict=True):
         q[o : o + 68], v[o : o + 68] = _state(m)
     gen = np.zeros(145)
-    kernels.beams_force_add(beam_i, beam_f, q, v, -1.0, gen)
-    benchmark(kernels.beams_force_add, beam_i, beam_f, q, v, -1.0, gen)
+    work = kernels.beam_work(beam_i)
+    kernels.beams_force_add(beam_i, beam_f, q, v, -1.0, gen, work)
+    benchmark(kernels.beams_force_add, beam_i, beam_f, q, v, -1.0, gen, work)
 
 
 def test_s4_static_cantilever_32_elements(benchmark) -> None:

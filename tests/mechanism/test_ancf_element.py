@@ -192,7 +192,7 @@ def test_kernels_add_scaled_into_an_offset_block() -> None:
     n, offset, scale = mesh.n_dofs, 5, -2.5
     vec = np.ones(n + 9)
     mat = np.ones((n + 9, n + 9))
-    kernels.beam_elastic_force(e, *params, scale, vec, offset)
+    kernels.beam_elastic_force(e, *params, scale, vec, offset, kernels.beam_work(params[0]))
     kernels.beam_elastic_jacobian(e, *params, scale, mat, offset)
     assert_allclose(vec[offset : offset + n], 1.0 + scale * mesh.elastic_force(e), rtol=1e-14)
     assert_allclose(
@@ -317,7 +317,7 @@ def test_beam_tables_add_elastic_and_damping_forces_of_several_beams() -> None:
     for lay, o in zip(layouts, offsets, strict=True):
         q[o : o + lay.n_dof] = _deformed(lay.mesh, seed=o)
     gen = np.zeros(n)
-    kernels.beams_force_add(beam_i, beam_f, q, v, -1.0, gen)
+    kernels.beams_force_add(beam_i, beam_f, q, v, -1.0, gen, kernels.beam_work(beam_i))
     jac = np.zeros((n, n))
     kernels.beams_jacobian_add(beam_i, beam_f, q, 0.25, 0.5, jac)
     expected = np.zeros(n)

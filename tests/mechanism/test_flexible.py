@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import mechanism
-from mechanism.core.bodies._ancf_kernels import beams_force_add
+from mechanism.core.bodies import beam_work, beams_force_add
 from mechanism.core.integrate import GeneralizedAlpha
 from mechanism.core.model import _kernels as k
 from mechanism.core.model import assemble, initial_state
@@ -52,7 +52,8 @@ def test_flexible_paper_assembly_and_initial_state() -> None:
     np.testing.assert_allclose(ws.phiq @ v + ws.phit, 0.0, atol=1e-9)
     # straight, unstressed and moving rigidly: no elastic force, no strain rate
     force = np.zeros(model.n_dof)
-    beams_force_add(model.kernel.beam_i, model.kernel.beam_f, q, v, 1.0, force)
+    work = beam_work(model.kernel.beam_i)
+    beams_force_add(model.kernel.beam_i, model.kernel.beam_f, q, v, 1.0, force, work)
     assert np.max(np.abs(force)) < 1e-12 * 207e9 * 1e-3  # roundoff of EA ε
     for name, lay in model.beams.items():
         o = model.body_offsets[model.body_names.index(name)]

@@ -14,6 +14,7 @@ from ._ancf_kernels import (
     BEAM_F_COLUMNS,
     BEAM_F_DAMPING,
     BEAM_I_COLUMNS,
+    beam_work,
     beams_force_add,
     beams_jacobian_add,
     beams_strain_energy,

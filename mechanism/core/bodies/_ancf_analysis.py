@@ -160,6 +160,7 @@ def solve_beam_static(
         raise ValueError(f"fixed_dofs must lie in [0, {mesh.n_dofs - 1}].")
     free = np.setdiff1d(np.arange(mesh.n_dofs), fixed)
     params = mesh.kernel_parameters
+    work = _k.beam_work(mesh.n_elements)
     scale = max(float(np.linalg.norm(q[free])), 1e-300)
     e = e0.copy()
     force = np.empty(mesh.n_dofs)
@@ -187,7 +188,7 @@ def solve_beam_static(
         step = math.inf
         for it in range(max_iterations + 1):
             force[:] = 0.0
-            _k.beam_elastic_force(e, *params, 1.0, force, 0)
+            _k.beam_elastic_force(e, *params, 1.0, force, 0, work)
             residual = force[free] - target[free]
             res_norm = float(np.linalg.norm(residual))
             # with a very stiff axial law round-off in F_e can exceed rtol·|Q|; a Newton

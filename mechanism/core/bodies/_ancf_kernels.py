@@ -2,8 +2,8 @@
 
 Every kernel works on one beam of ``n_elements`` equal elements of length ``element_length``
 whose nodal vector ``e`` holds ``[r_1, r_1,x, r_2, r_2,x, ...]`` (4 DOFs per node, node ``j``
-at ``e[4 j : 4 j + 4]``, element ``i`` at ``e[4 i : 4 i + 8]``). Kernels never allocate:
-forces and matrices are *added*, multiplied by ``scale``, into ``out`` starting at row (and
+at ``e[4 j : 4 j + 4]``, element ``i`` at ``e[4 i : 4 i + 8]``). Forces and matrices are
+*added*, multiplied by ``scale``, into ``out`` starting at row (and
 column) ``offset``, so the multibody core can assemble several beams into its global arrays
 once per right-hand-side evaluation.
 
@@ -18,10 +18,13 @@ Constitutive choices are integer codes (see ``docs/ancf.md``):
 
 The elastic force is F_e = ∂U/∂e with U = ∫ ½EA ε² + ½EI κ² dx, integrated with
 ``n_gauss_axial`` and ``n_gauss_bending`` Gauss–Legendre points per element (1…5);
-``beam_strain_energy`` returns U by the same quadrature. F_e and the damping force share one
-quadrature routine (``_strain_force``), ∂F_e/∂e and the damping matrix another
-(``_strain_stiffness``), and every kernel reads its Gauss-point quantities from
-``_axial_point``, ``_bending_point`` and ``_curvature_point``.
+``beam_strain_energy`` returns U by the same quadrature. F_e, the costliest kernel of a
+flexible run, takes every element of a Gauss point in one vectorised pass (the elements'
+DOFs copied into eight contiguous rows of a caller's scratch, :func:`beam_work`, so that no
+kernel here allocates) and adds each element's sum to ``out`` afterwards; the damping
+force (``_strain_rate_force``), ∂F_e/∂e and the damping matrix (``_strain_stiffness``) go
+element by element and read their Gauss-point quantities from ``_axial_point``,
+``_bending_point`` and ``_curvature_point``.
 """
 
 from __future__ import annotations
@@ -202,13 +205,12 @@ def _curvature_hessian(
     )
 
 
-# The two quadratures below serve a force and its partner each; they are inlined into the
-# public kernels, so the ``rates`` / ``geometric`` flag is a constant there and costs nothing.
+# The two element-by-element quadratures below are inlined into the public kernels, so the
+# ``geometric`` flag is a constant there and costs nothing.
 @njit(cache=True, inline="always")
-def _strain_force(
+def _strain_rate_force(
     e: np.ndarray,
     e_dot: np.ndarray,
-    rates: bool,
     n_elements: int,
     l: float,
     ea: float,
@@ -221,21 +223,17 @@ def _strain_force(
     out: np.ndarray,
     offset: int,
 ) -> None:
-    """out += scale ∫ ea σ_ε ∂ε/∂e + ei σ_κ ∂κ/∂e dx with (σ_ε, σ_κ) = (ε, κ) of ``e``, or,
-    if ``rates``, (ε̇, κ̇) = (∂ε/∂e ė, ∂κ/∂e ė) with ė = ``e_dot``. ``BENDING_LINEAR`` takes
-    the vector r,ₓₓ (ṙ,ₓₓ) with ∂/∂e = S,ₓₓ in place of κ (κ̇).
+    """out += scale ∫ ea ε̇ ∂ε/∂e + ei κ̇ ∂κ/∂e dx with (ε̇, κ̇) = (∂ε/∂e ė, ∂κ/∂e ė) and
+    ė = ``e_dot``. ``BENDING_LINEAR`` takes ṙ,ₓₓ with ∂/∂e = S,ₓₓ in place of κ̇.
     """
     for i in range(n_elements):
         o = offset + 4 * i
         q = _element(e, 4 * i)
-        q_dot = _element(e_dot, 4 * i) if rates else q
+        q_dot = _element(e_dot, 4 * i)
         for g in range(n_gauss_axial):
-            w, d1, rx, ry, eps, c = _axial_point(q, g, n_gauss_axial, l, axial_law)
-            if rates:
-                vx, vy = _interpolate(q_dot, d1)
-                f = w * scale * ea * c * c * (rx * vx + ry * vy)
-            else:
-                f = w * scale * ea * eps * c
+            w, d1, rx, ry, _, c = _axial_point(q, g, n_gauss_axial, l, axial_law)
+            vx, vy = _interpolate(q_dot, d1)
+            f = w * scale * ea * c * c * (rx * vx + ry * vy)
             for k in range(4):
                 out[o + 2 * k] += f * d1[k] * rx
                 out[o + 2 * k + 1] += f * d1[k] * ry
@@ -243,19 +241,15 @@ def _strain_force(
             w, d1, d2, sx, sy = _bending_point(q, g, n_gauss_bending, l)
             f = w * scale * ei
             if bending_law == BENDING_LINEAR:
-                if rates:
-                    sx, sy = _interpolate(q_dot, d2)
+                sx, sy = _interpolate(q_dot, d2)
                 for k in range(4):
                     out[o + 2 * k] += f * d2[k] * sx
                     out[o + 2 * k + 1] += f * d2[k] * sy
                 continue
-            _, _, kap, k1x, k1y, k2x, k2y, _ = _curvature_point(q, d1, sx, sy, bending_law)
-            if rates:
-                vx, vy = _interpolate(q_dot, d1)
-                wx, wy = _interpolate(q_dot, d2)
-                f = f * (k1x * vx + k1y * vy + k2x * wx + k2y * wy)
-            else:
-                f = f * kap
+            _, _, _, k1x, k1y, k2x, k2y, _ = _curvature_point(q, d1, sx, sy, bending_law)
+            vx, vy = _interpolate(q_dot, d1)
+            wx, wy = _interpolate(q_dot, d2)
+            f = f * (k1x * vx + k1y * vy + k2x * wx + k2y * wy)
             for k in range(4):
                 out[o + 2 * k] += f * (d1[k] * k1x + d2[k] * k2x)
                 out[o + 2 * k + 1] += f * (d1[k] * k1y + d2[k] * k2y)
@@ -364,24 +358,63 @@ def beam_elastic_force(
     scale: float,
     out: np.ndarray,
     offset: int,
+    work: np.ndarray,
 ) -> None:
-    """Add ``scale`` · F_e(e) into ``out[offset : offset + 4 (n_elements + 1)]``."""
-    _strain_force(
-        e,
-        e,
-        False,
-        n_elements,
-        element_length,
-        axial_stiffness,
-        bending_stiffness,
-        axial_law,
-        bending_law,
-        n_gauss_axial,
-        n_gauss_bending,
-        scale,
-        out,
-        offset,
-    )
+    """Add ``scale`` · F_e(e) into ``out[offset : offset + 4 (n_elements + 1)]``.
+
+    ``work`` is scratch of at least (8 (1 + 2 ``MAX_GAUSS``), ``n_elements``)
+    (:func:`beam_work`). Gauss point by Gauss point over all elements at once: the
+    elements' DOFs are copied into eight contiguous rows, so each point's loop over the
+    elements is vectorised, and each point's eight terms per element are kept in eight
+    more; they are then added to ``out`` element after element and point after point,
+    the order and products of the element-by-element quadrature, so the force is the
+    same to the last bit.
+    """
+    ne = n_elements
+    l = element_length
+    x = work[:8]
+    for c in range(8):
+        for i in range(ne):
+            x[c, i] = e[4 * i + c]
+    for g in range(n_gauss_axial):
+        d = _d1(_GAUSS_X[n_gauss_axial - 1, g], l)
+        wg = _GAUSS_W[n_gauss_axial - 1, g] * l * scale * axial_stiffness
+        t = work[8 * (1 + g) : 8 * (2 + g)]
+        for i in range(ne):
+            rx = d[0] * x[0, i] + d[1] * x[2, i] + d[2] * x[4, i] + d[3] * x[6, i]
+            ry = d[0] * x[1, i] + d[1] * x[3, i] + d[2] * x[5, i] + d[3] * x[7, i]
+            eps, c = _axial(rx, ry, axial_law)
+            f = wg * eps * c
+            for k in range(4):
+                t[2 * k, i] = f * d[k] * rx
+                t[2 * k + 1, i] = f * d[k] * ry
+    for g in range(n_gauss_bending):
+        xi = _GAUSS_X[n_gauss_bending - 1, g]
+        d1 = _d1(xi, l)
+        d2 = _d2(xi, l)
+        wg = _GAUSS_W[n_gauss_bending - 1, g] * l * scale * bending_stiffness
+        t = work[8 * (1 + n_gauss_axial + g) : 8 * (2 + n_gauss_axial + g)]
+        for i in range(ne):
+            sx = d2[0] * x[0, i] + d2[1] * x[2, i] + d2[2] * x[4, i] + d2[3] * x[6, i]
+            sy = d2[0] * x[1, i] + d2[1] * x[3, i] + d2[2] * x[5, i] + d2[3] * x[7, i]
+            if bending_law == BENDING_LINEAR:
+                for k in range(4):
+                    t[2 * k, i] = wg * d2[k] * sx
+                    t[2 * k + 1, i] = wg * d2[k] * sy
+                continue
+            rx = d1[0] * x[0, i] + d1[1] * x[2, i] + d1[2] * x[4, i] + d1[3] * x[6, i]
+            ry = d1[0] * x[1, i] + d1[1] * x[3, i] + d1[2] * x[5, i] + d1[3] * x[7, i]
+            kap, k1x, k1y, k2x, k2y, _ = _curvature(rx, ry, sx, sy, bending_law)
+            f = wg * kap
+            for k in range(4):
+                t[2 * k, i] = f * (d1[k] * k1x + d2[k] * k2x)
+                t[2 * k + 1, i] = f * (d1[k] * k1y + d2[k] * k2y)
+    points = n_gauss_axial + n_gauss_bending
+    for i in range(ne):
+        o = offset + 4 * i
+        for g in range(points):
+            for c in range(8):
+                out[o + c] += work[8 * (1 + g) + c, i]
 
 
 @njit(cache=True, error_model="numpy")
@@ -439,10 +472,9 @@ def beam_damping_force(
     F_d = β ∫ (EA ε̇ ∂ε/∂e + EI κ̇ ∂κ/∂e) dx = β K_m(e) ė with β = ``damping`` (s) and K_m the
     material (non-geometric) part of the tangent stiffness; it vanishes for rigid motion.
     """
-    _strain_force(
+    _strain_rate_force(
         e,
         e_dot,
-        True,
         n_elements,
         element_length,
         axial_stiffness * damping,
@@ -716,6 +748,16 @@ def _beam_row(
     return beam_i[b, 0], 4 * (ne + 1), params, beam_f[b, 3]
 
 
+def beam_work(beam_i: np.ndarray | int) -> np.ndarray:
+    """Scratch for :func:`beams_force_add` (and :func:`beam_elastic_force`) of the beams
+    in ``beam_i`` (or of one beam, given its element count as an int)."""
+    if isinstance(beam_i, (int, np.integer)):
+        most = int(beam_i)
+    else:
+        most = int(beam_i[:, 1].max()) if beam_i.shape[0] > 0 else 0
+    return np.zeros((8 * (1 + 2 * MAX_GAUSS), max(most, 1)))
+
+
 @njit(cache=True, error_model="numpy")
 def beams_force_add(
     beam_i: np.ndarray,
@@ -724,15 +766,17 @@ def beams_force_add(
     v: np.ndarray,
     scale: float,
     out: np.ndarray,
+    work: np.ndarray,
 ) -> None:
     """out += scale · (F_e(q) + F_d(q, q̇)) of every beam in the tables (q, v: global).
 
-    Call with ``scale = -1`` to add the elastic and damping forces to Q.
+    Call with ``scale = -1`` to add the elastic and damping forces to Q. ``work`` is the
+    scratch of :func:`beam_work` for these tables.
     """
     for b in range(beam_i.shape[0]):
         o, n, params, damping = _beam_row(beam_i, beam_f, b)
         e = q[o : o + n]
-        beam_elastic_force(e, *params, scale, out, o)
+        beam_elastic_force(e, *params, scale, out, o, work)
         if damping > 0.0:
             beam_damping_force(e, v[o : o + n], *params, damping, scale, out, o)
 

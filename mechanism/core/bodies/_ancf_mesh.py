@@ -302,7 +302,8 @@ class AncfMesh:
     def elastic_force(self, e: Any) -> np.ndarray:
         """Elastic force F_e(e) = ∂U/∂e (enters the equations of motion as −F_e)."""
         out = np.zeros(self.n_dofs)
-        _k.beam_elastic_force(self._coordinates(e), *self.kernel_parameters, 1.0, out, 0)
+        work = _k.beam_work(self.n_elements)
+        _k.beam_elastic_force(self._coordinates(e), *self.kernel_parameters, 1.0, out, 0, work)
         return out
 
     def elastic_jacobian(self, e: Any) -> np.ndarray:

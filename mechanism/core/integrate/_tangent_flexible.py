@@ -153,7 +153,7 @@ def integrate_tangent_flexible(
     )  # fmt: skip
     # the copy starts with its own acceleration, a(y0 + d0) − a(y0), and so do its
     # pseudo-accelerations (the integrator starts its own from the acceleration)
-    beams_force_add(km.beam_i, km.beam_f, y[:n], y[n:], -1.0, dev.fel)
+    beams_force_add(km.beam_i, km.beam_f, y[:n], y[n:], -1.0, dev.fel, dev.ws.beam)
     zero = np.zeros(n)
     tangent_kernels.copy_accelerations(km, dev, t0, y[:n], y[n:], zero, zero, vimp, dev.f0)
     tangent_kernels.copy_accelerations(km, dev, t0, y[:n], y[n:], d[:n], d[n:], vimp, dev.f1)

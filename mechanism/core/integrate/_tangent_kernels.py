@@ -999,11 +999,11 @@ def copy_accelerations(model, dev, t, q, v, dq, dv, vimp, acc):
         for i in range(n):
             sc[i] = q[i] + step * dq[i]
             sc[n + i] = v[i] + step * dv[i]
-        beams_force_add(model.beam_i, model.beam_f, sc[:n], sc[n:], -0.5 / step, gen)
+        beams_force_add(model.beam_i, model.beam_f, sc[:n], sc[n:], -0.5 / step, gen, ws.beam)
         for i in range(n):
             sc[i] = q[i] - step * dq[i]
             sc[n + i] = v[i] - step * dv[i]
-        beams_force_add(model.beam_i, model.beam_f, sc[:n], sc[n:], 0.5 / step, gen)
+        beams_force_add(model.beam_i, model.beam_f, sc[:n], sc[n:], 0.5 / step, gen, ws.beam)
     if model.cj_i.shape[0] > 0:
         clearance_forces(model, ws.pci, ws.pcf, vimp, gen, ws.cj, dev.counters)
     if model.fe_i.shape[0] > 0:
@@ -1059,7 +1059,7 @@ def deviation_step(model, dev, t, h, qn, vn, vimp, am, af, gm, bt, cq, cvv, jm, 
         fel[i] = 0.0
         dqn[i] = 0.0
     if model.beam_i.shape[0] > 0:
-        beams_force_add(model.beam_i, model.beam_f, qn, vn, -1.0, fel)
+        beams_force_add(model.beam_i, model.beam_f, qn, vn, -1.0, fel, dev.ws.beam)
     st = copy_accelerations(model, dev, t, qn, vn, dqn, dqn, vimp, f0)
     if st != STATUS_OK:
         return st

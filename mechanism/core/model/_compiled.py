@@ -9,7 +9,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from mechanism.core.bodies import AncfLayout
+from mechanism.core.bodies import AncfLayout, beam_work
 from mechanism.core.forces import FO_COLUMNS, force_elements_add
 from mechanism.core.joints import PCF_COLUMNS, PCI_COLUMNS, update_points
 from mechanism.core.scene import ClearancePrismatic, ClearanceRevolute, Scene
@@ -128,6 +128,7 @@ class Workspace(NamedTuple):
     nz_n: np.ndarray
     nz_j: np.ndarray
     fe: np.ndarray  # (n_elements, FO_COLUMNS) force, coordinate and rate of each element
+    beam: np.ndarray  # scratch of the beams' elastic forces (``beam_work``)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -270,4 +271,5 @@ class Model:
             nz_n=np.zeros(m, dtype=np.int64),
             nz_j=np.zeros((m, n), dtype=np.int64),
             fe=np.zeros((self.kernel.fe_i.shape[0], FO_COLUMNS)),
+            beam=beam_work(self.kernel.beam_i),
         )

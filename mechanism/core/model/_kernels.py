@@ -189,11 +189,11 @@ def evaluate_constraints(model, ws, t, q, v):
 
 
 @njit_inner()
-def beams_force_if(on, beam_i, beam_f, q, v, scale, gen):
+def beams_force_if(on, beam_i, beam_f, q, v, scale, gen, work):
     """:func:`~mechanism.core.bodies.beams_force_add` unless ``on`` is None."""
     if on is None:
         return
-    beams_force_add(beam_i, beam_f, q, v, scale, gen)
+    beams_force_add(beam_i, beam_f, q, v, scale, gen, work)
 
 
 @njit_inner()
@@ -530,7 +530,7 @@ def accelerations(model, ws, t, q, v, vimp, acc, counters):
     for i in range(gen.shape[0]):
         gen[i] = gravity[i]
     if model.beam_i.shape[0] > 0:
-        beams_force_if(model.beams_on, model.beam_i, model.beam_f, q, v, -1.0, gen)
+        beams_force_if(model.beams_on, model.beam_i, model.beam_f, q, v, -1.0, gen, ws.beam)
     if model.cj_i.shape[0] > 0:
         clearance_forces(model, pci, pcf, vimp, gen, ws.cj, counters)
     if model.fe_i.shape[0] > 0:
