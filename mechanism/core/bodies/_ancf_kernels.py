@@ -21,7 +21,8 @@ The elastic force is F_e = ∂U/∂e with U = ∫ ½EA ε² + ½EI κ² dx, inte
 ``beam_strain_energy`` returns U by the same quadrature. F_e, the costliest kernel of a
 flexible run, takes every element of a Gauss point in one vectorised pass (the elements'
 DOFs copied into eight contiguous rows of a caller's scratch, :func:`beam_work`, so that no
-kernel here allocates) and adds each element's sum to ``out`` afterwards; the damping
+kernel here allocates) and adds each point's terms to ``out`` afterwards in the
+element-by-element order, so F_e equals that quadrature's to the last bit; the damping
 force (``_strain_rate_force``), ∂F_e/∂e and the damping matrix (``_strain_stiffness``) go
 element by element and read their Gauss-point quantities from ``_axial_point``,
 ``_bending_point`` and ``_curvature_point``.
