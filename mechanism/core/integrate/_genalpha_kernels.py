@@ -245,6 +245,10 @@ def genalpha_advance(model, ws, loop, out, ctl, jac, t_stop, dev):
     spiv = np.empty(nc, dtype=np.int64)
     wv = np.empty(nc)
     cs = contact_scratch(model, ws)
+    # the clearance tables read inside the Newton loop, taken out of their tuples once
+    cj_state = ws.cj
+    cj_f = model.cj_f
+    cj_i = model.cj_i
     lin_touching = flags[JF_LIN_TOUCHING] != 0
     base_contact = flags[JF_BASE_CONTACT] != 0
     t = state[0]
@@ -339,11 +343,11 @@ def genalpha_advance(model, ws, loop, out, ctl, jac, t_stop, dev):
             touching = False
             if nc > 0:
                 # ws.cj holds the clearance state at this iterate (the evaluation above)
-                if linearisation_holds(model, ws.cj, vimp, lin):
+                if linearisation_holds(model, cj_state, vimp, lin):
                     touching = lin_touching
                 else:
                     touching = contact_derivatives(model, ws, qn, vn, vimp, cc, dqi, dvi, gt, cs)
-                    record_linearisation(ws.cj, vimp, lin)
+                    record_linearisation(cj_state, vimp, lin)
                     lin_touching = touching
             if touching or base_contact:
                 for a in range(nc):
@@ -362,10 +366,10 @@ def genalpha_advance(model, ws, loop, out, ctl, jac, t_stop, dev):
                 # whose own tangent the contact derivatives capture; convergence is still
                 # judged on the full update.
                 for j in range(contact.shape[0]):
-                    v0 = model.cj_f[j, CF_V0]
-                    v1 = model.cj_f[j, CF_V1]
-                    vt = ws.cj[j, CJ_VT]
-                    if ws.cj[j, CJ_DELTA] <= 0.0 or model.cj_i[j, 3] == FRICTION_NONE:
+                    v0 = cj_f[j, CF_V0]
+                    v1 = cj_f[j, CF_V1]
+                    vt = cj_state[j, CJ_VT]
+                    if cj_state[j, CJ_DELTA] <= 0.0 or cj_i[j, 3] == FRICTION_NONE:
                         continue
                     dvt = 0.0
                     for c in range(nc):

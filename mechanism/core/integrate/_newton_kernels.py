@@ -14,6 +14,9 @@ from numba import (
     njit,
 )
 
+from mechanism.core._jit import (
+    njit_noalloc,
+)
 from mechanism.core.bodies import (
     BEAM_F_DAMPING,
     beams_jacobian_add,
@@ -64,37 +67,37 @@ def lu_factor(a, piv):
 
     On return ``a`` holds the factors *transposed* (row j of ``a`` is column j of L below
     the diagonal and of U above it), the layout :func:`lu_solve` reads along rows.
+
+    The elimination indexes ``a`` directly (an array view per row and pivot would cost a
+    reference count each). Above ``_LU_BUFFERED`` rows the pivot row is copied to a
+    buffer, so that the update loop reads and writes different arrays and the compiler
+    vectorises it; small matrices skip the buffer's allocation. Both orders of the
+    operations are the same, so the factors are too, to the last bit.
     """
     n = a.shape[0]
-    row = np.empty(n)
-    for k in range(n):
-        p = k
-        big = abs(a[k, k])
-        for i in range(k + 1, n):
-            if abs(a[i, k]) > big:
-                big = abs(a[i, k])
-                p = i
-        if not big > 0.0:
-            return False
-        piv[k] = p
-        if p != k:
-            for j in range(n):
-                tmp = a[k, j]
-                a[k, j] = a[p, j]
-                a[p, j] = tmp
-        inv = 1.0 / a[k, k]
-        # the pivot row in a separate buffer: the update loop then reads and writes
-        # different arrays, which the compiler vectorises
-        m = n - k - 1
-        for j in range(m):
-            row[j] = a[k, k + 1 + j]
-        for i in range(k + 1, n):
-            a[i, k] *= inv
-            f = a[i, k]
-            if f != 0.0:
-                ai = a[i, k + 1 :]
-                for j in range(m):
-                    ai[j] -= f * row[j]
+    if n > _LU_BUFFERED:
+        row = np.empty(n)
+        for k in range(n):
+            if not _lu_pivot(a, piv, k):
+                return False
+            m = n - k - 1
+            k1 = k + 1
+            for j in range(m):
+                row[j] = a[k, k1 + j]
+            for i in range(k1, n):
+                f = a[i, k]
+                if f != 0.0:
+                    for j in range(m):
+                        a[i, k1 + j] -= f * row[j]
+    else:
+        for k in range(n):
+            if not _lu_pivot(a, piv, k):
+                return False
+            for i in range(k + 1, n):
+                f = a[i, k]
+                if f != 0.0:
+                    for j in range(k + 1, n):
+                        a[i, j] -= f * a[k, j]
     for i in range(n):
         for j in range(i + 1, n):
             tmp = a[i, j]
@@ -103,7 +106,36 @@ def lu_factor(a, piv):
     return True
 
 
-@njit(cache=True, error_model="numpy")
+# rows above which lu_factor copies the pivot row to a vectorisable buffer
+_LU_BUFFERED = 16
+
+
+@njit(cache=True, error_model="numpy", inline="always")
+def _lu_pivot(a, piv, k):
+    """Step k of :func:`lu_factor` before the update: choose and swap the pivot row, scale
+    column k below it into the multipliers; False if the column is zero."""
+    n = a.shape[0]
+    p = k
+    big = abs(a[k, k])
+    for i in range(k + 1, n):
+        if abs(a[i, k]) > big:
+            big = abs(a[i, k])
+            p = i
+    if not big > 0.0:
+        return False
+    piv[k] = p
+    if p != k:
+        for j in range(n):
+            tmp = a[k, j]
+            a[k, j] = a[p, j]
+            a[p, j] = tmp
+    inv = 1.0 / a[k, k]
+    for i in range(k + 1, n):
+        a[i, k] *= inv
+    return True
+
+
+@njit_noalloc(error_model="numpy")
 def lu_solve(lt, piv, b):
     """Solve A x = b in place from :func:`lu_factor`'s transposed factors.
 
@@ -303,7 +335,7 @@ def _projected_columns(model, ws, kbuf, cols, out):
             out[i, j] = oc[i]
 
 
-@njit(cache=True, error_model="numpy")
+@njit_noalloc(error_model="numpy")
 def _contact_force(model, q, v, vimp, rows, pci, pcf, gen, cj, scratch_counters):
     """Generalized forces of the clearance joints alone at (q, q̇) into ``gen``; only the
     bearing and journal points ``rows`` of the point cache are refreshed (the clearance
@@ -358,7 +390,7 @@ def analytic_contact_supported(model):
     return True
 
 
-@njit(cache=True)
+@njit_noalloc()
 def _cc_index(cc, d):
     """Position of coordinate ``d`` in the sorted contact columns ``cc`` (−1 if absent)."""
     lo = 0
@@ -374,7 +406,7 @@ def _cc_index(cc, d):
     return -1
 
 
-@njit(cache=True, error_model="numpy")
+@njit_noalloc(error_model="numpy")
 def _point_maps(model, q, v, cc, pci, pcf, k, sign, radius, g, wk, dq, f_x, f_y, f_t):
     """Add point ``k``'s maps to the rows of ``wk`` (``sign`` +1 journal, −1 bearing;
     ``radius`` its contact radius) and the parts of ∂Q/∂q that come from the point's
@@ -423,7 +455,7 @@ def _point_maps(model, q, v, cc, pci, pcf, k, sign, radius, g, wk, dq, f_x, f_y,
         dq[a1, a1] -= m * h00
 
 
-@njit(cache=True, error_model="numpy")
+@njit_noalloc(error_model="numpy")
 def _analytic_derivatives(model, q, v, vimp, cc, pci, pcf, cj0, dq, dv, gt, g, wk):
     """∂Q_cc/∂q_cc, ∂Q_cc/∂q̇_cc and ∂v_t/∂q̇_cc of the dry, unworn journal joints from
     one evaluation (``cj0``, the point cache at (q, q̇)): the contact law's own partials
@@ -471,7 +503,9 @@ def _analytic_derivatives(model, q, v, vimp, cc, pci, pcf, cj0, dq, dv, gt, g, w
         # force on the journal f = −Fₙ n + F_t t (clearance_force_add)
         f_x = -fn * nx + ft * tx
         f_y = -fn * ny + ft * ty
-        wk[:, :nc] = 0.0
+        for r in range(_W_ROWS):
+            for c in range(nc):
+                wk[r, c] = 0.0
         _point_maps(model, q, v, cc, pci, pcf, jn, 1.0, rj, g, wk, dq, f_x, f_y, ft)
         _point_maps(model, q, v, cc, pci, pcf, b, -1.0, rb, g, wk, dq, f_x, f_y, ft)
         dvx = pcf[jn, PC_VX] - pcf[b, PC_VX]
@@ -503,7 +537,7 @@ def _analytic_derivatives(model, q, v, vimp, cc, pci, pcf, cj0, dq, dv, gt, g, w
                 dv[a, c] += wk[_W_EX, a] * dfx + wk[_W_EY, a] * dfy + wk[_W_TH, a] * dft
 
 
-@njit(cache=True, error_model="numpy")
+@njit_noalloc(error_model="numpy")
 def contact_derivatives(model, ws, q, v, vimp, cc, dq, dv, gt, cs):
     """Derivatives of the clearance-joint forces with respect to the coordinates ``cc``
     they read (bearing and journal points): ``dq[a, c] = ∂Q_cc[a]/∂q_cc[c]``,
@@ -534,8 +568,9 @@ def contact_derivatives(model, ws, q, v, vimp, cc, dq, dv, gt, cs):
         g1[:] = 0.0
         _analytic_derivatives(model, q, v, vimp, cc, pci, pcf, cj0, dq, dv, gt, g1, wk)
         return True
-    qp[:] = q
-    vp[:] = v
+    for i in range(q.shape[0]):
+        qp[i] = q[i]
+        vp[i] = v[i]
     for c in range(nc):
         j = cc[c]
         eps = 1.4901161193847656e-08 * max(abs(q[j]), 1e-2)
@@ -566,7 +601,7 @@ LIN_VIMP = 4
 LIN_COLUMNS = 5
 
 
-@njit(cache=True)
+@njit_noalloc()
 def linearisation_holds(model, cj, vimp, lin):
     """Whether the clearance-force derivatives taken at the state ``lin`` recorded still
     hold at the state of ``cj`` (the last evaluation) to about ``RELINEARISE``: the same
@@ -610,7 +645,7 @@ def linearisation_holds(model, cj, vimp, lin):
     return True
 
 
-@njit(cache=True)
+@njit_noalloc()
 def record_linearisation(cj, vimp, lin):
     for j in range(cj.shape[0]):
         lin[j, LIN_DELTA] = cj[j, CJ_DELTA]
@@ -646,7 +681,7 @@ def response_basis(model, ws, cc, basis):
         e[cc[a]] = 0.0
 
 
-@njit(cache=True, error_model="numpy")
+@njit_noalloc(error_model="numpy")
 def contact_newton_solve(jm, piv, cc, zb, delta, sm, spiv, w, dx):
     """Solve (J₀ + Y Δ Eᵀ) dx = r in place (``dx`` holds r) by Sherman–Morrison–Woodbury:
     J₀ = LU(``jm``, ``piv``), ``zb`` = rows of J₀⁻¹Y, Δ (``delta``, nc × nc) the change of
