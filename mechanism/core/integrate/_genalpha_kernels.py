@@ -20,6 +20,9 @@ from numba import (
     njit,
 )
 
+from mechanism.core._jit import (
+    njit_inner,
+)
 from mechanism.core._status import (
     STATUS_NONFINITE,
     STATUS_OK,
@@ -120,6 +123,16 @@ def jacobian_buffers(
 
 
 REFRESH_AFTER = 10
+
+
+@njit_inner()
+def _record_step(model, ws, out, dense, told, t, h, vimp, contact, scratch, yout, counters):
+    """:func:`after_step` on the step's Hermite dense output, as a kernel of its own
+    compiled without reference counts (inlined into the loop, which allocates and so
+    counts references, its reads of the recording tuples would each be counted)."""
+    after_step(model, ws, out, DENSE_HERMITE, dense, told, t, h, vimp, contact, scratch,
+               yout, counters)  # fmt: skip
+
 
 # Newton stops once the estimated remaining error θ/(1 − θ)·‖Δx‖ is below this fraction
 # of the tolerance
@@ -509,8 +522,8 @@ def genalpha_advance(model, ws, loop, out, ctl, jac, t_stop, dev):
             dense[2, n + i] = acc[i]
             dense[3, i] = vn[i]
             dense[3, n + i] = x[i]
-        after_step(model, ws, out, DENSE_HERMITE, dense, told, t, h, vimp, contact, scratch,
-                    yout, out_counters)  # fmt: skip
+        _record_step(model, ws, out, dense, told, t, h, vimp, contact, scratch, yout,
+                     out_counters)  # fmt: skip
         if dev is not None:
             dst = deviation_step(model, dev, t, h, qn, vn, vimp, am, af, gm, bt, cq, cvv, jm,
                                   piv, cc, zb, dq0, dv0, base_contact, cs, sm, spiv,
