@@ -14,6 +14,8 @@ Workloads (the ``paper`` scene at 150 rpm, c = 0.2 mm):
 * ``flexible``: flexible rods at the fixed step T/10000, ``record=SectionsRecord(companion=False)``;
 * ``flexible-worn``: the same on the bearing worn for 10 000 cycles at 150 rpm
   (one wear update, as the quick study predicts it);
+* ``flexible-exponent``: :func:`mechanism.lyapunov_exponent` of the flexible scene (its
+  reference at T/10000 and the perturbed copy taking the same steps);
 * ``rigid``: rigid rods, error control at the scene's tolerance, ``record="sections"``;
 * ``rigid-exponent``: :func:`mechanism.lyapunov_exponent` of the rigid scene.
 
@@ -40,7 +42,7 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-WORKLOADS = ("flexible", "flexible-worn", "rigid", "rigid-exponent")
+WORKLOADS = ("flexible", "flexible-worn", "flexible-exponent", "rigid", "rigid-exponent")
 _READY = "kernel-profile: ready"
 # addresses resolved through gdb: the most frequent ones (the rest is a long tail)
 _RESOLVE = 3000
@@ -65,10 +67,17 @@ def _workload(name: str) -> None:
                 output_step=period / 2500,
             ).worn_scene
 
-        def run(revolutions: float) -> None:
-            mechanism.simulate(
-                scene, revolutions=revolutions, record=SectionsRecord(companion=False)
-            )
+        if name == "flexible-exponent":
+
+            def run(revolutions: float) -> None:
+                mechanism.lyapunov_exponent(scene, revolutions=revolutions + 0.1, discard=0.1)
+
+        else:
+
+            def run(revolutions: float) -> None:
+                mechanism.simulate(
+                    scene, revolutions=revolutions, record=SectionsRecord(companion=False)
+                )
 
     elif name == "rigid":
         scene = scene.replace({"effects.flexibility": False})

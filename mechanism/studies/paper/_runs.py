@@ -224,9 +224,11 @@ def compile_kernels(part: str, *, rigid_exponent: bool = True) -> float:
     On a fresh install every worker process would otherwise compile the same kernels at
     the same time (about two minutes of CPU each); compiled once here, in the pool's two
     processes in parallel, the others load them from the cache. ``part`` is
-    ``"flexible"`` (the generalized-α runs: full record, the chaos runs' series, wear) or
-    ``"rigid"`` (sections, the rigid exponent when ``rigid_exponent``, the analysis, and
-    last the flexible exponent, so that the two parts take about the same time).
+    ``"flexible"`` (the generalized-α runs: full record, the chaos runs' series, wear, and
+    the flexible exponent, which reuses the run's kernels) or ``"rigid"`` (sections, the
+    rigid exponent when ``rigid_exponent``, the analysis). Pass ``rigid_exponent`` when
+    any run of the study takes a rigid exponent, the wear paths' included: two paths
+    starting together would otherwise each compile it.
     """
     cpu = time.process_time()
     scene = load_scene("paper").replace({"effects.flexibility": True, "solver.max_step": STEP})
@@ -246,6 +248,7 @@ def compile_kernels(part: str, *, rigid_exponent: bool = True) -> float:
             settle_revolutions=0.0,
             output_step=period / 2500,
         )
+        lyapunov_exponent(scene, revolutions=0.02, discard=0.01)
     else:
         rigid = scene.replace({"effects.flexibility": False, "solver.max_step": None})
         simulate(
@@ -255,7 +258,6 @@ def compile_kernels(part: str, *, rigid_exponent: bool = True) -> float:
             lyapunov_exponent(rigid, revolutions=0.2, discard=0.1)
         t = np.arange(4000) * 0.05
         chaoskit.classify(np.sin(t) + 0.5 * np.sin(np.sqrt(2.0) * t), dt=0.05)
-        lyapunov_exponent(scene, revolutions=0.02, discard=0.01)
     return time.process_time() - cpu
 
 

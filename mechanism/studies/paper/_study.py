@@ -287,7 +287,12 @@ class _Results:
 def _compile_in_pool(run: _Run, pool: Any) -> None:
     """Compile the kernels once, in the pool's processes, before the workers start."""
     with run.stages.stage("compiling the kernels (first run only)"):
-        rigid_exponent = run.settings.rigid_rod_exponent or not run.settings.flexible_rods
+        settings = run.settings
+        rigid_exponent = (
+            settings.rigid_rod_exponent
+            or not settings.flexible_rods
+            or (settings.wear_paths and not settings.wear_path_flexible_rods)
+        )
         for future in [
             submit(pool, compile_kernels, p, rigid_exponent=rigid_exponent)
             for p in ("flexible", "rigid")
