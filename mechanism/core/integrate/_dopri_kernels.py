@@ -318,7 +318,9 @@ def dopri5_advance(model, ws, loop, out, ctl, t_stop):
                 y[i] = ynew[i]
                 k1[i] = k7[i]
             counters[CNT_STEPS] += 1
-            update_latch(model, ws, y, vimp, contact, counters)
+            # np.bool_: a plain bool, as the generalized-α loop and the Python start pass
+            # (a literal False would compile another signature)
+            update_latch(model, ws, y, vimp, contact, counters, np.bool_(False))
             if ctl.projection:
                 if not project(model, ws, t, y, 1e-12, 5):
                     status = STATUS_SINGULAR

@@ -311,7 +311,7 @@ def initial_latch(model: Model, y0: np.ndarray) -> tuple[np.ndarray, np.ndarray]
     vimp = model.kernel.cj_f[:, model_kernels.CF_FLOOR].copy()
     contact = np.zeros(n_cj, dtype=np.int64)
     counters = np.zeros(model_kernels.CNT_COLUMNS, dtype=np.int64)
-    model_kernels.update_latch(model.kernel, model.workspace(), y0, vimp, contact, counters)
+    model_kernels.update_latch(model.kernel, model.workspace(), y0, vimp, contact, counters, False)
     # an initial state in contact counts as no event
     return vimp, contact
 

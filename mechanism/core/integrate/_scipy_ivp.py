@@ -130,7 +130,7 @@ class ScipyIVP(Integrator):
                     )
                     cursor = stop
                 yy = np.ascontiguousarray(solver.y, dtype=np.float64)
-                model_kernels.update_latch(km, ws, yy, vimp, contact, counters)
+                model_kernels.update_latch(km, ws, yy, vimp, contact, counters, False)
                 bar.update(solver.t)
         finally:
             bar.close()

@@ -652,7 +652,7 @@ def clearance_state(model, ws, y, j):
 
 
 @njit_noalloc()
-def update_latch(model, ws, y, vimp, contact, counters, carry_worn=False):
+def update_latch(model, ws, y, vimp, contact, counters, carry_worn):
     """Discrete contact state after an accepted step (the impact-velocity latch).
 
     While a joint is separated (δ ≤ 0) its impact velocity tracks the approach speed δ̇
