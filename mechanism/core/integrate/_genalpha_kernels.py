@@ -355,7 +355,8 @@ def genalpha_advance(model, ws, loop, out, ctl, jac, t_stop, dev):
                 dx[i] = f[i] - x[i]
             touching = False
             if nc > 0:
-                # ws.cj holds the clearance state at this iterate (the evaluation above)
+                # cj_state (ws.cj) holds the clearance state at this iterate (the evaluation
+                # above)
                 if linearisation_holds(model, cj_state, vimp, lin):
                     touching = lin_touching
                 else:
