@@ -1117,9 +1117,10 @@ def deviation_step(model, dev, t, h, qn, vn, vimp, am, af, gm, bt, cq, cvv, jm, 
         if not math.isfinite(num):
             return STATUS_NONFINITE
         conv = math.sqrt(num / den) if den > 0.0 else 0.0
-        # the copy's coordinates carry the round-off of the reference's (an ulp of q
-        # against a deviation of 1e-13 m), so its equation holds only to about 1e-6 of
-        # the deviation: an update below DEV_FLOOR that no longer halves has reached it
+        # the copy's coordinates carry the round-off of the reference's, so its updates
+        # stall at a floor (about 1e-3 of the deviation on the paper scene, 2.5e-5 on a
+        # stiff-rod pendulum; docs/performance.md, The exponent's cost): an update below
+        # DEV_FLOOR that no longer halves has reached it
         if conv <= dev.tol or (conv <= DEV_FLOOR and conv >= 0.5 * prev):
             for i in range(n):
                 dx[i] += r[i]
