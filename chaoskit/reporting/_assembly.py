@@ -166,6 +166,7 @@ def report(
         },
         exponents=extras.exponents,
         rng=options.rng,
+        executor=options.executor,
     )
 
     sections: dict[str, list[Any]] = {name: [] for name in SECTION_ORDER}
@@ -277,6 +278,11 @@ def _checked_inputs(
         raise ValueError(f"discard must be a finite number >= 0; got {discard!r}.")
     if max_samples is not None and (not isinstance(max_samples, int) or max_samples < 200):
         raise ValueError(f"max_samples must be an integer >= 200 or None; got {max_samples!r}.")
+    if options.executor is not None and not callable(getattr(options.executor, "submit", None)):
+        raise ValueError(
+            "executor must be None or an executor with a submit method "
+            f"(concurrent.futures); got {type(options.executor).__name__}."
+        )
     if markdown_figures not in ("files", "embed"):
         raise ValueError(f"markdown_figures must be 'files' or 'embed'; got {markdown_figures!r}.")
     for t in extras.tables:
@@ -310,11 +316,13 @@ def _analyse_states(
     common: Mapping[str, Any],
     exponents: Mapping[str, Any] | None,
     rng: Any,
+    executor: Any,
 ) -> list[State]:
-    """Prepare and classify every state, each with its own stream spawned from ``rng``."""
+    """Prepare and classify every state, each with its own stream spawned from ``rng``;
+    on ``executor``, one task per state (the same verdicts: each task has its stream)."""
     streams = as_generator(rng).spawn(len(pairs)) if pairs else []
-    states: list[State] = []
-    for (label, source), stream in zip(pairs, streams, strict=True):
+    prepared = []
+    for label, source in pairs:
         view, info = prepare_state(
             label,
             source,
@@ -324,6 +332,9 @@ def _analyse_states(
             discard=discard,
             max_samples=max_samples,
         )
+        prepared.append((label, view, info))
+    tasks = []
+    for (label, view, _), stream in zip(prepared, streams, strict=True):
         settings: dict[str, Any] = {
             "variables": [s.alias for s in specs],
             "drive_period": common["drive_period"],
@@ -332,12 +343,25 @@ def _analyse_states(
             "rng": stream,
             "progress": common["progress"],
         }
-        motion = None
-        if len(specs) > 1:
-            exponent = None if exponents is None else exponents.get(label)
-            motion = classify_motion(view, exponent=exponent, **settings)
-            verdicts = dict(motion.variables)
-        else:
-            verdicts = classify_variables(view, **settings)
-        states.append(State(label=label, view=view, verdicts=verdicts, motion=motion, **info))
-    return states
+        exponent = None if exponents is None else exponents.get(label)
+        tasks.append((view, len(specs) > 1, exponent, settings))
+    if executor is not None and len(tasks) > 1:
+        futures = [executor.submit(_classify_state, *task) for task in tasks]
+        outcomes = [f.result() for f in futures]
+    else:
+        outcomes = [_classify_state(*task) for task in tasks]
+    return [
+        State(label=label, view=view, verdicts=verdicts, motion=motion, **info)
+        for (label, view, info), (verdicts, motion) in zip(prepared, outcomes, strict=True)
+    ]
+
+
+def _classify_state(
+    view: xr.Dataset, joint: bool, exponent: Any, settings: dict[str, Any]
+) -> tuple[dict[str, Any], Any]:
+    """One state's verdicts by variable and its motion verdict (None unless ``joint``:
+    :func:`classify_motion` of all its variables together)."""
+    if joint:
+        motion = classify_motion(view, exponent=exponent, **settings)
+        return dict(motion.variables), motion
+    return classify_variables(view, **settings), None

@@ -102,6 +102,11 @@ class ReportOptions:
         the report is written.
     progress
         Show a tqdm bar over the variables of each state.
+    executor
+        Where the states are classified: None (in this process, one after another) or an
+        executor of ``concurrent.futures`` (anything with ``submit``), e.g. a
+        ``ProcessPoolExecutor``, which takes one task per state. The verdicts are the
+        same either way: each state has its own stream spawned from ``rng``.
     """
 
     max_samples: int | None = None
@@ -111,6 +116,7 @@ class ReportOptions:
     display_units: Mapping[str, str] | None = None
     markdown_figures: Literal["files", "embed"] = "files"
     progress: bool = False
+    executor: Any = None
 
 
 def fields_in_objects(func: Callable[..., Any]) -> Callable[..., Any]:

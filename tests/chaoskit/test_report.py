@@ -620,3 +620,34 @@ def test_motion_verdict_comes_first_one_per_state(trajectories) -> None:
             variables=["crank_angle"],
             extras=ReportExtras(exponents={"nope": eq}),
         )
+
+
+def test_states_classified_on_an_executor_give_the_same_verdicts(trajectories) -> None:
+    import pickle
+    from concurrent.futures import ThreadPoolExecutor
+
+    def build(executor: object) -> chaoskit.Report:
+        return chaoskit.report(
+            trajectories,
+            variables={"X": "eccentricity_x[joint=C]", "A": "eccentricity_x[joint=A]"},
+            phase_variable="crank_angle",
+            options=ReportOptions(rng=0, executor=executor),
+        )
+
+    here = build(None)
+    with ThreadPoolExecutor(2) as pool:
+        there = build(pool)
+    # each state has its own stream: the same numbers, not merely the same labels
+    assert there.analysis.identical(here.analysis)
+    assert there.table("Chaos table").data.equals(here.table("Chaos table").data)
+    for state in STATES:
+        assert there.motions[state].label == here.motions[state].label
+        assert there.motions[state].confidence == here.motions[state].confidence
+        assert there.motions[state].label != "undetermined"
+    # what a process pool sends back survives pickling
+    back = pickle.loads(pickle.dumps((here.motions, here.verdicts)))
+    assert {s: m.label for s, m in back[0].items()} == {s: m.label for s, m in here.motions.items()}
+    with pytest.raises(ValueError, match="executor must be None or an executor"):
+        chaoskit.report(
+            trajectories, variables=["crank_angle"], options=ReportOptions(executor=object())
+        )

@@ -129,11 +129,11 @@ def bearing_room(scene: Any) -> float:
     return 1.5 * c + worn
 
 
-def chaos_analysis_options(settings: StudySettings) -> dict[str, Any]:
+def chaos_analysis_options(settings: StudySettings, *, executor: Any = None) -> dict[str, Any]:
     """The :func:`chaoskit.report` options of the study's chaos analysis of one state's
     series from :func:`chaos_run` (the journal centre of joint C as ``X`` and ``Y``, the
     crank angle as the drive's phase, the transient dropped, the finer settings in
-    ``options``)."""
+    ``options``; the states classified on ``executor`` when not None)."""
     return {
         "variables": {"X": "eccentricity_x[joint=C]", "Y": "eccentricity_y[joint=C]"},
         "phase_variable": "crank_angle",
@@ -144,6 +144,7 @@ def chaos_analysis_options(settings: StudySettings) -> dict[str, Any]:
             rng=0,
             # journal displacements in mm in every figure, as in the stroboscopic maps
             display_units={"X": "mm", "Y": "mm"},
+            executor=executor,
         ),
     }
 

@@ -174,21 +174,22 @@ def run_paper_study(
         # diagrams run on dask meanwhile, and the results are collected when needed.
         long_runs = LongRuns(pool, run.base_scene, run.settings)
         results = _run_stages(run, long_runs)
-    tables = response_tables(
-        before=results.before,
-        after=results.after,
-        convergence=results.convergence,
-        elements=run.settings.elements,
-        paper=run.paper,
-    )
-    if results.convergence_errors:
-        run.unavailable.append(
-            "element convergence failed: " + "; ".join(results.convergence_errors)
+        tables = response_tables(
+            before=results.before,
+            after=results.after,
+            convergence=results.convergence,
+            elements=run.settings.elements,
+            paper=run.paper,
         )
-    with run.stages.stage("chaos analysis and report"):
-        rep = _report(run, results, tables, command=command, t0=t0)
-        _keep_or_drop_trajectories(run, results.trajectories, keep=keep_trajectories)
-        rep.write(run.out / "report.html")
+        if results.convergence_errors:
+            run.unavailable.append(
+                "element convergence failed: " + "; ".join(results.convergence_errors)
+            )
+        with run.stages.stage("chaos analysis and report"):
+            # the states' verdicts are tasks of the pool, one per state
+            rep = _report(run, results, tables, command=command, t0=t0, executor=pool)
+            _keep_or_drop_trajectories(run, results.trajectories, keep=keep_trajectories)
+            rep.write(run.out / "report.html")
     return _finish(run, results, tables, rep, t0=t0)
 
 
@@ -504,15 +505,17 @@ def _report(
     *,
     command: str | None,
     t0: float,
+    executor: Any,
 ) -> Any:
-    """The chaos analysis (:func:`chaoskit.report`) with the summary and the wear
-    profiles in front; adds the chaos table to ``tables``."""
+    """The chaos analysis (:func:`chaoskit.report`, its states classified on ``executor``
+    when not None) with the summary and the wear profiles in front; adds the chaos table
+    to ``tables``."""
     settings, trajectories = run.settings, results.trajectories
     has_after = 150 in results.after
     notes = table_notes(settings, run.unavailable, has_wear=has_after, wear_info=results.wear_info)
     if command is None:
         command = " ".join(shlex.quote(a) for a in sys.argv) if sys.argv else "run_paper_study"
-    analysis_options = chaos_analysis_options(settings) if trajectories else {}
+    analysis_options = chaos_analysis_options(settings, executor=executor) if trajectories else {}
     extras = chaoskit.ReportExtras(
         exponents={
             s: e for s, e in results.equations.items() if e is not None and s in trajectories
