@@ -331,7 +331,11 @@ def grid_query(
             side = 2 * r + 1
             visited += side if g == 1 else (side * side if g == 2 else side * side * side)
             if visited > members.size:
-                best, best_j = _scan_all(points, spts, i, w, limit, members, best, best_j, maxnorm)
+                # best_j typed, not the literal −1 of a query without a seed (a literal
+                # argument compiles the kernel once more)
+                best, best_j = _scan_all(
+                    points, spts, i, w, limit, members, best, np.int64(best_j), maxnorm
+                )
                 break
             # the cells at Chebyshev distance r from the query's, skipping those farther
             # than the best candidate; off the ring's faces only the cells at ±r of the

@@ -978,12 +978,16 @@ def wolf_loop(pts, w, lower, upper, dlt, widen, cos_max, evolve, always, grid, i
     wide = upper + widen * dlt
     one_pass = (2 * (int(np.floor(wide / cell)) + 1) + 1) ** grid[0].size > members.size // 4
     zero = np.zeros(m)
-    j, _, _ = _band_scan(pts, 0, zero, 0.0, w, lower, wide, upper, dlt, -1.0, n, grid, True)
+    # typed indices and flags, not literals: a constant argument is typed as its literal
+    # and compiles the callee once more per distinct constant
+    i = np.int64(0)
+    j, _, _ = _band_scan(
+        pts, i, zero, 0.0, w, lower, wide, upper, dlt, -1.0, n, grid, np.bool_(True)
+    )
     if j < 0:
-        j = _nearest_beyond(pts, 0, w, lower, n, members)
+        j = _nearest_beyond(pts, i, w, lower, n, members)
     if j < 0:
         return 0, 0, 0, 0
-    i = 0
     replacements = 0
     angle_ok = 0
     kept = 0
@@ -1006,11 +1010,23 @@ def wolf_loop(pts, w, lower, upper, dlt, widen, cos_max, evolve, always, grid, i
         new = -1
         if not one_pass:
             new, _, _ = _band_scan(
-                pts, i, old, norm_old, w, lower, upper, upper, dlt, cos_max, n, grid, False
+                pts,
+                i,
+                old,
+                norm_old,
+                w,
+                lower,
+                upper,
+                upper,
+                dlt,
+                cos_max,
+                n,
+                grid,
+                np.bool_(False),
             )
         if new < 0 and (widen > 0 or one_pass):
             new, _, _ = _band_scan(
-                pts, i, old, norm_old, w, lower, wide, upper, dlt, cos_max, n, grid, True
+                pts, i, old, norm_old, w, lower, wide, upper, dlt, cos_max, n, grid, np.bool_(True)
             )
         if new >= 0:
             angle_ok += 1

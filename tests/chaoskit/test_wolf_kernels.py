@@ -2,6 +2,11 @@
 
 from __future__ import annotations
 
+import json
+import os
+import subprocess
+import sys
+
 import numpy as np
 import pytest
 from numpy.testing import assert_allclose
@@ -78,3 +83,25 @@ def test_estimate_does_not_depend_on_the_grid(monkeypatch, x, dt) -> None:
         res = lyapunov_wolf(x, dt=dt)
         assert res.n_points == base.n_points
         assert_allclose(res.mle, base.mle, rtol=1e-12)
+
+
+def test_wolf_compiles_its_search_kernels_once(tmp_path) -> None:
+    """The replacement search is called with typed indices and flags: a constant argument
+    would be typed as its literal and compile the kernel once more per constant. Counted
+    in a child process with an empty cache (kernels loaded from a cache by their caller
+    list no signatures)."""
+    child = (
+        "import json\n"
+        "from chaoskit import lyapunov_wolf, systems\n"
+        "from chaoskit.lyapunov import _kernels as k\n"
+        "lyapunov_wolf(systems.henon(3000)[:, 0])\n"
+        "lyapunov_wolf(systems.lorenz(3000)[:, 0], dt=0.01)\n"
+        "names = ('_band_scan', '_nearest_beyond', 'evolve_pair')\n"
+        "print(json.dumps({n: len(getattr(k, n).signatures) for n in names}))\n"
+    )
+    env = {**os.environ, "NUMBA_CACHE_DIR": str(tmp_path), "NUMBA_NUM_THREADS": "1"}
+    run = subprocess.run(
+        [sys.executable, "-c", child], env=env, capture_output=True, text=True, check=True
+    )
+    counts = json.loads(run.stdout.strip().splitlines()[-1])
+    assert counts == {"_band_scan": 1, "_nearest_beyond": 1, "evolve_pair": 1}
