@@ -13,6 +13,7 @@ import shlex
 import sys
 import time
 from collections.abc import Mapping
+from concurrent.futures import BrokenExecutor
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -186,8 +187,12 @@ def run_paper_study(
                 "element convergence failed: " + "; ".join(results.convergence_errors)
             )
         with run.stages.stage("chaos analysis and report"):
-            # the states' verdicts are tasks of the pool, one per state
-            rep = _report(run, results, tables, command=command, t0=t0, executor=pool)
+            # the states' verdicts are tasks of the pool, one per state; a pool that lost a
+            # worker gives way to this process (the same verdicts: each state has its stream)
+            try:
+                rep = _report(run, results, tables, command=command, t0=t0, executor=pool)
+            except BrokenExecutor:
+                rep = _report(run, results, tables, command=command, t0=t0, executor=None)
             _keep_or_drop_trajectories(run, results.trajectories, keep=keep_trajectories)
             rep.write(run.out / "report.html")
     return _finish(run, results, tables, rep, t0=t0)
