@@ -322,7 +322,8 @@ def _analyse_states(
     on ``executor``, one task per state (the same verdicts: each task has its stream)."""
     streams = as_generator(rng).spawn(len(pairs)) if pairs else []
     prepared = []
-    for label, source in pairs:
+    tasks = []
+    for (label, source), stream in zip(pairs, streams, strict=True):
         view, info = prepare_state(
             label,
             source,
@@ -333,8 +334,6 @@ def _analyse_states(
             max_samples=max_samples,
         )
         prepared.append((label, view, info))
-    tasks = []
-    for (label, view, _), stream in zip(prepared, streams, strict=True):
         settings: dict[str, Any] = {
             "variables": [s.alias for s in specs],
             "drive_period": common["drive_period"],
